@@ -1,0 +1,3 @@
+from vslsp.cli import main
+
+main()

@@ -1,0 +1,61 @@
+"""The ``vslsp`` command line (see ``DESIGN.md``: command-line contract).
+
+Subcommands live in their own modules and are imported only when used, so that
+``vslsp --help`` stays fast (torch and pybullet are heavy to import). To add a command,
+add one entry to ``COMMANDS``: name -> "module:attribute" of a ``click.Command``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+import click
+
+from vslsp import __version__
+from vslsp.errors import VslspError
+
+COMMANDS: dict[str, str] = {
+    "scene": "vslsp.cli.scene:scene",
+}
+
+
+class LazyGroup(click.Group):
+    """A click group whose subcommands are imported on first use."""
+
+    def __init__(self, *args, lazy: dict[str, str], **kwargs):
+        super().__init__(*args, **kwargs)
+        self._lazy = lazy
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(set(super().list_commands(ctx)) | set(self._lazy))
+
+    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
+        if name in self._lazy:
+            module_name, attribute = self._lazy[name].split(":")
+            return getattr(importlib.import_module(module_name), attribute)
+        return super().get_command(ctx, name)
+
+
+@click.group(cls=LazyGroup, lazy=COMMANDS, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="vslsp")
+def app() -> None:
+    """vslsp: Visuospatial Skill Learning for robots (VSL, VSL-3D, VSL-SP)."""
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Entry point: runs the CLI, turning user errors into a message and an exit code."""
+    try:
+        app.main(args=argv, prog_name="vslsp", standalone_mode=False)
+    except VslspError as error:
+        click.echo(f"error: {error}", err=True)
+        sys.exit(error.exit_code)
+    except click.exceptions.Abort:
+        click.echo("aborted", err=True)
+        sys.exit(130)
+    except click.exceptions.Exit as done:
+        sys.exit(done.exit_code)
+    except click.ClickException as error:
+        error.show()
+        sys.exit(2)
+    sys.exit(0)
