@@ -1,0 +1,15 @@
+"""The simulated world (pybullet): the iCub at a table with coloured cubes and a landmark line.
+
+Only this package talks to pybullet. Entry points: :class:`World` built from a
+:class:`SceneSpec` (or a seed), its cameras (:meth:`World.observe`), its robot
+(``world.robot.move_hand``) and its tutor (``world.tutor.relocate``, ``world.tutor.kinesthetic``).
+"""
+
+from vslsp.sim.camera import Camera
+from vslsp.sim.scene import COLOURS, CUBE_SIZE, TABLE_Z, CubeSpec, LandmarkSpec, SceneSpec
+from vslsp.sim.world import CAMERA_NAMES, Observation, World
+
+__all__ = [
+    "CAMERA_NAMES", "COLOURS", "CUBE_SIZE", "TABLE_Z", "Camera", "CubeSpec", "LandmarkSpec",
+    "Observation", "SceneSpec", "World",
+]

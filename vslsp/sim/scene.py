@@ -1,0 +1,177 @@
+"""Scene specifications: the table, the coloured cubes and the landmark line.
+
+A scene is plain data (frozen dataclasses, JSON round trip) so that the same seed gives the
+same scene and a scene can be written down, shared and loaded again.
+
+Frame: x forward from the robot over the table, y to the robot's left, z up (metres). The
+landmark is a black line through ``(x, LINE_Y)`` whose normal makes the angle ``angle`` with
+the x axis; ``far`` is the side the normal points to, away from the robot.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from vslsp.errors import InputError
+
+TABLE_Z = 0.58  # height of the table top
+CUBE_SIZE = 0.05
+LINE_Y = -0.10  # the line is placed through the middle of the right hand's workspace
+LINE_WIDTH = 0.015
+# Where cube centres may lie: the right hand must reach 7 cm behind and 7 cm beyond a cube,
+# and a push or pull moves it about 12 cm along the line's normal.
+WORKSPACE_X = (0.14, 0.33)
+WORKSPACE_Y = (-0.22, 0.02)
+
+COLOURS: dict[str, tuple[float, float, float]] = {
+    "red": (0.85, 0.10, 0.10),
+    "orange": (1.00, 0.50, 0.05),
+    "yellow": (0.95, 0.85, 0.10),
+    "green": (0.10, 0.70, 0.20),
+    "blue": (0.10, 0.25, 0.90),
+    "purple": (0.55, 0.15, 0.75),
+}
+
+
+@dataclass(frozen=True)
+class CubeSpec:
+    """One cube: its symbol name, colour name, and pose on the table (x, y in m, yaw in rad)."""
+
+    name: str
+    colour: str
+    x: float
+    y: float
+    yaw: float = 0.0
+    size: float = CUBE_SIZE
+
+    def __post_init__(self) -> None:
+        if self.colour not in COLOURS:
+            raise InputError(
+                f"cube {self.name!r} has unknown colour {self.colour!r}; "
+                f"use one of {', '.join(COLOURS)}"
+            )
+        if not 0.02 <= self.size <= 0.1:
+            raise InputError(f"cube {self.name!r} has size {self.size} m; use 0.02-0.1 m")
+
+
+@dataclass(frozen=True)
+class LandmarkSpec:
+    """The black borderline: through ``(x, LINE_Y)``, normal at ``angle`` rad from the x axis."""
+
+    x: float = 0.225
+    angle: float = 0.0
+
+    @property
+    def point(self) -> np.ndarray:
+        return np.array([self.x, LINE_Y])
+
+    @property
+    def normal(self) -> np.ndarray:
+        """Unit normal (2,) pointing to the far side (away from the robot)."""
+        return np.array([np.cos(self.angle), np.sin(self.angle)])
+
+    @property
+    def direction(self) -> np.ndarray:
+        """Unit vector (2,) along the line."""
+        return np.array([-np.sin(self.angle), np.cos(self.angle)])
+
+    def signed_distance(self, xy: np.ndarray) -> float:
+        """Distance (m) of a table point from the line, positive on the far side."""
+        return float(np.dot(np.asarray(xy, dtype=float)[:2] - self.point, self.normal))
+
+
+@dataclass(frozen=True)
+class SceneSpec:
+    """Cubes and the landmark: everything needed to build a world."""
+
+    cubes: tuple[CubeSpec, ...]
+    landmark: LandmarkSpec = field(default_factory=LandmarkSpec)
+
+    def __post_init__(self) -> None:
+        names = [cube.name for cube in self.cubes]
+        if len(set(names)) != len(names):
+            raise InputError(f"cube names must be unique, got {names}")
+
+    def cube(self, name: str) -> CubeSpec:
+        for cube in self.cubes:
+            if cube.name == name:
+                return cube
+        raise InputError(f"no cube named {name!r}; the scene has {[c.name for c in self.cubes]}")
+
+    def with_cube(self, cube: CubeSpec) -> SceneSpec:
+        return replace(self, cubes=tuple(cube if c.name == cube.name else c for c in self.cubes))
+
+    def to_dict(self) -> dict:
+        return {"cubes": [asdict(cube) for cube in self.cubes], "landmark": asdict(self.landmark)}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> SceneSpec:
+        try:
+            cubes = tuple(CubeSpec(**cube) for cube in data["cubes"])
+            landmark = LandmarkSpec(**data.get("landmark", {}))
+        except (KeyError, TypeError) as error:
+            raise InputError(
+                f"not a scene description ({error}); expected "
+                '{"cubes": [{"name", "colour", "x", "y", "yaw"}, ...], "landmark": {"x", "angle"}}'
+            ) from error
+        return cls(cubes=cubes, landmark=landmark)
+
+    @classmethod
+    def load(cls, path: str | Path) -> SceneSpec:
+        try:
+            return cls.from_dict(json.loads(Path(path).read_text()))
+        except (OSError, json.JSONDecodeError) as error:
+            raise InputError(f"cannot read scene file {path}: {error}") from error
+
+    def save(self, path: str | Path) -> None:
+        Path(path).write_text(json.dumps(self.to_dict(), indent=2) + "\n")
+
+    @classmethod
+    def random(
+        cls,
+        seed: int,
+        n_cubes: int = 3,
+        colours: tuple[str, ...] | None = None,
+        far: tuple[bool, ...] | None = None,
+        landmark: LandmarkSpec | None = None,
+    ) -> SceneSpec:
+        """Cubes at random, without overlap, on both sides of a randomly placed line.
+
+        Cubes keep 4-8 cm from the line (so a push or pull of ~12 cm crosses it) and at least
+        8.5 cm from each other along it (so pushing one never sweeps another).
+        ``far`` fixes the side of each cube; ``colours`` their colours (names = colours).
+        """
+        rng = np.random.default_rng(seed)
+        if landmark is None:
+            landmark = LandmarkSpec(x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
+        if colours is None:
+            if n_cubes > len(COLOURS):
+                raise InputError(f"at most {len(COLOURS)} cubes of distinct colours, asked {n_cubes}")
+            colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=n_cubes, replace=False))
+        n_cubes = len(colours)
+        if far is None:
+            far = tuple(bool(v) for v in rng.random(n_cubes) < 0.5)
+        for _attempt in range(2000):
+            along = rng.uniform(-0.13, 0.13, size=n_cubes)
+            if n_cubes > 1 and np.min(np.diff(np.sort(along))) < 0.085:
+                continue
+            across = rng.uniform(0.04, 0.08, size=n_cubes) * np.where(far, 1.0, -1.0)
+            centres = landmark.point + np.outer(along, landmark.direction) + np.outer(across, landmark.normal)
+            inside = (
+                (centres[:, 0] >= WORKSPACE_X[0]) & (centres[:, 0] <= WORKSPACE_X[1])
+                & (centres[:, 1] >= WORKSPACE_Y[0]) & (centres[:, 1] <= WORKSPACE_Y[1])
+            )
+            if inside.all():
+                yaws = rng.uniform(-0.4, 0.4, size=n_cubes)
+                cubes = tuple(
+                    CubeSpec(name=colour, colour=colour, x=float(x), y=float(y), yaw=float(yaw))
+                    for colour, (x, y), yaw in zip(colours, centres, yaws)
+                )
+                return cls(cubes=cubes, landmark=landmark)
+        raise InputError(
+            f"cannot place {n_cubes} cubes without overlap in the workspace; use at most 3 cubes"
+        )

@@ -1,0 +1,179 @@
+"""The simulated tabletop world: the iCub at a table, coloured cubes and a landmark line.
+
+Paper section "Implementation" of VSL-SP: the iCub pushes and pulls cubes across a black
+borderline drawn on the table, watching the scene through its eyes. pybullet runs headless
+(DIRECT) unless ``gui=True``. Everything that makes a scene is in its
+:class:`~vslsp.sim.scene.SceneSpec`, so the same spec (or seed) gives the same world and
+byte-identical images.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vslsp.errors import InputError
+from vslsp.sim.camera import Camera
+from vslsp.sim.robot import TIME_STEP
+from vslsp.sim.quiet import quiet
+from vslsp.sim.scene import COLOURS, LINE_WIDTH, TABLE_Z, CubeSpec, SceneSpec
+
+with quiet():
+    import pybullet as pb
+
+TABLE_COLOUR = (0.80, 0.74, 0.62, 1.0)
+TABLE_HALF = (0.40, 0.70, 0.02)  # half extents of the table top
+TABLE_CENTRE = (0.46, -0.05)
+CUBE_MASS = 0.08
+CUBE_FRICTION = 0.6
+CAMERA_NAMES = ("head", "overhead")
+
+
+@dataclass(frozen=True)
+class Observation:
+    """What a camera saw: RGB (H, W, 3) uint8, depth (H, W) float32 m, and the camera."""
+
+    rgb: np.ndarray
+    depth: np.ndarray
+    camera: Camera
+
+
+class World:
+    """A pybullet world built from a :class:`SceneSpec`; close it (or use ``with``) when done."""
+
+    def __init__(self, spec: SceneSpec | None = None, *, seed: int = 0, gui: bool = False,
+                 robot: bool = True) -> None:
+        from vslsp.sim.robot import ICub  # robot imports the world's constants
+        from vslsp.sim.tutor import Tutor
+
+        self.spec = spec if spec is not None else SceneSpec.random(seed)
+        with quiet():
+            self.client = pb.connect(pb.GUI if gui else pb.DIRECT)
+        pb.resetSimulation(physicsClientId=self.client)
+        pb.setGravity(0, 0, -9.81, physicsClientId=self.client)
+        pb.setTimeStep(TIME_STEP, physicsClientId=self.client)
+        pb.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=self.client)
+        if gui:
+            pb.configureDebugVisualizer(pb.COV_ENABLE_GUI, 0, physicsClientId=self.client)
+        self.table = self._make_table()
+        self.landmark_body = self._make_landmark()
+        self.cubes: dict[str, int] = {}
+        for cube in self.spec.cubes:
+            self.cubes[cube.name] = self._make_cube(cube)
+        self.robot = ICub(self) if robot else None
+        self.tutor = Tutor(self)
+        self.settle()
+
+    # -- building -----------------------------------------------------------------------
+    def _make_table(self) -> int:
+        c = self.client
+        shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, physicsClientId=c)
+        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR,
+                                      physicsClientId=c)
+        body = pb.createMultiBody(0, shape, visual, [*TABLE_CENTRE, TABLE_Z - TABLE_HALF[2]],
+                                  physicsClientId=c)
+        pb.changeDynamics(body, -1, lateralFriction=CUBE_FRICTION, physicsClientId=c)
+        return body
+
+    def _make_landmark(self) -> int:
+        landmark = self.spec.landmark
+        half = (LINE_WIDTH / 2.0, 0.40, 0.0005)
+        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=(0.02, 0.02, 0.02, 1.0),
+                                      physicsClientId=self.client)
+        # Visual only: no collision shape, so it never disturbs the cubes.
+        return pb.createMultiBody(
+            0, -1, visual, [*landmark.point, TABLE_Z + half[2]],
+            pb.getQuaternionFromEuler([0, 0, landmark.angle]), physicsClientId=self.client,
+        )
+
+    def _make_cube(self, cube: CubeSpec) -> int:
+        c = self.client
+        half = [cube.size / 2.0] * 3
+        shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
+        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=(*COLOURS[cube.colour], 1.0),
+                                      physicsClientId=c)
+        body = pb.createMultiBody(
+            CUBE_MASS, shape, visual, [cube.x, cube.y, TABLE_Z + cube.size / 2.0],
+            pb.getQuaternionFromEuler([0, 0, cube.yaw]), physicsClientId=c,
+        )
+        pb.changeDynamics(body, -1, lateralFriction=CUBE_FRICTION, spinningFriction=0.001,
+                          physicsClientId=c)
+        return body
+
+    # -- running ------------------------------------------------------------------------
+    def step(self, n: int = 1) -> None:
+        for _ in range(n):
+            pb.stepSimulation(physicsClientId=self.client)
+
+    def settle(self, max_steps: int = 480) -> None:
+        """Step until every cube is at rest (or ``max_steps``)."""
+        for step in range(max_steps):
+            self.step()
+            if step >= 10 and all(
+                np.linalg.norm(pb.getBaseVelocity(body, physicsClientId=self.client)[0]) < 1e-3
+                for body in self.cubes.values()
+            ):
+                break
+
+    def close(self) -> None:
+        if self.robot is not None:
+            self.robot.close()
+        if self.client is not None:
+            pb.disconnect(self.client)
+            self.client = None
+
+    def __enter__(self) -> World:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- ground truth (for tests and the tutor; perception never reads it) ----------------
+    def cube_pose(self, name: str) -> tuple[float, float, float]:
+        """Ground-truth (x, y, yaw) of a cube."""
+        if name not in self.cubes:
+            raise InputError(f"no cube named {name!r}; the scene has {sorted(self.cubes)}")
+        position, orientation = pb.getBasePositionAndOrientation(self.cubes[name], physicsClientId=self.client)
+        yaw = pb.getEulerFromQuaternion(orientation)[2]
+        return float(position[0]), float(position[1]), float(yaw)
+
+    def cube_height(self, name: str) -> float:
+        """Ground-truth height (m) of a cube's centre above the table top."""
+        return pb.getBasePositionAndOrientation(self.cubes[name], physicsClientId=self.client)[0][2] - TABLE_Z
+
+    def is_far(self, name: str) -> bool:
+        """Ground truth of ``(far name)``: the cube's centre lies beyond the line."""
+        return self.spec.landmark.signed_distance(self.cube_pose(name)[:2]) > 0.0
+
+    def current_spec(self) -> SceneSpec:
+        """The scene as it is now (cube poses from the simulation)."""
+        spec = self.spec
+        for cube in self.spec.cubes:
+            x, y, yaw = self.cube_pose(cube.name)
+            spec = spec.with_cube(CubeSpec(cube.name, cube.colour, x, y, yaw, cube.size))
+        return spec
+
+    # -- cameras --------------------------------------------------------------------------
+    def camera(self, name: str, width: int = 640, height: int = 480) -> Camera:
+        if name == "overhead":
+            return Camera("overhead", eye=(0.27, -0.07, TABLE_Z + 0.5), target=(0.27, -0.07, TABLE_Z),
+                          up=(1.0, 0.0, 0.0), width=width, height=height, fov=45.0)
+        if name == "head":
+            if self.robot is not None:
+                eye = tuple(float(v) for v in self.robot.eye_position())
+            else:
+                from vslsp.sim.robot import DEFAULT_EYE
+
+                eye = DEFAULT_EYE
+            return Camera("head", eye=eye, target=(0.28, -0.07, TABLE_Z), up=(0.0, 0.0, 1.0),
+                          width=width, height=height, fov=58.0)
+        raise InputError(f"unknown camera {name!r}; use one of {', '.join(CAMERA_NAMES)}")
+
+    def observe(self, camera: str = "head", width: int = 640, height: int = 480) -> Observation:
+        """Render what ``camera`` sees now (the arm is parked out of view first)."""
+        if self.robot is not None:
+            self.robot.park()
+        view = self.camera(camera, width, height)
+        rgb, depth = view.render(self.client)
+        return Observation(rgb=rgb, depth=depth, camera=view)
