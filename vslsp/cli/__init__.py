@@ -17,6 +17,7 @@ from vslsp.errors import VslspError
 
 COMMANDS: dict[str, str] = {
     "scene": "vslsp.cli.scene:scene",
+    "teach": "vslsp.cli.teach:teach",
 }
 
 

@@ -24,8 +24,8 @@ LINE_Y = -0.10  # the line is placed through the middle of the right hand's work
 LINE_WIDTH = 0.015
 # Where cube centres may lie: the right hand must reach 7 cm behind and 7 cm beyond a cube,
 # and a push or pull moves it about 12 cm along the line's normal.
-WORKSPACE_X = (0.14, 0.33)
-WORKSPACE_Y = (-0.22, 0.02)
+WORKSPACE_X = (0.165, 0.33)
+WORKSPACE_Y = (-0.20, 0.0)
 
 COLOURS: dict[str, tuple[float, float, float]] = {
     "red": (0.85, 0.10, 0.10),
@@ -156,7 +156,7 @@ class SceneSpec:
         if far is None:
             far = tuple(bool(v) for v in rng.random(n_cubes) < 0.5)
         for _attempt in range(2000):
-            along = rng.uniform(-0.13, 0.13, size=n_cubes)
+            along = rng.uniform(-0.12, 0.12, size=n_cubes)
             if n_cubes > 1 and np.min(np.diff(np.sort(along))) < 0.085:
                 continue
             across = rng.uniform(0.04, 0.08, size=n_cubes) * np.where(far, 1.0, -1.0)

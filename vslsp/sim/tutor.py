@@ -64,7 +64,7 @@ class Tutor:
         world.settle()
 
     def kinesthetic(self, via_points: np.ndarray, duration: float, seed: int = 0,
-                    tremor: float = 0.0005):
+                    tremor: float = 0.0005, yaw: float | None = None):
         """Guide the hand through via-points (K, 3) in about ``duration`` s; record it.
 
         Timing is shared among segments by length, varied by ±15% per segment; a smooth
@@ -81,9 +81,9 @@ class Tutor:
         t, path = minimum_jerk(via_points, durations)
         path = path + _tremor(t, tremor, rng)
         # Bring the hand to the start first (not recorded), then follow the timed path.
-        robot.move_hand(path[:1])
-        speed = np.max(np.linalg.norm(np.diff(path, axis=0), axis=1)) / (t[1] - t[0])
-        return robot.move_hand(path[1:], speed=max(speed, 1e-3), record=True, timed=t[1:] - t[0])
+        orientation = {} if yaw is None else {"yaw": yaw}
+        robot.move_hand(path[:1], **orientation)
+        return robot.move_hand(path[1:], record=True, timed=t[1:] - t[0], **orientation)
 
 
 def _tremor(t: np.ndarray, amplitude: float, rng: np.random.Generator) -> np.ndarray:
