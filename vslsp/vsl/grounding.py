@@ -1,0 +1,133 @@
+"""Grounding the ``far`` predicate from observations (paper, Algorithm 1 lines 7-9 and VSL-SP
+"Implementation": the pre- and post-action observations of a push or pull give its
+precondition and effect on (far ?b) relative to the black borderline).
+
+:func:`ground` grounds one demonstrated operation (a pre-/post-action image pair) into a
+:class:`Grounding`, whose ``to_dict()`` is the JSON of ``vslsp ground --json`` (DESIGN.md).
+:func:`ground_scene` grounds (far b) for every object of a single observation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vslsp.vision.change import detect_change
+from vslsp.vision.landmark import Line, fit_line
+from vslsp.vision.objects import DetectedObject, describe, segment
+from vslsp.vsl.spatial import check_robot_side, far_of, identify_action
+
+
+def _point(xy: tuple[float, float]) -> dict:
+    return {"x": round(float(xy[0]), 2), "y": round(float(xy[1]), 2)}
+
+
+@dataclass(frozen=True)
+class Grounding:
+    """One operation grounded: the moved object's symbol ``name``, its centroid (x, y) px in
+    the pre- and post-action images, the landmark (as seen in the pre image), (far b) before
+    and after, and the action (``"push"``, ``"pull"`` or None)."""
+
+    name: str
+    pre: tuple[float, float]
+    post: tuple[float, float]
+    landmark: Line
+    far_pre: bool
+    far_post: bool
+    action: str | None
+    robot_side: str = "bottom"
+    # What perception saw, for overlays and the demonstration recorder (not part of the JSON).
+    pre_object: DetectedObject | None = field(default=None, compare=False, repr=False)
+    post_object: DetectedObject | None = field(default=None, compare=False, repr=False)
+    post_landmark: Line | None = field(default=None, compare=False, repr=False)
+
+    def to_dict(self) -> dict:
+        """The ``vslsp ground --json`` object of DESIGN.md."""
+        return {
+            "object": {"name": self.name, "pre": _point(self.pre), "post": _point(self.post)},
+            "landmark": self.landmark.to_dict(),
+            "far": {"pre": self.far_pre, "post": self.far_post},
+            "action": self.action,
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict, robot_side: str = "bottom") -> Grounding:
+        obj = data["object"]
+        return cls(
+            name=obj["name"],
+            pre=(float(obj["pre"]["x"]), float(obj["pre"]["y"])),
+            post=(float(obj["post"]["x"]), float(obj["post"]["y"])),
+            landmark=Line.from_dict(data["landmark"]),
+            far_pre=bool(data["far"]["pre"]),
+            far_post=bool(data["far"]["post"]),
+            action=data["action"],
+            robot_side=robot_side,
+        )
+
+
+def ground(pre: np.ndarray, post: np.ndarray, robot_side: str = "bottom") -> Grounding:
+    """Ground one operation from RGB images ``pre`` and ``post`` (H, W, 3) uint8.
+
+    ``robot_side``: the image edge the robot is beyond (bottom, top, left, right); bottom is
+    the robot's own view. Raises InputError for unusable images (see ``detect_change``) and
+    when no landmark line is in view.
+    """
+    check_robot_side(robot_side)
+    change = detect_change(pre, post)
+    line_pre = fit_line(change.pre.dark, change.pre.scale, "pre-action image")
+    line_post = fit_line(change.post.dark, change.post.scale, "post-action image")
+    far_pre = far_of(change.before.centroid, line_pre, robot_side)
+    far_post = far_of(change.after.centroid, line_post, robot_side)
+    return Grounding(
+        name=change.before.name,
+        pre=change.before.centroid,
+        post=change.after.centroid,
+        landmark=line_pre,
+        far_pre=far_pre,
+        far_post=far_post,
+        action=identify_action(far_pre, far_post),
+        robot_side=robot_side,
+        pre_object=change.before,
+        post_object=change.after,
+        post_landmark=line_post,
+    )
+
+
+@dataclass(frozen=True)
+class SceneGrounding:
+    """(far b) for every object of one observation: ``objects`` left to right, ``far`` alike."""
+
+    landmark: Line
+    objects: tuple[DetectedObject, ...]
+    far: tuple[bool, ...]
+
+    def far_by_name(self) -> dict[str, bool]:
+        """Object symbol -> (far b); repeated symbols get a suffix: red, red_2, ..."""
+        result: dict[str, bool] = {}
+        for obj, far in zip(self.objects, self.far):
+            name, k = obj.name, 1
+            while name in result:
+                k += 1
+                name = f"{obj.name}_{k}"
+            result[name] = far
+        return result
+
+    def to_dict(self) -> dict:
+        return {
+            "landmark": self.landmark.to_dict(),
+            "objects": [{"name": o.name, **_point(o.centroid), "far": f} for o, f in zip(self.objects, self.far)],
+        }
+
+
+def ground_scene(image: np.ndarray, robot_side: str = "bottom", features: bool = False) -> SceneGrounding:
+    """Detect every object in an RGB image (H, W, 3) uint8 and ground (far b) for each.
+
+    With ``features`` the objects carry their SIFT features φ.
+    """
+    check_robot_side(robot_side)
+    seg = segment(image)
+    line = fit_line(seg.dark, seg.scale)
+    objects = sorted((describe(seg, label, image if features else None) for label in seg.object_labels),
+                     key=lambda o: o.centroid)
+    return SceneGrounding(line, tuple(objects), tuple(far_of(o.centroid, line, robot_side) for o in objects))
