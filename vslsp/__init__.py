@@ -11,4 +11,13 @@ __version__ = "0.1.0"
 
 from vslsp.errors import VslspError  # noqa: E402
 
-__all__ = ["VslspError", "__version__"]
+__all__ = ["VslspError", "__version__", "ground"]
+
+
+def __getattr__(name: str):
+    # ``vslsp.ground`` is imported on first use, so that ``import vslsp`` stays light (no OpenCV).
+    if name == "ground":
+        from vslsp.vsl.grounding import ground
+
+        return ground
+    raise AttributeError(f"module 'vslsp' has no attribute {name!r}")

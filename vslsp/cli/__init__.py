@@ -18,6 +18,7 @@ from vslsp.errors import VslspError
 COMMANDS: dict[str, str] = {
     "scene": "vslsp.cli.scene:scene",
     "teach": "vslsp.cli.teach:teach",
+    "ground": "vslsp.cli.ground:ground",
 }
 
 
