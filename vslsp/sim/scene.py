@@ -24,8 +24,14 @@ LINE_Y = -0.10  # the line is placed through the middle of the right hand's work
 LINE_WIDTH = 0.015
 # Where cube centres may lie: the right hand must reach 7 cm behind and 7 cm beyond a cube,
 # and a push or pull moves it about 12 cm along the line's normal.
-WORKSPACE_X = (0.165, 0.33)
-WORKSPACE_Y = (-0.20, 0.0)
+WORKSPACE_X = (0.14, 0.33)
+WORKSPACE_Y = (-0.205, 0.01)
+
+# Where the palm can start a push or a pull, palm down, 2 cm above the table (measured with
+# the IK over the table; see benchmarks/bench_sim.py).
+# Close to the body the hand reaches less far to either side (the reach arcs up to 10 cm high).
+HAND_REACH_X = (0.09, 0.42)
+HAND_REACH_Y = (-0.25, 0.03)
 
 COLOURS: dict[str, tuple[float, float, float]] = {
     "red": (0.85, 0.10, 0.10),
@@ -142,12 +148,11 @@ class SceneSpec:
         """Cubes at random, without overlap, on both sides of a randomly placed line.
 
         Cubes keep 4-8 cm from the line (so a push or pull of ~12 cm crosses it) and at least
-        8.5 cm from each other along it (so pushing one never sweeps another).
+        8 cm from each other along it (so pushing one never sweeps another).
         ``far`` fixes the side of each cube; ``colours`` their colours (names = colours).
         """
         rng = np.random.default_rng(seed)
-        if landmark is None:
-            landmark = LandmarkSpec(x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
+        fixed_landmark = landmark
         if colours is None:
             if n_cubes > len(COLOURS):
                 raise InputError(f"at most {len(COLOURS)} cubes of distinct colours, asked {n_cubes}")
@@ -155,15 +160,26 @@ class SceneSpec:
         n_cubes = len(colours)
         if far is None:
             far = tuple(bool(v) for v in rng.random(n_cubes) < 0.5)
-        for _attempt in range(2000):
-            along = rng.uniform(-0.12, 0.12, size=n_cubes)
-            if n_cubes > 1 and np.min(np.diff(np.sort(along))) < 0.085:
+        sign = np.where(far, 1.0, -1.0)
+        for attempt in range(10000):
+            if attempt % 200 == 0:
+                landmark = fixed_landmark or LandmarkSpec(
+                    x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
+            along = rng.uniform(-0.14, 0.14, size=n_cubes)
+            if n_cubes > 1 and np.min(np.diff(np.sort(along))) < 0.08:
                 continue
-            across = rng.uniform(0.04, 0.08, size=n_cubes) * np.where(far, 1.0, -1.0)
+            across = rng.uniform(0.04, 0.08, size=n_cubes) * sign
             centres = landmark.point + np.outer(along, landmark.direction) + np.outer(across, landmark.normal)
+            # Where the hand starts a push (behind the cube) or a pull (beyond it, to its right).
+            contacts = centres - np.outer(np.where(far, -0.10, 0.07), landmark.normal) \
+                - np.outer(np.where(far, 0.04, 0.0), landmark.direction)
             inside = (
                 (centres[:, 0] >= WORKSPACE_X[0]) & (centres[:, 0] <= WORKSPACE_X[1])
                 & (centres[:, 1] >= WORKSPACE_Y[0]) & (centres[:, 1] <= WORKSPACE_Y[1])
+                & (contacts[:, 0] >= HAND_REACH_X[0]) & (contacts[:, 0] <= HAND_REACH_X[1])
+                & (contacts[:, 1] >= HAND_REACH_Y[0]) & (contacts[:, 1] <= HAND_REACH_Y[1])
+                & (contacts[:, 1] <= -0.01 + 0.5 * (contacts[:, 0] - HAND_REACH_X[0]))
+                & (contacts[:, 1] >= HAND_REACH_Y[0] + 1.5 * np.maximum(0.0, 0.15 - contacts[:, 0]))
             )
             if inside.all():
                 yaws = rng.uniform(-0.4, 0.4, size=n_cubes)
@@ -173,5 +189,6 @@ class SceneSpec:
                 )
                 return cls(cubes=cubes, landmark=landmark)
         raise InputError(
-            f"cannot place {n_cubes} cubes without overlap in the workspace; use at most 3 cubes"
+            f"cannot place {n_cubes} cubes without overlap where the robot can push and pull them; "
+            "use at most 3 cubes (or another seed)"
         )
