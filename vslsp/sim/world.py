@@ -166,8 +166,8 @@ class World:
                 from vslsp.sim.robot import DEFAULT_EYE
 
                 eye = DEFAULT_EYE
-            return Camera("head", eye=eye, target=(0.28, -0.07, TABLE_Z), up=(0.0, 0.0, 1.0),
-                          width=width, height=height, fov=58.0)
+            return Camera("head", eye=eye, target=(0.25, -0.09, TABLE_Z), up=(0.0, 0.0, 1.0),
+                          width=width, height=height, fov=60.0)
         raise InputError(f"unknown camera {name!r}; use one of {', '.join(CAMERA_NAMES)}")
 
     def observe(self, camera: str = "head", width: int = 640, height: int = 480) -> Observation:
