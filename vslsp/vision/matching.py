@@ -1,0 +1,209 @@
+"""Match finding with adaptive frames (paper, Algorithm 1 lines 13-14 ``findBestMatch`` and
+the house-and-roof simulation).
+
+A recorded observation (an image of the demonstration world) is matched against a new world
+image. The frame around the object starts at the object's size and grows up to the whole
+world; at each size, SIFT features of the frame are matched to the world's (several nearest
+neighbours each, so that every copy of a repeated object gets its matches), RANSAC extracts
+one similarity transform per copy in turn, and each candidate is scored by the normalised
+cross-correlation of the frame with the world under that transform. The first frame size at
+which one candidate clearly beats the others gives the match: a larger frame adds context
+(e.g. whether a house already has its roof) that tells visually identical objects apart.
+The winning transform is refined on its inliers and decomposed as α T = T R_θ R_−φ S_v R_φ P.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import cv2
+import numpy as np
+
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.image import as_rgb
+from vslsp.vision.transform import Decomposition, decompose
+
+MIN_SCORE = 0.5  # normalised cross-correlation a match must reach
+MARGIN = 0.1  # a match is unique when it beats every other candidate by this much
+FRAME_GROWTH = 1.5
+_NEIGHBOURS = 4  # world matches kept per frame keypoint (copies of a repeated object)
+_ALTERNATIVE = 1.3  # ... when within this factor of the nearest one's descriptor distance
+_MAX_CANDIDATES = 8
+_SCALE_RANGE = (0.67, 1.5)  # same camera and objects: the frame is not much scaled
+
+
+@dataclass(frozen=True, eq=False)
+class Candidate:
+    """One placement of the frame in the world: ``transform`` (3, 3) observation -> world,
+    its RANSAC inlier matches (K, 2, 2) [observation xy, world xy], and its ``score`` (NCC)."""
+
+    transform: np.ndarray
+    inliers: np.ndarray
+    score: float
+
+
+@dataclass(frozen=True, eq=False)
+class Match:
+    """The best match of an observation in the world: the object's pose (x, y) px and θ (rad,
+    rotation from the observation to the world, image coordinates), the ``score`` (NCC in
+    [-1, 1]), the ``frame`` side (px) that made it unique, whether it stayed ``ambiguous`` up to
+    the whole world, the ``transform`` (3, 3) and its :class:`Decomposition`."""
+
+    x: float
+    y: float
+    theta: float
+    score: float
+    frame: int
+    ambiguous: bool
+    candidates: int
+    transform: np.ndarray
+    decomposition: Decomposition
+
+    def to_dict(self) -> dict:
+        return {"x": self.x, "y": self.y, "theta": self.theta, "score": self.score, "frame": self.frame,
+                "ambiguous": self.ambiguous, "candidates": self.candidates}
+
+
+def frame_sizes(object_size: float, world_shape: tuple[int, ...]) -> list[int]:
+    """Adaptive frame sides (px): from the object's size, ×1.5 each step, to the whole world."""
+    largest = int(max(world_shape[:2]))
+    sizes, size = [], max(16.0, float(object_size))
+    while size < largest:
+        sizes.append(int(round(size)))
+        size *= FRAME_GROWTH
+    return sizes + [largest]
+
+
+def find_best_match(
+    observation: np.ndarray,
+    world: np.ndarray,
+    point: tuple[float, float],
+    object_size: float,
+    frames: Sequence[int] | None = None,
+    observation_features: Features | None = None,
+    world_features: Features | None = None,
+) -> Match:
+    """Where the object at ``point`` (x, y px) of ``observation`` (h, w, 3) is in ``world``
+    (H, W, 3), both RGB uint8.
+
+    ``object_size`` (px) is where the adaptive frame starts; ``frames`` fixes the frame sides
+    to try instead (e.g. ``[40]`` for a fixed small frame). Precomputed SIFT features of either
+    image may be passed. Raises ValueError when no frame finds any match.
+    """
+    observation, world = as_rgb(observation, "observation"), as_rgb(world, "world image")
+    obs_features = observation_features if observation_features is not None else extract_features(observation)
+    world_feats = world_features if world_features is not None else extract_features(world)
+    sizes = list(frames) if frames is not None else frame_sizes(object_size, world.shape)
+    grey_obs = cv2.cvtColor(observation, cv2.COLOR_RGB2GRAY).astype(np.float32)
+    grey_world = cv2.cvtColor(world, cv2.COLOR_RGB2GRAY).astype(np.float32)
+    matcher = cv2.BFMatcher(cv2.NORM_L2)
+    best: tuple[Candidate, int, int, bool] | None = None
+    for size in sizes:
+        box = _frame_box(point, size, observation.shape)
+        candidates = _candidates(obs_features, world_feats, box, matcher, grey_obs, grey_world)
+        if not candidates:
+            continue
+        unique = len(candidates) == 1 or candidates[0].score - candidates[1].score >= MARGIN
+        if best is None or unique:
+            best = (candidates[0], size, len(candidates), unique)
+        if unique and candidates[0].score >= MIN_SCORE:
+            break
+    if best is None:
+        raise ValueError("no SIFT match of the observation's frame in the world at any frame size")
+    candidate, size, count, unique = best
+    transform = _refine(candidate)
+    x, y = cv2.perspectiveTransform(np.array([[point]], np.float32), transform)[0, 0]
+    decomposition = decompose(transform)
+    return Match(float(x), float(y), decomposition.theta, candidate.score, int(size), not unique, count,
+                 transform, decomposition)
+
+
+def _frame_box(point: tuple[float, float], size: int, shape: tuple[int, ...]) -> tuple[int, int, int, int]:
+    """The frame (x0, y0, x1, y1) of side ``size`` centred on ``point``, clipped to the image."""
+    half = size / 2.0
+    x0, y0 = int(max(0, round(point[0] - half))), int(max(0, round(point[1] - half)))
+    x1, y1 = int(min(shape[1], round(point[0] + half))), int(min(shape[0], round(point[1] + half)))
+    return x0, y0, x1, y1
+
+
+def _candidates(obs: Features, world: Features, box, matcher, grey_obs, grey_world) -> list[Candidate]:
+    """Candidate placements of the frame ``box`` in the world, best first."""
+    x0, y0, x1, y1 = box
+    inside = ((obs.keypoints[:, 0] >= x0) & (obs.keypoints[:, 0] < x1)
+              & (obs.keypoints[:, 1] >= y0) & (obs.keypoints[:, 1] < y1))
+    if inside.sum() < 2 or len(world) < 2:
+        return []
+    query = obs.keypoints[inside, :2]
+    knn = matcher.knnMatch(obs.descriptors[inside], world.descriptors, k=min(_NEIGHBOURS, len(world)))
+    pairs = [(query[m.queryIdx], world.keypoints[m.trainIdx, :2])
+             for row in knn for m in row if m.distance <= _ALTERNATIVE * row[0].distance]
+    pairs = np.array(pairs, np.float32)  # (M, 2, 2)
+    candidates: list[Candidate] = []
+    cv2.setRNGSeed(0)  # deterministic RANSAC
+    while len(pairs) >= 3 and len(candidates) < _MAX_CANDIDATES:
+        model, mask = cv2.estimateAffinePartial2D(_c(pairs[:, 0]), _c(pairs[:, 1]), method=cv2.RANSAC,
+                                                  ransacReprojThreshold=3.0)
+        if model is None or mask is None or mask.sum() < 3:
+            break
+        mask = mask.ravel().astype(bool)
+        transform = np.vstack([model, [0.0, 0.0, 1.0]])
+        scale = float(np.sqrt(abs(np.linalg.det(model[:, :2]))))
+        if _SCALE_RANGE[0] <= scale <= _SCALE_RANGE[1]:
+            score = _correlation(grey_obs, grey_world, box, transform)
+            candidates.append(Candidate(transform, pairs[mask], score))
+        pairs = pairs[~mask]
+    candidates.sort(key=lambda c: -c.score)
+    return _distinct(candidates, box)
+
+
+def _distinct(candidates: list[Candidate], box) -> list[Candidate]:
+    """Drop candidates that put the frame where a better one already did."""
+    centre = np.array([[(box[0] + box[2]) / 2.0, (box[1] + box[3]) / 2.0, 1.0]])
+    kept, places = [], []
+    radius = max(4.0, min(box[2] - box[0], box[3] - box[1]) / 4.0)
+    for candidate in candidates:
+        place = (candidate.transform @ centre.T).ravel()[:2]
+        if all(np.linalg.norm(place - other) > radius for other in places):
+            kept.append(candidate)
+            places.append(place)
+    return kept
+
+
+def _correlation(grey_obs: np.ndarray, grey_world: np.ndarray, box, transform: np.ndarray) -> float:
+    """NCC between the frame ``box`` of the observation and the world seen through ``transform``."""
+    x0, y0, x1, y1 = box
+    shift = np.array([[1.0, 0.0, x0], [0.0, 1.0, y0], [0.0, 0.0, 1.0]])
+    to_world = (transform @ shift)[:2]  # frame pixel -> world pixel
+    size = (x1 - x0, y1 - y0)
+    seen = cv2.warpAffine(grey_world, to_world, size, flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+                          borderMode=cv2.BORDER_CONSTANT, borderValue=-1.0)
+    frame = grey_obs[y0:y1, x0:x1]
+    valid = seen >= 0.0
+    if valid.sum() < 0.5 * valid.size:
+        return -1.0
+    a, b = frame[valid] - frame[valid].mean(), seen[valid] - seen[valid].mean()
+    denominator = float(np.sqrt((a * a).sum() * (b * b).sum()))
+    return float((a * b).sum() / denominator) if denominator > 1e-6 else 0.0
+
+
+def _refine(candidate: Candidate) -> np.ndarray:
+    """The transform (3, 3) re-estimated on the candidate's inliers: projective when there are
+    enough of them and it stays close to the similarity, else the similarity itself."""
+    inliers = candidate.inliers
+    if len(inliers) >= 8:
+        homography, _ = cv2.findHomography(_c(inliers[:, 0]), _c(inliers[:, 1]), 0)
+        if homography is not None and abs(homography[2, 2]) > 1e-9:
+            homography = homography / homography[2, 2]
+            if np.abs(homography[2, :2]).max() < 1e-3:
+                return homography
+    if len(inliers) >= 3:
+        model, _ = cv2.estimateAffinePartial2D(_c(inliers[:, 0]), _c(inliers[:, 1]), method=cv2.LMEDS)
+        if model is not None:
+            return np.vstack([model, [0.0, 0.0, 1.0]])
+    return candidate.transform
+
+
+def _c(points: np.ndarray) -> np.ndarray:
+    """Points (N, 2) as the contiguous float32 array OpenCV's estimators expect."""
+    return np.ascontiguousarray(points, dtype=np.float32).reshape(-1, 1, 2)

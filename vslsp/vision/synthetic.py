@@ -1,0 +1,125 @@
+"""Synthetic observations drawn with OpenCV: a tabletop with a black line and shaded coloured
+squares, and the house-and-roof world of the paper's simulation ("Methodology",
+"Simulation": three identical blue house bodies and three brown roofs).
+
+They give perception inputs whose truth is known exactly, without a simulator: tests and
+benchmarks use them alongside rendered scenes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+TABLE_RGB = (196, 181, 152)
+PAINTS: dict[str, tuple[int, int, int]] = {
+    "red": (215, 30, 30), "orange": (250, 130, 20), "yellow": (240, 215, 30),
+    "green": (30, 175, 55), "blue": (30, 65, 225), "purple": (140, 40, 190),
+    "grey": (128, 128, 128), "cyan": (20, 200, 200), "pink": (250, 160, 185),
+}
+
+
+@dataclass(frozen=True)
+class Square:
+    """A coloured square object: ``colour`` (a PAINTS name or an RGB triple), centre (x, y) px,
+    side (px) and angle (deg, image coordinates)."""
+
+    colour: str | tuple[int, int, int]
+    centre: tuple[float, float]
+    side: float = 60.0
+    angle: float = 0.0
+
+
+def tabletop_image(
+    squares: list[Square] | tuple[Square, ...],
+    line: tuple[tuple[float, float], tuple[float, float]] | None = ((0.0, 300.0), (640.0, 260.0)),
+    size: tuple[int, int] = (640, 480),
+    line_width: int = 12,
+    noise: float = 0.0,
+    brightness: float = 1.0,
+    seed: int = 0,
+) -> np.ndarray:
+    """An RGB (H, W, 3) uint8 tabletop of ``size`` (W, H): table colour with a slight gradient,
+    the black ``line`` (two points it passes through), the squares shaded like lit cubes (a
+    brighter top-left half, a darker bottom edge), Gaussian ``noise`` (sigma, grey levels) and
+    a global ``brightness`` gain."""
+    width, height = size
+    rng = np.random.default_rng(seed)
+    ramp = np.linspace(0.97, 1.03, width, dtype=np.float32)[None, :, None]
+    image = np.broadcast_to(np.array(TABLE_RGB, np.float32), (height, width, 3)) * ramp
+    if line is not None:
+        (xa, ya), (xb, yb) = line
+        d = np.array([xb - xa, yb - ya]) / np.hypot(xb - xa, yb - ya)
+        far = 4.0 * (width + height)
+        p, q = (xa - far * d[0], ya - far * d[1]), (xa + far * d[0], ya + far * d[1])
+        cv2.line(image, _int(p), _int(q), (6.0, 6.0, 6.0), line_width, cv2.LINE_AA)
+    for square in squares:
+        _draw_square(image, square)
+    image = image * brightness + rng.normal(0.0, noise, image.shape) if noise else image * brightness
+    return np.clip(np.round(image), 0, 255).astype(np.uint8)
+
+
+def _draw_square(image: np.ndarray, square: Square) -> None:
+    colour = np.array(PAINTS[square.colour] if isinstance(square.colour, str) else square.colour, np.float32)
+    corners = cv2.boxPoints((square.centre, (square.side, square.side), square.angle))
+    mask = np.zeros(image.shape[:2], np.uint8)
+    cv2.fillConvexPoly(mask, np.round(corners * 16).astype(np.int32), 1, cv2.LINE_8, shift=4)
+    ys, xs = np.nonzero(mask)
+    # Shading: lit towards the top-left, a darker side face along the bottom.
+    along = ((xs - square.centre[0]) + (ys - square.centre[1])) / square.side
+    shade = 1.0 - 0.15 * np.clip(along, -1.0, 1.0)
+    shade = np.where(ys - square.centre[1] > 0.3 * square.side, shade * 0.7, shade)
+    image[ys, xs] = np.clip(colour[None, :] * shade[:, None], 0, 255)
+
+
+def _int(point) -> tuple[int, int]:
+    return int(round(point[0])), int(round(point[1]))
+
+
+# -- the house-and-roof world -------------------------------------------------------------------
+BODY_SIZE = 60  # px, side of a house body; a roof is as wide and 30 px high
+
+
+def house_body(image: np.ndarray, top_left: tuple[int, int]) -> None:
+    """Draw a blue house body (60×60 px, two windows and a door) with its top-left corner at (x, y)."""
+    x, y = top_left
+    cv2.rectangle(image, (x, y), (x + BODY_SIZE - 1, y + BODY_SIZE - 1), (40, 80, 200), -1)
+    cv2.rectangle(image, (x, y), (x + BODY_SIZE - 1, y + BODY_SIZE - 1), (20, 40, 110), 2)
+    for wx in (x + 8, x + 36):
+        cv2.rectangle(image, (wx, y + 10), (wx + 15, y + 25), (235, 235, 210), -1)
+        cv2.line(image, (wx + 8, y + 10), (wx + 8, y + 25), (20, 40, 110), 1)
+        cv2.line(image, (wx, y + 18), (wx + 15, y + 18), (20, 40, 110), 1)
+    cv2.rectangle(image, (x + 24, y + 34), (x + 35, y + BODY_SIZE - 3), (120, 70, 30), -1)
+
+
+def roof(image: np.ndarray, bottom_left: tuple[int, int]) -> None:
+    """Draw a brown roof (60 px wide, 30 px high, with tiles) standing on (x, y)."""
+    x, y = bottom_left
+    triangle = np.array([[x, y], [x + BODY_SIZE - 1, y], [x + BODY_SIZE // 2, y - 30]], np.int32)
+    cv2.fillConvexPoly(image, triangle, (150, 80, 40))
+    for k in range(1, 4):
+        yy = y - 7 * k
+        half = int(round((BODY_SIZE / 2) * (1 - 7 * k / 30)))
+        cv2.line(image, (x + BODY_SIZE // 2 - half, yy), (x + BODY_SIZE // 2 + half, yy), (90, 45, 20), 2)
+    cv2.polylines(image, [triangle], True, (90, 45, 20), 2)
+
+
+def houses_world(bodies: list[tuple[int, int]], roofs_on: list[int], loose_roofs: list[tuple[int, int]] = (),
+                 size: tuple[int, int] = (480, 360), seed: int = 0) -> np.ndarray:
+    """The house-and-roof world (H, W, 3) uint8 RGB on a lightly textured board: house bodies
+    with their top-left corners at ``bodies``, a roof on top of the bodies indexed by
+    ``roofs_on``, and roofs lying at ``loose_roofs`` (bottom-left corners)."""
+    width, height = size
+    rng = np.random.default_rng(seed)
+    board = np.full((height, width, 3), 225, np.float32) + rng.normal(0, 3.0, (height, width, 1))
+    image = np.clip(cv2.GaussianBlur(board, (0, 0), 2.0), 0, 255).astype(np.uint8)
+    for x, y in bodies:
+        house_body(image, (x, y))
+    for index in roofs_on:
+        x, y = bodies[index]
+        roof(image, (x, y - 1))
+    for corner in loose_roofs:
+        roof(image, corner)
+    return image
