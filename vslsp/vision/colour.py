@@ -24,7 +24,7 @@ _HUE_BANDS = (
     ("purple", 255.0, 320.0),
 )
 MIN_SATURATION = 0.45  # below: greyish (grey, white, beige, pink)
-MIN_BRIGHTNESS = 0.45  # the brightest face darker than this: black, brown, dark shades
+MIN_BRIGHTNESS = 0.40  # the brightest face darker than this: black, brown, dark shades
 
 
 def colour_name(pixels: np.ndarray) -> str:

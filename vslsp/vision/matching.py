@@ -83,14 +83,20 @@ def find_best_match(
     frames: Sequence[int] | None = None,
     observation_features: Features | None = None,
     world_features: Features | None = None,
+    model: str = "similarity",
 ) -> Match:
     """Where the object at ``point`` (x, y px) of ``observation`` (h, w, 3) is in ``world``
     (H, W, 3), both RGB uint8.
 
     ``object_size`` (px) is where the adaptive frame starts; ``frames`` fixes the frame sides
     to try instead (e.g. ``[40]`` for a fixed small frame). Precomputed SIFT features of either
-    image may be passed. Raises ValueError when no frame finds any match.
+    image may be passed. ``model``: the transform fitted to the winning inliers, "similarity"
+    (rigid motion on the table seen by the same camera: the default, stable with few
+    inliers) or "homography" (the paper's general T_sift, when at least 8 inliers).
+    Raises ValueError when no frame finds any match.
     """
+    if model not in ("similarity", "homography"):
+        raise ValueError(f"unknown model {model!r}; use 'similarity' or 'homography'")
     observation, world = as_rgb(observation, "observation"), as_rgb(world, "world image")
     obs_features = observation_features if observation_features is not None else extract_features(observation)
     world_feats = world_features if world_features is not None else extract_features(world)
@@ -112,7 +118,7 @@ def find_best_match(
     if best is None:
         raise ValueError("no SIFT match of the observation's frame in the world at any frame size")
     candidate, size, count, unique = best
-    transform = _refine(candidate)
+    transform = _refine(candidate, model)
     x, y = cv2.perspectiveTransform(np.array([[point]], np.float32), transform)[0, 0]
     decomposition = decompose(transform)
     return Match(float(x), float(y), decomposition.theta, candidate.score, int(size), not unique, count,
@@ -187,16 +193,14 @@ def _correlation(grey_obs: np.ndarray, grey_world: np.ndarray, box, transform: n
     return float((a * b).sum() / denominator) if denominator > 1e-6 else 0.0
 
 
-def _refine(candidate: Candidate) -> np.ndarray:
-    """The transform (3, 3) re-estimated on the candidate's inliers: projective when there are
-    enough of them and it stays close to the similarity, else the similarity itself."""
+def _refine(candidate: Candidate, model: str) -> np.ndarray:
+    """The transform (3, 3) re-estimated on the candidate's inliers: a similarity, or a
+    homography when asked and there are enough inliers."""
     inliers = candidate.inliers
-    if len(inliers) >= 8:
+    if model == "homography" and len(inliers) >= 8:
         homography, _ = cv2.findHomography(_c(inliers[:, 0]), _c(inliers[:, 1]), 0)
         if homography is not None and abs(homography[2, 2]) > 1e-9:
-            homography = homography / homography[2, 2]
-            if np.abs(homography[2, :2]).max() < 1e-3:
-                return homography
+            return homography / homography[2, 2]
     if len(inliers) >= 3:
         model, _ = cv2.estimateAffinePartial2D(_c(inliers[:, 0]), _c(inliers[:, 1]), method=cv2.LMEDS)
         if model is not None:

@@ -1,0 +1,73 @@
+"""Change detection: the one object that moved, robust to noise and light; clear errors
+for image pairs that cannot be grounded."""
+
+import numpy as np
+import pytest
+
+from vslsp.errors import InputError
+from vslsp.vision.change import detect_change
+from vslsp.vision.synthetic import Square, tabletop_image
+
+STILL = Square("blue", (480, 400), angle=20)
+
+
+def _pair(moved_from, moved_to, **post_kwargs):
+    pre = tabletop_image([moved_from, STILL], noise=post_kwargs.get("noise", 0), seed=1)
+    post = tabletop_image([moved_to, STILL], seed=2, **post_kwargs)
+    return pre, post
+
+
+def test_the_moved_object_is_found_at_both_places():
+    change = detect_change(*_pair(Square("red", (150, 150)), Square("red", (260, 380), angle=15)))
+    assert change.before.name == change.after.name == "red"
+    assert np.hypot(change.before.centroid[0] - 150, change.before.centroid[1] - 150) < 1.5
+    assert np.hypot(change.after.centroid[0] - 260, change.after.centroid[1] - 380) < 1.5
+
+
+def test_a_short_move_with_overlap_still_gives_the_whole_object_at_both_places():
+    change = detect_change(*_pair(Square("green", (200, 150)), Square("green", (225, 160))))
+    assert np.hypot(change.before.centroid[0] - 200, change.before.centroid[1] - 150) < 1.5
+    assert np.hypot(change.after.centroid[0] - 225, change.after.centroid[1] - 160) < 1.5
+
+
+@pytest.mark.parametrize("noise, brightness", [(20, 1.0), (0, 0.85), (10, 1.12)])
+def test_noise_and_a_global_brightness_change_are_not_motion(noise, brightness):
+    change = detect_change(*_pair(Square("orange", (150, 150)), Square("orange", (300, 380)),
+                                  noise=noise, brightness=brightness))
+    assert change.before.name == "orange"
+    assert np.hypot(change.after.centroid[0] - 300, change.after.centroid[1] - 380) < 2.0
+
+
+def test_nothing_moved_is_an_input_error():
+    image = tabletop_image([STILL], noise=5)
+    with pytest.raises(InputError, match="nothing moved"):
+        detect_change(image, tabletop_image([STILL], noise=5, seed=9, brightness=0.9))
+
+
+def test_several_moved_objects_are_named_with_where_they_went():
+    pre = tabletop_image([Square("red", (150, 150)), Square("blue", (480, 400))])
+    post = tabletop_image([Square("red", (150, 380)), Square("blue", (480, 130))])
+    with pytest.raises(InputError, match=r"more than one object moved.*red left \(x=150, y=150\).*blue") as error:
+        detect_change(pre, post)
+    assert "(x=480, y=130)" in str(error.value)
+
+
+def test_an_object_swapped_for_another_is_several_changes():
+    pre = tabletop_image([Square("red", (150, 150)), STILL])
+    post = tabletop_image([Square("green", (300, 380)), STILL])
+    with pytest.raises(InputError, match="more than one object moved"):
+        detect_change(pre, post)
+
+
+def test_an_object_that_leaves_the_view_is_an_input_error():
+    pre = tabletop_image([Square("red", (150, 150)), STILL])
+    post = tabletop_image([Square("red", (620, 150)), STILL])
+    with pytest.raises(InputError, match="red object at .* not wholly in view"):
+        detect_change(pre, post)
+
+
+def test_images_of_different_sizes_are_an_input_error():
+    pre = tabletop_image([STILL])
+    post = tabletop_image([STILL], size=(320, 240))
+    with pytest.raises(InputError, match="differ in size.*640x480.*320x240"):
+        detect_change(pre, post)
