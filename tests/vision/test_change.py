@@ -49,7 +49,7 @@ def test_several_moved_objects_are_named_with_where_they_went():
     post = tabletop_image([Square("red", (150, 380)), Square("blue", (480, 130))])
     with pytest.raises(InputError, match=r"more than one object moved.*red left \(x=150, y=150\).*blue") as error:
         detect_change(pre, post)
-    assert "(x=480, y=130)" in str(error.value)
+    assert "blue arrived at (x=481, y=130)" in str(error.value)
 
 
 def test_an_object_swapped_for_another_is_several_changes():

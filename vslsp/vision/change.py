@@ -7,8 +7,9 @@ The post image is first corrected for a global change of brightness (per-channel
 maps its table colour onto the pre image's), both are smoothed against sensor noise, and their
 difference is thresholded and cleaned with a morphological opening. An object of the pre image
 whose region has largely changed has left; an object of the post image whose region has largely
-changed has arrived. Exactly one object must leave and the same one arrive; anything else is
-an input error that says what was seen where.
+changed has arrived; one that changed in one image only while an object of its colour stays in
+place in the other was merely hidden or revealed by the moved one. Exactly one object must
+leave and the same one arrive; anything else is an input error that says what was seen where.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from vslsp.vision.image import as_rgb, colour_distance, channel_max
 from vslsp.vision.objects import DetectedObject, Segmentation, describe, segment
 
 CHANGE_THRESHOLD = 40  # grey levels between the (smoothed, gain-corrected) images
-CHANGED_FRACTION = 0.2  # an object has moved when this much of its region changed
+CHANGED_FRACTION = 0.1  # an object has moved when this much of its region changed
 _KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
 
 
@@ -74,6 +75,10 @@ def detect_change(pre: np.ndarray, post: np.ndarray) -> Change:
     changed = change_mask(seg_pre, seg_post)
     left = [describe(seg_pre, label) for label in moved_labels(seg_pre, changed)]
     arrived = [describe(seg_post, label) for label in moved_labels(seg_post, changed)]
+    # An object that only changed in one image and is still in place in the other was hidden
+    # or revealed by the moved one (seen in perspective), not moved itself.
+    left = [o for o in left if any(a.name == o.name for a in arrived) or not _in_place(o, seg_post)]
+    arrived = [o for o in arrived if any(a.name == o.name for a in left) or not _in_place(o, seg_pre)]
     if not left and not arrived:
         raise InputError(
             "nothing moved between the pre- and the post-action image; give the images taken "
@@ -96,6 +101,17 @@ def detect_change(pre: np.ndarray, post: np.ndarray) -> Change:
         f"more than one object moved ({'; '.join(seen)}); give one image pair per moved "
         "object (one operation of the demonstration at a time)"
     )
+
+
+def _in_place(obj: DetectedObject, other: Segmentation) -> bool:
+    """Whether ``other`` has an object of the same colour overlapping ``obj``'s box."""
+    x, y, w, h = obj.box
+    for label in other.object_labels:
+        ox, oy, ow, oh = (int(v) * other.scale for v in other.stats[label][:4])
+        overlaps = ox < x + w and x < ox + ow and oy < y + h and y < oy + oh
+        if overlaps and describe(other, label).name == obj.name:
+            return True
+    return False
 
 
 def _at(obj: DetectedObject) -> str:

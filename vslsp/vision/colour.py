@@ -43,3 +43,27 @@ def colour_name(pixels: np.ndarray) -> str:
             if start <= hue_deg < end:
                 return name
     return GENERIC
+
+
+def _class_table() -> np.ndarray:
+    """Hue (OpenCV's full range, 0..255) -> colour class: 1 + index in COLOUR_NAMES, or
+    len(COLOUR_NAMES) + 1 for hues between the bands."""
+    table = np.full(256, len(COLOUR_NAMES) + 1, np.uint8)
+    degrees = np.arange(256) * 360.0 / 256.0
+    for index, (_, start, end) in enumerate(_HUE_BANDS):
+        for shift in (0.0, 360.0):
+            table[(degrees >= start + shift) & (degrees < end + shift)] = index + 1
+    return table
+
+
+_CLASS_OF_HUE = _class_table()
+GREY_CLASS = len(COLOUR_NAMES) + 2
+
+
+def colour_classes(image: np.ndarray) -> np.ndarray:
+    """Colour class (H, W) uint8 of every pixel of an RGB image (H, W, 3): the hue band
+    (1..6, 7 between bands) or 8 for greyish pixels. Faces of one object share a class."""
+    hsv = cv2.cvtColor(image, cv2.COLOR_RGB2HSV_FULL)
+    classes = _CLASS_OF_HUE[hsv[:, :, 0]]
+    classes[hsv[:, :, 1] < MIN_SATURATION * 255 * 0.75] = GREY_CLASS
+    return classes
