@@ -1,0 +1,145 @@
+"""Planning through unified-planning: trajectory constraints compiled away, then Fast Downward.
+
+Paper: "Implementation" and the iCub experiments (VSL-SP hands the learned domain and the
+problem, with its PDDL 3.0 ordering constraints, to an off-the-shelf planner). Fast Downward
+has no trajectory constraints, so unified-planning's TrajectoryConstraintsRemover (shipped,
+not registered in 1.3.0's factory) compiles them into monitoring atoms on a grounded
+problem first; the plan is mapped back to the lifted actions.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+from vslsp.errors import InputError, TaskFailed
+from vslsp.symbolic.model import Domain, Problem
+
+DEFAULT_PLANNER = "fast-downward"
+
+
+@dataclass(frozen=True)
+class PlanResult:
+    """A plan: ``steps`` are ``(action, (arg, ...))`` in lower case, e.g. ``("pull", ("orange",))``."""
+
+    steps: tuple[tuple[str, tuple[str, ...]], ...]
+    planner: str
+    time_s: float
+
+    def lines(self) -> list[str]:
+        """``["pull orange", ...]``: one string per step, as in ``vslsp plan --json``."""
+        return [" ".join((name, *args)) for name, args in self.steps]
+
+    def to_pddl(self) -> str:
+        """One ``(action arg ...)`` per line: the PLAN file of ``vslsp validate``."""
+        return "".join(f"({line})\n" for line in self.lines())
+
+    def to_dict(self) -> dict:
+        return {"plan": self.lines(), "planner": self.planner, "time_s": self.time_s}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "PlanResult":
+        steps = tuple((line.split()[0], tuple(line.split()[1:])) for line in data["plan"])
+        return cls(steps, data["planner"], float(data["time_s"]))
+
+
+@dataclass(frozen=True)
+class PlanningTimes:
+    """Where the time went: building the UP problem, compiling constraints away, searching."""
+
+    build_s: float
+    compile_s: float
+    solve_s: float
+
+
+def solve(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER) -> PlanResult:
+    """Plan for ``problem`` in ``domain`` with a unified-planning oneshot planner.
+
+    Raises TaskFailed("no plan: ...") when the planner proves or reports no plan, InputError
+    for an unknown planner or one that cannot take the problem.
+    """
+    return solve_timed(domain, problem, planner)[0]
+
+
+def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER) -> tuple[PlanResult, PlanningTimes]:
+    """:func:`solve`, with the time of each phase."""
+    from unified_planning.engines import CompilationKind, PlanGenerationResultStatus
+    from unified_planning.engines.compilers.trajectory_constraints_remover import TrajectoryConstraintsRemover
+    from unified_planning.exceptions import UPProblemDefinitionError
+    from unified_planning.shortcuts import Compiler, OneshotPlanner
+
+    from vslsp.symbolic.pddl import environment, to_up
+    from vslsp.symbolic.validate import initially_broken
+
+    env = environment()
+    available = _oneshot_planners(env)
+    if planner not in available:
+        raise InputError(f"unknown planner {planner!r}; installed: {', '.join(available)}")
+    if problem.domain.name != domain.name:
+        raise InputError(f"problem {problem.name} is for domain {problem.domain.name}, not {domain.name}")
+    broken = initially_broken(problem)
+    if broken:
+        raise TaskFailed(f"no plan: {broken}")
+
+    start = time.perf_counter()
+    up_problem = to_up(domain, problem)
+    built = time.perf_counter()
+    map_backs = []
+    if up_problem.trajectory_constraints:
+        try:
+            compiled = TrajectoryConstraintsRemover().compile(up_problem, CompilationKind.TRAJECTORY_CONSTRAINTS_REMOVING)
+        except UPProblemDefinitionError as error:
+            raise TaskFailed(f"no plan: {str(error).replace('PROBLEM NOT SOLVABLE: ', '')}") from None
+        up_problem = compiled.problem
+        map_backs.append(compiled.map_back_action_instance)
+    with OneshotPlanner(name=planner) as engine:
+        if not engine.supports(up_problem.kind) and up_problem.kind.has_conditional_effects():
+            # Optimal Fast Downward (LM-cut) has no conditional effects; the constraint monitors have some.
+            with Compiler(problem_kind=up_problem.kind,
+                          compilation_kind=CompilationKind.CONDITIONAL_EFFECTS_REMOVING) as remover:
+                compiled = remover.compile(up_problem, CompilationKind.CONDITIONAL_EFFECTS_REMOVING)
+            up_problem = compiled.problem
+            map_backs.append(compiled.map_back_action_instance)
+        if not engine.supports(up_problem.kind):
+            raise InputError(f"planner {planner} cannot solve this problem (it needs: {up_problem.kind}); "
+                             f"try {DEFAULT_PLANNER}")
+        compiled_at = time.perf_counter()
+        result = engine.solve(up_problem)
+    solved = time.perf_counter()
+    if result.status not in (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY):
+        raise TaskFailed(f"no plan: {_reason(result)}")
+    steps = []
+    for instance in result.plan.actions:
+        for map_back in reversed(map_backs):
+            instance = map_back(instance)
+        steps.append((instance.action.name.lower(), tuple(str(p.object().name).lower() for p in instance.actual_parameters)))
+    times = PlanningTimes(built - start, compiled_at - built, solved - compiled_at)
+    return PlanResult(tuple(steps), planner, solved - start), times
+
+
+def _reason(result) -> str:
+    from unified_planning.engines import PlanGenerationResultStatus as Status
+
+    reasons = {
+        Status.UNSOLVABLE_PROVEN: "the goal cannot be reached from the initial state under the constraints "
+                                  f"(proved by {result.engine_name})",
+        Status.UNSOLVABLE_INCOMPLETELY: f"{result.engine_name} explored every reachable state and found none "
+                                        "that reaches the goal under the constraints",
+        Status.TIMEOUT: "the planner ran out of time",
+        Status.MEMOUT: "the planner ran out of memory",
+        Status.UNSUPPORTED_PROBLEM: "the planner does not support this problem",
+    }
+    return reasons.get(result.status, f"the planner stopped with status {result.status.name}")
+
+
+def _oneshot_planners(env) -> list[str]:
+    from unified_planning.engines.mixins import OneshotPlannerMixin
+
+    names = []
+    for name in env.factory.engines:
+        try:
+            if issubclass(env.factory.engine(name), OneshotPlannerMixin):
+                names.append(name)
+        except Exception:  # an engine whose package is broken is simply not offered
+            continue
+    return names

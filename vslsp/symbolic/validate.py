@@ -1,0 +1,193 @@
+"""Plan validation with PDDL 3.0 trajectory constraints, by simulating the plan.
+
+Paper: "Implementation" (the demonstrated order as a constraint the plan must keep).
+unified-planning's validator refuses problems with trajectory constraints, so this module
+simulates the plan over the state trajectory s_0 .. s_n (s_0 the initial state, s_k the
+state after step k), checks every precondition, the goal in s_n, and each constraint with
+its PDDL 3.0 semantics:
+
+- ``(always φ)``: φ in every s_i; ``(sometime φ)``: φ in some s_i; ``(at end φ)``: φ in s_n;
+- ``(at-most-once φ)``: φ holds over at most one contiguous stretch of states;
+- ``(sometime-before p q)``: every s_i with p has some s_j, j < i, with q;
+- ``(sometime-after p q)``: every s_i with p has some s_j, j >= i, with q.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Iterable, Sequence, Union
+
+from vslsp.errors import InputError
+from vslsp.symbolic.formula import (
+    Always,
+    AtEnd,
+    AtMostOnce,
+    Constraint,
+    Formula,
+    Sometime,
+    SometimeAfter,
+    SometimeBefore,
+    holds,
+    substitute,
+)
+from vslsp.symbolic.model import Domain, Problem, ground_effects
+
+PlanStep = tuple[str, tuple[str, ...]]
+PlanLike = Iterable[Union[PlanStep, str]]
+
+
+@dataclass(frozen=True)
+class Validation:
+    """The verdict on a plan and why (the broken precondition, goal or constraint)."""
+
+    valid: bool
+    reason: str
+
+    def to_dict(self) -> dict:
+        return {"valid": self.valid, "reason": self.reason}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "Validation":
+        return cls(bool(data["valid"]), str(data["reason"]))
+
+
+def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validation:
+    """Simulate ``plan_steps`` (``("pull", ("green",))``, ``"pull green"`` or ``"(pull green)"``)."""
+    steps = [_as_step(step) for step in getattr(plan_steps, "steps", plan_steps)]
+    universe = problem.universe()
+    types = dict(problem.objects)
+    state = frozenset(problem.init)
+    trajectory = [state]
+    for number, (name, args) in enumerate(steps, start=1):
+        label = f"step {number} ({' '.join((name, *args))})"
+        try:
+            action = domain.action(name)
+        except InputError as error:
+            return Validation(False, f"{label}: {error}")
+        wrong = _wrong_arguments(domain, action.parameters, args, types)
+        if wrong:
+            return Validation(False, f"{label}: {wrong}")
+        precondition = substitute(action.precondition, dict(zip((p for p, _ in action.parameters), args)))
+        if not holds(precondition, state, universe):
+            return Validation(False, f"{label}: precondition {precondition.to_pddl()} does not hold")
+        added, deleted = ground_effects(action, args)
+        state = (state - deleted) | added
+        trajectory.append(state)
+    if not holds(problem.goal, state, universe):
+        return Validation(False, f"the goal {problem.goal.to_pddl()} does not hold after the last step")
+    for constraint in problem.constraints:
+        broken = _broken(constraint, trajectory, steps, universe)
+        if broken:
+            return Validation(False, f"constraint {constraint.to_pddl()} is broken: {broken}")
+    kept = f" and keeps all {len(problem.constraints)} constraints" if problem.constraints else ""
+    return Validation(True, f"the plan reaches the goal in {len(steps)} steps{kept}")
+
+
+def initially_broken(problem: Problem) -> str | None:
+    """A message when a constraint is already broken for good in the initial state, else None."""
+    universe, state = problem.universe(), frozenset(problem.init)
+    for constraint in problem.constraints:
+        if isinstance(constraint, Always) and not holds(constraint.formula, state, universe):
+            return f"{constraint.to_pddl()} is false in the initial state"
+        if isinstance(constraint, SometimeBefore) and holds(constraint.formula, state, universe):
+            return (f"{constraint.to_pddl()} can never hold: {constraint.formula.to_pddl()} is already true in the "
+                    "initial state, before anything else")
+    return None
+
+
+def _broken(constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequence[PlanStep], universe) -> str | None:
+    """Why ``constraint`` fails on ``trajectory`` (states s_0..s_n), or None when it holds."""
+    def when(i: int) -> str:
+        return "in the initial state" if i == 0 else f"after step {i} ({' '.join((steps[i - 1][0], *steps[i - 1][1]))})"
+
+    def truth(formula: Formula) -> list[bool]:
+        return [holds(formula, s, universe) for s in trajectory]
+
+    if isinstance(constraint, Always):
+        values = truth(constraint.formula)
+        return None if all(values) else f"{constraint.formula.to_pddl()} is false {when(values.index(False))}"
+    if isinstance(constraint, Sometime):
+        return None if any(truth(constraint.formula)) else f"{constraint.formula.to_pddl()} never holds"
+    if isinstance(constraint, AtEnd):
+        return None if truth(constraint.formula)[-1] else f"{constraint.formula.to_pddl()} is false at the end"
+    if isinstance(constraint, AtMostOnce):
+        values = truth(constraint.formula)
+        starts = [i for i, v in enumerate(values) if v and (i == 0 or not values[i - 1])]
+        return None if len(starts) <= 1 else f"{constraint.formula.to_pddl()} becomes true again {when(starts[1])}"
+    p = truth(constraint.formula)
+    if isinstance(constraint, SometimeBefore):
+        q = truth(constraint.before)
+        for i, p_i in enumerate(p):
+            if p_i and not any(q[:i]):
+                return (f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.before.to_pddl()} "
+                        "has not held before")
+        return None
+    assert isinstance(constraint, SometimeAfter)
+    q = truth(constraint.after)
+    for i, p_i in enumerate(p):
+        if p_i and not any(q[i:]):
+            return f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} never holds then or later"
+    return None
+
+
+def _wrong_arguments(domain: Domain, parameters, args: tuple[str, ...], types: dict[str, str]) -> str | None:
+    if len(args) != len(parameters):
+        return f"takes {len(parameters)} argument(s), {len(args)} given"
+    for (parameter, type_), arg in zip(parameters, args):
+        if arg not in types:
+            return f"{arg!r} is not an object of the problem"
+        if types[arg] not in domain.subtypes(type_):
+            return f"{arg!r} is a {types[arg]}, but {parameter} must be a {type_}"
+    return None
+
+
+def _as_step(step: PlanStep | str) -> PlanStep:
+    if isinstance(step, str):
+        words = step.strip().strip("()").lower().split()
+        if not words:
+            raise InputError(f"empty plan step {step!r}")
+        return words[0], tuple(words[1:])
+    name, args = step
+    return name.lower(), tuple(a.lower() for a in args)
+
+
+_PLAN_LINE = re.compile(r"^\s*\(\s*([\w-]+)((?:\s+[\w-]+)*)\s*\)\s*$")
+
+
+def parse_plan(text: str, domain: Domain, problem: Problem, name: str = "<plan>") -> list[PlanStep]:
+    """Steps from a PLAN text, one ``(action arg ...)`` per line (``;`` comments, blank lines allowed).
+
+    A line that is not a step, names an unknown action or object, or has the wrong number or
+    types of arguments raises InputError ``NAME:LINE:COL: what``.
+    """
+    steps, types = [], dict(problem.objects)
+    for number, line in enumerate(text.splitlines(), start=1):
+        code = line.split(";", 1)[0]
+        if not code.strip():
+            continue
+        match = _PLAN_LINE.match(code.lower())
+        if not match:
+            column = len(code) - len(code.lstrip()) + 1
+            raise InputError(f"{name}:{number}:{column}: expected one step like (pull green), got {code.strip()!r}")
+        action_name, args = match.group(1), tuple(match.group(2).split())
+        column = match.start(1) + 1
+        try:
+            action = domain.action(action_name)
+        except InputError as error:
+            raise InputError(f"{name}:{number}:{column}: {error}") from None
+        wrong = _wrong_arguments(domain, action.parameters, args, types)
+        if wrong:
+            raise InputError(f"{name}:{number}:{column}: {action_name}: {wrong}")
+        steps.append((action_name, args))
+    return steps
+
+
+def read_plan(path: str | Path, domain: Domain, problem: Problem) -> list[PlanStep]:
+    """:func:`parse_plan` on a file."""
+    try:
+        text = Path(path).read_text()
+    except OSError as error:
+        raise InputError(f"{path}: cannot read the plan ({error.strerror})") from None
+    return parse_plan(text, domain, problem, str(path))
