@@ -151,11 +151,28 @@ class DMP:
         substeps = max(1, int(np.ceil(dt / (tau / 1000.0))))
         h = dt / substeps
         options = {"dtype": torch.float64, "device": self.device}
-        y = torch.as_tensor(y0, **options).clone()
-        g = torch.as_tensor(goal, **options)
+        y0_t, g = torch.as_tensor(y0, **options), torch.as_tensor(goal, **options)
+        scale = torch.as_tensor(self._scale(y0, goal), **options)  # (B, 1)
+        if coupling_force is None and coupling_phase is None:
+            y, zd = self._superpose(y0_t, g, scale, tau, h, substeps, steps)
+        else:
+            y, zd = self._integrate(y0_t, g, scale, tau, h, substeps, steps, coupling_force, coupling_phase)
+        y_all = y.cpu().numpy()  # (B, T, D)
+        t_all = np.arange(steps) * dt
+        yd_all = np.gradient(y_all, dt, axis=1)
+        ydd_all = zd.cpu().numpy() / tau
+        if not batched:
+            return Rollout(t=t_all, y=y_all[0], yd=yd_all[0], ydd=ydd_all[0])
+        return Rollout(t=t_all, y=y_all, yd=yd_all, ydd=ydd_all)
+
+    def _integrate(self, y0: torch.Tensor, g: torch.Tensor, scale: torch.Tensor, tau: float, h: float,
+                   substeps: int, steps: int, coupling_force: Coupling | None,
+                   coupling_phase: Coupling | None) -> tuple[torch.Tensor, torch.Tensor]:
+        """y and ż (B, T, D) every ``substeps`` steps of semi-implicit Euler with couplings."""
+        options = {"dtype": torch.float64, "device": self.device}
+        y = y0.clone()
         z = torch.zeros_like(y)
         x = torch.ones((y.shape[0], 1), **options)
-        scale = torch.as_tensor(self._scale(y0, goal), **options)  # (B, 1)
         weights = torch.as_tensor(self.weights, **options)
         centers = torch.as_tensor(self.centers, **options)
         widths = torch.as_tensor(self.widths, **options)
@@ -176,13 +193,55 @@ class DMP:
             z = z + zd * h
             y = y + z / tau * h
             x = x + xd / tau * h
-        y_all = torch.stack(ys, dim=1).cpu().numpy()  # (B, T, D)
-        t_all = np.arange(steps) * dt
-        yd_all = np.gradient(y_all, dt, axis=1)
-        ydd_all = torch.stack(zds, dim=1).cpu().numpy() / tau
-        if not batched:
-            return Rollout(t=t_all, y=y_all[0], yd=yd_all[0], ydd=ydd_all[0])
-        return Rollout(t=t_all, y=y_all, yd=yd_all, ydd=ydd_all)
+        return torch.stack(ys, dim=1), torch.stack(zds, dim=1)
+
+    def _responses(self, tau: float, h: float, substeps: int, steps: int) -> tuple[np.ndarray, ...]:
+        """The rollout's building blocks at the T reported steps, from the same Euler steps.
+
+        Without couplings the phase is the same for every movement and the transformation
+        system is linear in (y0 − g, s·f), so each rollout is
+        ``y = g + P (y0 − g) + s F`` and ``z = Q (y0 − g) + s G``. Returns P, Q (T,), F, G and
+        the unscaled forcing term φ (T, D).
+        """
+        n = (steps - 1) * substeps + 1
+        x = (1.0 - self.alpha_x * h / tau) ** np.arange(n)  # canonical system, Euler steps
+        psi = self._basis(x)
+        forcing = (psi @ self.weights) / (psi.sum(axis=1, keepdims=True) + 1e-10) * x[:, None]  # (n, D)
+        # One Euler step of (e = y − g, z) with input u = s·f is (e, z) ← A (e, z) + b u; a
+        # reported step is ``substeps`` of them: A^m and the kernel A^(m−1−j) b weigh the
+        # inputs inside it, so the time loop runs over reported steps only.
+        rate, stiffness, damping = h / tau, self.alpha_z * self.beta_z / tau, self.alpha_z / tau
+        euler = np.array([[1.0 - rate * h * stiffness, rate * (1.0 - h * damping)],
+                         [-h * stiffness, 1.0 - h * damping]])
+        kernel = [np.array([rate * rate, rate])]  # A^j b, j = 0..m−1
+        for _ in range(substeps - 1):
+            kernel.append(euler @ kernel[-1])
+        kernel = np.stack(kernel[::-1])  # (m, 2): A^(m−1−j) b
+        interval = np.linalg.matrix_power(euler, substeps)
+        drive = np.einsum("js,kjd->ksd", kernel, forcing[:-1].reshape(steps - 1, substeps, self.n_dims))
+        # Channel 0: the free spring from e = 1; channels 1..D: unit-amplitude forcing, from rest.
+        state = np.zeros((2, self.n_dims + 1))
+        state[0, 0] = 1.0
+        states = np.empty((steps, 2, self.n_dims + 1))
+        states[0] = state
+        for k in range(steps - 1):
+            state = interval @ state
+            state[:, 1:] += drive[k]
+            states[k + 1] = state
+        es, zs = states[:, 0], states[:, 1]
+        return es[:, 0], zs[:, 0], es[:, 1:], zs[:, 1:], forcing[::substeps]
+
+    def _superpose(self, y0: torch.Tensor, g: torch.Tensor, scale: torch.Tensor, tau: float, h: float,
+                   substeps: int, steps: int) -> tuple[torch.Tensor, torch.Tensor]:
+        """y and ż (B, T, D) of uncoupled rollouts: one integration shared by the whole batch."""
+        options = {"dtype": torch.float64, "device": self.device}
+        p, q, f, gf, forcing = (torch.as_tensor(a, **options) for a in self._responses(tau, h, substeps, steps))
+        offset = (y0 - g)[:, None, :]  # (B, 1, D)
+        s = scale[:, :, None]  # (B, 1, 1)
+        y = g[:, None, :] + p[None, :, None] * offset + s * f[None]
+        z = q[None, :, None] * offset + s * gf[None]
+        zd = (self.alpha_z * (self.beta_z * (g[:, None, :] - y) - z) + s * forcing[None]) / tau
+        return y, zd
 
     # -- files ----------------------------------------------------------------------------------
     def to_arrays(self) -> dict[str, np.ndarray]:
