@@ -43,11 +43,13 @@ RIGHT_ARM_PARK = {
 HEAD_POSE = {"neck_pitch": -0.6, "neck_roll": 0.0, "neck_yaw": 0.0}
 
 
-def palm_down_rotation(yaw: float) -> np.ndarray:
-    """Hand orientation (3, 3) with the palm facing the table and the fingers at ``yaw`` (rad)."""
-    fingers = np.array([np.cos(yaw), np.sin(yaw), 0.0])
-    palm = np.array([0.0, 0.0, -1.0])
-    return np.column_stack([fingers, np.cross(palm, fingers), palm])
+def palm_down_rotation(yaw: float, pitch: float = 0.0) -> np.ndarray:
+    """Hand orientation (3, 3): palm toward the table, fingers at ``yaw`` (rad) about z and
+    tilted down by ``pitch`` (rad), so that the wrist and forearm rise away from the table."""
+    fingers = np.array([np.cos(yaw) * np.cos(pitch), np.sin(yaw) * np.cos(pitch), -np.sin(pitch)])
+    side = np.array([np.sin(yaw), -np.cos(yaw), 0.0])
+    palm = np.cross(fingers, side)
+    return np.column_stack([fingers, side, palm])
 
 
 def rotation_error(current: np.ndarray, target: np.ndarray) -> np.ndarray:

@@ -27,6 +27,7 @@ DEFAULT_EYE = (0.06, 0.0, BASE_Z + 0.32)  # the eyes' position with the head pos
 HAND_YAW = np.radians(30.0)  # fingers yawed toward the body's midline, as a person pushes
 MAX_SPEED = 0.15  # m/s of the hand along a path
 JOINT_FORCE = 200.0
+CUBE_CONTACT_LINKS = ("r_hand", "r_wrist_1")  # the links that touch the cubes
 APPROACH_HEIGHT = 0.05  # the hand comes down onto a path from this far above its start
 # Between parked and ready the arm is lifted out to the side, so it never sweeps the table.
 ARM_ASIDE = {**RIGHT_ARM_PARK, "r_shoulder_roll": 1.3, "r_elbow": 0.6}
@@ -62,6 +63,15 @@ class ICub:
             # The table is static and the hand stays above it: robot-table contacts would only
             # be the legs under the table top.
             pb.setCollisionFilterPair(self.body, world.table, link, -1, 0, physicsClientId=self.client)
+        # The model's shoulder sits low over the table, so with the palm down the forearm and
+        # upper arm lie just above the table top (the wrist cannot pitch enough to lift them).
+        # A person or an iCub at a lower table would pass over the other cubes: only the hand
+        # touches them, so that pushing one cube does not drag its neighbours with the forearm.
+        hand_links = {self.kinematics.link_index[name] for name in CUBE_CONTACT_LINKS}
+        for link in range(-1, pb.getNumJoints(self.body, physicsClientId=self.client)):
+            if link not in hand_links:
+                for cube in world.cubes.values():
+                    pb.setCollisionFilterPair(self.body, cube, link, -1, 0, physicsClientId=self.client)
         posture = {**LEFT_ARM_PARK, **HEAD_POSE, **RIGHT_ARM_PARK}
         for name, value in posture.items():
             pb.resetJointState(self.body, self.joint_index[name], value, physicsClientId=self.client)
@@ -121,13 +131,14 @@ class ICub:
                 return
             self._drive(q, 4)
 
-    def solve_path(self, path: np.ndarray, yaw: float = HAND_YAW, tolerance: float = 0.01) -> np.ndarray:
+    def solve_path(self, path: np.ndarray, yaw: float = HAND_YAW, tolerance: float = 0.01,
+                   pitch: float = 0.0) -> np.ndarray:
         """Joint solutions (N, 10) for Cartesian hand waypoints (N, 3), palm down.
 
         Raises :class:`UnreachableError` (before anything moves) if a waypoint is out of reach.
         """
         path = np.atleast_2d(np.asarray(path, dtype=float))
-        rotation = palm_down_rotation(yaw)
+        rotation = palm_down_rotation(yaw, pitch)
         q = self.ik_joint_positions() if not self.parked else _reach_seed()
         solutions = []
         for point in path:
@@ -140,19 +151,21 @@ class ICub:
             solutions.append(q)
         return np.array(solutions)
 
-    def move_hand(self, path: np.ndarray, *, yaw: float = HAND_YAW, speed: float = MAX_SPEED,
-                  record: bool = False, timed: np.ndarray | None = None) -> HandTrajectory | None:
+    def move_hand(self, path: np.ndarray, *, yaw: float = HAND_YAW, pitch: float = 0.0,
+                  speed: float = MAX_SPEED, record: bool = False,
+                  timed: np.ndarray | None = None) -> HandTrajectory | None:
         """Move the hand through Cartesian waypoints (N, 3) at a bounded speed (m/s).
 
+        The palm faces the table, fingers at ``yaw`` and tilted down by ``pitch`` (rad).
         ``timed`` (N,) gives the time (s) at which each waypoint is commanded instead. Coming
         from the parked posture, the hand first goes to 8 cm above the first waypoint, then
         down. With ``record`` the hand's trajectory is sampled at every physics step (240 Hz)
         and returned.
         """
         path = np.atleast_2d(np.asarray(path, dtype=float))
-        solutions = self.solve_path(path, yaw)  # raises before anything moves
+        solutions = self.solve_path(path, yaw, pitch=pitch)  # raises before anything moves
         if self.parked:
-            self._unpark(path[0], yaw, speed)
+            self._unpark(path[0], yaw, speed, pitch)
         if timed is not None:
             ticks = np.round(np.asarray(timed, dtype=float) / TIME_STEP).astype(int)
             steps = np.maximum(np.diff(np.concatenate([[0], ticks])), 1)
@@ -184,7 +197,7 @@ class ICub:
                     samples.append(self.hand_position())
         self._settle_joints(solutions[-1])
 
-    def _cartesian(self, points: np.ndarray, yaw: float, speed: float) -> None:
+    def _cartesian(self, points: np.ndarray, yaw: float, speed: float, pitch: float = 0.0) -> None:
         """Straight lines through ``points`` (K, 3) in 5 mm steps."""
         start = self.hand_position()
         waypoints = []
@@ -193,7 +206,8 @@ class ICub:
             waypoints.extend(start + (point - start) * s for s in np.linspace(0, 1, n + 1)[1:])
             start = point
         waypoints = np.array(waypoints)
-        self._follow(self.solve_path(waypoints, yaw), self._steps_for(waypoints, self.hand_position(), speed), None)
+        solutions = self.solve_path(waypoints, yaw, pitch=pitch)
+        self._follow(solutions, self._steps_for(waypoints, self.hand_position(), speed), None)
 
     def _joint_move(self, q: np.ndarray, joint_speed: float = 1.2) -> None:
         """Interpolate the IK joints to ``q`` at a bounded joint speed (rad/s)."""
@@ -203,22 +217,25 @@ class ICub:
             self._drive(start + s * (q - start), 1)
         self._settle_joints(q)
 
-    def _unpark(self, first: np.ndarray, yaw: float, speed: float) -> None:
+    def _unpark(self, first: np.ndarray, yaw: float, speed: float, pitch: float = 0.0) -> None:
         """From the parked posture: up to the ready pose, over the first waypoint, down onto it."""
-        ready = self.solve_path(READY_POSITION[None, :], yaw)[0]
+        ready = self.solve_path(READY_POSITION[None, :], yaw, pitch=pitch)[0]
         self._joint_move(_ik_vector(ARM_ASIDE))
         self._joint_move(ready)
         self.parked = False
         above = first + np.array([0.0, 0.0, APPROACH_HEIGHT])
-        self._cartesian(np.array([above, first]), yaw, speed)
+        self._cartesian(np.array([above, first]), yaw, speed, pitch)
 
     def park(self) -> None:
         """Take the arm out of the cameras' view: up, back to the ready pose, then down beside the body."""
         if self.parked:
             return
         hand = self.hand_position()
+        # Straight up to above the ready height first, so the forearm clears the cubes it passes.
+        lifted = np.array([hand[0], hand[1], max(hand[2] + APPROACH_HEIGHT, READY_POSITION[2] + 0.04)])
         try:
-            self._cartesian(np.array([hand + [0.0, 0.0, APPROACH_HEIGHT], READY_POSITION]), HAND_YAW, MAX_SPEED)
+            self._cartesian(np.array([lifted, READY_POSITION + [0.0, 0.0, 0.04], READY_POSITION]),
+                            HAND_YAW, MAX_SPEED)
         except UnreachableError:
             pass
         self._joint_move(_ik_vector(ARM_ASIDE))

@@ -43,6 +43,9 @@ COLOURS: dict[str, tuple[float, float, float]] = {
 }
 
 
+# Along-line offsets (m) of other cubes that the hand disturbs when it pushes / pulls a cube.
+SWEEP_BANDS = {"push": (-0.05, 0.09), "pull": (-0.10, 0.08)}
+
 @dataclass(frozen=True)
 class CubeSpec:
     """One cube: its symbol name, colour name, and pose on the table (x, y in m, yaw in rad)."""
@@ -147,8 +150,8 @@ class SceneSpec:
     ) -> SceneSpec:
         """Cubes at random, without overlap, on both sides of a randomly placed line.
 
-        Cubes keep 4-8 cm from the line (so a push or pull of ~12 cm crosses it) and at least
-        8 cm from each other along it (so pushing one never sweeps another).
+        Cubes keep 4-8 cm from the line (so a push or pull of ~12 cm crosses it) and out of
+        the band the hand and forearm sweep when another cube is pushed or pulled.
         ``far`` fixes the side of each cube; ``colours`` their colours (names = colours).
         """
         rng = np.random.default_rng(seed)
@@ -165,8 +168,8 @@ class SceneSpec:
             if attempt % 200 == 0:
                 landmark = fixed_landmark or LandmarkSpec(
                     x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
-            along = rng.uniform(-0.14, 0.14, size=n_cubes)
-            if n_cubes > 1 and np.min(np.diff(np.sort(along))) < 0.08:
+            along = _along_positions(rng, np.asarray(far))
+            if along is None:
                 continue
             across = rng.uniform(0.04, 0.08, size=n_cubes) * sign
             centres = landmark.point + np.outer(along, landmark.direction) + np.outer(across, landmark.normal)
@@ -192,3 +195,26 @@ class SceneSpec:
             f"cannot place {n_cubes} cubes without overlap where the robot can push and pull them; "
             "use at most 3 cubes (or another seed)"
         )
+
+
+def _along_positions(rng: np.random.Generator, far: np.ndarray, span: tuple[float, float] = (-0.14, 0.14)):
+    """Random positions (n,) along the line, with no cube in the band the hand sweeps when it
+    pushes (near cubes) or pulls (far cubes) another; None when they cannot fit in ``span``.
+
+    Cubes are laid out in a random order, each gap at least what the sweep bands need
+    (measured in the simulator: there a neighbour changes side or is carried more than
+    2.5 cm), plus a random share of the room left.
+    """
+    order = rng.permutation(len(far))
+    low = np.array([SWEEP_BANDS["pull" if f else "push"][0] for f in far])[order]
+    high = np.array([SWEEP_BANDS["pull" if f else "push"][1] for f in far])[order]
+    # Neighbours k (right) and k+1 (left): acting on k+1 sweeps down to low, on k up to high.
+    gaps = np.maximum(-low[1:], high[:-1]) + 0.005
+    room = span[1] - span[0] - gaps.sum()
+    if room < 0:
+        return None
+    slack = rng.dirichlet(np.ones(len(far) + 1)) * room
+    sorted_along = span[0] + slack[0] + np.concatenate([[0.0], np.cumsum(gaps + slack[1:-1])])
+    along = np.empty(len(far))
+    along[order] = sorted_along
+    return along
