@@ -281,6 +281,8 @@ class DMP:
         try:
             with np.load(Path(path), allow_pickle=False) as data:
                 arrays = {key: data[key] for key in data.files}
+        except FileNotFoundError as error:
+            raise InputError(f"there is no DMP file {path}; learn one with `vslsp teach`") from error
         except (OSError, ValueError, EOFError) as error:
             raise InputError(f"cannot read DMP file {path}: {error}") from error
         except Exception as error:  # zipfile.BadZipFile and friends
