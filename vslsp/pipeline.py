@@ -1,0 +1,153 @@
+"""VSL-SP end to end: from observations to action models and tasks, and the closed loop.
+
+Paper sections "Implementation" and "Results" of VSL-SP. The robot learns the symbolic
+models of its skills by watching its own executions (VSL grounds ``far`` before and after),
+learns the task from the tutor's demonstrations (pre-/post-action images only), states the
+task in the observed scene as a PDDL problem, plans, and executes every step with the
+learned skills, observing again after each one. A step whose effect is missing (the push
+did not cross the line, the cube was knocked back) makes the robot replan from what it sees.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from vslsp.demonstration import ObservedStep
+from vslsp.errors import TaskFailed
+from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
+from vslsp.skills.library import SkillLibrary
+from vslsp.symbolic import Domain, PlanResult, Step, Task, learn_domain, make_problem, solve
+from vslsp.vsl.grounding import Grounding, ground
+
+MAX_REPLANS = 4
+
+
+def literals(state: PerceivedState) -> dict[str, dict[str, bool]]:
+    """The grounded predicates of every object seen: ``{"green": {"far": True}, ...}``."""
+    return {name: {"far": far} for name, far in state.far().items()}
+
+
+def to_step(grounding: Grounding, before: PerceivedState, after: PerceivedState) -> Step:
+    """A grounded operation as the symbolic layer learns from it."""
+    return Step(grounding.action, grounding.name, literals(before), literals(after))
+
+
+def observed_to_steps(observed: list[ObservedStep]) -> list[Step]:
+    return [to_step(s.grounding, s.before, s.after) for s in observed]
+
+
+@dataclass(frozen=True)
+class Exploration:
+    """The robot's own skill executions, observed and grounded (what the domain is learned from)."""
+
+    steps: tuple[Step, ...]
+    groundings: tuple[Grounding, ...]
+    images: tuple[tuple[np.ndarray, np.ndarray], ...] = field(repr=False)
+
+
+def explore_skill(world, library: SkillLibrary, action: str, obj: str | None = None) -> Exploration:
+    """The robot executes ``action`` on a cube and watches: VSL grounds the pre/post pair.
+
+    The grounded execution (which object moved, ``far`` before and after) is what the
+    action models are learned from (the paper's Table 3). ``obj`` defaults to the first
+    object on the side the skill starts from.
+    """
+    state = perceive(world)
+    start_far = action == "pull"
+    name = obj or next((n for n, o in state.objects.items() if o.far == start_far), None)
+    if name is None:
+        raise TaskFailed(f"the robot sees no {'far' if start_far else 'near'} object to try {action} on")
+    result, after = execute_step(world, library, action, name, state)
+    if not result.ok:
+        raise TaskFailed(f"exploring {action} on {name}: {result.error}")
+    grounding = ground(state.image, after.image)
+    if grounding.action != action:
+        raise TaskFailed(f"the robot executed {action} but saw {grounding.action or 'no change of far'}")
+    return Exploration((to_step(grounding, state, after),), (grounding,), ((state.image, after.image),))
+
+
+def learn_models(explorations: list[Exploration]) -> Domain:
+    """The lifted action schemas push / pull learned from the robot's observed executions."""
+    return learn_domain([step for exploration in explorations for step in exploration.steps])
+
+
+@dataclass
+class Execution:
+    """A task executed in closed loop: every plan made, every step run, and the outcome."""
+
+    plans: list[PlanResult] = field(default_factory=list)
+    problems: list = field(default_factory=list)
+    steps: list[StepResult] = field(default_factory=list)
+    states: list[PerceivedState] = field(default_factory=list, repr=False)
+    replans: int = 0
+    success: bool = False
+    error: str | None = None
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def executed(self) -> list[str]:
+        """The objects acted on successfully, in order: ``["orange", "green", ...]``."""
+        return [s.obj for s in self.steps if s.ok]
+
+    def to_dict(self) -> dict:
+        return {
+            "success": self.success,
+            "replans": self.replans,
+            "plans": [p.to_dict() for p in self.plans],
+            "steps": [s.to_dict() for s in self.steps],
+            "failed_steps": sum(not s.ok for s in self.steps),
+            "error": self.error,
+            "notes": self.notes,
+        }
+
+
+def execute_task(world, library: SkillLibrary, domain: Domain, task: Task, *, planner: str = "fast-downward",
+                 faults: dict[int, str] | None = None, max_replans: int = MAX_REPLANS,
+                 on_step: Callable[[StepResult, PerceivedState], None] | None = None) -> Execution:
+    """Plan ``task`` in the scene the robot sees and execute the plan, replanning on failures.
+
+    ``faults`` maps the index of an executed step (0-based, over the whole run) to a fault to
+    inject there ("nudge" or "skip"), to exercise replanning. The run succeeds when a plan
+    from the last observed state is empty: the goal holds in what the robot sees.
+    """
+    faults = faults or {}
+    run = Execution()
+    state = perceive(world)
+    run.states.append(state)
+    while True:
+        problem = make_problem(domain, task, literals(state))
+        try:
+            plan = solve(domain, problem, planner)
+        except TaskFailed as failure:
+            if not task.ordered:
+                run.error = str(failure)
+                return run
+            # The order can no longer be kept (e.g. a later object already changed): keep the goal.
+            run.notes.append(f"{failure}; replanning without the demonstrated order")
+            task = task.without_order()
+            continue
+        run.plans.append(plan)
+        run.problems.append(problem)
+        if len(run.plans) > max_replans + 3:
+            run.error = f"the goal still does not hold after {len(run.plans) - 1} plans"
+            return run
+        if not plan.steps:
+            run.success = True
+            return run
+        for action, args in plan.steps:
+            result, state = execute_step(world, library, action, args[0], state, faults.get(len(run.steps)))
+            run.steps.append(result)
+            run.states.append(state)
+            if on_step is not None:
+                on_step(result, state)
+            if not result.ok:
+                break
+        else:
+            continue  # the whole plan ran: the next plan from the observed state should be empty
+        if run.replans >= max_replans:
+            run.error = f"gave up after {max_replans} replans: {run.steps[-1].error}"
+            return run
+        run.replans += 1
