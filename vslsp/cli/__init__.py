@@ -19,6 +19,9 @@ COMMANDS: dict[str, str] = {
     "scene": "vslsp.cli.scene:scene",
     "teach": "vslsp.cli.teach:teach",
     "ground": "vslsp.cli.ground:ground",
+    "pddl": "vslsp.cli.pddl:pddl",
+    "plan": "vslsp.cli.plan:plan",
+    "validate": "vslsp.cli.validate:validate",
 }
 
 

@@ -10,6 +10,7 @@ unified-planning is imported lazily, so ``import vslsp.symbolic`` stays light.
 from __future__ import annotations
 
 import re
+import warnings
 from collections import OrderedDict
 from functools import lru_cache
 from pathlib import Path
@@ -250,7 +251,9 @@ def _parse(domain_text: str, problem_text: str | None, domain_name: str, problem
     text, name = (problem_text, problem_name) if problem_text is not None else (domain_text, domain_name)
     check_text(text, name)
     try:
-        return PDDLReader(environment()).parse_problem_string(domain_text, problem_text)
+        with warnings.catch_warnings():  # pyparsing's deprecation notes about the reader's own calls
+            warnings.simplefilter("ignore", DeprecationWarning)
+            return PDDLReader(environment()).parse_problem_string(domain_text, problem_text)
     except Exception as error:  # UP raises SyntaxError, pyparsing and UP exceptions alike
         raise located_error(error, text, name) from None
 

@@ -64,6 +64,10 @@ def check_text(text: str, name: str) -> None:
         raise InputError(f"{name}: the file is empty; expected (define (domain ...)) or (define (problem ...))")
 
 
+_ORDER = {
+    "domain": ":requirements, :types, :constants, :predicates, :functions, :constraints, then the actions",
+    "problem": ":domain, :requirements, :objects, :init, :goal, :constraints, :metric",
+}
 _PLACE = re.compile(r"line:?\s*(\d+),\s*col:?\s*(\d+)", re.IGNORECASE)
 _REWRITES = (
     (re.compile(r"Not able to handle: \(\s*([^\s()]+)"), "unknown predicate or operator '{0}'"),
@@ -86,6 +90,10 @@ def located_error(error: Exception, text: str, name: str) -> InputError:
     if type(error).__name__ in ("ParseException", "ParseSyntaxException"):
         found = re.sub(r"\s*\(at char \d+\), \(line:\d+, col:\d+\)", "", getattr(error, "msg", message))
         what = f"syntax error: {found}"
+        section = re.match(r"\(:[\w-]+", text[getattr(error, "loc", 0):])
+        if section:
+            kind = "problem" if re.search(r"\(\s*problem", text, re.IGNORECASE) else "domain"
+            what = f"{what}: '{section.group(0)}' is not allowed here; sections come in the order {_ORDER[kind]}"
     else:
         place = _PLACE.search(message)
         if place:

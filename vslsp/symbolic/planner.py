@@ -9,7 +9,10 @@ problem first; the plan is mapped back to the lifted actions.
 
 from __future__ import annotations
 
+import os
+import tempfile
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 from vslsp.errors import InputError, TaskFailed
@@ -65,7 +68,7 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
     """:func:`solve`, with the time of each phase."""
     from unified_planning.engines import CompilationKind, PlanGenerationResultStatus
     from unified_planning.engines.compilers.trajectory_constraints_remover import TrajectoryConstraintsRemover
-    from unified_planning.exceptions import UPProblemDefinitionError
+    from unified_planning.exceptions import UPException, UPProblemDefinitionError
     from unified_planning.shortcuts import Compiler, OneshotPlanner
 
     from vslsp.symbolic.pddl import environment, to_up
@@ -92,6 +95,8 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
             raise TaskFailed(f"no plan: {str(error).replace('PROBLEM NOT SOLVABLE: ', '')}") from None
         up_problem = compiled.problem
         map_backs.append(compiled.map_back_action_instance)
+    if env.expression_manager.And(up_problem.goals).simplify().is_false():
+        raise TaskFailed(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
     with OneshotPlanner(name=planner) as engine:
         if not engine.supports(up_problem.kind) and up_problem.kind.has_conditional_effects():
             # Optimal Fast Downward (LM-cut) has no conditional effects; the constraint monitors have some.
@@ -104,7 +109,11 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
             raise InputError(f"planner {planner} cannot solve this problem (it needs: {up_problem.kind}); "
                              f"try {DEFAULT_PLANNER}")
         compiled_at = time.perf_counter()
-        result = engine.solve(up_problem)
+        try:
+            with _private_directory():
+                result = engine.solve(up_problem)
+        except UPException as error:
+            raise TaskFailed(f"no plan: {planner} failed: {error}") from None
     solved = time.perf_counter()
     if result.status not in (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY):
         raise TaskFailed(f"no plan: {_reason(result)}")
@@ -115,6 +124,20 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
         steps.append((instance.action.name.lower(), tuple(str(p.object().name).lower() for p in instance.actual_parameters)))
     times = PlanningTimes(built - start, compiled_at - built, solved - compiled_at)
     return PlanResult(tuple(steps), planner, solved - start), times
+
+
+@contextmanager
+def _private_directory():
+    """Run in a fresh working directory: Fast Downward's driver writes ``output.sas`` into the
+    current one, so two planners started from the same folder (test workers, experiment
+    workers) would read and delete each other's file."""
+    previous = os.getcwd()
+    with tempfile.TemporaryDirectory(prefix="vslsp-plan-") as folder:
+        os.chdir(folder)
+        try:
+            yield
+        finally:
+            os.chdir(previous)
 
 
 def _reason(result) -> str:

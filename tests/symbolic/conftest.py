@@ -1,0 +1,65 @@
+"""Shared inputs of the symbolic tests: the shipped PDDL files and the paper's demonstrations,
+written as the grounding stage records them (object -> {"far": bool} before and after)."""
+
+from pathlib import Path
+
+import pytest
+
+from vslsp.symbolic import Step
+
+PDDL = Path(__file__).resolve().parents[2] / "pddl"
+
+
+def scene(**far: bool) -> dict[str, dict[str, bool]]:
+    """``scene(green=True, red=False)`` -> ``{"green": {"far": True}, "red": {"far": False}}``."""
+    return {colour: {"far": value} for colour, value in far.items()}
+
+
+def step(action: str | None, obj: str, before: dict, **changes: bool) -> Step:
+    """The step acting on ``obj`` in ``before``; ``changes`` give the post-action values."""
+    after = {o: dict(v) for o, v in before.items()}
+    for colour, value in changes.items():
+        after[colour]["far"] = value
+    return Step(action, obj, before, after)
+
+
+def demonstration(start: dict, *operations: tuple[str, str]) -> list[Step]:
+    """Consecutive steps from ``start``: ``("pull", "green")`` makes green near, push far."""
+    steps, state = [], {o: dict(v) for o, v in start.items()}
+    for action, obj in operations:
+        steps.append(step(action, obj, state, **{obj: action == "push"}))
+        state = {o: dict(v) for o, v in steps[-1].after.items()}
+    return steps
+
+
+@pytest.fixture
+def keep_all_near_demonstrations() -> list[list[Step]]:
+    """The three demonstrations of "Keeping All Objects Near", giving the rules
+    r_1^1 <green -> near> IF <orange far>, r_1^2 <orange -> near> IF <green near>,
+    r_2^1 <green -> near> IF <orange near>, r_3^1 <orange -> near> IF <green far>."""
+    return [
+        demonstration(scene(green=True, orange=True), ("pull", "green"), ("pull", "orange")),
+        demonstration(scene(green=True, orange=False), ("pull", "green")),
+        demonstration(scene(green=True, orange=True), ("pull", "orange")),
+    ]
+
+
+@pytest.fixture
+def pull_in_order_demonstration() -> list[Step]:
+    """"Pull All Objects in a Given Order": orange, then green, then yellow."""
+    return demonstration(scene(orange=True, green=True, yellow=True),
+                         ("pull", "orange"), ("pull", "green"), ("pull", "yellow"))
+
+
+@pytest.fixture
+def skill_executions() -> list[Step]:
+    """Executions of the push and pull skills observed on several blocks (Table 3's input),
+    including one failed push (nothing changed) and one step with no recognised action."""
+    return [
+        step("push", "green", scene(green=False, red=True), green=True),
+        step("pull", "red", scene(green=True, red=True), red=False),
+        step("push", "blue", scene(blue=False, red=False), blue=True),
+        step("pull", "blue", scene(blue=True, yellow=False), blue=False),
+        step("push", "yellow", scene(yellow=True)),  # already far: the push changed nothing
+        step(None, "red", scene(red=False)),
+    ]

@@ -1,0 +1,71 @@
+"""Planning with unified-planning + Fast Downward: the demonstrated order enforced through
+compiled PDDL 3.0 constraints, dropped on request, unsolvable problems reported as no plan."""
+
+import pytest
+
+from conftest import PDDL
+from vslsp.errors import InputError, TaskFailed
+from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, read_pddl, solve, validate
+
+DEMONSTRATED = ["pull orange", "pull green", "pull yellow"]
+
+
+@pytest.fixture(scope="module")
+def pull_in_order():
+    return read_pddl(PDDL / "domain.pddl", PDDL / "pull-in-order.pddl")
+
+
+def test_plan_respects_the_demonstrated_order(pull_in_order):
+    domain, problem = pull_in_order
+    plan = solve(domain, problem)
+    assert plan.lines() == DEMONSTRATED and plan.planner == "fast-downward" and plan.time_s > 0
+    assert plan.steps[0] == ("pull", ("orange",))
+
+
+@pytest.mark.parametrize("order", [("yellow", "green", "orange"), ("green", "yellow", "orange")])
+def test_order_reversed_in_the_problem_is_followed(pull_in_order, order):
+    domain, problem = pull_in_order
+
+    def near(c):
+        return Not(Atom("far", (c,)))
+
+    reordered = problem.without_constraints()
+    for earlier, later in zip(order, order[1:]):
+        reordered = reordered.with_constraint(SometimeBefore(near(later), near(earlier)))
+    assert solve(domain, reordered).lines() == [f"pull {c}" for c in order]
+
+
+def test_without_the_order_the_planner_chooses(pull_in_order):
+    domain, problem = pull_in_order
+    free = problem.without_constraints()
+    plan = solve(domain, free)
+    assert sorted(plan.lines()) == sorted(DEMONSTRATED)
+    # Any order is now acceptable, including the reverse of the demonstration.
+    assert validate(domain, free, DEMONSTRATED[::-1]).valid
+    assert not validate(domain, problem, DEMONSTRATED[::-1]).valid
+
+
+def test_planning_is_deterministic_and_the_optimal_planner_is_selectable(pull_in_order):
+    domain, problem = pull_in_order
+    assert solve(domain, problem).steps == solve(domain, problem).steps
+    optimal = solve(domain, problem, planner="fast-downward-opt")
+    assert optimal.lines() == DEMONSTRATED and optimal.planner == "fast-downward-opt"
+
+
+def test_unsolvable_problems_raise_no_plan(pull_in_order):
+    domain, problem = pull_in_order
+    with pytest.raises(TaskFailed, match=r"^no plan: .*proved by Fast Downward"):
+        solve(domain, problem.with_constraint(Always(Atom("far", ("green",)))))
+    with pytest.raises(TaskFailed, match=r"^no plan: \(sometime-before \(not \(far green\)\).*already true"):
+        solve(domain, problem.without_init(Atom("far", ("green",))))
+
+
+def test_unknown_planner_is_an_input_error(pull_in_order):
+    with pytest.raises(InputError, match="unknown planner 'nope'; installed: fast-downward"):
+        solve(*pull_in_order, planner="nope")
+
+
+def test_plan_result_forms():
+    plan = PlanResult((("pull", ("orange",)), ("push", ("red",))), "fast-downward", 0.5)
+    assert plan.to_pddl() == "(pull orange)\n(push red)\n"
+    assert PlanResult.from_dict(plan.to_dict()) == plan

@@ -1,0 +1,85 @@
+"""The plan validator: simulation over states, preconditions, goal and every PDDL 3.0
+trajectory constraint with its semantics."""
+
+import pytest
+
+from conftest import PDDL
+from vslsp.errors import InputError
+from vslsp.symbolic import (
+    Always,
+    AtEnd,
+    AtMostOnce,
+    Atom,
+    Not,
+    Sometime,
+    SometimeAfter,
+    SometimeBefore,
+    parse_plan,
+    read_pddl,
+    validate,
+)
+
+
+def far(c: str) -> Atom:
+    return Atom("far", (c,))
+
+
+@pytest.fixture(scope="module")
+def pull_in_order():
+    return read_pddl(PDDL / "domain.pddl", PDDL / "pull-in-order.pddl")
+
+
+def test_demonstrated_order_is_valid(pull_in_order):
+    verdict = validate(*pull_in_order, ["(pull orange)", "pull green", ("pull", ("yellow",))])
+    assert verdict.valid and "keeps all 2 constraints" in verdict.reason
+
+
+def test_wrong_order_is_rejected_naming_sometime_before(pull_in_order):
+    verdict = validate(*pull_in_order, ["pull orange", "pull yellow", "pull green"])
+    assert not verdict.valid
+    assert verdict.reason.startswith("constraint (sometime-before (not (far yellow)) (not (far green))) is broken")
+    assert "after step 2 (pull yellow)" in verdict.reason
+
+
+def test_preconditions_goal_and_names_are_checked(pull_in_order):
+    assert "step 1 (push orange): precondition (not (far orange)) does not hold" in \
+        validate(*pull_in_order, ["push orange"]).reason
+    assert "the goal" in validate(*pull_in_order, ["pull orange"]).reason
+    assert "unknown action 'jump'" in validate(*pull_in_order, ["jump orange"]).reason
+    assert "'purple' is not an object" in validate(*pull_in_order, ["pull purple"]).reason
+
+
+# Trajectory: s0 {red far}, s1 after push blue {red, blue far}, s2 after pull red {blue far},
+# s3 after push red {red, blue far}, s4 after pull blue {red far}.
+PLAN = ["push blue", "pull red", "push red", "pull blue"]
+
+
+@pytest.mark.parametrize("constraint, valid, why", [
+    (Always(far("red") | far("blue")), True, ""),
+    (Always(far("red")), False, "(far red) is false after step 2 (pull red)"),
+    (Sometime(far("blue") & Not(far("red"))), True, ""),
+    (Sometime(Not(far("red")) & Not(far("blue"))), False, "never holds"),
+    (AtMostOnce(far("blue")), True, ""),
+    (AtMostOnce(far("red")), False, "becomes true again after step 3 (push red)"),
+    (SometimeBefore(Not(far("red")), far("blue")), True, ""),
+    (SometimeBefore(far("blue"), Not(far("red"))), False, "(far blue) holds after step 1 (push blue)"),
+    (SometimeAfter(Not(far("red")), far("red")), True, ""),
+    (SometimeAfter(far("blue"), Not(far("red")) & far("blue")), False, "after step 3 (push red)"),
+    (AtEnd(Not(far("blue"))), True, ""),
+    (AtEnd(far("blue")), False, "false at the end"),
+])
+def test_each_constraint_has_its_pddl3_meaning(constraint, valid, why):
+    domain, problem = read_pddl(PDDL / "domain.pddl", PDDL / "simple-push-pull.pddl")
+    problem = problem.without_init(far("blue")).with_goal(far("red")).with_constraint(constraint)
+    verdict = validate(domain, problem, PLAN)
+    assert verdict.valid == valid, verdict.reason
+    assert why in verdict.reason
+
+
+def test_plan_text_errors_name_line_and_column(pull_in_order):
+    text = "; a plan\n(pull orange)\n\n  (pull green\n"
+    with pytest.raises(InputError, match=r"^plan.txt:4:3: expected one step like \(pull green\)"):
+        parse_plan(text, *pull_in_order, name="plan.txt")
+    with pytest.raises(InputError, match=r"^plan.txt:1:4: pull: takes 1 argument\(s\), 2 given"):
+        parse_plan("  (pull orange green)", *pull_in_order, name="plan.txt")
+    assert parse_plan("(PULL Orange) ; first\n", *pull_in_order) == [("pull", ("orange",))]
