@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from vslsp.vision.colour import GREY_CLASS, colour_classes, colour_name
+from vslsp.vision.colour import COLOUR_NAMES, GREY_CLASS, colour_classes, colour_name
 from vslsp.vision.features import Features, object_features
 from vslsp.vision.image import as_rgb, channel_max, channel_min, colour_distance, table_colour, to_working
 
@@ -75,32 +75,67 @@ def object_mask(work: np.ndarray, table: np.ndarray, dark: np.ndarray) -> np.nda
 def segment(image: np.ndarray) -> Segmentation:
     """Segment the objects of an RGB image (H, W, 3) uint8.
 
-    Object pixels are split by colour class before their connected regions are taken, so
-    that two objects of different colours that touch in the image stay two objects.
+    A connected region of object pixels that holds several colours (objects of different
+    colours touching in the image) is split by colour class, so that they stay two objects.
     """
     work, scale = to_working(as_rgb(image))
     table = table_colour(work)
     dark = dark_mask(work)
-    classes = colour_classes(work)
-    classes[object_mask(work, table, dark) == 0] = 0
-    h, w = classes.shape
-    labels = np.zeros((h, w), np.int32)
-    stats = [np.zeros(5, np.int32)]
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(object_mask(work, table, dark), connectivity=8)
+    h, w = labels.shape
+    min_area, max_area = MIN_AREA * h * w, MAX_AREA * h * w
+    all_stats = list(stats)
     kept: list[int] = []
+    for label in range(1, count):
+        if stats[label, 4] < min_area:
+            continue
+        parts = _split_by_colour(work, labels, label, all_stats, min_area)
+        reaches_in = _on_border(stats[label], w, h)
+        for part_label, colour_class in parts:
+            part = all_stats[part_label]
+            # A grey or unnamed piece of a region reaching into the view is a part of the robot
+            # (its white hand) or of the table's edge, not an object standing on the table.
+            if reaches_in and colour_class > len(COLOUR_NAMES):
+                continue
+            if not _on_border(part, w, h) and min_area <= part[4] <= max_area:
+                kept.append(part_label)
+    return Segmentation(work, scale, table, labels, dark, tuple(kept), np.array(all_stats))
+
+
+def _split_by_colour(work: np.ndarray, labels: np.ndarray, label: int, all_stats: list[np.ndarray],
+                     min_area: float) -> list[tuple[int, int]]:
+    """Split region ``label`` of ``labels`` (h, w) by colour class where it holds several
+    colours, relabelling ``labels`` in place and appending the parts' stats to ``all_stats``.
+
+    Returns (label, colour class) for each part; a region of one colour is its own part.
+    """
+    x, y, bw, bh, _ = all_stats[label]
+    region = labels[y:y + bh, x:x + bw]
+    inside = region == label
+    classes = colour_classes(work[y:y + bh, x:x + bw])
+    classes[~inside] = 0
     counts = np.bincount(classes.ravel(), minlength=GREY_CLASS + 1)
-    for colour_class in np.nonzero(counts[1:] >= MIN_AREA * h * w)[0] + 1:
-        # Opening per class drops the thin fringe where an object's colour blends into the table.
+    major = np.nonzero(counts[1:] >= min_area)[0] + 1
+    if len(major) <= 1:
+        return [(label, int(major[0]) if len(major) else int(np.argmax(counts[1:])) + 1)]
+    region[inside] = 0
+    parts = []
+    for colour_class in major:
+        # Opening drops the thin fringe where an object's colour blends into another.
         members = cv2.morphologyEx((classes == colour_class).view(np.uint8), cv2.MORPH_OPEN, _KERNEL)
-        count, class_labels, class_stats, _ = cv2.connectedComponentsWithStats(members, connectivity=8)
-        for label in range(1, count):
-            x, y, bw, bh, area = class_stats[label]
-            on_border = x <= 0 or y <= 0 or x + bw >= w or y + bh >= h
-            if not on_border and MIN_AREA * h * w <= area <= MAX_AREA * h * w:
-                kept.append(len(stats))
-                region = labels[y:y + bh, x:x + bw]
-                region[class_labels[y:y + bh, x:x + bw] == label] = len(stats)
-                stats.append(class_stats[label])
-    return Segmentation(work, scale, table, labels, dark, tuple(kept), np.array(stats))
+        n, part_labels, part_stats, _ = cv2.connectedComponentsWithStats(members, connectivity=8)
+        for part in range(1, n):
+            region[part_labels == part] = len(all_stats)
+            part_stats[part, :2] += (x, y)
+            parts.append((len(all_stats), int(colour_class)))
+            all_stats.append(part_stats[part])
+    return parts
+
+
+def _on_border(stat: np.ndarray, w: int, h: int) -> bool:
+    """Whether a region's box (x, y, w, h, area) touches the edge of a w x h image."""
+    x, y, bw, bh = stat[:4]
+    return x <= 0 or y <= 0 or x + bw >= w or y + bh >= h
 
 
 def describe(seg: Segmentation, label: int, image: np.ndarray | None = None) -> DetectedObject:
