@@ -119,3 +119,13 @@ def test_make_problem_states_the_task_in_the_scene(pull_in_order_demonstration, 
     assert problem.constraints == task.constraints
     with pytest.raises(InputError, match="names green, orange, yellow, not in the scene"):
         make_problem(domain, task, scene(red=True))
+
+
+def test_replanning_halfway_keeps_only_the_order_still_ahead(pull_in_order_demonstration, skill_executions):
+    domain, task = learn_domain(skill_executions), learn_task([pull_in_order_demonstration])
+    # Orange and green are already near: only "yellow after green" is left, and it is kept.
+    halfway = make_problem(domain, task, scene(orange=False, green=False, yellow=True))
+    assert halfway.constraints == task.constraints[1:]
+    assert solve(domain, halfway).lines() == ["pull yellow"]
+    done = make_problem(domain, task, scene(orange=False, green=False, yellow=False))
+    assert done.constraints == () and solve(domain, done).steps == ()

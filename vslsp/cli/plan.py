@@ -11,7 +11,7 @@ import click
 @click.argument("domain", type=click.Path(dir_okay=False))
 @click.argument("problem", type=click.Path(dir_okay=False))
 @click.option("--planner", default="fast-downward", show_default=True,
-              help="A unified-planning oneshot planner: fast-downward, fast-downward-opt, or any installed one.")
+              help="fast-downward (greedy FF), fast-downward-lama, fast-downward-opt (A* LM-cut), or any installed unified-planning oneshot planner.")
 @click.option("--out", type=click.Path(dir_okay=False), default=None,
               help="Also write the plan there, one (action arg ...) per line (the PLAN of vslsp validate).")
 @click.option("--json", "as_json", is_flag=True, help='Print {"plan": [...], "planner": str, "time_s": float}.')

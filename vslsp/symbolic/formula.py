@@ -235,6 +235,24 @@ def holds(formula: Formula, state: State, universe: Universe) -> bool:
     return test(holds(substitute(formula.body, binding), state, universe) for binding in _bindings(formula.variables, universe))
 
 
+def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
+    """``formula`` with ``forall`` as a conjunction and ``exists`` as a disjunction over the objects.
+
+    Planners get a plain goal this way: Fast Downward turns a quantified goal into one derived
+    atom, which leaves its heuristics blind on long plans.
+    """
+    if isinstance(formula, Atom):
+        return formula
+    if isinstance(formula, Not):
+        return Not(expand_quantifiers(formula.arg, universe))
+    if isinstance(formula, (And, Or)):
+        return type(formula)(tuple(expand_quantifiers(a, universe) for a in formula.args))
+    if isinstance(formula, Imply):
+        return Imply(expand_quantifiers(formula.condition, universe), expand_quantifiers(formula.consequence, universe))
+    parts = tuple(expand_quantifiers(substitute(formula.body, b), universe) for b in _bindings(formula.variables, universe))
+    return And(parts) if isinstance(formula, Forall) else Or(parts)
+
+
 def _bindings(variables: tuple[tuple[str, str], ...], universe: Universe) -> Iterable[dict[str, str]]:
     if not variables:
         yield {}

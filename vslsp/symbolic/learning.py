@@ -24,6 +24,7 @@ from vslsp.symbolic.formula import (
     conjunction,
     forall,
     formula_from_list,
+    holds,
     formula_to_list,
     literal,
 )
@@ -263,8 +264,10 @@ def _demonstrated_order(demonstrations: Sequence[Sequence[Step]], rules: Sequenc
 def make_problem(domain: Domain, task: Task, state: Literals, name: str = "vsl-sp-task") -> Problem:
     """The planning problem for ``task`` in an observed ``state`` (object -> {predicate: value}).
 
-    Objects are the keys of ``state`` (blocks); the initial state is its true literals. A task
-    that names an object not in the scene raises InputError.
+    Objects are the keys of ``state`` (blocks); the initial state is its true literals. A
+    ``sometime-before`` whose later literal already holds in ``state`` is left out: that part of
+    the order is behind us (e.g. when replanning halfway). A task that names an object not in
+    the scene raises InputError.
     """
     block = BLOCK if any(t == BLOCK for t, _ in domain.types) else (domain.types[0][0] if domain.types else "object")
     known = {p.name for p in domain.predicates}
@@ -282,4 +285,9 @@ def make_problem(domain: Domain, task: Task, state: Literals, name: str = "vsl-s
     if missing:
         raise InputError(f"the task names {', '.join(missing)}, not in the scene (objects: {', '.join(state)}); "
                          "use a scene with these objects or a lifted task")
-    return Problem(name, domain, tuple((o, block) for o in state), frozenset(init), task.goal, task.constraints)
+    problem = Problem(name, domain, tuple((o, block) for o in state), frozenset(init), task.goal)
+    # An ordering whose later literal already holds in this scene is done with: the order can only
+    # speak of what is still to be done (this is what lets the robot replan halfway through).
+    universe, now = problem.universe(), frozenset(init)
+    pending = tuple(c for c in task.constraints if not (isinstance(c, SometimeBefore) and holds(c.formula, now, universe)))
+    return replace(problem, constraints=pending)

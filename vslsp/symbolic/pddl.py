@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 import warnings
 from collections import OrderedDict
+from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -33,6 +34,8 @@ from vslsp.symbolic.formula import (
     SometimeAfter,
     SometimeBefore,
     conjunction,
+    constraint_formulas,
+    expand_quantifiers,
     substitute,
 )
 from vslsp.symbolic.model import Action, Domain, Predicate, Problem
@@ -51,8 +54,11 @@ def environment():
 
 # --- ours -> unified-planning ------------------------------------------------------------
 
-def to_up(domain: Domain, problem: Problem | None = None):
-    """A ``unified_planning.model.Problem`` for ``domain`` (and ``problem``'s objects, init, goal, constraints)."""
+def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False):
+    """A ``unified_planning.model.Problem`` for ``domain`` (and ``problem``'s objects, init, goal, constraints).
+
+    ``expand``: quantifiers of the goal and the constraints written out over the objects (for planners).
+    """
     from unified_planning.model import Fluent, InstantaneousAction, Object, Variable
     from unified_planning.model import Problem as UPProblem
 
@@ -129,6 +135,10 @@ def to_up(domain: Domain, problem: Problem | None = None):
     if problem is None:
         return up_problem
 
+    if expand:
+        universe = problem.universe()
+        problem = replace(problem, goal=expand_quantifiers(problem.goal, universe), constraints=tuple(
+            type(c)(*(expand_quantifiers(f, universe) for f in constraint_formulas(c))) for c in problem.constraints))
     for atom in sorted(problem.init, key=lambda a: (a.predicate, a.args)):
         up_problem.set_initial_value(node(atom, {}), True)
     at_end = [c.formula for c in problem.constraints if isinstance(c, AtEnd)]
@@ -140,17 +150,11 @@ def to_up(domain: Domain, problem: Problem | None = None):
                  SometimeBefore: em.SometimeBefore, SometimeAfter: em.SometimeAfter}
     for constraint in problem.constraints:
         if not isinstance(constraint, AtEnd):
-            parts = [node(f, {}) for f in _constraint_parts(constraint)]
+            parts = [node(f, {}) for f in constraint_formulas(constraint)]
             trajectory.append(operators[type(constraint)](*parts))
     if trajectory:
         up_problem.add_trajectory_constraint(em.And(trajectory) if len(trajectory) > 1 else trajectory[0])
     return up_problem
-
-
-def _constraint_parts(constraint: Constraint) -> tuple[Formula, ...]:
-    from vslsp.symbolic.formula import constraint_formulas
-
-    return constraint_formulas(constraint)
 
 
 # --- writing -------------------------------------------------------------------------------

@@ -19,6 +19,16 @@ from vslsp.errors import InputError, TaskFailed
 from vslsp.symbolic.model import Domain, Problem
 
 DEFAULT_PLANNER = "fast-downward"
+#: vslsp's planner names that are a unified-planning engine with set parameters; any other
+#: name is a unified-planning oneshot planner as installed (e.g. fast-downward-opt: A* + LM-cut).
+#: The default is greedy best-first search with the FF heuristic and preferred operators:
+#: LAMA's landmark preprocessing dominates on the long chains of a demonstrated order
+#: (about 5x slower at 200 blocks, see benchmarks/bench_planning.py).
+PLANNERS: dict[str, tuple[str, dict]] = {
+    "fast-downward": ("fast-downward", {"fast_downward_search_config":
+                                        "let(hff,ff(),lazy_greedy([hff],preferred=[hff]))"}),
+    "fast-downward-lama": ("fast-downward", {"fast_downward_alias": "lama-first"}),
+}
 
 
 @dataclass(frozen=True)
@@ -75,9 +85,10 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
     from vslsp.symbolic.validate import initially_broken
 
     env = environment()
-    available = _oneshot_planners(env)
+    available = list(PLANNERS) + [name for name in _oneshot_planners(env) if name not in PLANNERS]
     if planner not in available:
         raise InputError(f"unknown planner {planner!r}; installed: {', '.join(available)}")
+    engine_name, params = PLANNERS.get(planner, (planner, {}))
     if problem.domain.name != domain.name:
         raise InputError(f"problem {problem.name} is for domain {problem.domain.name}, not {domain.name}")
     broken = initially_broken(problem)
@@ -85,7 +96,7 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
         raise TaskFailed(f"no plan: {broken}")
 
     start = time.perf_counter()
-    up_problem = to_up(domain, problem)
+    up_problem = to_up(domain, problem, expand=True)
     built = time.perf_counter()
     map_backs = []
     if up_problem.trajectory_constraints:
@@ -97,17 +108,19 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
         map_backs.append(compiled.map_back_action_instance)
     if env.expression_manager.And(up_problem.goals).simplify().is_false():
         raise TaskFailed(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
-    with OneshotPlanner(name=planner) as engine:
-        if not engine.supports(up_problem.kind) and up_problem.kind.has_conditional_effects():
+    with OneshotPlanner(name=engine_name, params=params) as engine:
+        kind = up_problem.kind  # computed afresh on each access: once is enough
+        if not engine.supports(kind) and kind.has_conditional_effects():
             # Optimal Fast Downward (LM-cut) has no conditional effects; the constraint monitors have some.
-            with Compiler(problem_kind=up_problem.kind,
-                          compilation_kind=CompilationKind.CONDITIONAL_EFFECTS_REMOVING) as remover:
+            with Compiler(problem_kind=kind, compilation_kind=CompilationKind.CONDITIONAL_EFFECTS_REMOVING) as remover:
                 compiled = remover.compile(up_problem, CompilationKind.CONDITIONAL_EFFECTS_REMOVING)
             up_problem = compiled.problem
             map_backs.append(compiled.map_back_action_instance)
-        if not engine.supports(up_problem.kind):
-            raise InputError(f"planner {planner} cannot solve this problem (it needs: {up_problem.kind}); "
+            kind = up_problem.kind
+        if not engine.supports(kind):
+            raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); "
                              f"try {DEFAULT_PLANNER}")
+        engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
         compiled_at = time.perf_counter()
         try:
             with _private_directory():
