@@ -154,16 +154,15 @@ class DMP:
         y0_t, g = torch.as_tensor(y0, **options), torch.as_tensor(goal, **options)
         scale = torch.as_tensor(self._scale(y0, goal), **options)  # (B, 1)
         if coupling_force is None and coupling_phase is None:
-            y, zd = self._superpose(y0_t, g, scale, tau, h, substeps, steps)
+            y, yd, ydd = self._superpose(y0_t, g, scale, tau, h, substeps, steps)
         else:
             y, zd = self._integrate(y0_t, g, scale, tau, h, substeps, steps, coupling_force, coupling_phase)
-        y_all = y.cpu().numpy()  # (B, T, D)
-        t_all = np.arange(steps) * dt
-        yd_all = np.gradient(y_all, dt, axis=1)
-        ydd_all = zd.cpu().numpy() / tau
+            y, ydd = y.cpu().numpy(), zd.cpu().numpy() / tau
+            yd = np.gradient(y, dt, axis=1)
+        t = np.arange(steps) * dt
         if not batched:
-            return Rollout(t=t_all, y=y_all[0], yd=yd_all[0], ydd=ydd_all[0])
-        return Rollout(t=t_all, y=y_all, yd=yd_all, ydd=ydd_all)
+            return Rollout(t=t, y=y[0], yd=yd[0], ydd=ydd[0])
+        return Rollout(t=t, y=y, yd=yd, ydd=ydd)
 
     def _integrate(self, y0: torch.Tensor, g: torch.Tensor, scale: torch.Tensor, tau: float, h: float,
                    substeps: int, steps: int, coupling_force: Coupling | None,
@@ -232,16 +231,33 @@ class DMP:
         return es[:, 0], zs[:, 0], es[:, 1:], zs[:, 1:], forcing[::substeps]
 
     def _superpose(self, y0: torch.Tensor, g: torch.Tensor, scale: torch.Tensor, tau: float, h: float,
-                   substeps: int, steps: int) -> tuple[torch.Tensor, torch.Tensor]:
-        """y and ż (B, T, D) of uncoupled rollouts: one integration shared by the whole batch."""
+                   substeps: int, steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """y, ẏ, ÿ (B, T, D) of uncoupled rollouts: one integration shared by the whole batch.
+
+        Each is a fixed linear map of (g, y0 − g, s), one matrix product for the batch: y from
+        P and F; ẏ, the samples' central differences, from those of P and F; ÿ = ż / τ from
+        ``−α_z β_z (y − g) − α_z z + s φ``.
+        """
+        p, q, f, gf, forcing = self._responses(tau, h, substeps, steps)
+        dt, d = h * substeps, self.n_dims
+        blocks = {  # output: (coefficient of g, of y0 − g per step (T,), of s per step (T, D))
+            "y": (1.0, p, f),
+            "yd": (0.0, np.gradient(p, dt), np.gradient(f, dt, axis=0)),
+            "ydd": (0.0, -(self.alpha_z * self.beta_z * p + self.alpha_z * q) / tau**2,
+                    (forcing - self.alpha_z * self.beta_z * f - self.alpha_z * gf) / tau**2),
+        }
         options = {"dtype": torch.float64, "device": self.device}
-        p, q, f, gf, forcing = (torch.as_tensor(a, **options) for a in self._responses(tau, h, substeps, steps))
-        offset = (y0 - g)[:, None, :]  # (B, 1, D)
-        s = scale[:, :, None]  # (B, 1, 1)
-        y = g[:, None, :] + p[None, :, None] * offset + s * f[None]
-        z = q[None, :, None] * offset + s * gf[None]
-        zd = (self.alpha_z * (self.beta_z * (g[:, None, :] - y) - z) + s * forcing[None]) / tau
-        return y, zd
+        inputs = torch.cat([g, y0 - g, scale], dim=1)  # (B, 2D + 1)
+        outputs = []
+        for of_goal, of_offset, of_scale in blocks.values():
+            linear = np.zeros((2 * d + 1, steps, d))
+            for k in range(d):
+                linear[k, :, k] = of_goal
+                linear[d + k, :, k] = of_offset
+            linear[2 * d] = of_scale
+            product = inputs @ torch.as_tensor(linear.reshape(2 * d + 1, steps * d), **options)
+            outputs.append(product.reshape(-1, steps, d).cpu().numpy())
+        return tuple(outputs)
 
     # -- files ----------------------------------------------------------------------------------
     def to_arrays(self) -> dict[str, np.ndarray]:
