@@ -216,6 +216,8 @@ def test_rollout_rejects_wrong_dimensions_and_non_positive_times(dmp):
         dmp.rollout(np.zeros(2), np.ones(2))
     with pytest.raises(InputError, match="positive"):
         dmp.rollout(np.zeros(3), np.ones(3), tau=0.0)
+    with pytest.raises(InputError, match="shorter than one sample"):
+        dmp.rollout(np.zeros(3), np.ones(3), duration=0.001)
     with pytest.raises(InputError):
         DMP(0)
 

@@ -17,6 +17,11 @@ movement like the original. With a single dimension this is ``|g − y0| / |g_d 
 
 Weights are fitted per basis function and dimension in closed form by locally weighted
 regression over all samples of all demonstrations, each with its own start, goal and duration.
+
+Rollouts integrate with semi-implicit Euler steps of at most τ/1000. Without coupling terms
+the phase is the same for every movement and the transformation system is linear in
+(y0 − g, s·f), so a batch shares one integration and each movement is a linear combination of
+its responses; with couplings every movement is stepped.
 """
 
 from __future__ import annotations
@@ -146,6 +151,8 @@ class DMP:
             raise InputError(f"tau and dt must be positive, got {tau}, {dt}")
         duration = 1.3 * tau if duration is None else float(duration)
         steps = int(round(duration / dt)) + 1
+        if steps < 2:
+            raise InputError(f"a rollout of {duration} s is shorter than one sample period dt = {dt} s")
         # Semi-implicit Euler needs steps well below the spring's time constant: integrate
         # with at least 1000 substeps per τ and report every ``dt``.
         substeps = max(1, int(np.ceil(dt / (tau / 1000.0))))
