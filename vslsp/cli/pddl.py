@@ -48,3 +48,15 @@ def check(domain: str, problem: str | None, as_json: bool) -> None:
         for constraint in p["constraints"]:
             click.echo(f"  {constraint}")
     click.echo("ok")
+
+
+@pddl.command()
+@click.argument("domain", type=click.Path(dir_okay=False), required=False)
+@click.argument("problem", type=click.Path(dir_okay=False), required=False)
+def shell(domain: str | None, problem: str | None) -> None:
+    """Author a domain and a problem interactively (tab completion, history); plan and validate."""
+    from vslsp.symbolic import read_pddl
+    from vslsp.symbolic.shell import Shell
+
+    parsed_domain, parsed_problem = read_pddl(domain, problem) if domain else (None, None)
+    Shell(parsed_domain, parsed_problem).cmdloop()

@@ -206,14 +206,20 @@ def substitute(formula: Formula, binding: Mapping[str, str]) -> Formula:
     """Replace variables by objects: ``substitute(far("?b"), {"?b": "red"}) == far("red")``."""
     if isinstance(formula, Atom):
         return Atom(formula.predicate, tuple(binding.get(a, a) for a in formula.args))
+    if isinstance(formula, (Forall, Exists)):
+        inner = {k: v for k, v in binding.items() if k not in dict(formula.variables)}
+        return type(formula)(formula.variables, substitute(formula.body, inner))
+    return _map_connective(formula, lambda part: substitute(part, binding))
+
+
+def _map_connective(formula: Formula, transform: Callable[[Formula], Formula]) -> Formula:
+    """The connective ``formula`` (not, and, or, imply) rebuilt over its transformed parts."""
     if isinstance(formula, Not):
-        return Not(substitute(formula.arg, binding))
+        return Not(transform(formula.arg))
     if isinstance(formula, (And, Or)):
-        return type(formula)(tuple(substitute(a, binding) for a in formula.args))
-    if isinstance(formula, Imply):
-        return Imply(substitute(formula.condition, binding), substitute(formula.consequence, binding))
-    inner = {k: v for k, v in binding.items() if k not in dict(formula.variables)}
-    return type(formula)(formula.variables, substitute(formula.body, inner))
+        return type(formula)(tuple(transform(a) for a in formula.args))
+    assert isinstance(formula, Imply), formula
+    return Imply(transform(formula.condition), transform(formula.consequence))
 
 
 def holds(formula: Formula, state: State, universe: Universe) -> bool:
@@ -243,14 +249,10 @@ def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
     """
     if isinstance(formula, Atom):
         return formula
-    if isinstance(formula, Not):
-        return Not(expand_quantifiers(formula.arg, universe))
-    if isinstance(formula, (And, Or)):
-        return type(formula)(tuple(expand_quantifiers(a, universe) for a in formula.args))
-    if isinstance(formula, Imply):
-        return Imply(expand_quantifiers(formula.condition, universe), expand_quantifiers(formula.consequence, universe))
-    parts = tuple(expand_quantifiers(substitute(formula.body, b), universe) for b in _bindings(formula.variables, universe))
-    return And(parts) if isinstance(formula, Forall) else Or(parts)
+    if isinstance(formula, (Forall, Exists)):
+        parts = tuple(expand_quantifiers(substitute(formula.body, b), universe) for b in _bindings(formula.variables, universe))
+        return And(parts) if isinstance(formula, Forall) else Or(parts)
+    return _map_connective(formula, lambda part: expand_quantifiers(part, universe))
 
 
 def _bindings(variables: tuple[tuple[str, str], ...], universe: Universe) -> Iterable[dict[str, str]]:
