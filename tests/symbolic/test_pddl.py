@@ -86,3 +86,12 @@ def test_somewhere_after_names_the_pddl3_operators(tmp_path):
 def test_unreadable_file_is_an_input_error(tmp_path):
     with pytest.raises(InputError, match="cannot read"):
         read_pddl(tmp_path / "missing.pddl")
+
+
+def test_unsupported_pddl3_operators_are_named(tmp_path):
+    message = _broken(tmp_path, "pull-in-order.pddl", "(sometime-before (not (far yellow)) (not (far green)))",
+                      "(at end (not (far yellow)))")
+    assert _place(message) == (17, 6) and "put the formula in the (:goal ...)" in message
+    message = _broken(tmp_path, "pull-in-order.pddl", "(sometime-before (not (far yellow)) (not (far green)))",
+                      "(within 3 (not (far yellow)))")
+    assert "(within ...) is not supported" in message and "sometime-before" in message

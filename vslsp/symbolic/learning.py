@@ -75,8 +75,10 @@ def learn_domain(steps: Iterable[Step], name: str = "vsl-sp") -> Domain:
     preconditions: dict[str, set] = {}
     effects: dict[str, set] = {}
     for step in steps:
+        if step.action is None:
+            continue
         changed = step.changed()
-        if step.action is None or not changed:
+        if not changed:
             continue
         before = {(p, bool(v)) for p, v in step.before[step.obj].items()}
         preconditions[step.action] = preconditions.get(step.action, before) & before
@@ -162,9 +164,9 @@ def extract_rules(demonstrations: Sequence[Sequence[Step]]) -> list[Rule]:
     for i, demonstration in enumerate(demonstrations, start=1):
         j = 0
         for step in demonstration:
-            changed = step.changed()
-            if step.action is None or not changed:
+            if step.action is None or not step.changed():
                 continue
+            changed = step.changed()
             j += 1
             context = tuple(sorted((o, p, bool(v)) for o, values in step.before.items() if o != step.obj
                                    for p, v in values.items()))

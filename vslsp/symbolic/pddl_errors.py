@@ -39,6 +39,14 @@ def check_text(text: str, name: str) -> None:
         line, column = _position(text, match.start(1))
         raise InputError(f"{name}:{line}:{column}: {_NOT_PDDL[match.group(1).lower()]}. "
                          f"The PDDL 3.0 operators are: {', '.join(PDDL3_OPERATORS)}")
+    for match in re.finditer(r"\(\s*(at\s+end|within|always-within|hold-during|hold-after)\b", code, re.IGNORECASE):
+        if re.search(r"\(\s*problem\b", code, re.IGNORECASE):
+            line, column = _position(text, match.start(1))
+            operator = " ".join(match.group(1).lower().split())
+            hint = "put the formula in the (:goal ...), which means the same" if operator == "at end" else \
+                "timed constraints need a temporal planner"
+            raise InputError(f"{name}:{line}:{column}: ({operator} ...) is not supported here ({hint}); vslsp plans "
+                             f"with always, sometime, at-most-once, sometime-before and sometime-after")
     opened: list[int] = []
     for index, char in enumerate(code):
         if char == "(":
