@@ -83,3 +83,48 @@ def test_plan_text_errors_name_line_and_column(pull_in_order):
     with pytest.raises(InputError, match=r"^plan.txt:1:4: pull: takes 1 argument\(s\), 2 given"):
         parse_plan("  (pull orange green)", *pull_in_order, name="plan.txt")
     assert parse_plan("(PULL Orange) ; first\n", *pull_in_order) == [("pull", ("orange",))]
+
+
+def _random_problem(rng, domain, problem):
+    """Three blocks, a random initial state, goal and two random PDDL 3.0 constraints."""
+    blocks = ("red", "green", "blue")
+
+    def lit():
+        atom = far(rng.choice(blocks))
+        return atom if rng.random() < 0.5 else Not(atom)
+
+    kinds = (lambda: Always(lit() | lit()), lambda: Sometime(lit() & lit()), lambda: AtMostOnce(lit()),
+             lambda: SometimeBefore(lit(), lit()), lambda: SometimeAfter(lit(), lit()))
+    problem = problem.without_init(*problem.init).with_init(*(far(b) for b in blocks if rng.random() < 0.5))
+    problem = problem.with_goal(lit() & lit())
+    for _ in range(2):
+        problem = problem.with_constraint(rng.choice(kinds)())
+    return problem
+
+
+def test_planner_and_validator_agree_on_random_problems():
+    """The planner's compiled constraints and the validator's semantics are the same: every
+    plan found is valid, and when there is no plan, no plan of up to 4 steps is valid either."""
+    import itertools
+    import random
+
+    from vslsp.errors import TaskFailed
+    from vslsp.symbolic import solve
+
+    domain, base = read_pddl(PDDL / "domain.pddl", PDDL / "simple-push-pull.pddl")
+    steps = [(a, (b,)) for a in ("push", "pull") for b in ("red", "green", "blue")]
+    rng, outcomes = random.Random(7), {"planned": 0, "no plan": 0}
+    for _ in range(12):
+        problem = _random_problem(rng, domain, base)
+        try:
+            plan = solve(domain, problem)
+        except TaskFailed:
+            outcomes["no plan"] += 1
+            for length in range(5):
+                for candidate in itertools.product(steps, repeat=length):
+                    assert not validate(domain, problem, candidate).valid, (problem.constraints, candidate)
+            continue
+        outcomes["planned"] += 1
+        verdict = validate(domain, problem, plan.steps)
+        assert verdict.valid, (problem.goal, problem.constraints, plan.lines(), verdict.reason)
+    assert outcomes["planned"] and outcomes["no plan"], outcomes  # both sides exercised

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+import threading
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -139,13 +140,16 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
     return PlanResult(tuple(steps), planner, solved - start), times
 
 
+_CWD_LOCK = threading.Lock()  # the working directory is the process's: one planner at a time per process
+
+
 @contextmanager
 def _private_directory():
     """Run in a fresh working directory: Fast Downward's driver writes ``output.sas`` into the
     current one, so two planners started from the same folder (test workers, experiment
-    workers) would read and delete each other's file."""
-    previous = os.getcwd()
-    with tempfile.TemporaryDirectory(prefix="vslsp-plan-") as folder:
+    workers) would read and delete each other's file. Threads of one process take turns."""
+    with _CWD_LOCK, tempfile.TemporaryDirectory(prefix="vslsp-plan-") as folder:
+        previous = os.getcwd()
         os.chdir(folder)
         try:
             yield
