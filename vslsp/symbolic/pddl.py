@@ -304,7 +304,7 @@ def problem_from_up(up_problem, domain: Domain) -> Problem:
     return Problem(up_problem.name, domain, objects, init, goal, tuple(constraints))
 
 
-def formula_from_up(node, scope: dict | None = None) -> Formula:
+def formula_from_up(node) -> Formula:
     """Our formula from a UP FNode (parameters and variables become ``?name``)."""
     if node.is_fluent_exp():
         return Atom(node.fluent().name, tuple(_term_from_up(a) for a in node.args))
