@@ -177,13 +177,26 @@ def write_problem(problem: Problem) -> str:
     text = PDDLWriter(to_up(problem.domain, problem)).get_problem()
     text = re.sub(r"\(define \(problem [^)\s]+\)", f"(define (problem {problem.name})", text, count=1)
     text = re.sub(r"\(:domain [^)\s]+\)", f"(:domain {problem.domain.name})", text, count=1)
-    return re.sub(r" \(:constraints (.*)\)\n", lambda m: _constraints_block(m.group(1)), text)
+    for section in (":goal", ":constraints"):
+        text = _one_item_per_line(text, section)
+    return text
 
 
-def _constraints_block(constraints: str) -> str:
-    """`` (:constraints (and A B))`` laid out one constraint per line."""
-    items = _top_level(constraints[len("(and "):-1]) if constraints.startswith("(and ") else [constraints]
-    return " (:constraints (and\n" + "".join(f"   {item}\n" for item in items) + " ))\n"
+def _one_item_per_line(text: str, section: str) -> str:
+    """The writer's `` (section (and A B))`` laid out with A and B on lines of their own."""
+    start = text.find(f" ({section} ")
+    if start < 0:
+        return text
+    depth, end = 0, start
+    for end in range(start + 1, len(text)):
+        depth += {"(": 1, ")": -1}.get(text[end], 0)
+        if depth == 0:
+            break
+    body = re.sub(r"\(\s+", "(", re.sub(r"\s+\)", ")", " ".join(text[start + len(section) + 3:end].split())))
+    items = _top_level(body[len("(and "):-1]) if body.startswith("(and ") else [body]
+    layout = f" ({section} (and\n" + "".join(f"   {item}\n" for item in items) + " ))" if len(items) > 1 \
+        else f" ({section} {items[0] if items else body})"
+    return text[:start] + layout + text[end + 1:]
 
 
 def _top_level(text: str) -> list[str]:
