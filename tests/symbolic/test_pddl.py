@@ -95,3 +95,12 @@ def test_unsupported_pddl3_operators_are_named(tmp_path):
     message = _broken(tmp_path, "pull-in-order.pddl", "(sometime-before (not (far yellow)) (not (far green)))",
                       "(within 3 (not (far yellow)))")
     assert "(within ...) is not supported" in message and "sometime-before" in message
+
+
+def test_problem_for_another_domain_is_an_input_error(tmp_path):
+    path = save((PDDL / "keep-all-near.pddl").read_text().replace("(:domain vsl-sp)", "(:domain blocks-world)"),
+                tmp_path / "other.pddl")
+    with pytest.raises(InputError) as error:
+        read_pddl(PDDL / "domain.pddl", path)
+    message = str(error.value)
+    assert message.startswith(f"{path}:5:12: the problem is for domain 'blocks-world'"), message

@@ -39,7 +39,7 @@ from vslsp.symbolic.formula import (
     substitute,
 )
 from vslsp.symbolic.model import Action, Domain, Predicate, Problem
-from vslsp.symbolic.pddl_errors import check_text, located_error
+from vslsp.symbolic.pddl_errors import check_domain_name, check_text, located_error
 
 
 @lru_cache(maxsize=1)
@@ -234,6 +234,7 @@ def read_pddl(domain_path: str | Path, problem_path: str | Path | None = None) -
         return domain, None
     problem_text = _read_text(problem_path)
     up_problem = _parse(domain_text, problem_text, str(domain_path), str(problem_path))
+    check_domain_name(problem_text, domain.name, str(problem_path))
     return domain, problem_from_up(up_problem, domain)
 
 
@@ -252,7 +253,9 @@ def parse_pddl(domain_text: str, problem_text: str | None = None) -> tuple[Domai
     domain = domain_from_up(_parse(domain_text, None, "<domain>", None))
     if problem_text is None:
         return domain, None
-    return domain, problem_from_up(_parse(domain_text, problem_text, "<domain>", "<problem>"), domain)
+    up_problem = _parse(domain_text, problem_text, "<domain>", "<problem>")
+    check_domain_name(problem_text, domain.name, "<problem>")
+    return domain, problem_from_up(up_problem, domain)
 
 
 def _read_text(path: str | Path) -> str:

@@ -72,6 +72,15 @@ def check_text(text: str, name: str) -> None:
         raise InputError(f"{name}: the file is empty; expected (define (domain ...)) or (define (problem ...))")
 
 
+def check_domain_name(problem_text: str, domain_name: str, name: str) -> None:
+    """Raise InputError when the problem's ``(:domain NAME)`` is not the domain read with it."""
+    match = re.search(r"\(\s*:domain\s+([^\s()]+)", _code(problem_text), re.IGNORECASE)
+    if match and match.group(1).lower() != domain_name.lower():
+        line, column = _position(problem_text, match.start(1))
+        raise InputError(f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
+                         f"defines {domain_name!r}; give the matching domain file or fix (:domain ...)")
+
+
 _ORDER = {
     "domain": ":requirements, :types, :constants, :predicates, :functions, :constraints, then the actions",
     "problem": ":domain, :requirements, :objects, :init, :goal, :constraints, :metric",
