@@ -16,7 +16,7 @@ from vslsp.errors import TaskFailed
 from vslsp.execution import PerceivedState, perceive
 from vslsp.vsl.grounding import Grounding, ground
 
-TUTOR_DISTANCE = 0.13  # how far (m) the tutor carries a cube across the line, along its normal
+TUTOR_BEYOND = 0.055  # the tutor puts a cube this far (m) on the other side of the line
 
 
 @dataclass(frozen=True)
@@ -40,13 +40,16 @@ class ObservedStep:
 
 
 def tutor_operation(world, colour: str, action: str) -> None:
-    """The tutor pushes (``push``) or pulls (``pull``) the cube of ``colour`` across the line by hand."""
+    """The tutor pushes (``push``) or pulls (``pull``) the cube of ``colour`` by hand, straight across
+    the line to 5.5 cm beyond it."""
     cube = next((c for c in world.spec.cubes if c.colour == colour), None)
     if cube is None:
         raise TaskFailed(f"the tutor cannot find a {colour} cube in the scene")
     x, y, _ = world.cube_pose(cube.name)
+    landmark = world.spec.landmark
+    side = float(np.dot(np.array([x, y]) - landmark.point, landmark.normal))  # signed distance to the line
     direction = 1.0 if action == "push" else -1.0
-    target = np.array([x, y]) + direction * TUTOR_DISTANCE * world.spec.landmark.normal
+    target = np.array([x, y]) + (direction * TUTOR_BEYOND - side) * landmark.normal
     world.tutor.relocate(cube.name, float(target[0]), float(target[1]))
 
 

@@ -37,8 +37,13 @@ class PerceivedState:
 
     objects: dict[str, PerceivedObject]
     normal: np.ndarray  # (2,) unit, pointing away from the robot
+    line_point: np.ndarray  # (2,) a point of the line on the table (m)
     grounding: SceneGrounding = field(repr=False)
     image: np.ndarray = field(repr=False)
+
+    def line_distance(self, name: str) -> float:
+        """The object's distance (m) to the line on the table, signed: positive on the far side."""
+        return float(np.dot(np.asarray(self.objects[name].table_xy) - self.line_point, self.normal))
 
     def far(self) -> dict[str, bool]:
         return {name: obj.far for name, obj in self.objects.items()}
@@ -65,7 +70,7 @@ def perceive(world, camera: str = "head") -> PerceivedState:
     normal = np.array([-direction[1], direction[0]]) / np.linalg.norm(direction)
     if np.dot(normal, ends[0]) < 0:  # the robot stands at the origin: far is away from it
         normal = -normal
-    return PerceivedState(objects, normal, grounding, observation.rgb)
+    return PerceivedState(objects, normal, ends.mean(axis=0), grounding, observation.rgb)
 
 
 @dataclass(frozen=True)
@@ -104,7 +109,8 @@ def execute_step(world, library: SkillLibrary, action: str, obj: str, state: Per
     if fault != "skip":
         before = _truth_pose(world, obj)
         try:
-            trajectory = execute_skill(world, library[action], np.array(target.table_xy), state.normal)
+            trajectory = execute_skill(world, library[action], np.array(target.table_xy), state.normal,
+                                       state.line_distance(obj))
         except UnreachableError as unreachable:
             error = str(unreachable)
         if fault == "nudge" and before is not None:

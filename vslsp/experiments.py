@@ -55,6 +55,13 @@ class Trial:
     task: Task | None = field(default=None, repr=False)
     executions: list[Execution] = field(default_factory=list, repr=False)
     steps: list[StepResult] = field(default_factory=list, repr=False)
+    gui: bool = field(default=False, repr=False)
+    on_stage: object = field(default=None, repr=False, compare=False)
+
+    def stage(self, what: str) -> None:
+        """Report progress (the demo's spinner)."""
+        if callable(self.on_stage):
+            self.on_stage(what)
 
     def to_dict(self) -> dict:
         return {"experiment": self.experiment, "seed": self.seed, "success": self.success, "error": self.error,
@@ -73,11 +80,11 @@ def scene_for(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None 
 
 
 def run_trial(experiment: str, seed: int, library: SkillLibrary, *, faults: bool = False,
-              planner: str = "fast-downward") -> Trial:
+              planner: str = "fast-downward", gui: bool = False, on_stage=None) -> Trial:
     """Run one trial of ``experiment``; user errors propagate, task failures are recorded."""
     if experiment not in EXPERIMENTS:
         raise InputError(f"unknown experiment {experiment!r}; choose one of {', '.join(EXPERIMENTS)}")
-    trial = Trial(experiment, seed)
+    trial = Trial(experiment, seed, gui=gui, on_stage=on_stage)
     start = time.perf_counter()
     rng = np.random.default_rng(seed)
     fault_plan = {int(rng.integers(0, 2)): str(rng.choice(FAULTS))} if faults else {}
@@ -122,9 +129,10 @@ def _tutor_task(spec: SceneSpec, rng: np.random.Generator, world) -> list[tuple[
 def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> Domain:
     """The robot tries push and pull, each on a cube alone on the table, and learns their models."""
     explorations = []
+    trial.stage("the robot tries push and pull and watches what they do")
     for k, action in enumerate(("push", "pull")):
         colour = str(rng.choice(list(COLOURS)))
-        with World(scene_for(trial.seed + 2_000_003 + k, (colour,), (action == "pull",))) as world:
+        with World(scene_for(trial.seed + 2_000_003 + k, (colour,), (action == "pull",)), gui=trial.gui) as world:
             exploration = explore_skill(world, library, action)
         explorations.append(exploration)
         grounding, (pre, post) = exploration.groundings[0], exploration.images[0]
@@ -143,12 +151,12 @@ def _reproduce_vsl(world, trial: Trial, library: SkillLibrary, demonstration, fa
     for op in demonstration.operations:
         for attempt in range(3):
             state = perceive(world)
-            match = find_best_match(op.pre_observation, state.image, (op.pose_pre.x, op.pose_pre.y),
-                                    op.object_size)
-            name = _nearest(state, (match.x, match.y))
+            name = _find_object(state, op)
             target = op.grounding.far_post
             if name is None:
-                raise TaskFailed(f"VSL found no object where the {op.symbol} cube matched")
+                raise TaskFailed(f"VSL finds no {op.symbol} object in the scene")
+            trial.details.setdefault("matched_by", []).append(name[1])
+            name = name[0]
             if state.objects[name].far == target:
                 break
             action = "push" if target else "pull"
@@ -163,26 +171,41 @@ def _reproduce_vsl(world, trial: Trial, library: SkillLibrary, demonstration, fa
     return acted
 
 
-def _nearest(state: PerceivedState, pixel: tuple[float, float]) -> str | None:
-    best, distance = None, np.inf
-    for name, obj in state.objects.items():
-        d = float(np.hypot(obj.pixel[0] - pixel[0], obj.pixel[1] - pixel[1]))
-        if d < distance:
-            best, distance = name, d
-    return best if distance < 40 else None
+def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
+    """The object of demonstrated operation ``op`` in the current scene, and how it was found.
+
+    Match finding (SIFT + RANSAC with adaptive frames) on the recorded pre-action observation
+    comes first; plain-coloured cubes give few keypoints, so when the match lands on no object
+    (or on one of another colour) the object's symbol (its colour name) decides.
+    """
+    try:
+        match = find_best_match(op.pre_observation, state.image, (op.pose_pre.x, op.pose_pre.y), op.object_size)
+    except ValueError:
+        match = None
+    if match is not None:
+        best, distance = None, np.inf
+        for name, obj in state.objects.items():
+            d = float(np.hypot(obj.pixel[0] - match.x, obj.pixel[1] - match.y))
+            if d < distance:
+                best, distance = name, d
+        if best is not None and distance < op.object_size and best.split("_")[0] == op.symbol:
+            return best, "match"
+    if op.symbol in state.objects:
+        return op.symbol, "symbol"
+    return None
 
 
 # --- the three experiments ----------------------------------------------------------------------
 
 def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=3, replace=False))
-    with World(scene_for(trial.seed, colours)) as world:
+    with World(scene_for(trial.seed, colours), gui=trial.gui) as world:
         recorder = DemonstrationRecorder(world.observe("head").rgb)
         operations = _tutor_task(world.spec, rng, world)
         _watch(world, trial, operations, "demonstration", recorder)
         demonstration = recorder.demonstration()
     goal = {op.symbol: op.grounding.far_post for op in demonstration.operations}
-    with World(scene_for(trial.seed + 1_000_003, colours)) as world:
+    with World(scene_for(trial.seed + 1_000_003, colours), gui=trial.gui) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         acted = _reproduce_vsl(world, trial, library, demonstration, faults)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
@@ -201,7 +224,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
         far = tuple(bool(v) for v in rng.random(3) < 0.5)
         if not any(far):
             far = (True,) + far[1:]
-        with World(scene_for(trial.seed * 7 + i, colours, far)) as world:
+        with World(scene_for(trial.seed * 7 + i, colours, far), gui=trial.gui) as world:
             pulls = [(c, a) for c, a in _tutor_task(world.spec, rng, world) if a == "pull"]
             demonstrations.append(_watch(world, trial, pulls, f"demonstration {i + 1}"))
     trial.task = learn_task(demonstrations, ordered=False)
@@ -210,7 +233,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
     far = tuple(bool(v) for v in rng.random(n) < 0.6)
     if not any(far):
         far = (True,) + far[1:]
-    with World(scene_for(trial.seed + 1_000_003, colours, far)) as world:
+    with World(scene_for(trial.seed + 1_000_003, colours, far), gui=trial.gui) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         run = execute_task(world, library, trial.domain, trial.task, planner=planner, faults=faults)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
@@ -225,14 +248,16 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
 def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
     all_far = (True,) * len(ORDERED_COLOURS)
     _explore(trial, rng, library)
-    with World(scene_for(trial.seed, ORDERED_COLOURS, all_far)) as world:
+    with World(scene_for(trial.seed, ORDERED_COLOURS, all_far), gui=trial.gui) as world:
+        trial.stage("watching the tutor's demonstration")
         recorder = DemonstrationRecorder(world.observe("head").rgb)
         steps = _watch(world, trial, [(c, "pull") for c in ORDERED_COLOURS], "demonstration", recorder)
         demonstration = recorder.demonstration()
+    trial.stage("learning the task and its order; planning and executing (VSL-SP)")
     trial.task = learn_task([steps], ordered=True)
     test_scene = scene_for(trial.seed + 1_000_003, ORDERED_COLOURS, all_far)
     # VSL-SP: the order comes from the sometime-before constraints the planner must respect.
-    with World(test_scene) as world:
+    with World(test_scene, gui=trial.gui) as world:
         became_near: list[str] = []
 
         def watch_truth(result, state, world=world):
@@ -245,7 +270,8 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
     # VSL: the same test scene, reproduced from the single demonstration by match finding.
-    with World(test_scene) as world:
+    trial.stage("reproducing the demonstration with VSL's match finding")
+    with World(test_scene, gui=trial.gui) as world:
         acted = _reproduce_vsl(world, trial, library, demonstration, {})
         final_vsl = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     sp_ok = run.success and not any(final_sp.values()) and became_near == list(ORDERED_COLOURS)
@@ -272,3 +298,44 @@ def _record(trial: Trial, run: Execution) -> None:
                                    grounding))
     if run.error and trial.error is None:
         trial.error = run.error
+
+
+# --- many trials ------------------------------------------------------------------------------
+
+def _trial_job(args: tuple) -> Trial:
+    experiment, seed, library_path, faults, planner, keep = args
+    from vslsp.sim.quiet import quiet  # noqa: F401  (workers import the simulator quietly)
+
+    trial = run_trial(experiment, seed, SkillLibrary.load(library_path), faults=faults, planner=planner)
+    if not keep:
+        trial.observations, trial.executions, trial.steps = [], [], []
+    return trial
+
+
+def run_trials(experiment: str, trials: int, seed: int, library_path, *, workers: int = 1, faults: bool = False,
+               planner: str = "fast-downward", on_done=None) -> list[Trial]:
+    """``trials`` seeded trials (seeds ``seed``, ``seed + 1``, ...), on ``workers`` processes.
+
+    The first trial keeps its artefacts for the report. ``on_done(trial)`` is called as each
+    trial finishes (progress). Results come back in seed order.
+    """
+    if experiment not in EXPERIMENTS:
+        raise InputError(f"unknown experiment {experiment!r}; choose one of {', '.join(EXPERIMENTS)}")
+    jobs = [(experiment, seed + k, str(library_path), faults, planner, k == 0) for k in range(trials)]
+    results: list[Trial] = []
+    if workers <= 1:
+        for job in jobs:
+            results.append(_trial_job(job))
+            if on_done:
+                on_done(results[-1])
+        return results
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = [pool.submit(_trial_job, job) for job in jobs]
+        for future in as_completed(futures):
+            results.append(future.result())
+            if on_done:
+                on_done(results[-1])
+    return sorted(results, key=lambda t: t.seed)

@@ -142,8 +142,6 @@ def test_demonstrations_that_are_not_arrays_are_an_input_error(copy):
         SkillLibrary.load(copy)
 
 
-@pytest.mark.xfail(strict=True, raises=Exception,
-                   reason="library.py lets zipfile.BadZipFile from a truncated demos npz escape")
 def test_truncated_demonstrations_are_an_input_error(copy):
     data = (copy / "push_demos.npz").read_bytes()
     (copy / "push_demos.npz").write_bytes(data[:500])

@@ -22,6 +22,8 @@ COMMANDS: dict[str, str] = {
     "pddl": "vslsp.cli.pddl:pddl",
     "plan": "vslsp.cli.plan:plan",
     "validate": "vslsp.cli.validate:validate",
+    "experiment": "vslsp.cli.experiment:experiment",
+    "demo": "vslsp.cli.demo:demo",
 }
 
 

@@ -30,8 +30,8 @@ WORKSPACE_Y = (-0.205, 0.01)
 # Where the palm can start a push or a pull, palm down, 2 cm above the table (measured with
 # the IK over the table; see benchmarks/bench_sim.py).
 # Close to the body the hand reaches less far to either side (the reach arcs up to 10 cm high).
-HAND_REACH_X = (0.09, 0.42)
-HAND_REACH_Y = (-0.25, 0.03)
+HAND_REACH_X = (0.09, 0.395)
+HAND_REACH_Y = (-0.235, 0.03)
 
 COLOURS: dict[str, tuple[float, float, float]] = {
     "red": (0.85, 0.10, 0.10),
@@ -161,13 +161,14 @@ class SceneSpec:
                 raise InputError(f"at most {len(COLOURS)} cubes of distinct colours, asked {n_cubes}")
             colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=n_cubes, replace=False))
         n_cubes = len(colours)
-        if far is None:
-            far = tuple(bool(v) for v in rng.random(n_cubes) < 0.5)
-        sign = np.where(far, 1.0, -1.0)
+        fixed_far = far
         for attempt in range(10000):
             if attempt % 200 == 0:
                 landmark = fixed_landmark or LandmarkSpec(
                     x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
+                if fixed_far is None:  # some sides cannot be laid out with some line poses
+                    far = tuple(bool(v) for v in rng.random(n_cubes) < 0.5)
+                sign = np.where(far, 1.0, -1.0)
             along = _along_positions(rng, np.asarray(far))
             if along is None:
                 continue

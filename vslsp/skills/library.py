@@ -15,6 +15,7 @@ demonstrations it was learned from, in the object frame).
 from __future__ import annotations
 
 import json
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -25,6 +26,8 @@ from vslsp.errors import InputError
 
 LIBRARY_FORMAT = "vslsp-skill-library"
 SKILL_NAMES = ("push", "pull")
+# Metadata kept across save / load (the rest of library.json is recomputed from the DMP).
+SKILL_META = ("success_rate", "seed", "demonstrations_recorded", "demonstrations_used", "travel_model")
 STEP = 0.005  # the hand follows its path in 5 mm Cartesian steps
 
 
@@ -65,11 +68,24 @@ class Skill:
     demos: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)  # object-frame reaches
     meta: dict = field(default_factory=dict)
 
-    def hand_path(self, hand_start: np.ndarray, object_xy: np.ndarray, normal: np.ndarray) -> np.ndarray:
-        """World hand waypoints (N, 3), 5 mm apart: the reach rollout, then the move."""
+    def hand_path(self, hand_start: np.ndarray, object_xy: np.ndarray, normal: np.ndarray,
+                  travel: float | None = None) -> np.ndarray:
+        """World hand waypoints (N, 3), 5 mm apart: the reach rollout, then the move.
+
+        ``travel`` (m): how far the object should go along the normal; the move's length then
+        comes from the effect model learned from the demonstrations (``meta["travel_model"]``),
+        kept within 0.5-1.3 times the demonstrated move. Without it, the demonstrated move.
+        """
         start = to_object_frame(np.asarray(hand_start, dtype=float)[None, :], object_xy, normal)[0]
-        reach = self.reach.rollout(start, self.goal).y
-        move = np.linspace(self.goal, self.goal + self.move, 2)
+        # Twice τ: the forcing term has died out and the hand has settled on the goal.
+        reach = self.reach.rollout(start, self.goal, duration=2.0 * self.reach.tau).y
+        displacement = self.move
+        model = self.meta.get("travel_model")
+        if travel is not None and model and model["slope"] > 0.1:
+            demonstrated = float(np.linalg.norm(self.move))
+            length = np.clip((abs(travel) - model["offset"]) / model["slope"], 0.5 * demonstrated, 1.3 * demonstrated)
+            displacement = self.move * (length / demonstrated)
+        move = np.linspace(self.goal, self.goal + displacement, 2)
         local = np.vstack([resample(reach), resample(move)[1:]])
         return from_object_frame(local, object_xy, normal)
 
@@ -143,10 +159,10 @@ class SkillLibrary:
                     with np.load(demos_file, allow_pickle=False) as data:
                         for k in range(sum(key.startswith("t_") for key in data.files)):
                             demos.append((data[f"t_{k}"], data[f"y_{k}"]))
-            except (KeyError, TypeError, ValueError, OSError) as error:
+            except (KeyError, TypeError, ValueError, OSError, EOFError, zipfile.BadZipFile) as error:
                 raise InputError(f"skill {name!r} in {index_file} is corrupt ({error}); "
                                  f"re-create it with `vslsp teach {name}`") from error
-            meta = {k: v for k, v in entry.items() if k in ("success_rate", "seed")}
+            meta = {k: v for k, v in entry.items() if k in SKILL_META}
             skills[name] = Skill(name, reach, goal, move, demos, meta)
         return cls(skills)
 

@@ -24,6 +24,9 @@ PALM_HEIGHT = TABLE_Z + 0.019  # hand frame height that keeps the palm ~6 mm abo
 # the contact point of the palm sits beside the hand frame, hence the lateral offsets.
 TUTOR_CONTACT = {"push": np.array([-0.07, -0.005]), "pull": np.array([0.10, -0.04])}
 TUTOR_MOVE = {"push": 0.11, "pull": -0.16}
+# How much the tutor varies the move's length (fraction of TUTOR_MOVE). A pulled cube follows
+# the hand; a pushed one slides on unpredictably, so push keeps a near-constant move.
+TUTOR_MOVE_SPREAD = {"push": (0.95, 1.05), "pull": (0.6, 1.05)}
 APPROACH = 0.06  # the hand comes down onto the contact point from this far above
 
 
@@ -34,6 +37,7 @@ class Demonstration:
     reach: tuple[np.ndarray, np.ndarray]
     move: tuple[np.ndarray, np.ndarray]
     crossed: bool
+    travel: float = float("nan")  # how far (m) the cube moved along the line's normal
 
 
 def hand_yaw(normal: np.ndarray) -> float:
@@ -63,7 +67,9 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
         start = READY_POSITION + rng.uniform([-0.03, -0.03, -0.01], [0.03, 0.03, 0.03])
         via_local = np.array([contact + [0, 0, APPROACH], contact])
         via = np.vstack([start, from_object_frame(via_local, xy, normal)])
-        end = from_object_frame((contact + [TUTOR_MOVE[skill] + rng.normal(0, 0.004), 0, 0])[None], xy, normal)[0]
+        # The tutor varies how far the hand moves, so that the skill learns how far the cube goes.
+        length = TUTOR_MOVE[skill] * rng.uniform(*TUTOR_MOVE_SPREAD[skill])
+        end = from_object_frame((contact + [length, 0, 0])[None], xy, normal)[0]
         yaw = hand_yaw(normal)
         world.robot.move_hand(start[None, :], yaw=yaw)
         reach = world.tutor.kinesthetic(via, duration=float(rng.uniform(1.6, 2.2)), seed=seed, yaw=yaw)
@@ -72,10 +78,12 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
         world.robot.park()
         world.settle()
         crossed = world.is_far(cube.name) == (skill == "push")
+        travel = float(np.dot(np.array(world.cube_pose(cube.name)[:2]) - xy, normal))
     return Demonstration(
         reach=(reach.t, to_object_frame(reach.position, xy, normal)),
         move=(move.t, to_object_frame(move.position, xy, normal)),
         crossed=crossed,
+        travel=travel,
     )
 
 
@@ -88,8 +96,18 @@ def learn_skill(skill: str, demonstrations: list[Demonstration], n_basis: int = 
     dmp = DMP(3, n_basis=n_basis).fit(reaches)
     goal = np.mean([y[-1] for _, y in reaches], axis=0)
     move = np.mean([y[-1] - y[0] for _, y in (d.move for d in good)], axis=0)
-    return Skill(skill, dmp, goal, move, reaches, {"demonstrations_recorded": len(demonstrations),
-                                                   "demonstrations_used": len(good)})
+    meta = {"demonstrations_recorded": len(demonstrations), "demonstrations_used": len(good)}
+    lengths = np.array([abs(y[-1, 0] - y[0, 0]) for _, y in (d.move for d in demonstrations)])
+    travels = np.array([abs(d.travel) for d in demonstrations])
+    if len(demonstrations) >= 3 and np.ptp(lengths) > 0.02 and np.all(np.isfinite(travels)):
+        # The effect model: how far the cube goes (m) for how far the hand moves, least squares;
+        # kept only when the demonstrations agree with it (else the skill keeps its mean move).
+        slope, offset = np.polyfit(lengths, travels, 1)
+        rmse = float(np.sqrt(np.mean((travels - (slope * lengths + offset)) ** 2)))
+        if 0.5 <= slope <= 1.5 and rmse < 0.01:
+            meta["travel_model"] = {"slope": round(float(slope), 4), "offset": round(float(offset), 4),
+                                    "rmse_mm": round(rmse * 1000, 1)}
+    return Skill(skill, dmp, goal, move, reaches, meta)
 
 
 def plot_skill(skill: Skill, path, starts: np.ndarray | None = None) -> None:
