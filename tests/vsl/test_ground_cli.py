@@ -22,6 +22,8 @@ def images(tmp_path_factory):
     write_image(folder / "pre.png", tabletop_image([Square("purple", (200, 150)), still]))
     write_image(folder / "post.png", tabletop_image([Square("purple", (220, 410)), still]))
     write_image(folder / "small.png", tabletop_image([still], size=(320, 240)))
+    write_image(folder / "both.png", tabletop_image([Square("purple", (220, 410)), Square("blue", (480, 130))]))
+    (folder / "notes.png").write_text("not an image")
     return folder
 
 
@@ -43,6 +45,8 @@ def test_text_output_and_robot_side(images):
     ("pre.png", "pre.png", "nothing moved"),
     ("pre.png", "small.png", "differ in size"),
     ("pre.png", "missing.png", "cannot read image"),
+    ("notes.png", "post.png", "not an image file"),
+    ("pre.png", "both.png", "more than one object moved (purple left"),
 ])
 def test_bad_input_exits_2_with_a_message_and_no_traceback(images, pre, post, message):
     result = _vslsp("ground", images / pre, images / post, "--json")

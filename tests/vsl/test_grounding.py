@@ -65,3 +65,20 @@ def test_every_object_of_one_observation_is_grounded():
     assert scene.far_by_name() == {"red": True, "orange": False, "red_2": True}
     assert scene.to_dict()["objects"][1] == {"name": "orange", "x": pytest.approx(300, abs=1.5),
                                              "y": pytest.approx(420, abs=1.5), "far": False}
+
+
+def test_a_line_moved_between_the_images_is_found_in_each():
+    # The object stays above where the line was, but the line moved above it: far -> not far.
+    pre = tabletop_image([Square("red", (200, 230)), STILL], line=LINE, noise=4, seed=1)
+    post = tabletop_image([Square("red", (210, 200)), STILL], line=((0, 150), (640, 130)), noise=4, seed=2)
+    grounding = ground(pre, post)
+    assert (grounding.far_pre, grounding.far_post, grounding.action) == (True, False, "pull")
+    assert abs(grounding.post_landmark.signed_distance((320, 140))) < 1.5
+
+
+@pytest.mark.parametrize("robot_side, action", [("left", "push"), ("right", "pull")])
+def test_a_robot_beside_the_image_sees_far_across_a_vertical_line(robot_side, action):
+    line = ((330, 0), (300, 480))
+    pre, post = _images(Square("green", (150, 200)), Square("green", (470, 180)), line=line)
+    grounding = ground(pre, post, robot_side=robot_side)
+    assert grounding.action == action and grounding.robot_side == robot_side
