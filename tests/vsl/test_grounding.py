@@ -82,3 +82,10 @@ def test_a_robot_beside_the_image_sees_far_across_a_vertical_line(robot_side, ac
     pre, post = _images(Square("green", (150, 200)), Square("green", (470, 180)), line=line)
     grounding = ground(pre, post, robot_side=robot_side)
     assert grounding.action == action and grounding.robot_side == robot_side
+
+
+def test_a_scene_without_a_landmark_or_with_one_towards_the_robot_is_an_input_error():
+    with pytest.raises(InputError, match="no landmark line found in the image"):
+        ground_scene(tabletop_image([STILL], line=None))
+    with pytest.raises(InputError, match="runs towards the robot"):
+        ground_scene(tabletop_image([STILL], line=((320, 0), (330, 480))))
