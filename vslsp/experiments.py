@@ -97,6 +97,8 @@ def run_trial(experiment: str, seed: int, library: SkillLibrary, *, faults: bool
     except TaskFailed as failure:
         trial.success, trial.error = False, str(failure)
     trial.failed_steps = sum(not s.ok for s in trial.steps)
+    if trial.failed_steps:
+        trial.details["step_errors"] = [f"{s.action} {s.obj}: {s.error}" for s in trial.steps if not s.ok]
     trial.time_s = time.perf_counter() - start
     return trial
 
@@ -200,12 +202,15 @@ def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
 def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=3, replace=False))
     with World(scene_for(trial.seed, colours), gui=trial.gui) as world:
+        start_far = tuple(world.is_far(c.name) for c in world.spec.cubes)
+        colours = tuple(c.colour for c in world.spec.cubes)
         recorder = DemonstrationRecorder(world.observe("head").rgb)
         operations = _tutor_task(world.spec, rng, world)
         _watch(world, trial, operations, "demonstration", recorder)
         demonstration = recorder.demonstration()
     goal = {op.symbol: op.grounding.far_post for op in demonstration.operations}
-    with World(scene_for(trial.seed + 1_000_003, colours), gui=trial.gui) as world:
+    # Reshuffled: new places and a new line pose, each cube on the side it started from.
+    with World(scene_for(trial.seed + 1_000_003, colours, start_far), gui=trial.gui) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         acted = _reproduce_vsl(world, trial, library, demonstration, faults)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}

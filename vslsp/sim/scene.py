@@ -25,13 +25,13 @@ LINE_WIDTH = 0.015
 # Where cube centres may lie: the right hand must reach 7 cm behind and 7 cm beyond a cube,
 # and a push or pull moves it about 12 cm along the line's normal.
 WORKSPACE_X = (0.14, 0.33)
-WORKSPACE_Y = (-0.205, 0.01)
+WORKSPACE_Y = (-0.205, 0.035)
 
 # Where the palm can start a push or a pull, palm down, 2 cm above the table (measured with
 # the IK over the table; see benchmarks/bench_sim.py).
 # Close to the body the hand reaches less far to either side (the reach arcs up to 10 cm high).
 HAND_REACH_X = (0.09, 0.395)
-HAND_REACH_Y = (-0.235, 0.03)
+HAND_REACH_Y = (-0.235, 0.05)
 
 COLOURS: dict[str, tuple[float, float, float]] = {
     "red": (0.85, 0.10, 0.10),
@@ -44,7 +44,7 @@ COLOURS: dict[str, tuple[float, float, float]] = {
 
 
 # Along-line offsets (m) of other cubes that the hand disturbs when it pushes / pulls a cube.
-SWEEP_BANDS = {"push": (-0.05, 0.09), "pull": (-0.10, 0.08)}
+SWEEP_BANDS = {"push": (-0.05, 0.09), "pull": (-0.115, 0.08)}
 
 @dataclass(frozen=True)
 class CubeSpec:
@@ -163,28 +163,19 @@ class SceneSpec:
         n_cubes = len(colours)
         fixed_far = far
         for attempt in range(10000):
-            if attempt % 200 == 0:
+            if attempt % 50 == 0:
                 landmark = fixed_landmark or LandmarkSpec(
                     x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
                 if fixed_far is None:  # some sides cannot be laid out with some line poses
                     far = tuple(bool(v) for v in rng.random(n_cubes) < 0.5)
                 sign = np.where(far, 1.0, -1.0)
-            along = _along_positions(rng, np.asarray(far))
+            across = rng.uniform(0.04, 0.08, size=n_cubes) * sign
+            span = _along_span(landmark, np.asarray(far), across)
+            along = None if span is None else _along_positions(rng, np.asarray(far), span)
             if along is None:
                 continue
-            across = rng.uniform(0.04, 0.08, size=n_cubes) * sign
             centres = landmark.point + np.outer(along, landmark.direction) + np.outer(across, landmark.normal)
-            # Where the hand starts a push (behind the cube) or a pull (beyond it, to its right).
-            contacts = centres - np.outer(np.where(far, -0.10, 0.07), landmark.normal) \
-                - np.outer(np.where(far, 0.04, 0.0), landmark.direction)
-            inside = (
-                (centres[:, 0] >= WORKSPACE_X[0]) & (centres[:, 0] <= WORKSPACE_X[1])
-                & (centres[:, 1] >= WORKSPACE_Y[0]) & (centres[:, 1] <= WORKSPACE_Y[1])
-                & (contacts[:, 0] >= HAND_REACH_X[0]) & (contacts[:, 0] <= HAND_REACH_X[1])
-                & (contacts[:, 1] >= HAND_REACH_Y[0]) & (contacts[:, 1] <= HAND_REACH_Y[1])
-                & (contacts[:, 1] <= -0.01 + 0.5 * (contacts[:, 0] - HAND_REACH_X[0]))
-                & (contacts[:, 1] >= HAND_REACH_Y[0] + 1.5 * np.maximum(0.0, 0.15 - contacts[:, 0]))
-            )
+            inside = _placeable(landmark, np.asarray(far), centres)
             if inside.all():
                 yaws = rng.uniform(-0.4, 0.4, size=n_cubes)
                 cubes = tuple(
@@ -198,7 +189,45 @@ class SceneSpec:
         )
 
 
-def _along_positions(rng: np.random.Generator, far: np.ndarray, span: tuple[float, float] = (-0.14, 0.14)):
+def _placeable(landmark: LandmarkSpec, far: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """Which cube centres (n, 2) are in view and leave the hand room to push (near cubes) or
+    pull (far cubes) them."""
+    # Where the hand starts a push (behind the cube) or a pull (beyond it, to its right).
+    contacts = centres - np.outer(np.where(far, -0.10, 0.07), landmark.normal) \
+        - np.outer(np.where(far, 0.04, 0.0), landmark.direction)
+    # Where the cube lands after its push or pull (the tutor's: 5.5 cm beyond the line): the
+    # head camera must still see it whole. Its view's lower edge cuts the table closer to the
+    # robot on its right than on its left (measured: a cube is seen whole from x = 0.16 at
+    # y = 0.06, from 0.12 at y = 0, from 0.08 at y = -0.1 and from 0.14 at y = -0.25).
+    across = (centres - landmark.point) @ landmark.normal
+    landed = centres - np.outer(across + np.where(far, 0.065, -0.065), landmark.normal)
+    return (
+        (landed[:, 0] >= 0.10 + 0.6 * np.maximum(0.0, landed[:, 1] + 0.05) + 0.8 * np.maximum(0.0, -0.2 - landed[:, 1]))
+        & (landed[:, 1] >= WORKSPACE_Y[0] - 0.03) & (landed[:, 1] <= WORKSPACE_Y[1])
+        & (centres[:, 0] >= WORKSPACE_X[0]) & (centres[:, 0] <= WORKSPACE_X[1])
+        & (centres[:, 1] >= WORKSPACE_Y[0]) & (centres[:, 1] <= WORKSPACE_Y[1])
+        & (contacts[:, 0] >= HAND_REACH_X[0]) & (contacts[:, 0] <= HAND_REACH_X[1])
+        & (contacts[:, 1] >= HAND_REACH_Y[0]) & (contacts[:, 1] <= HAND_REACH_Y[1])
+        & (contacts[:, 1] <= -0.01 + 0.5 * (contacts[:, 0] - HAND_REACH_X[0]))
+        & (contacts[:, 1] >= HAND_REACH_Y[0] + 1.5 * np.maximum(0.0, 0.15 - contacts[:, 0]))
+    )
+
+
+def _along_span(landmark: LandmarkSpec, far: np.ndarray, across: np.ndarray) -> tuple[float, float] | None:
+    """The stretch of the line (m along it) where every cube, at its distance ``across`` from
+    the line, would be placeable; None when there is none."""
+    grid = np.linspace(-0.2, 0.2, 81)
+    low, high = -np.inf, np.inf
+    for f, a in zip(far, across):
+        centres = landmark.point + np.outer(grid, landmark.direction) + a * landmark.normal
+        ok = grid[_placeable(landmark, np.full(len(grid), f), centres)]
+        if len(ok) == 0:
+            return None
+        low, high = max(low, ok.min()), min(high, ok.max())
+    return (float(low), float(high)) if low < high else None
+
+
+def _along_positions(rng: np.random.Generator, far: np.ndarray, span: tuple[float, float]):
     """Random positions (n,) along the line, with no cube in the band the hand sweeps when it
     pushes (near cubes) or pulls (far cubes) another; None when they cannot fit in ``span``.
 

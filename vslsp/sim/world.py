@@ -166,7 +166,7 @@ class World:
                 from vslsp.sim.robot import DEFAULT_EYE
 
                 eye = DEFAULT_EYE
-            return Camera("head", eye=eye, target=(0.25, -0.09, TABLE_Z), up=(0.0, 0.0, 1.0),
+            return Camera("head", eye=eye, target=(0.23, -0.07, TABLE_Z), up=(0.0, 0.0, 1.0),
                           width=width, height=height, fov=60.0)
         raise InputError(f"unknown camera {name!r}; use one of {', '.join(CAMERA_NAMES)}")
 

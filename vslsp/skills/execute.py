@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from vslsp.skills.library import Skill
+from vslsp.errors import UnreachableError
+from vslsp.skills.library import Skill, from_object_frame, resample
 from vslsp.skills.teach import hand_yaw
 from vslsp.sim.robot import READY_POSITION, HandTrajectory
 
 
-BEYOND = 0.05  # a push or pull aims to leave the object this far (m) past the line
+BEYOND = 0.06  # a push or pull aims to leave the object this far (m) past the line
 
 
 def execute_skill(world, skill: Skill, object_xy: np.ndarray, normal: np.ndarray,
@@ -23,9 +24,26 @@ def execute_skill(world, skill: Skill, object_xy: np.ndarray, normal: np.ndarray
     UnreachableError before moving if any waypoint is out of reach.
     """
     travel = None if line_distance is None else abs(line_distance) + BEYOND
-    path = skill.hand_path(READY_POSITION, np.asarray(object_xy, dtype=float), np.asarray(normal, dtype=float),
-                           travel)
-    trajectory = world.robot.move_hand(path, yaw=hand_yaw(normal), record=True)
+    object_xy, normal = np.asarray(object_xy, dtype=float), np.asarray(normal, dtype=float)
+    error = None
+    for start in reach_starts(skill, object_xy, normal):
+        # The DMP generalises to any start: where the reach from the ready pose would bulge out
+        # of the arm's reach, the hand first goes straight to a start nearer the object.
+        lead = resample(np.array([READY_POSITION, start]))[:-1]
+        path = np.vstack([lead, skill.hand_path(start, object_xy, normal, travel)])
+        try:
+            trajectory = world.robot.move_hand(path, yaw=hand_yaw(normal), record=True)
+            break
+        except UnreachableError as unreachable:  # raised before the arm moves
+            error = error or unreachable
+    else:
+        raise error
     world.robot.park()
     world.settle()
     return trajectory
+
+
+def reach_starts(skill: Skill, object_xy: np.ndarray, normal: np.ndarray) -> list[np.ndarray]:
+    """Where the reach may start (3,) each: the ready pose, then nearer and nearer the object."""
+    above_goal = from_object_frame((skill.goal + [0.0, 0.0, 0.08])[None], object_xy, normal)[0]
+    return [READY_POSITION + s * (above_goal - READY_POSITION) for s in (0.0, 0.4, 0.75)]
