@@ -60,3 +60,15 @@ def test_load_and_complete_names():
     shell = Shell(*read_pddl(PDDL / "domain.pddl", PDDL / "keep-all-near.pddl"))
     assert shell.completedefault("(f", "init (f", 5, 7) == ["far", "forall"]
     assert "pull" in shell.completedefault("pu", "validate (pu", 10, 12)
+
+
+def test_vslsp_shell_is_the_pddl_shell_at_the_top_level(tmp_path):
+    import subprocess
+    import sys
+
+    script = "plan\nquit\n"
+    done = subprocess.run([sys.executable, "-m", "vslsp", "shell", str(PDDL / "domain.pddl"),
+                           str(PDDL / "pull-in-order.pddl")], input=script, capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "pull orange" in done.stdout and done.stdout.index("pull orange") < done.stdout.index("pull yellow")

@@ -20,6 +20,7 @@ COMMANDS: dict[str, str] = {
     "teach": "vslsp.cli.teach:teach",
     "ground": "vslsp.cli.ground:ground",
     "pddl": "vslsp.cli.pddl:pddl",
+    "shell": "vslsp.cli.pddl:shell",  # the same as `vslsp pddl shell`
     "plan": "vslsp.cli.plan:plan",
     "validate": "vslsp.cli.validate:validate",
     "experiment": "vslsp.cli.experiment:experiment",
