@@ -148,29 +148,39 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
 def _reproduce_vsl(world, trial: Trial, library: SkillLibrary, demonstration, faults: dict[int, str]) -> list[str]:
     """Reproduce a recorded demonstration by match finding: for each operation, find the
     demonstrated object in the current scene (SIFT + RANSAC, adaptive frame) and bring it to
-    the demonstrated side of the line. Returns the objects acted on, in order."""
-    acted = []
+    the demonstrated side of the line. A last look checks every object against its final
+    demonstrated side and acts again on any that a later operation knocked back. Returns the
+    objects acted on, in order."""
+    acted: list[str] = []
     for op in demonstration.operations:
-        for attempt in range(3):
-            state = perceive(world)
-            name = _find_object(state, op)
-            target = op.grounding.far_post
-            if name is None:
-                raise TaskFailed(f"VSL finds no {op.symbol} object in the scene")
-            trial.details.setdefault("matched_by", []).append(name[1])
-            name = name[0]
-            if state.objects[name].far == target:
-                break
-            action = "push" if target else "pull"
-            result, _ = execute_step(world, library, action, name, state, faults.get(len(trial.steps)))
-            trial.steps.append(result)
-            if result.ok:
-                acted.append(name)
-                break
-            trial.replans += 1
-        else:
-            raise TaskFailed(f"VSL could not bring {op.symbol} to the demonstrated side after 3 attempts")
+        _bring(world, trial, library, op, faults, acted)
+    last = {op.symbol: op for op in demonstration.operations}  # each object's final demonstrated side
+    for op in demonstration.operations:
+        if last[op.symbol] is op:
+            _bring(world, trial, library, op, faults, acted)
     return acted
+
+
+def _bring(world, trial: Trial, library: SkillLibrary, op, faults: dict[int, str], acted: list[str]) -> None:
+    """Bring the object of operation ``op`` to its demonstrated side (up to 3 attempts)."""
+    for _ in range(3):
+        state = perceive(world)
+        name = _find_object(state, op)
+        target = op.grounding.far_post
+        if name is None:
+            raise TaskFailed(f"VSL finds no {op.symbol} object in the scene")
+        trial.details.setdefault("matched_by", []).append(name[1])
+        name = name[0]
+        if state.objects[name].far == target:
+            return
+        action = "push" if target else "pull"
+        result, _ = execute_step(world, library, action, name, state, faults.get(len(trial.steps)))
+        trial.steps.append(result)
+        if result.ok:
+            acted.append(name)
+            return
+        trial.replans += 1
+    raise TaskFailed(f"VSL could not bring {op.symbol} to the demonstrated side after 3 attempts")
 
 
 def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
@@ -277,7 +287,8 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
     # VSL: the same test scene, reproduced from the single demonstration by match finding.
     trial.stage("reproducing the demonstration with VSL's match finding")
     with World(test_scene, gui=trial.gui) as world:
-        acted = _reproduce_vsl(world, trial, library, demonstration, {})
+        # The executed order: the first action on each object (a knocked-back one is acted on again).
+        acted = list(dict.fromkeys(_reproduce_vsl(world, trial, library, demonstration, {})))
         final_vsl = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     sp_ok = run.success and not any(final_sp.values()) and became_near == list(ORDERED_COLOURS)
     vsl_ok = not any(final_vsl.values()) and acted == list(ORDERED_COLOURS)

@@ -44,6 +44,7 @@ COLOURS: dict[str, tuple[float, float, float]] = {
 
 
 # Along-line offsets (m) of other cubes that the hand disturbs when it pushes / pulls a cube.
+PUSH_OVERSHOOT = 0.10  # m past the line a pushed cube may end
 SWEEP_BANDS = {"push": (-0.05, 0.09), "pull": (-0.115, 0.08)}
 
 @dataclass(frozen=True)
@@ -199,10 +200,13 @@ def _placeable(landmark: LandmarkSpec, far: np.ndarray, centres: np.ndarray) -> 
     # head camera must still see it whole. Its view's lower edge cuts the table closer to the
     # robot on its right than on its left (measured: a cube is seen whole from x = 0.16 at
     # y = 0.06, from 0.12 at y = 0, from 0.08 at y = -0.1 and from 0.14 at y = -0.25).
+    # A pushed cube often tips over and travels 10 cm past the line or more (measured), so a
+    # near cube's landing is checked that far out, against the view's upper edge too.
     across = (centres - landmark.point) @ landmark.normal
-    landed = centres - np.outer(across + np.where(far, 0.065, -0.065), landmark.normal)
+    landed = centres - np.outer(across + np.where(far, 0.065, -PUSH_OVERSHOOT), landmark.normal)
     return (
         (landed[:, 0] >= 0.10 + 0.6 * np.maximum(0.0, landed[:, 1] + 0.05) + 0.8 * np.maximum(0.0, -0.2 - landed[:, 1]))
+        & (landed[:, 0] <= 0.37)
         & (landed[:, 1] >= WORKSPACE_Y[0] - 0.03) & (landed[:, 1] <= WORKSPACE_Y[1])
         & (centres[:, 0] >= WORKSPACE_X[0]) & (centres[:, 0] <= WORKSPACE_X[1])
         & (centres[:, 1] >= WORKSPACE_Y[0]) & (centres[:, 1] <= WORKSPACE_Y[1])
