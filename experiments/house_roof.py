@@ -1,0 +1,13 @@
+"""The paper's house-and-roof simulation ("Simulation"): seeded, randomised trials and a report.
+
+Same as `vslsp experiment house-roof`; e.g.
+    python experiments/house_roof.py --trials 20 --workers 2 --out out/house-roof
+See vslsp/vsl/house_roof.py for what a trial does and vslsp/vsl/tasks.py for how it is judged.
+"""
+
+import sys
+
+from vslsp.cli import main
+
+if __name__ == "__main__":
+    main(["experiment", "house-roof", *sys.argv[1:]])
