@@ -1,21 +1,30 @@
 """The house-and-roof simulation of the paper ("Simulation", Figure "3Houses"): VSL's
 disambiguation of alternative matches with adaptive frames, in a 2-D world without a robot.
 
-The world holds three identical house bodies and three identical roofs, composited as sprites
-at any pose on a board with a static baseline (the landmark L that Algorithm 1 line 2 detects).
-The tutor puts a roof on top of the first two bodies and the third roof *below* the third body.
-VSL records each operation with the :class:`DemonstrationRecorder` (Algorithm 1, part I) plus
-its pre-place observation (the world while the roof is in the hand), then reproduces the task in
-a new, randomised world (part II): ``find_best_match`` of the pre-pick observation gives the
-pick point and θ_pick, that of the pre-place observation the place point and θ_place, and the
-paper's trajectory (:mod:`vslsp.vsl.trajectory`) carries the roof from one to the other. A fixed
-frame smaller than a body cannot tell the bodies apart and may put the third roof below a
-house that already has its roof; the adaptive frame grows until the missing roof is in view.
+The world (:mod:`vslsp.vsl.house_world`) holds three identical house bodies and three
+identical roofs at any pose on a board with a static baseline (the landmark L that Algorithm 1
+line 2 detects). The tutor puts a roof on top of the first two bodies and the third roof
+*below* the third body, turned upside down. VSL records each operation with the
+:class:`DemonstrationRecorder` (Algorithm 1, part I) plus its pre-place observation (the world
+while the roof is in the hand) and the turn the tutor gave the roof (image subtraction and a
+window search over the angle), then reproduces the task in a new, randomised world (part II):
 
-Picking and placing act on the ground truth only through the hand: the roof under the matched
-pick point is grasped, and it lands where the hand's trajectory ends, keeping the grasp's
-offset. Success is judged on the ground truth (each roof's pose relative to a body), which
-perception never reads.
+- pick: ``find_best_match`` of the pre-pick observation in a frame of 1.5 object sizes (the
+  paper's pre-pick frame: about the object; a loose roof then differs from one on a house,
+  and the identical loose roofs are interchangeable) gives the pick point and θ_pick;
+- place: :func:`match_place` finds the pre-place observation, starting from a frame of twice
+  the object (the paper's pre-place frame) that either stays fixed or grows (adaptive frame);
+  every copy of the place's surroundings is a candidate and the frame grows until one stands
+  out, which gives the place point and θ_place (plus the demonstrated turn);
+- the paper's trajectory (:mod:`vslsp.vsl.trajectory`) carries the roof rest → pick → place
+  → rest.
+
+The fixed frame cannot see whether a house already has its roof and may put the third roof
+below a finished house, the paper's wrong reproduction; the adaptive frame grows until the
+missing roof is in view. Picking and placing act on the ground truth only through the hand:
+the roof under the matched pick point is grasped, and it lands where the hand's trajectory
+ends, keeping the grasp's offset. Success is judged on the ground truth (each roof's pose
+relative to a body), which perception never reads.
 """
 
 from __future__ import annotations
@@ -42,6 +51,7 @@ PICK_FRAME = 1.5  # the pre-pick frame's side, in object sizes
 PLACE_FRAME = 2.0  # the pre-place frame's first side, in object sizes (the paper: two to three)
 ADAPTIVE_LIMIT = 8.0  # the adaptive pre-place frame grows up to this many object sizes
 _COPIES = 4  # copies of the place's surroundings looked for (three bodies, and one spare)
+_PATCH = 128  # px, side of the window the demonstrated turn is searched in (a roof is 60 px across)
 
 
 @dataclass(frozen=True, eq=False)
@@ -94,9 +104,6 @@ def perceived_turn(pre: np.ndarray, pre_place: np.ndarray, post: np.ndarray) -> 
         angles = angle + np.radians(np.arange(-reach, reach, step))
         angle = float(angles[int(np.argmin([mismatch(a) for a in angles]))])
     return wrap(angle)
-
-
-_PATCH = 128  # px, side of the window the turn is searched in (a roof is 60 px across)
 
 
 def _object_patch(image: np.ndarray, without: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -21,10 +21,12 @@ from vslsp.vision.synthetic import board, body_sprite, covers, paste, roof_sprit
 Pose2 = tuple[float, float, float]  # x, y px; angle rad (image coordinates)
 WORLD_SIZE = (960, 720)  # (W, H) px
 BASELINE = ((30, 694), (930, 694))  # the static landmark, well below the objects
-TOP, BELOW = (0.0, -40.0, 0.0), (0.0, 40.0, float(np.pi))  # roof pose in its body's frame (px, rad)
+# A roof's pose in its body's frame (px, rad): its base edge on the body's top edge, or upside
+# down on the bottom edge (a body is 60 px, a roof's anchor 10 px from its base).
+TOP, BELOW = (0.0, -40.0, 0.0), (0.0, 40.0, float(np.pi))
 SLOTS = {"top": TOP, "below": BELOW}
 DEMONSTRATED = ("top", "top", "below")  # the tutor's three operations, as in the paper
-POSITION_TOLERANCE, ANGLE_TOLERANCE = 6.0, np.radians(6.0)
+POSITION_TOLERANCE, ANGLE_TOLERANCE = 6.0, np.radians(6.0)  # a roof this close to a slot is in it
 _BODY, _ROOF = body_sprite(), roof_sprite()
 _CLEARANCE = {("body", "body"): 250.0, ("body", "roof"): 180.0, ("roof", "roof"): 110.0}
 
