@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from vslsp.cli import main
+from vslsp.errors import InputError
 from vslsp.vision.synthetic import body_sprite, houses_world, paste, roof_sprite
 from vslsp.vsl.house_roof import PIXEL_SIZE, demonstrate, reproduce
 from vslsp.vsl.house_world import BELOW, TOP, HouseWorld, compose, relative, wrap
@@ -125,5 +126,5 @@ def test_bad_input_is_a_clear_error(capsys):
     with pytest.raises(SystemExit) as done:
         main(["experiment", "house-roof", "--faults"])
     assert done.value.code == 2 and "--faults applies to the VSL-SP experiments" in capsys.readouterr().err
-    with pytest.raises(Exception, match="at least 1"):
+    with pytest.raises(InputError, match="at least 1"):
         run_trials(0)
