@@ -24,10 +24,17 @@ PALM_HEIGHT = TABLE_Z + 0.019  # hand frame height that keeps the palm ~6 mm abo
 # the contact point of the palm sits beside the hand frame, hence the lateral offsets.
 TUTOR_CONTACT = {"push": np.array([-0.07, -0.005]), "pull": np.array([0.10, -0.04])}
 TUTOR_MOVE = {"push": 0.11, "pull": -0.16}
-# How much the tutor varies the move's length (fraction of TUTOR_MOVE). A pulled cube follows
-# the hand; a pushed one slides on unpredictably, so push keeps a near-constant move.
-TUTOR_MOVE_SPREAD = {"push": (0.95, 1.05), "pull": (0.6, 1.05)}
-APPROACH = 0.06  # the hand comes down onto the contact point from this far above
+# How much the tutor varies the move's length (fraction of TUTOR_MOVE), so that each skill
+# learns how far the cube goes for how far the hand moves (its effect model).
+TUTOR_MOVE_SPREAD = {"push": (0.6, 1.05), "pull": (0.6, 1.05)}
+# How high the hand frame is at the contact point. A push meets the cube's side at mid-height:
+# lower, the fingers (which reach 4-5 cm past the hand frame and do not collide with the
+# table) scoop under the cube's edge and tip it over, and the cube then travels 5-16 cm for
+# the same hand move (measured); at this height it travels the hand's move, upright.
+CONTACT_HEIGHT = {"push": PALM_HEIGHT + 0.022, "pull": PALM_HEIGHT}
+# The hand comes down onto the contact point from this far above (lower for push: near the
+# body the arm cannot lift the raised hand much higher).
+APPROACH = {"push": 0.035, "pull": 0.06}
 
 
 @dataclass(frozen=True)
@@ -63,9 +70,9 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
     normal = spec.landmark.normal
     with World(spec) as world:
         xy = np.array(world.cube_pose(cube.name)[:2])
-        contact = np.array([*(TUTOR_CONTACT[skill] + rng.normal(0, 0.003, 2)), PALM_HEIGHT])
+        contact = np.array([*(TUTOR_CONTACT[skill] + rng.normal(0, 0.003, 2)), CONTACT_HEIGHT[skill]])
         start = READY_POSITION + rng.uniform([-0.03, -0.03, -0.01], [0.03, 0.03, 0.03])
-        via_local = np.array([contact + [0, 0, APPROACH], contact])
+        via_local = np.array([contact + [0, 0, APPROACH[skill]], contact])
         via = np.vstack([start, from_object_frame(via_local, xy, normal)])
         # The tutor varies how far the hand moves, so that the skill learns how far the cube goes.
         length = TUTOR_MOVE[skill] * rng.uniform(*TUTOR_MOVE_SPREAD[skill])
