@@ -45,7 +45,7 @@ COLOURS: dict[str, tuple[float, float, float]] = {
 
 # Along-line offsets (m) of other cubes that the hand disturbs when it pushes / pulls a cube.
 PUSH_OVERSHOOT = 0.10  # m past the line a pushed cube may end
-SWEEP_BANDS = {"push": (-0.05, 0.09), "pull": (-0.115, 0.08)}
+SWEEP_BANDS = {"push": (-0.055, 0.10), "pull": (-0.115, 0.08)}
 
 @dataclass(frozen=True)
 class CubeSpec:
@@ -163,8 +163,8 @@ class SceneSpec:
             colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=n_cubes, replace=False))
         n_cubes = len(colours)
         fixed_far = far
-        for attempt in range(10000):
-            if attempt % 50 == 0:
+        for attempt in range(30000):
+            if attempt % 25 == 0:
                 landmark = fixed_landmark or LandmarkSpec(
                     x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
                 if fixed_far is None:  # some sides cannot be laid out with some line poses
