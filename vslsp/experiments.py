@@ -24,6 +24,7 @@ import numpy as np
 from vslsp.demonstration import tutor_operation
 from vslsp.errors import InputError, TaskFailed, VslspError
 from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
+from vslsp.parallel import run_jobs
 from vslsp.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
 from vslsp.skills.library import SkillLibrary
 from vslsp.sim import COLOURS, SceneSpec, World
@@ -338,20 +339,4 @@ def run_trials(experiment: str, trials: int, seed: int, library_path, *, workers
     if experiment not in EXPERIMENTS:
         raise InputError(f"unknown experiment {experiment!r}; choose one of {', '.join(EXPERIMENTS)}")
     jobs = [(experiment, seed + k, str(library_path), faults, planner, k == 0) for k in range(trials)]
-    results: list[Trial] = []
-    if workers <= 1:
-        for job in jobs:
-            results.append(_trial_job(job))
-            if on_done:
-                on_done(results[-1])
-        return results
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-        futures = [pool.submit(_trial_job, job) for job in jobs]
-        for future in as_completed(futures):
-            results.append(future.result())
-            if on_done:
-                on_done(results[-1])
-    return sorted(results, key=lambda t: t.seed)
+    return run_jobs(_trial_job, jobs, workers, on_done)

@@ -13,6 +13,7 @@ import time
 from dataclasses import dataclass, field
 
 from vslsp.errors import InputError
+from vslsp.parallel import run_jobs
 from vslsp.vsl.house_roof import HouseRoofDemonstration, ObservationFeatures, Reproduction, demonstrate, reproduce
 from vslsp.vsl.house_world import HouseWorld
 
@@ -73,24 +74,7 @@ def run_trials(trials: int, seed: int = 0, workers: int = 1, on_done=None) -> li
         raise InputError(f"--trials must be at least 1, got {trials}")
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")
-    seeds = [seed + k for k in range(trials)]
-    results: list[HouseRoofTrial] = []
-
-    def collect(finished) -> None:
-        for trial in finished:
-            results.append(trial)
-            if on_done:
-                on_done(trial)
-
-    if workers == 1:
-        collect(map(run_trial, seeds))
-        return results
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-        collect(pool.map(run_trial, seeds))  # in seed order
-    return results
+    return run_jobs(run_trial, [seed + k for k in range(trials)], workers, on_done)
 
 
 def summary(trials: list[HouseRoofTrial], seed: int) -> dict:
