@@ -18,22 +18,35 @@ def teach(skill: str, demos: int, seed: int, out: str | None) -> None:
     """Record kinesthetic-style demonstrations of SKILL and learn it; write the library and a figure."""
     from rich.progress import Progress
 
+    from vslsp.errors import TaskFailed, UnreachableError
     from vslsp.skills.library import SkillLibrary, default_library_path
     from vslsp.skills.teach import learn_skill, plot_skill, record_demonstration
 
     folder = Path(out) if out else default_library_path()
     library = SkillLibrary.load(folder) if (folder / "library.json").exists() else SkillLibrary()
-    recorded = []
+    recorded, skipped = [], []
     with Progress(transient=True) as progress:
         task = progress.add_task(f"demonstrating {skill}", total=demos)
-        for k in range(demos):
-            recorded.append(record_demonstration(skill, seed * 1000 + k))
-            progress.advance(task)
+        # A demonstration whose start the arm cannot reach is redone from another start, as a
+        # tutor would; at most 3 tries per demonstration asked.
+        for k in range(3 * demos):
+            if len(recorded) == demos:
+                break
+            try:
+                recorded.append(record_demonstration(skill, seed * 1000 + k))
+                progress.advance(task)
+            except UnreachableError as unreachable:
+                skipped.append(f"demonstration {k}: {unreachable}")
+    if len(recorded) < demos:
+        raise TaskFailed(f"only {len(recorded)} of {demos} {skill} demonstrations could be recorded: "
+                         + "; ".join(skipped[:3]))
     learned = learn_skill(skill, recorded)
     learned.meta["seed"] = seed
     library.skills[skill] = learned
     library.save(folder)
     figure = folder / f"{skill}_reach.png"
     plot_skill(learned, figure)
+    for line in skipped:
+        click.echo(f"redone: {line}", err=True)
     click.echo(f"{skill}: {learned.reach.n_demos} demonstrations, fit RMSE "
                f"{learned.reach.fit_rmse * 1000:.1f} mm -> {folder / 'library.json'}, {figure}")

@@ -34,7 +34,7 @@ TUTOR_MOVE_SPREAD = {"push": (0.6, 1.05), "pull": (0.6, 1.05)}
 CONTACT_HEIGHT = {"push": PALM_HEIGHT + 0.022, "pull": PALM_HEIGHT}
 # The hand comes down onto the contact point from this far above (lower for push: near the
 # body the arm cannot lift the raised hand much higher).
-APPROACH = {"push": 0.035, "pull": 0.06}
+APPROACH = {"push": 0.05, "pull": 0.06}
 
 
 @dataclass(frozen=True)
