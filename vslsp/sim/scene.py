@@ -45,7 +45,7 @@ COLOURS: dict[str, tuple[float, float, float]] = {
 
 # Along-line offsets (m) of other cubes that the hand disturbs when it pushes / pulls a cube.
 PUSH_OVERSHOOT = 0.10  # m past the line a pushed cube may end
-SWEEP_BANDS = {"push": (-0.055, 0.10), "pull": (-0.115, 0.08)}
+SWEEP_BANDS = {"push": (-0.06, 0.11), "pull": (-0.115, 0.08)}
 
 @dataclass(frozen=True)
 class CubeSpec:
