@@ -80,10 +80,10 @@ class IKResult:
     orientation_error: float  # rad
 
 
-def _load_robot(client: int) -> int:
+def _load_robot(client: int, kinematic: bool = False) -> int:
     with quiet():
         return pb.loadURDF(
-            str(reduced_urdf_path()),
+            str(reduced_urdf_path(kinematic)),
             [0.0, 0.0, BASE_Z],
             pb.getQuaternionFromEuler([0.0, 0.0, np.pi]),  # the model faces -x: turn it to the table
             useFixedBase=True,
@@ -98,7 +98,7 @@ class KinematicICub:
     def __init__(self) -> None:
         with quiet():
             self.client = pb.connect(pb.DIRECT)
-        self.body = _load_robot(self.client)
+        self.body = _load_robot(self.client, kinematic=True)
         self.joint_index: dict[str, int] = {}
         self.movable: list[int] = []
         link_index: dict[str, int] = {}
@@ -118,6 +118,8 @@ class KinematicICub:
         self.ik_lower = np.array([self.lower[i] for i in self.ik_indices])
         self.ik_upper = np.array([self.upper[i] for i in self.ik_indices])
         self._q = np.zeros(len(self.ik_indices))
+        # Every movable joint's position, kept here so the Jacobian needs no state queries.
+        self._positions = {i: pb.getJointState(self.body, i, physicsClientId=self.client)[0] for i in self.movable}
         self.set_ik_joints(self._q, force=True)
         self._jacobian_frame = np.eye(3)
         self._jacobian_frame = self._calibrate_jacobian_frame()
@@ -130,11 +132,15 @@ class KinematicICub:
     def set_joints(self, values: dict[str, float]) -> None:
         for name, value in values.items():
             pb.resetJointState(self.body, self.joint_index[name], value, physicsClientId=self.client)
+            self._positions[self.joint_index[name]] = float(value)
 
     def set_ik_joints(self, q: np.ndarray, force: bool = False) -> None:
-        for index, value, old in zip(self.ik_indices, q, self._q):
-            if force or value != old:
-                pb.resetJointState(self.body, index, float(value), physicsClientId=self.client)
+        changed = [(index, float(value)) for index, value, old in zip(self.ik_indices, q, self._q)
+                   if force or value != old]
+        if changed:
+            indices, values = zip(*changed)
+            pb.resetJointStatesMultiDof(self.body, list(indices), [[v] for v in values], physicsClientId=self.client)
+            self._positions.update(changed)
         self._q = np.array(q, dtype=float)
 
     def hand_pose(self) -> tuple[np.ndarray, np.ndarray]:
@@ -146,7 +152,7 @@ class KinematicICub:
 
     def jacobian(self) -> np.ndarray:
         """(6, 10) world-frame Jacobian of the hand frame w.r.t. the IK joints."""
-        positions = [pb.getJointState(self.body, i, physicsClientId=self.client)[0] for i in self.movable]
+        positions = [self._positions[i] for i in self.movable]
         zeros = [0.0] * len(positions)
         linear, angular = pb.calculateJacobian(
             self.body, self.hand_link, [0.0, 0.0, 0.0], positions, zeros, zeros,

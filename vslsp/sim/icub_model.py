@@ -31,8 +31,13 @@ def _source_urdf() -> Path:
     return Path(icub_models.get_model_file(MODEL_NAME))
 
 
-def reduced_urdf_text(source: Path) -> str:
-    """The URDF text of ``source`` without body-less links, meshes resolved to absolute paths."""
+def reduced_urdf_text(source: Path, kinematic: bool = False) -> str:
+    """The URDF text of ``source`` without body-less links, meshes resolved to absolute paths.
+
+    ``kinematic`` also drops every visual and collision element (the inertials stay, so link
+    frames and masses are unchanged): the kinematics-only copy that IK runs on loads in a
+    fraction of the time, with no meshes to parse.
+    """
     root = ET.parse(source).getroot()
     package_root = source.parents[2]  # .../share/iCub/robots/<model>/model.urdf -> .../share/iCub
     kept: set[str] = set()
@@ -42,6 +47,10 @@ def reduced_urdf_text(source: Path) -> str:
             kept.add(link.get("name"))
         else:
             root.remove(link)
+    if kinematic:
+        for link in root.findall("link"):
+            for element in link.findall("visual") + link.findall("collision"):
+                link.remove(element)
     for joint in list(root.findall("joint")):
         if joint.find("child").get("link") not in kept or joint.find("parent").get("link") not in kept:
             root.remove(joint)
@@ -59,10 +68,11 @@ def reduced_urdf_text(source: Path) -> str:
     return ET.tostring(root, encoding="unicode")
 
 
-def reduced_urdf_path() -> Path:
-    """Path of the reduced URDF, written once into a cache folder keyed by the source's content."""
+def reduced_urdf_path(kinematic: bool = False) -> Path:
+    """Path of the reduced URDF (see :func:`reduced_urdf_text`), written once into a cache folder
+    keyed by its content."""
     source = _source_urdf()
-    text = reduced_urdf_text(source)
+    text = reduced_urdf_text(source, kinematic)
     digest = hashlib.sha256(text.encode()).hexdigest()[:16]
     cache = Path(os.environ.get("VSLSP_CACHE", Path(tempfile.gettempdir()) / "vslsp-cache"))
     cache.mkdir(parents=True, exist_ok=True)

@@ -32,6 +32,10 @@ APPROACH_HEIGHT = 0.05  # the hand comes down onto a path from this far above it
 # Between parked and ready the arm is lifted out to the side, so it never sweeps the table.
 ARM_ASIDE = {**RIGHT_ARM_PARK, "r_shoulder_roll": 1.3, "r_elbow": 0.6}
 READY_POSITION = np.array([0.17, -0.12, BASE_Z + 0.05])  # hand above the workspace's near edge
+# The arm swings between parked and ready (a joint-space move) only this high above the ready
+# pose: from the ready pose itself, 1 cm above the cubes' tops, the swing swept the fingers
+# through cubes on the robot's right.
+SWING_HEIGHT = 0.06
 
 
 @dataclass(frozen=True)
@@ -218,24 +222,23 @@ class ICub:
         self._settle_joints(q)
 
     def _unpark(self, first: np.ndarray, yaw: float, speed: float, pitch: float = 0.0) -> None:
-        """From the parked posture: up to the ready pose, over the first waypoint, down onto it."""
-        ready = self.solve_path(READY_POSITION[None, :], yaw, pitch=pitch)[0]
+        """From the parked posture: up to above the ready pose, over the first waypoint, down onto it."""
+        swing = self.solve_path((READY_POSITION + [0.0, 0.0, SWING_HEIGHT])[None, :], yaw, pitch=pitch)[0]
         self._joint_move(_ik_vector(ARM_ASIDE))
-        self._joint_move(ready)
+        self._joint_move(swing)
         self.parked = False
         above = first + np.array([0.0, 0.0, APPROACH_HEIGHT])
         self._cartesian(np.array([above, first]), yaw, speed, pitch)
 
     def park(self) -> None:
-        """Take the arm out of the cameras' view: up, back to the ready pose, then down beside the body."""
+        """Take the arm out of the cameras' view: up, back above the ready pose, then down beside the body."""
         if self.parked:
             return
         hand = self.hand_position()
         # Straight up to above the ready height first, so the forearm clears the cubes it passes.
         lifted = np.array([hand[0], hand[1], max(hand[2] + APPROACH_HEIGHT, READY_POSITION[2] + 0.04)])
         try:
-            self._cartesian(np.array([lifted, READY_POSITION + [0.0, 0.0, 0.04], READY_POSITION]),
-                            HAND_YAW, MAX_SPEED)
+            self._cartesian(np.array([lifted, READY_POSITION + [0.0, 0.0, SWING_HEIGHT]]), HAND_YAW, MAX_SPEED)
         except UnreachableError:
             pass
         self._joint_move(_ik_vector(ARM_ASIDE))
