@@ -7,9 +7,10 @@ Only this package talks to pybullet. Entry points: :class:`World` built from a
 
 from vslsp.sim.camera import Camera
 from vslsp.sim.scene import COLOURS, CUBE_SIZE, TABLE_Z, CubeSpec, LandmarkSpec, SceneSpec
+from vslsp.sim.tabletop import Item, PickPlaceResult, Placement, TabletopWorld
 from vslsp.sim.world import CAMERA_NAMES, Observation, World
 
 __all__ = [
     "CAMERA_NAMES", "COLOURS", "CUBE_SIZE", "TABLE_Z", "Camera", "CubeSpec", "LandmarkSpec",
-    "Observation", "SceneSpec", "World",
+    "Observation", "SceneSpec", "World", "Item", "PickPlaceResult", "Placement", "TabletopWorld",
 ]

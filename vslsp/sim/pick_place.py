@@ -1,0 +1,203 @@
+"""One pick-and-place operation of the original VSL (paper, Algorithm 1 part II ``executeAction``
+and the grasping paragraph of section "Methodology") executed by the Panda of a
+:class:`~vslsp.sim.tabletop.TabletopWorld`.
+
+Before moving, the heights of the pick and the place come from a downward depth probe, the
+whole cycle rest → pick → place → rest of :func:`vslsp.vsl.trajectory.pick_and_place` is
+solved by IK, and the operation is "unreachable" when a solution misses its hand pose. Then the
+arm follows the joint path by position control; at the pick the fingers close until the normal
+force on each reaches a threshold ("grasp failed" when no movable item is between them); at the
+place ("object slipped" when the item is no longer between them) the hand comes down until the
+item touches what is below, opens, and goes back to rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vslsp.errors import InputError
+from vslsp.sim.panda import CONTACT_THRESHOLD, FINGER_FORCE, FINGER_OPEN, IK_ANGLE_TOLERANCE, \
+    IK_POSITION_TOLERANCE, PARK, REST, UPPER, Panda
+from vslsp.sim.quiet import quiet
+from vslsp.vsl import trajectory
+
+with quiet():
+    import pybullet as pb
+
+TIME_STEP = 1.0 / 240.0
+PATH = trajectory.TrajectoryParameters(height=0.15, durations=(1.0, 1.4, 1.0), samples=25)
+GRASP_DEPTH = 0.010  # the fingertips close this far below an item's top
+TIP_CLEARANCE = 0.003  # and at least this far above the surface they come down beside it
+FINGER_WIDTH = 0.012  # room each finger needs beside the opening
+PLACE_CLEARANCE = 0.006  # the carried item arrives this far above the surface, then comes down
+DESCENT_SPEED = 0.05  # m/s of the guarded descent
+MAX_DESCENT = 0.03
+SWING_TIME = 0.5  # s between parked (out of view) and rest
+TOUCH_FORCE = 0.3  # N under the held item that ends the guarded descent
+SQUEEZE = 0.004  # m the fingers' target lies inside the item once the threshold is reached
+PROBE_OFFSETS = ((0.0, 0.0), (0.015, 0.0), (-0.015, 0.0), (0.0, 0.015), (0.0, -0.015))
+
+
+@dataclass(frozen=True, eq=False)
+class PickPlaceResult:
+    """How a pick-and-place went: ``ok``, the ``diagnosis`` of a failure (None, "grasp failed",
+    "object slipped", "unreachable"), the item ``held`` (ground truth, for reports and tests),
+    the ``hand_path`` (T, 4) x, y, z, θ as executed and the simulated ``duration_s``."""
+
+    ok: bool
+    diagnosis: str | None
+    held: str | None
+    hand_path: np.ndarray
+    duration_s: float
+
+    def to_dict(self) -> dict:
+        return {"ok": self.ok, "diagnosis": self.diagnosis, "held": self.held,
+                "hand_path": np.round(self.hand_path, 5).tolist(), "duration_s": round(self.duration_s, 4)}
+
+
+def check_pose(label: str, pose: tuple[float, float, float]) -> np.ndarray:
+    pose = np.asarray(pose, dtype=float).reshape(-1)
+    if pose.shape != (3,) or not np.all(np.isfinite(pose)):
+        raise InputError(f"the {label} pose must be three finite numbers (x m, y m, theta rad), got {pose!r}")
+    return pose
+
+
+def wrist_branch(pick: np.ndarray, place: np.ndarray) -> tuple[float, float]:
+    """θ_pick and θ_place shifted by the same multiple of π (the fingers close alike) so that
+    joint 7 stays furthest inside its limits; the item turns by θ_place − θ_pick (mod 2π)."""
+    turn = float(np.angle(np.exp(1j * (place[2] - pick[2]))))
+    best = None
+    for k in range(-2, 3):
+        theta_pick = float(pick[2] + k * np.pi)
+        theta_place = theta_pick + turn
+        margin = min(UPPER[6] - abs(Panda.wrist_angle(x, y, t))
+                     for x, y, t in ((pick[0], pick[1], theta_pick), (place[0], place[1], theta_place)))
+        if best is None or margin > best[0]:
+            best = (margin, theta_pick, theta_place)
+    return best[1], best[2]
+
+
+class Operation:
+    """The state of one pick-and-place while it runs: the executed hand path and sim time."""
+
+    def __init__(self, world) -> None:
+        self.world = world
+        self.panda: Panda = world.panda
+        self.path: list[np.ndarray] = []
+        self.steps = 0
+
+    def step(self, n: int = 1) -> None:
+        self.world.step(n)
+        self.steps += n
+
+    def record(self) -> None:
+        position, theta = self.panda.hand()
+        self.path.append(np.array([*position, theta]))
+
+    def follow(self, joints: np.ndarray, times: np.ndarray) -> None:
+        """Drive through joint samples (N, 7) at ``times`` (N,) s, interpolating every step."""
+        for k in range(1, len(joints)):
+            n = max(1, int(round((times[k] - times[k - 1]) / TIME_STEP)))
+            for i in range(1, n + 1):
+                self.panda.drive(joints[k - 1] + (joints[k] - joints[k - 1]) * i / n)
+                self.step()
+            self.record()
+
+    def converge(self, q: np.ndarray, max_steps: int = 72, tolerance: float = 1e-3) -> None:
+        self.panda.drive(q)
+        for _ in range(max_steps):
+            if np.max(np.abs(self.panda.joints() - q)) < tolerance:
+                break
+            self.step()
+
+    def close_fingers(self, movable: list[int]) -> int | None:
+        """Close until both fingers press one item with the threshold force (or they shut)."""
+        self.panda.fingers_to(0.0, FINGER_FORCE)
+        for _ in range(120):
+            self.step()
+            body = self.panda.between_fingers(movable)
+            if body is not None and min(self.panda.finger_forces(body)) >= CONTACT_THRESHOLD:
+                each = self.panda.finger_opening() / 2.0
+                self.panda.fingers_to(max(0.0, each - SQUEEZE), FINGER_FORCE)
+                self.step(12)
+                return self.panda.between_fingers(movable)
+            if self.panda.finger_opening() < 1e-3:
+                break
+        return None
+
+    def guarded_descent(self, start: np.ndarray, theta: float, held: int) -> None:
+        """Lower the hand from ``start`` (3,) until ``held`` presses on something other than the
+        robot with :data:`TOUCH_FORCE`, or :data:`MAX_DESCENT` is used up."""
+        drop, every = DESCENT_SPEED * TIME_STEP * 4, 4
+        for k in range(1, int(MAX_DESCENT / drop) + 1):
+            self.panda.drive(self.panda.inverse_kinematics(start - [0.0, 0.0, k * drop], theta))
+            self.step(every)
+            self.record()
+            pressed = sum(c[9] for c in pb.getContactPoints(held, physicsClientId=self.world.client)
+                          if c[2] != self.panda.body)
+            if pressed >= TOUCH_FORCE:
+                return
+
+    def result(self, diagnosis: str | None, held: str | None) -> PickPlaceResult:
+        path = np.array(self.path) if self.path else np.zeros((0, 4))
+        return PickPlaceResult(diagnosis is None, diagnosis, held, path, self.steps * TIME_STEP)
+
+
+def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple[float, float, float],
+                           grasp_width: float | None = None) -> PickPlaceResult:
+    """See :meth:`vslsp.sim.tabletop.TabletopWorld.pick_and_place`."""
+    pick, place = check_pose("pick", pick), check_pose("place", place)
+    if grasp_width is not None and not (np.isfinite(grasp_width) and grasp_width > 0.0):
+        raise InputError(f"grasp_width must be a positive width in metres, got {grasp_width!r}")
+    op = Operation(world)
+    panda = op.panda
+    panda.reset(REST)
+    rest, theta_rest = panda.hand()
+    panda.reset(PARK)
+    theta_pick, theta_place = wrist_branch(pick, place)
+    each = FINGER_OPEN if grasp_width is None else float(np.clip(grasp_width / 2.0 + 0.01, 0.005, FINGER_OPEN))
+
+    # Heights from the depth probe: the top at the pick, the surface beside it where the
+    # fingertips come down, and the surface at the place (seen through the item to be picked).
+    top, target = world.probe(pick[0], pick[1])
+    axis = np.array([np.cos(theta_pick), np.sin(theta_pick)])
+    beside = max(world.probe(*(pick[:2] + sign * (each + FINGER_WIDTH) * axis))[0] for sign in (-1.0, 1.0))
+    tip_pick = max(top - GRASP_DEPTH, beside + TIP_CLEARANCE)
+    bottom = beside if beside < top else 0.0
+    surface = max(world.probe(place[0] + dx, place[1] + dy, ignore=target)[0] for dx, dy in PROBE_OFFSETS)
+    tip_place = surface + (tip_pick - bottom) + PLACE_CLEARANCE
+
+    plan = trajectory.pick_and_place(rest, [pick[0], pick[1], tip_pick], [place[0], place[1], tip_place],
+                                     theta_pick, theta_place, PATH, theta_rest=theta_rest)
+    joints, position_error, angle_error = panda.plan(plan.xyz, plan.theta, REST)
+    if position_error > IK_POSITION_TOLERANCE or angle_error > IK_ANGLE_TOLERANCE:
+        return op.result("unreachable", None)
+
+    _, at_pick, at_place = plan.segments
+    movable = [world.bodies[n] for n, item in world.specs.items() if item.movable]
+    names = {body: name for name, body in world.bodies.items()}
+    panda.fingers_to(each)
+    op.follow(np.array([PARK, REST]), np.array([0.0, SWING_TIME]))
+    op.follow(joints[: at_pick + 1], plan.t[: at_pick + 1])
+    op.converge(joints[at_pick])
+    held = op.close_fingers(movable)
+    if held is None:
+        panda.fingers_to(FINGER_OPEN)
+        op.follow(joints[at_pick::-1], plan.t[: at_pick + 1])
+        op.follow(np.array([joints[0], PARK]), np.array([0.0, SWING_TIME]))
+        return op.result("grasp failed", None)
+
+    op.follow(joints[at_pick: at_place + 1], plan.t[at_pick: at_place + 1])
+    op.converge(joints[at_place])
+    diagnosis = None
+    if panda.between_fingers([held]) is None:
+        diagnosis = "object slipped"
+    else:
+        op.guarded_descent(plan.xyz[at_place], theta_place, held)
+    panda.fingers_to(FINGER_OPEN)
+    op.step(24)
+    op.follow(np.vstack([panda.joints(), joints[at_place:]]), plan.t[at_place - 1:])
+    op.follow(np.array([joints[-1], PARK]), np.array([0.0, SWING_TIME]))
+    return op.result(diagnosis, names[held])
