@@ -59,8 +59,10 @@ class Panda:
             self.body = pb.loadURDF(f"{pybullet_data.getDataPath()}/franka_panda/panda.urdf", [0, 0, 0],
                                     useFixedBase=True, physicsClientId=client)
         for joint in FINGER_JOINTS:
+            # The URDF's soft pads (stiffness 3e4) with friction anchors jammed the fingers on a
+            # tile after a long turn: they would not open. Stiff pads without anchors release.
             pb.changeDynamics(self.body, joint, lateralFriction=FINGER_FRICTION, spinningFriction=0.01,
-                              physicsClientId=client)
+                              frictionAnchor=0, contactStiffness=1e6, contactDamping=1e3, physicsClientId=client)
         # The fingers are geared together as in the real gripper (the URDF's mimic joint, which
         # pybullet ignores): the first finger's motor drives both, and a held item stays centred.
         gear = pb.createConstraint(self.body, FINGER_JOINTS[0], self.body, FINGER_JOINTS[1], pb.JOINT_GEAR,

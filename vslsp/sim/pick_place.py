@@ -35,6 +35,7 @@ PLACE_CLEARANCE = 0.006  # the carried item arrives this far above the surface, 
 DESCENT_SPEED = 0.05  # m/s of the guarded descent
 MAX_DESCENT = 0.03
 SWING_TIME = 0.5  # s between parked (out of view) and rest
+RETREAT = 0.04  # m the hand rises straight up after the release
 TOUCH_FORCE = 0.3  # N under the held item that ends the guarded descent
 SQUEEZE = 0.004  # m the fingers' target lies inside the item once the threshold is reached
 PROBE_OFFSETS = ((0.0, 0.0), (0.015, 0.0), (-0.015, 0.0), (0.0, 0.015), (0.0, -0.015))
@@ -127,6 +128,14 @@ class Operation:
                 break
         return None
 
+    def release(self) -> None:
+        """Open the fingers fully and wait until they are."""
+        self.panda.fingers_to(FINGER_OPEN)
+        for _ in range(60):
+            self.step()
+            if self.panda.finger_opening() > 2.0 * FINGER_OPEN - 2e-3:
+                break
+
     def guarded_descent(self, start: np.ndarray, theta: float, held: int) -> None:
         """Lower the hand from ``start`` (3,) until ``held`` presses on something other than the
         robot with :data:`TOUCH_FORCE`, or :data:`MAX_DESCENT` is used up."""
@@ -138,11 +147,46 @@ class Operation:
             pressed = sum(c[9] for c in pb.getContactPoints(held, physicsClientId=self.world.client)
                           if c[2] != self.panda.body)
             if pressed >= TOUCH_FORCE:
+                self.panda.drive(self.panda.joints())  # stop there: pressing on would jam the fingers
                 return
 
     def result(self, diagnosis: str | None, held: str | None) -> PickPlaceResult:
         path = np.array(self.path) if self.path else np.zeros((0, 4))
         return PickPlaceResult(diagnosis is None, diagnosis, held, path, self.steps * TIME_STEP)
+
+
+def cycle(rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_pick: float, theta_place: float,
+          theta_rest: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[int, int, int]]:
+    """The paper's cycle through key points (3,) each: times (T,), hand points (T, 3), angles
+    (T,) and where the pick, the place and the way home begin. After the release the hand first
+    rises :data:`RETREAT` straight up (turning there, the open fingers would sweep the item's
+    corners), then the place → rest segment starts from that point."""
+    plan = trajectory.pick_and_place(rest, pick, place, theta_pick, theta_place, PATH, theta_rest=theta_rest)
+    _, at_pick, at_place = plan.segments
+    t_place = plan.t[at_place]
+    lift_t = t_place + np.linspace(0.0, RETREAT / DESCENT_SPEED, 6)
+    lift = place + np.outer(trajectory.time_scaling(lift_t, lift_t[0], lift_t[-1]), [0.0, 0.0, RETREAT])
+    t, xyz, theta = trajectory.segment(lift[-1], rest, theta_place, theta_rest, lift_t[-1],
+                                       lift_t[-1] + PATH.durations[2], PATH)
+    return (np.concatenate([plan.t[: at_place + 1], lift_t[1:], t[1:]]),
+            np.vstack([plan.xyz[: at_place + 1], lift[1:], xyz[1:]]),
+            np.concatenate([plan.theta[: at_place + 1], np.full(5, theta_place), theta[1:]]),
+            (at_pick, at_place, at_place + 5))
+
+
+def key_points(world, pick: np.ndarray, place: np.ndarray, theta_pick: float,
+               each: float) -> tuple[np.ndarray, np.ndarray]:
+    """The fingertips' pick and place points (3,) from the depth probe: the top at the pick,
+    the surface beside it where the fingertips come down, and the surface at the place (seen
+    through the item to be picked)."""
+    top, target = world.probe(pick[0], pick[1])
+    axis = np.array([np.cos(theta_pick), np.sin(theta_pick)])
+    beside = max(world.probe(*(pick[:2] + sign * (each + FINGER_WIDTH) * axis))[0] for sign in (-1.0, 1.0))
+    tip_pick = max(top - GRASP_DEPTH, beside + TIP_CLEARANCE)
+    bottom = beside if beside < top else 0.0
+    surface = max(world.probe(place[0] + dx, place[1] + dy, ignore=target)[0] for dx, dy in PROBE_OFFSETS)
+    tip_place = surface + (tip_pick - bottom) + PLACE_CLEARANCE
+    return np.array([pick[0], pick[1], tip_pick]), np.array([place[0], place[1], tip_place])
 
 
 def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple[float, float, float],
@@ -158,46 +202,35 @@ def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple
     panda.reset(PARK)
     theta_pick, theta_place = wrist_branch(pick, place)
     each = FINGER_OPEN if grasp_width is None else float(np.clip(grasp_width / 2.0 + 0.01, 0.005, FINGER_OPEN))
-
-    # Heights from the depth probe: the top at the pick, the surface beside it where the
-    # fingertips come down, and the surface at the place (seen through the item to be picked).
-    top, target = world.probe(pick[0], pick[1])
-    axis = np.array([np.cos(theta_pick), np.sin(theta_pick)])
-    beside = max(world.probe(*(pick[:2] + sign * (each + FINGER_WIDTH) * axis))[0] for sign in (-1.0, 1.0))
-    tip_pick = max(top - GRASP_DEPTH, beside + TIP_CLEARANCE)
-    bottom = beside if beside < top else 0.0
-    surface = max(world.probe(place[0] + dx, place[1] + dy, ignore=target)[0] for dx, dy in PROBE_OFFSETS)
-    tip_place = surface + (tip_pick - bottom) + PLACE_CLEARANCE
-
-    plan = trajectory.pick_and_place(rest, [pick[0], pick[1], tip_pick], [place[0], place[1], tip_place],
-                                     theta_pick, theta_place, PATH, theta_rest=theta_rest)
-    joints, position_error, angle_error = panda.plan(plan.xyz, plan.theta, REST)
+    pick_point, place_point = key_points(world, pick, place, theta_pick, each)
+    t, xyz, theta, (at_pick, at_place, at_home) = cycle(rest, pick_point, place_point, theta_pick, theta_place,
+                                                        theta_rest)
+    joints, position_error, angle_error = panda.plan(xyz, theta, REST)
     if position_error > IK_POSITION_TOLERANCE or angle_error > IK_ANGLE_TOLERANCE:
         return op.result("unreachable", None)
 
-    _, at_pick, at_place = plan.segments
     movable = [world.bodies[n] for n, item in world.specs.items() if item.movable]
     names = {body: name for name, body in world.bodies.items()}
     panda.fingers_to(each)
     op.follow(np.array([PARK, REST]), np.array([0.0, SWING_TIME]))
-    op.follow(joints[: at_pick + 1], plan.t[: at_pick + 1])
+    op.follow(joints[: at_pick + 1], t[: at_pick + 1])
     op.converge(joints[at_pick])
     held = op.close_fingers(movable)
     if held is None:
-        panda.fingers_to(FINGER_OPEN)
-        op.follow(joints[at_pick::-1], plan.t[: at_pick + 1])
+        op.release()
+        op.follow(joints[at_pick::-1], t[: at_pick + 1])
         op.follow(np.array([joints[0], PARK]), np.array([0.0, SWING_TIME]))
         return op.result("grasp failed", None)
 
-    op.follow(joints[at_pick: at_place + 1], plan.t[at_pick: at_place + 1])
+    op.follow(joints[at_pick: at_place + 1], t[at_pick: at_place + 1])
     op.converge(joints[at_place])
     diagnosis = None
     if panda.between_fingers([held]) is None:
         diagnosis = "object slipped"
     else:
-        op.guarded_descent(plan.xyz[at_place], theta_place, held)
-    panda.fingers_to(FINGER_OPEN)
-    op.step(24)
-    op.follow(np.vstack([panda.joints(), joints[at_place:]]), plan.t[at_place - 1:])
+        op.guarded_descent(xyz[at_place], theta_place, held)
+    op.release()
+    op.follow(np.vstack([panda.joints(), joints[at_place + 1: at_home + 1]]), t[at_place: at_home + 1])
+    op.follow(joints[at_home:], t[at_home:])
     op.follow(np.array([joints[-1], PARK]), np.array([0.0, SWING_TIME]))
     return op.result(diagnosis, names[held])

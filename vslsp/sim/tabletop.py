@@ -47,13 +47,15 @@ CAMERA_FOV = 27.0  # vertical, degrees
 @dataclass(frozen=True, eq=False)
 class Item:
     """A box of ``size`` (x, y, z) m with ``texture`` (H, W, 3) uint8 RGB on its top face
-    (columns along +x, rows along −y); ``movable=False`` makes a static landmark (mass 0)."""
+    (columns along +x, rows along −y); ``movable=False`` makes a static landmark (mass 0);
+    ``friction`` is its lateral friction coefficient (pybullet multiplies the two in contact)."""
 
     name: str
     size: tuple[float, float, float]
     texture: np.ndarray
     movable: bool = True
     mass: float = 0.05
+    friction: float = ITEM_FRICTION
 
     def __post_init__(self) -> None:
         if len(self.size) != 3 or not all(np.isfinite(s) and 0.002 <= s <= 0.5 for s in self.size):
@@ -65,6 +67,8 @@ class Item:
                              f"got {texture.dtype} {texture.shape}")
         if self.movable and not (np.isfinite(self.mass) and self.mass > 0.0):
             raise InputError(f"item {self.name!r}: a movable item needs a mass > 0 kg, got {self.mass!r}")
+        if not (np.isfinite(self.friction) and self.friction > 0.0):
+            raise InputError(f"item {self.name!r}: friction must be > 0, got {self.friction!r}")
 
 
 @dataclass(frozen=True)
@@ -135,10 +139,14 @@ class TabletopWorld:
         self.bodies: dict[str, int] = {}
         self.specs: dict[str, Item] = {}
         self.steps = 0
-        for item, placement in layout:
-            if item.name in self.bodies:
-                raise InputError(f"two items are named {item.name!r}; give every item its own name")
-            self._add(item, placement)
+        try:
+            for item, placement in layout:
+                if item.name in self.bodies:
+                    raise InputError(f"two items are named {item.name!r}; give every item its own name")
+                self._add(item, placement)
+        except BaseException:
+            self.close()
+            raise
         self.settle()
 
     # -- building -------------------------------------------------------------------------
@@ -170,7 +178,7 @@ class TabletopWorld:
         finally:
             os.remove(path)
         pb.changeVisualShape(body, -1, textureUniqueId=texture_id, physicsClientId=c)
-        pb.changeDynamics(body, -1, lateralFriction=ITEM_FRICTION, spinningFriction=0.001, physicsClientId=c)
+        pb.changeDynamics(body, -1, lateralFriction=item.friction, spinningFriction=0.001, physicsClientId=c)
         self.bodies[item.name] = body
         self.specs[item.name] = item
         self._put(item.name, placement)
