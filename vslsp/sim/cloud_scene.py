@@ -1,0 +1,252 @@
+"""The table-cleaning world of VSL-3D (paper, section "VSL-3D", "Table Cleaning": "the world
+includes an empty box and a set of objects which are randomly placed in the workspace"),
+watched by an RGB-D sensor in the role of the paper's Asus Xtion Pro Live.
+
+Objects are meshes from ``pybullet_data`` (a duck, a teddy bear, a mug, random blobs, a small cube)
+on a table whose top is the plane z = 0; a tray (the box) stands in it as a static landmark.
+The tutor puts an object at a given 6-DoF pose (it holds the object there: no physics step
+runs, so a tilted object stays tilted); :meth:`CloudScene.resting_pose` gives the pose at
+which an object with a given yaw and tilt touches the table. Ground-truth poses are for tests
+and benchmarks only: VSL-3D sees nothing but the depth image.
+
+Frame: x away from the sensor over the table, y to the left, z up, metres.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from vslsp.errors import InputError
+from vslsp.sim.camera import Camera
+from vslsp.sim.quiet import quiet
+
+with quiet():
+    import pybullet as pb
+    import pybullet_data
+
+TABLE_HALF = (0.45, 0.50, 0.02)
+TABLE_CENTRE = (0.50, 0.0)
+TABLE_COLOUR = (0.80, 0.74, 0.62, 1.0)
+WORKSPACE_X = (0.38, 0.68)  # where objects may lie: well inside the sensor's view
+WORKSPACE_Y = (-0.22, 0.22)
+TRAY_POSITION = (0.56, 0.16)
+TRAY_SCALE = 0.4  # pybullet's traybox is 60 cm wide; this makes a 24 cm box
+CLEARANCE = 0.14  # m between the centres of two objects (and an object and the tray's rim)
+
+
+@dataclass(frozen=True)
+class ObjectModel:
+    """A mesh from pybullet_data: its URDF, scale and the roll/pitch (rad) that sets it upright."""
+
+    urdf: str
+    scale: float = 1.0
+    upright: tuple[float, float] = (0.0, 0.0)
+
+
+OBJECTS: dict[str, ObjectModel] = {
+    "duck": ObjectModel("duck_vhacd.urdf", 1.0, (np.pi / 2, 0.0)),
+    "teddy": ObjectModel("teddy_vhacd.urdf", 1.0, (np.pi / 2, 0.0)),
+    "blob": ObjectModel("random_urdfs/013/013.urdf", 1.0),
+    "shell": ObjectModel("random_urdfs/000/000.urdf", 1.0),
+    "mug": ObjectModel("objects/mug.urdf", 1.0),
+    "cube": ObjectModel("cube_small.urdf", 1.0),
+}
+# Objects whose pose a single view pins down (no rotational symmetry): the duck, the teddy, the
+# mug. The blob is nearly symmetric under a half turn, the shell about its long axis, the cube
+# under quarter turns: their position is found, their rotation only up to that symmetry.
+ASYMMETRIC = ("duck", "teddy", "mug")
+
+# The RGB-D sensor: 640 x 480, 45 degrees vertical field of view (an Xtion's), 0.63 m from the
+# middle of the workspace, looking down at about 53 degrees.
+SENSOR = Camera("rgbd", eye=(0.15, 0.0, 0.50), target=(0.53, 0.0, 0.0), up=(0.0, 0.0, 1.0),
+                width=640, height=480, fov=45.0)
+
+
+def axial_noise(depth: np.ndarray) -> np.ndarray:
+    """Standard deviation (m) of a structured-light sensor's depth at ``depth`` (m) (Nguyen,
+    Izadi and Lovell 2012: 1.2 mm + 1.9 mm (z - 0.4)^2)."""
+    return 0.0012 + 0.0019 * (depth - 0.4) ** 2
+
+
+@dataclass(frozen=True, eq=False)
+class RGBDImage:
+    """One capture: RGB (H, W, 3) uint8, depth (H, W) float32 m along the optical axis (0 where
+    nothing is seen), and the camera."""
+
+    rgb: np.ndarray
+    depth: np.ndarray
+    camera: Camera
+
+
+def pose_matrix(position: np.ndarray, orientation: np.ndarray) -> np.ndarray:
+    """4x4 pose from a position (3,) and a quaternion (x, y, z, w)."""
+    pose = np.eye(4)
+    pose[:3, :3] = np.asarray(pb.getMatrixFromQuaternion(list(orientation))).reshape(3, 3)
+    pose[:3, 3] = position
+    return pose
+
+
+def euler_pose(x: float, y: float, z: float, roll: float = 0.0, pitch: float = 0.0, yaw: float = 0.0) -> np.ndarray:
+    """4x4 pose from a position and roll, pitch, yaw (rad; extrinsic x, y, z as in pybullet)."""
+    return pose_matrix(np.array([x, y, z]), pb.getQuaternionFromEuler([roll, pitch, yaw]))
+
+
+class CloudScene:
+    """A pybullet world (DIRECT) with the table, the tray and ``objects``: name -> (x, y, yaw).
+
+    Each name must be one of :data:`OBJECTS` (a name may carry a suffix after ``#`` for a
+    second copy, e.g. ``"duck#2"``). Close it (or use ``with``) when done."""
+
+    def __init__(self, objects: dict[str, tuple[float, float, float]], *, tray: bool = True,
+                 camera: Camera = SENSOR, noise: bool = False, seed: int = 0) -> None:
+        for name in objects:
+            if name.split("#")[0] not in OBJECTS:
+                raise InputError(f"unknown object {name!r}; use one of {', '.join(OBJECTS)}")
+        self.camera = camera
+        self.noise = noise
+        self._rng = np.random.default_rng(seed)
+        with quiet():
+            self.client = pb.connect(pb.DIRECT)
+        c = self.client
+        pb.resetSimulation(physicsClientId=c)
+        pb.setAdditionalSearchPath(pybullet_data.getDataPath(), physicsClientId=c)
+        shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, physicsClientId=c)
+        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR, physicsClientId=c)
+        self.table = pb.createMultiBody(0, shape, visual, [*TABLE_CENTRE, -TABLE_HALF[2]], physicsClientId=c)
+        self.tray = None
+        if tray:
+            with quiet():
+                self.tray = pb.loadURDF(os.path.join("tray", "traybox.urdf"), [*TRAY_POSITION, 0.0],
+                                        useFixedBase=True, globalScaling=TRAY_SCALE, physicsClientId=c)
+            self._rest_on_table(self.tray)
+        self.bodies: dict[str, int] = {}
+        for name, (x, y, yaw) in objects.items():
+            model = OBJECTS[name.split("#")[0]]
+            with quiet():
+                self.bodies[name] = pb.loadURDF(model.urdf, [x, y, 0.2], globalScaling=model.scale,
+                                                physicsClientId=c)
+            self.tutor_move(name, self.resting_pose(name, x, y, yaw))
+
+    # -- the tutor -------------------------------------------------------------------------
+    def tutor_move(self, name: str, pose: np.ndarray) -> None:
+        """The tutor puts object ``name`` at ``pose`` (4, 4), the pose of its base frame."""
+        body = self._body(name)
+        pose = np.asarray(pose, dtype=float)
+        if pose.shape != (4, 4) or not np.allclose(pose[:3, :3] @ pose[:3, :3].T, np.eye(3), atol=1e-6):
+            raise InputError("a pose is a 4x4 rigid transform (orthonormal rotation)")
+        quaternion = _quaternion(pose[:3, :3])
+        pb.resetBasePositionAndOrientation(body, pose[:3, 3].tolist(), quaternion, physicsClientId=self.client)
+
+    def resting_pose(self, name: str, x: float, y: float, yaw: float, roll: float = 0.0,
+                     pitch: float = 0.0, support: float = 0.0) -> np.ndarray:
+        """The pose (4, 4) at which ``name``, upright then tilted by ``roll``/``pitch`` and turned
+        by ``yaw`` (rad), has the middle of its box over (x, y) and touches the plane z = ``support``."""
+        body = self._body(name)
+        current = self.pose(name)
+        upright = OBJECTS[name.split("#")[0]].upright
+        rotation = (_rotation(0.0, 0.0, yaw) @ _rotation(roll, pitch, 0.0) @ _rotation(*upright, 0.0))
+        probe = np.eye(4)
+        probe[:3, :3] = rotation
+        self.tutor_move(name, probe)
+        lower, upper = (np.asarray(v) for v in pb.getAABB(body, physicsClientId=self.client))
+        middle = (lower + upper) / 2.0
+        probe[:3, 3] = [x - middle[0], y - middle[1], support - lower[2] + 0.0005]
+        self.tutor_move(name, current)
+        return probe
+
+    # -- sensing ---------------------------------------------------------------------------
+    def capture(self) -> RGBDImage:
+        """What the RGB-D sensor sees now; with ``noise`` the depth carries the sensor's axial
+        noise (seeded)."""
+        rgb, depth = self.camera.render(self.client)
+        depth = depth.astype(np.float64)
+        depth[depth > 2.9] = 0.0  # beyond the far plane: no return
+        if self.noise:
+            seen = depth > 0.0
+            depth[seen] += self._rng.normal(0.0, 1.0, seen.sum()) * axial_noise(depth[seen])
+        return RGBDImage(rgb, depth.astype(np.float32), self.camera)
+
+    # -- ground truth ----------------------------------------------------------------------
+    def pose(self, name: str) -> np.ndarray:
+        """Ground-truth pose (4, 4) of object ``name``'s base frame."""
+        position, orientation = pb.getBasePositionAndOrientation(self._body(name), physicsClientId=self.client)
+        return pose_matrix(np.asarray(position), orientation)
+
+    def bounds(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """Ground-truth axis-aligned bounding box (lower (3,), upper (3,)) of object ``name``."""
+        lower, upper = pb.getAABB(self._body(name), physicsClientId=self.client)
+        return np.asarray(lower), np.asarray(upper)
+
+    def surface_height(self, x: float, y: float) -> float:
+        """Height (m) of the first surface below (x, y) seen from above: the table, the tray's
+        floor or an object (a depth probe straight down)."""
+        start, end = [x, y, 1.0], [x, y, -0.1]
+        _, _, fraction, _, _ = pb.rayTest(start, end, physicsClientId=self.client)[0]
+        return float(start[2] - fraction * (start[2] - end[2]))
+
+    def close(self) -> None:
+        if self.client is not None:
+            pb.disconnect(self.client)
+            self.client = None
+
+    def __enter__(self) -> CloudScene:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _body(self, name: str) -> int:
+        if name not in self.bodies:
+            raise InputError(f"no object named {name!r}; the scene has {sorted(self.bodies)}")
+        return self.bodies[name]
+
+    def _rest_on_table(self, body: int) -> None:
+        lower, _ = pb.getAABB(body, physicsClientId=self.client)
+        position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=self.client)
+        pb.resetBasePositionAndOrientation(body, [position[0], position[1], position[2] - lower[2]],
+                                           orientation, physicsClientId=self.client)
+
+
+def random_layout(names: list[str], seed: int, tray: bool = True) -> dict[str, tuple[float, float, float]]:
+    """Seeded random (x, y, yaw) per name in the workspace, centres at least
+    :data:`CLEARANCE` apart and clear of the tray."""
+    rng = np.random.default_rng(seed)
+    taken: list[tuple[float, float]] = [TRAY_POSITION] if tray else []
+    clearance = [CLEARANCE + 0.08] if tray else []  # the tray is 24 cm wide
+    layout = {}
+    for name in names:
+        for _ in range(1000):
+            x, y = rng.uniform(*WORKSPACE_X), rng.uniform(*WORKSPACE_Y)
+            if all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance)):
+                break
+        else:
+            raise InputError(f"cannot place {len(names)} objects {CLEARANCE} m apart in the workspace")
+        taken.append((x, y))
+        clearance.append(CLEARANCE)
+        layout[name] = (float(x), float(y), float(rng.uniform(-np.pi, np.pi)))
+    return layout
+
+
+def _rotation(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    return np.asarray(pb.getMatrixFromQuaternion(pb.getQuaternionFromEuler([roll, pitch, yaw]))).reshape(3, 3)
+
+
+def _quaternion(rotation: np.ndarray) -> list[float]:
+    """Quaternion (x, y, z, w) of a rotation matrix (3, 3) (Shepperd's method)."""
+    m = rotation
+    trace = np.trace(m)
+    if trace > 0.0:
+        s = 2.0 * np.sqrt(trace + 1.0)
+        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, 0.25 * s]
+    else:
+        i = int(np.argmax(np.diag(m)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * np.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
+        q = [0.0, 0.0, 0.0, (m[k, j] - m[j, k]) / s]
+        q[i] = 0.25 * s
+        q[j] = (m[j, i] + m[i, j]) / s
+        q[k] = (m[k, i] + m[i, k]) / s
+    return [float(v) for v in q]

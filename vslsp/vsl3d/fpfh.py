@@ -1,0 +1,93 @@
+"""Fast Point Feature Histograms (Rusu, Blodow and Beetz 2009, "Fast Point Feature Histograms
+(FPFH) for 3D registration"), the 3D features of VSL-3D's match finding (paper, section
+"VSL-3D": "FPFH encodes a point's k-neighborhood geometrical properties ... it is 6D
+pose-invariant").
+
+For a point pair (p_s, n_s), (p_t, n_t) with d = p_t - p_s, the source is the point whose
+normal makes the smaller angle with the line joining them (the pair is swapped otherwise, as in
+PCL). The Darboux frame is u = n_s, v = d × u / |d × u|, w = u × v, and the pair's features
+
+    alpha = v · n_t,   phi = u · d / |d|,   theta = atan2(w · n_t, u · n_t).
+
+The simplified point feature histogram SPFH(p) bins alpha, phi (both in [-1, 1]) and theta
+(in [-pi, pi]) of p with each neighbour within the radius into 11 bins each (33 values), and
+
+    FPFH(p) = SPFH(p) + 1/k Σ_i SPFH(p_i) / ω_i,      ω_i = |p - p_i|,
+
+after which each 11-bin sub-histogram is scaled to sum to 100.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vslsp.vsl3d.kdtree import KDTree, Neighbours
+from vslsp.vsl3d.normals import SurfaceNormals
+
+BINS = 11
+DIMENSION = 3 * BINS
+
+
+def pair_features(source: np.ndarray, source_normals: np.ndarray, target: np.ndarray,
+                  target_normals: np.ndarray) -> np.ndarray:
+    """(alpha, phi, theta) (P, 3) of point pairs given as points and unit normals (P, 3) each.
+    A pair whose line is parallel to the source normal gets (0, 0, 0)."""
+    d = target - source
+    length = np.linalg.norm(d, axis=1)
+    d = d / np.maximum(length, 1e-12)[:, None]
+    cos_s = np.einsum("ij,ij->i", source_normals, d)
+    cos_t = np.einsum("ij,ij->i", target_normals, d)
+    swap = np.abs(cos_s) < np.abs(cos_t)  # acos|cos_s| > acos|cos_t|: the target is the source
+    u = np.where(swap[:, None], target_normals, source_normals)
+    other = np.where(swap[:, None], source_normals, target_normals)
+    d = np.where(swap[:, None], -d, d)
+    phi = np.where(swap, -cos_t, cos_s)
+    v = np.cross(d, u)
+    v_norm = np.linalg.norm(v, axis=1)
+    degenerate = v_norm < 1e-12
+    v = v / np.maximum(v_norm, 1e-12)[:, None]
+    w = np.cross(u, v)
+    alpha = np.einsum("ij,ij->i", v, other)
+    theta = np.arctan2(np.einsum("ij,ij->i", w, other), np.einsum("ij,ij->i", u, other))
+    features = np.column_stack([alpha, phi, theta])
+    features[degenerate | (length < 1e-12)] = 0.0
+    return features
+
+
+def _bins(features: np.ndarray) -> np.ndarray:
+    """Bin indices (P, 3) in 0..32: alpha in 0..10, phi in 11..21, theta in 22..32."""
+    scaled = np.column_stack([(features[:, 0] + 1.0) / 2.0, (features[:, 1] + 1.0) / 2.0,
+                              (features[:, 2] + np.pi) / (2.0 * np.pi)])
+    return np.clip(np.floor(scaled * BINS).astype(np.int64), 0, BINS - 1) + np.arange(3) * BINS
+
+
+def compute_fpfh(points: np.ndarray, normals: SurfaceNormals, radius: float,
+                 tree: KDTree | None = None, max_neighbours: int = 100) -> np.ndarray:
+    """FPFH descriptors (N, 33) of ``points`` (N, 3) with their ``normals`` over the (at most
+    ``max_neighbours`` nearest) neighbours within ``radius`` m. A point without a valid
+    neighbour gets a zero descriptor."""
+    points = np.asarray(points, dtype=float)
+    tree = tree if tree is not None and tree.points is points else KDTree(points)
+    pairs = tree.query_radius(points, radius, max_neighbours + 1)
+    valid = normals.valid
+    keep = (pairs.index != pairs.query) & valid[pairs.query] & valid[pairs.index]
+    pairs = Neighbours(pairs.query[keep], pairs.index[keep], pairs.distance[keep])
+    n = len(points)
+    counts = pairs.counts(n)
+    unit = normals.normals
+    features = pair_features(points[pairs.query], unit[pairs.query], points[pairs.index], unit[pairs.index])
+    # SPFH: each pair adds 100 / k to one bin of each of the three sub-histograms.
+    weight = 100.0 / np.maximum(counts[pairs.query], 1)
+    cells = pairs.query[:, None] * DIMENSION + _bins(features)
+    spfh = np.bincount(cells.ravel(), weights=np.repeat(weight, 3), minlength=n * DIMENSION)
+    spfh = spfh.reshape(n, DIMENSION)
+    # FPFH: own SPFH + the neighbours' SPFH weighted by 1 / (k * distance).
+    contribution = spfh[pairs.index] * (1.0 / (np.maximum(counts[pairs.query], 1) * pairs.distance))[:, None]
+    fpfh = spfh.copy()
+    has = np.flatnonzero(counts > 0)
+    if len(has):
+        starts = np.searchsorted(pairs.query, has)
+        fpfh[has] += np.add.reduceat(contribution, starts, axis=0)
+    sums = fpfh.reshape(n, 3, BINS).sum(axis=2, keepdims=True)
+    fpfh = (fpfh.reshape(n, 3, BINS) * np.where(sums > 0.0, 100.0 / np.maximum(sums, 1e-300), 0.0)).reshape(n, DIMENSION)
+    return fpfh

@@ -1,0 +1,220 @@
+"""VSL-3D: Visuospatial Skill Learning on point clouds (paper, section "VSL-3D: An Extension
+to 3D Tasks"; Algorithm 1 with clouds for images).
+
+- A *world* cloud :class:`WorldCloud` is one depth capture, back-projected, cut to the
+  workspace by the pass-through filter (which also drops the table top) and voxelised at 2 mm.
+- ``getObject`` (Algorithm 1, line 7) is :func:`get_object`: the pre- and post-action clouds
+  are subtracted by KNN search ("voxelized at a resolution of 2 mm and the distance threshold
+  for the KNN-search is set to 1 cm"); a point with no counterpart within the threshold has
+  changed, unless the other capture could not see it (something stood in front of it there):
+  that is occlusion by the moved object, not motion. The changed points are grouped by
+  Euclidean clustering; exactly one object must have left one place and arrived at one place.
+  Its *pre-* and *post-action observations* are the changed points in cuboid *frames*, and its
+  6-DoF motion (4x4) comes from registering one onto the other.
+- ``findBestMatch`` (Algorithm 1, lines 13-14) is :func:`find_best_match`: a recorded
+  observation is found in a new world by FPFH correspondences, pre-rejective RANSAC or SAC-IA,
+  then point-to-plane ICP.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vslsp.errors import InputError, TaskFailed
+from vslsp.vsl3d.alignment import align
+from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
+from vslsp.vsl3d.kdtree import KDTree
+from vslsp.vsl3d.registration import Registration, transform_points
+
+VOXEL = 0.002  # the paper's voxel size
+CHANGE_THRESHOLD = 0.01  # the paper's KNN distance threshold
+CLUSTER_DISTANCE = 0.015  # changed points closer than this belong to one region
+MIN_CLUSTER_POINTS = 150  # smaller changed regions are noise (150 voxels of 2 mm: 6 cm^2)
+FRAME_MARGIN = 0.01
+
+
+@dataclass(frozen=True, eq=False)
+class WorldCloud:
+    """The world W as one capture: ``points`` (N, 3) (pass-through filtered, voxelised), the raw
+    ``depth`` (H, W) it came from and the ``camera`` (for visibility and the viewpoint)."""
+
+    points: np.ndarray
+    depth: np.ndarray
+    camera: DepthCamera
+
+    @classmethod
+    def capture(cls, depth: np.ndarray, camera: DepthCamera, workspace: Frame, voxel: float = VOXEL) -> WorldCloud:
+        """Back-project ``depth`` (H, W), keep what lies in ``workspace``, voxelise at ``voxel`` m."""
+        points, _ = camera.back_project(depth)
+        return cls(voxel_downsample(pass_through(points, workspace), voxel), np.asarray(depth, dtype=float), camera)
+
+    def visible(self, points: np.ndarray, tolerance: float = CHANGE_THRESHOLD) -> np.ndarray:
+        """Mask (N,) of points this capture could have seen: inside the image and not behind
+        what it saw at their pixel (by more than ``tolerance`` m)."""
+        uv, z = self.camera.project(points)
+        cols, rows = np.floor(uv[:, 0]).astype(np.int64), np.floor(uv[:, 1]).astype(np.int64)
+        inside = (z > 0) & (cols >= 0) & (cols < self.camera.width) & (rows >= 0) & (rows < self.camera.height)
+        seen = np.zeros(len(points), dtype=bool)
+        depth = self.depth[rows[inside], cols[inside]]
+        seen[inside] = (depth <= 0.0) | (depth >= z[inside] - tolerance)
+        return seen
+
+
+@dataclass(frozen=True, eq=False)
+class CloudObservation:
+    """A VSL-3D observation: the object's ``points`` (N, 3) in the world, the ``frame`` (cuboid)
+    they were captured in, and the ``viewpoint`` (3,) of the sensor."""
+
+    points: np.ndarray
+    frame: Frame
+    viewpoint: np.ndarray
+
+    @property
+    def centroid(self) -> np.ndarray:
+        return self.points.mean(axis=0)
+
+    def save(self, path: str | Path) -> None:
+        """Write to an ``.npz`` file (no pickle)."""
+        np.savez_compressed(path, points=self.points, lower=np.asarray(self.frame.lower),
+                            upper=np.asarray(self.frame.upper), viewpoint=self.viewpoint)
+
+    @classmethod
+    def load(cls, path: str | Path) -> CloudObservation:
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                points, lower, upper, viewpoint = (data[key] for key in ("points", "lower", "upper", "viewpoint"))
+        except (OSError, KeyError, ValueError) as error:
+            raise InputError(f"cannot read a VSL-3D observation from {path}: {error}; "
+                             "pass a file written by CloudObservation.save") from error
+        return cls(points, Frame(tuple(lower), tuple(upper)), viewpoint)
+
+
+@dataclass(frozen=True, eq=False)
+class MovedObject:
+    """What ``getObject`` finds: the object's ``pre`` and ``post`` observations and its motion,
+    ``registration.transform`` (4, 4), taking the pre points onto the post points."""
+
+    pre: CloudObservation
+    post: CloudObservation
+    registration: Registration
+
+    @property
+    def transform(self) -> np.ndarray:
+        return self.registration.transform
+
+    def to_dict(self) -> dict:
+        rotation = self.transform[:3, :3]
+        angle = np.degrees(np.arccos(np.clip((np.trace(rotation) - 1.0) / 2.0, -1.0, 1.0)))
+        return {
+            "pre": {"frame": self.pre.frame.to_dict(), "centroid": self.pre.centroid.tolist(),
+                    "points": len(self.pre.points)},
+            "post": {"frame": self.post.frame.to_dict(), "centroid": self.post.centroid.tolist(),
+                     "points": len(self.post.points)},
+            "transform": self.transform.tolist(), "rotation_deg": float(angle),
+            "fitness": self.registration.fitness, "rmse": self.registration.rmse,
+            "method": self.registration.method,
+        }
+
+
+def changed_points(reference: WorldCloud, other: WorldCloud, threshold: float = CHANGE_THRESHOLD) -> np.ndarray:
+    """Mask (N,) of ``other``'s points with no point of ``reference`` within ``threshold`` m
+    that ``reference`` could have seen: what is in ``other`` and not in ``reference``."""
+    if len(other.points) == 0:
+        return np.zeros(0, dtype=bool)
+    if len(reference.points) == 0:
+        return reference.visible(other.points, threshold)
+    distance, _ = KDTree(reference.points).query(other.points, 1)
+    return (distance[:, 0] > threshold) & reference.visible(other.points, threshold)
+
+
+def euclidean_clusters(points: np.ndarray, distance: float) -> np.ndarray:
+    """Connected components (labels (N,), 0..C-1, largest first) of the graph joining points
+    closer than ``distance``."""
+    if len(points) == 0:
+        return np.zeros(0, dtype=np.int64)
+    pairs = KDTree(points).query_radius(points, distance)
+    labels = np.arange(len(points))
+    while True:  # min-label propagation with pointer jumping
+        updated = labels.copy()
+        np.minimum.at(updated, pairs.query, labels[pairs.index])
+        updated = updated[updated]
+        if np.array_equal(updated, labels):
+            break
+        labels = updated
+    _, labels, sizes = np.unique(labels, return_inverse=True, return_counts=True)
+    rank = np.empty_like(sizes)
+    rank[np.argsort(-sizes, kind="stable")] = np.arange(len(sizes))
+    return rank[labels]
+
+
+def get_object(pre: WorldCloud, post: WorldCloud, *, threshold: float = CHANGE_THRESHOLD,
+               min_points: int = MIN_CLUSTER_POINTS, method: str = "prerejective_ransac",
+               seed: int = 0) -> MovedObject:
+    """The one object the tutor moved between the ``pre`` and ``post`` captures, its pre- and
+    post-action observations and its 6-DoF motion. Raises :class:`TaskFailed` when nothing or
+    more than one object moved."""
+    left = pre.points[changed_points(post, pre, threshold)]  # in pre, gone from post
+    arrived = post.points[changed_points(pre, post, threshold)]
+    points = np.vstack([left, arrived])
+    side = np.r_[np.zeros(len(left), dtype=bool), np.ones(len(arrived), dtype=bool)]
+    labels = euclidean_clusters(points, CLUSTER_DISTANCE)
+    regions = [label for label in range(labels.max() + 1 if len(labels) else 0)
+               if np.sum(labels == label) >= min_points]
+    if not regions:
+        raise TaskFailed(f"nothing moved: no region of more than {min_points} points changed by "
+                         f"{threshold * 100:.0f} cm between the pre- and post-action clouds; "
+                         "capture the post-action cloud after the tutor has moved an object")
+    leaving = [r for r in regions if np.sum((labels == r) & ~side) >= min_points]
+    arriving = [r for r in regions if np.sum((labels == r) & side) >= min_points]
+    if len(leaving) > 1 or len(arriving) > 1:
+        where = "; ".join(f"{'left' if r in leaving else ''}{'/' if r in leaving and r in arriving else ''}"
+                          f"{'arrived' if r in arriving else ''} at {_centre(points[labels == r])}"
+                          for r in regions)
+        raise TaskFailed(f"several objects moved ({where}); VSL-3D learns one object per operation: "
+                         "demonstrate one move at a time")
+    if not leaving or not arriving:
+        missing = "left its place" if not leaving else "arrived anywhere"
+        raise TaskFailed(f"an object changed at {_centre(points[np.isin(labels, regions)])} but nothing "
+                         f"{missing} in view; keep the moved object inside the workspace and in view")
+    before = points[(labels == leaving[0]) & ~side]
+    after = points[(labels == arriving[0]) & side]
+    viewpoint = pre.camera.position
+    registration = align(before, after, viewpoint, post.camera.position, method=method, seed=seed)
+    return MovedObject(CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
+                       CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
+                       registration)
+
+
+@dataclass(frozen=True, eq=False)
+class Match:
+    """Where a recorded observation is in a new world: ``registration`` (observation -> world)
+    and the observation's points moved there, ``points`` (N, 3), in their new ``frame``."""
+
+    registration: Registration
+    points: np.ndarray
+    frame: Frame
+
+    @property
+    def position(self) -> np.ndarray:
+        """Where the object's centroid is now (3,)."""
+        return self.points.mean(axis=0)
+
+
+def find_best_match(world: WorldCloud, observation: CloudObservation, *, method: str = "prerejective_ransac",
+                    seed: int = 0) -> Match:
+    """Find ``observation`` in ``world`` and its pose there. Raises :class:`TaskFailed` when no
+    pose puts enough of the observation onto the world."""
+    if len(observation.points) < 10:
+        raise InputError(f"the observation has {len(observation.points)} points; record one of a visible object")
+    registration = align(observation.points, world.points, observation.viewpoint, world.camera.position,
+                         method=method, seed=seed)
+    moved = transform_points(registration.transform, observation.points)
+    return Match(registration, moved, Frame.around(moved, FRAME_MARGIN))
+
+
+def _centre(points: np.ndarray) -> str:
+    x, y, z = points.mean(axis=0)
+    return f"({x:.3f}, {y:.3f}, {z:.3f}) m"
