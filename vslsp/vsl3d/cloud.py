@@ -119,14 +119,15 @@ def pass_through(points: np.ndarray, frame: Frame) -> np.ndarray:
 
 
 def voxel_downsample(points: np.ndarray, leaf: float) -> np.ndarray:
-    """Voxel-grid downsampling: one point per occupied cube of edge ``leaf`` (m), the centroid
-    of the points in it. Returns (M, 3), M <= N, ordered by voxel index (deterministic)."""
+    """Voxel-grid downsampling: one point per occupied cube ``[i, i+1) * leaf`` (m) of the grid
+    anchored at the world origin, the centroid of the points in it. Returns (M, 3), M <= N, ordered by voxel index (deterministic)."""
     points = _as_cloud(points)
     if not leaf > 0.0:
         raise InputError(f"voxel leaf size must be > 0 m, got {leaf}")
     if len(points) == 0:
         return points.copy()
-    cells = np.floor((points - points.min(axis=0)) / leaf).astype(np.int64)
+    cells = np.floor(points / leaf).astype(np.int64)  # a grid fixed in the world, as PCL's
+    cells -= cells.min(axis=0)
     extent = cells.max(axis=0) + 1
     keys = (cells[:, 0] * extent[1] + cells[:, 1]) * extent[2] + cells[:, 2]
     _, voxel, counts = np.unique(keys, return_inverse=True, return_counts=True)

@@ -70,7 +70,8 @@ def compute_fpfh(points: np.ndarray, normals: SurfaceNormals, radius: float,
     tree = tree if tree is not None and tree.points is points else KDTree(points)
     pairs = tree.query_radius(points, radius, max_neighbours + 1)
     valid = normals.valid
-    keep = (pairs.index != pairs.query) & valid[pairs.query] & valid[pairs.index]
+    # Coincident points (distance 0) carry no geometry and would get an infinite weight.
+    keep = (pairs.distance > 0.0) & valid[pairs.query] & valid[pairs.index]
     pairs = Neighbours(pairs.query[keep], pairs.index[keep], pairs.distance[keep])
     n = len(points)
     counts = pairs.counts(n)

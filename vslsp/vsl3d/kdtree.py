@@ -137,7 +137,8 @@ class KDTree:
         leaves_per_node = 2 ** (self.depth - level)
         first = node * leaves_per_node
         block = self._leaf_points[first[:, None] + np.arange(leaves_per_node)].reshape(len(queries), -1, 3)
-        d2 = np.sum((block - queries[:, None, :]) ** 2, axis=2)
+        offset = block - queries[:, None, :]
+        d2 = np.einsum("qsi,qsi->qs", offset, offset)
         return np.partition(d2, k - 1, axis=1)[:, k - 1]
 
     def _search(self, queries: np.ndarray, bound2: np.ndarray, keep: int | None) -> Neighbours:
@@ -151,8 +152,16 @@ class KDTree:
             if lv < self.depth:
                 query = np.repeat(query, 2)
                 node = (2 * np.repeat(node, 2) + np.tile([1, 2], len(node))) - 1
-        d2 = np.sum((self._leaf_points[node] - queries[query][:, None, :]) ** 2, axis=2)
-        within = d2 <= bound2[query][:, None]
+        offset = self._leaf_points[node] - queries[query][:, None, :]
+        d2 = np.einsum("psi,psi->ps", offset, offset)
+        if keep == 1:  # nearest only: the best slot of each pair, then the best pair of each query
+            slot = np.argmin(d2, axis=1)
+            best = d2[np.arange(len(node)), slot]
+            scaled = np.minimum(best / (float(bound2.max()) * (1.0 + 1e-9) + 1e-300), 1.0 - 1e-9)
+            ranked = np.argsort(query + scaled, kind="stable")
+            first = ranked[np.r_[True, query[ranked][1:] != query[ranked][:-1]]] if len(ranked) else ranked
+            return Neighbours(query[first], self._leaf_index[node[first], slot[first]], np.sqrt(best[first]))
+        within = d2 <= slack[query][:, None]
         pair, slot = np.nonzero(within)
         query, index, d2 = query[pair], self._leaf_index[node[pair], slot], d2[pair, slot]
         # Sort by query, then distance: one argsort of query + d2 scaled into [0, 1).

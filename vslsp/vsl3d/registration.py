@@ -49,6 +49,15 @@ def transform_points(transform: np.ndarray, points: np.ndarray) -> np.ndarray:
     return np.asarray(points, dtype=float) @ transform[:3, :3].T + transform[:3, 3]
 
 
+def transform_error(estimate: np.ndarray, truth: np.ndarray, at: np.ndarray) -> tuple[float, float]:
+    """How far two 4x4 transforms disagree: the distance (m) between where they take the point
+    ``at`` (3,) and the angle (deg) of the rotation between them."""
+    relative = estimate[:3, :3] @ truth[:3, :3].T
+    angle = np.degrees(np.arccos(np.clip((np.trace(relative) - 1.0) / 2.0, -1.0, 1.0)))
+    gap = transform_points(estimate, np.asarray(at)[None]) - transform_points(truth, np.asarray(at)[None])
+    return float(np.linalg.norm(gap)), float(angle)
+
+
 def rigid_transform(source: np.ndarray, target: np.ndarray) -> np.ndarray:
     """The least-squares rigid transform (4, 4) taking ``source`` (N, 3) onto ``target`` (N, 3)
     (Kabsch: SVD of the cross-covariance, reflections excluded)."""

@@ -132,11 +132,13 @@ def changed_points(reference: WorldCloud, other: WorldCloud, threshold: float = 
 
 def euclidean_clusters(points: np.ndarray, distance: float) -> np.ndarray:
     """Connected components (labels (N,), 0..C-1, largest first) of the graph joining points
-    closer than ``distance``."""
+    closer than ``distance`` (computed on a voxel grid of ``distance / 4``: each point takes its
+    voxel's label)."""
     if len(points) == 0:
         return np.zeros(0, dtype=np.int64)
-    pairs = KDTree(points).query_radius(points, distance)
-    labels = np.arange(len(points))
+    grid = voxel_downsample(points, distance / 4.0)
+    pairs = KDTree(grid).query_radius(grid, distance)
+    labels = np.arange(len(grid))
     while True:  # min-label propagation with pointer jumping
         updated = labels.copy()
         np.minimum.at(updated, pairs.query, labels[pairs.index])
@@ -144,7 +146,8 @@ def euclidean_clusters(points: np.ndarray, distance: float) -> np.ndarray:
         if np.array_equal(updated, labels):
             break
         labels = updated
-    _, labels, sizes = np.unique(labels, return_inverse=True, return_counts=True)
+    _, nearest = KDTree(grid).query(points, 1)
+    _, labels, sizes = np.unique(labels[nearest[:, 0]], return_inverse=True, return_counts=True)
     rank = np.empty_like(sizes)
     rank[np.argsort(-sizes, kind="stable")] = np.arange(len(sizes))
     return rank[labels]

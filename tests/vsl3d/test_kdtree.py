@@ -1,0 +1,62 @@
+"""The k-d tree answers exactly what a brute-force search answers."""
+
+import numpy as np
+import pytest
+
+from vslsp.errors import InputError
+from vslsp.vsl3d.kdtree import KDTree, brute_force_knn
+
+
+@pytest.mark.parametrize("n", [1, 7, 33, 1000, 6000])
+@pytest.mark.parametrize("leaf_size", [1, 16])
+def test_knn_matches_brute_force(n, leaf_size):
+    rng = np.random.default_rng(n)
+    points = rng.uniform(-1, 1, (n, 3)) * [0.3, 0.2, 0.05]  # flat, like a tabletop cloud
+    queries = rng.uniform(-1.2, 1.2, (700, 3)) * [0.3, 0.2, 0.05]
+    tree = KDTree(points, leaf_size)
+    for k in sorted({1, min(n, 5), min(n, 30)}):
+        distance, index = tree.query(queries, k)
+        reference, _ = brute_force_knn(points, queries, k)
+        np.testing.assert_allclose(distance, reference, atol=1e-12)
+        np.testing.assert_allclose(np.linalg.norm(points[index] - queries[:, None], axis=2), distance, atol=1e-12)
+
+
+def test_radius_search_matches_brute_force_with_duplicates():
+    rng = np.random.default_rng(3)
+    points = rng.uniform(0, 0.1, (3000, 3))
+    points = np.vstack([points, points[:200]])  # exact duplicates
+    tree = KDTree(points)
+    found = tree.query_radius(points[::7], 0.01)
+    expected = np.linalg.norm(points[::7, None] - points[None], axis=2) <= 0.01
+    np.testing.assert_array_equal(found.counts(len(points[::7])), expected.sum(axis=1))
+    assert np.all(np.diff(found.query) >= 0)
+    same_query = np.diff(found.query) == 0
+    assert np.all(np.diff(found.distance)[same_query] >= 0)  # nearest first
+    assert np.all(expected[found.query, found.index])
+
+
+def test_radius_search_keeps_the_nearest_when_capped():
+    rng = np.random.default_rng(4)
+    points = rng.uniform(0, 0.05, (2000, 3))
+    tree = KDTree(points)
+    capped = tree.query_radius(points[:50], 0.02, max_neighbours=8)
+    distance, index = tree.query(points[:50], 8)
+    assert np.all(capped.counts(50) == 8)
+    np.testing.assert_allclose(capped.distance.reshape(50, 8), distance)
+
+
+def test_a_point_of_the_tree_finds_itself_first():
+    points = np.random.default_rng(5).uniform(0, 1, (500, 3))
+    distance, index = KDTree(points).query(points, 2)
+    np.testing.assert_array_equal(index[:, 0], np.arange(500))
+    assert np.all(distance[:, 0] == 0.0) and np.all(distance[:, 1] > 0.0)
+
+
+def test_bad_input():
+    with pytest.raises(InputError, match="non-empty"):
+        KDTree(np.zeros((0, 3)))
+    tree = KDTree(np.zeros((5, 3)))
+    with pytest.raises(InputError, match="between 1 and the 5 points"):
+        tree.query(np.zeros((1, 3)), 6)
+    with pytest.raises(InputError, match="radius"):
+        tree.query_radius(np.zeros((1, 3)), -1.0)
