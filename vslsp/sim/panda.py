@@ -34,7 +34,7 @@ READY = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])  # a pose for th
 # pose is turned to the robot's right, out of the camera's view.
 REST = np.array([0.205, -1.043, -0.191, -2.917, -0.172, 1.877, -0.625])
 PARK = np.array([-np.pi / 2.0, *REST[1:]])
-FINGER_FRICTION = 1.5
+FINGER_FRICTION = 1.0
 FINGER_FORCE = 20.0  # N the gripper's motor pushes with while closing and holding
 FINGER_SPEED = 0.1  # m/s
 CONTACT_THRESHOLD = 3.0  # N of normal force on each finger that ends the closing
