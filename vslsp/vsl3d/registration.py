@@ -229,15 +229,20 @@ def icp(source: np.ndarray, target: np.ndarray, initial: np.ndarray | None = Non
 
 
 def _point_to_plane_step(source: np.ndarray, target: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """One linearised point-to-plane step: minimise Σ ((R s + t - q) · n)^2 with R ≈ I + [r]x."""
+    """One linearised point-to-plane step: minimise Σ ((R s + t - q) · n)^2 with R ≈ I + [r]x,
+    about the source's centroid (so that turning does not swing far points about the origin)."""
+    centre = source.mean(axis=0)
+    source, target = source - centre, target - centre
     a = np.hstack([np.cross(source, normals), normals])
     b = np.einsum("ij,ij->i", target - source, normals)
     x, *_ = np.linalg.lstsq(a, b, rcond=None)
     angle = np.linalg.norm(x[:3])
-    step = np.eye(4)
+    rotation = np.eye(3)
     if angle > 0.0:
         axis = x[:3] / angle
         k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-        step[:3, :3] = np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
-    step[:3, 3] = x[3:]
+        rotation = np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
+    step = np.eye(4)
+    step[:3, :3] = rotation
+    step[:3, 3] = x[3:] + centre - rotation @ centre
     return step

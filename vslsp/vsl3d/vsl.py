@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.vsl3d.alignment import align
+from vslsp.vsl3d.alignment import METHODS, align
 from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.registration import Registration, transform_points
@@ -34,6 +34,7 @@ CHANGE_THRESHOLD = 0.01  # the paper's KNN distance threshold
 CLUSTER_DISTANCE = 0.015  # changed points closer than this belong to one region
 MIN_CLUSTER_POINTS = 150  # smaller changed regions are noise (150 voxels of 2 mm: 6 cm^2)
 FRAME_MARGIN = 0.01
+MAX_SEEN_THROUGH = 0.1  # a true match floats in front of the sensor's surfaces only at its rim
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,13 +55,26 @@ class WorldCloud:
     def visible(self, points: np.ndarray, tolerance: float = CHANGE_THRESHOLD) -> np.ndarray:
         """Mask (N,) of points this capture could have seen: inside the image and not behind
         what it saw at their pixel (by more than ``tolerance`` m)."""
+        inside, z, depth = self._depth_at(points)
+        seen = np.zeros(len(points), dtype=bool)
+        seen[inside] = (depth <= 0.0) | (depth >= z[inside] - tolerance)
+        return seen
+
+    def seen_through(self, points: np.ndarray, tolerance: float = CHANGE_THRESHOLD) -> np.ndarray:
+        """Mask (N,) of points that cannot be there: this capture saw a surface more than
+        ``tolerance`` m behind them along their pixel's ray, i.e. free space where they are."""
+        inside, z, depth = self._depth_at(points)
+        through = np.zeros(len(points), dtype=bool)
+        through[inside] = depth > z[inside] + tolerance
+        return through
+
+    def _depth_at(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Which points project into the image (N,), their depths (N,), and the captured depth
+        at their pixels (for those inside)."""
         uv, z = self.camera.project(points)
         cols, rows = np.floor(uv[:, 0]).astype(np.int64), np.floor(uv[:, 1]).astype(np.int64)
         inside = (z > 0) & (cols >= 0) & (cols < self.camera.width) & (rows >= 0) & (rows < self.camera.height)
-        seen = np.zeros(len(points), dtype=bool)
-        depth = self.depth[rows[inside], cols[inside]]
-        seen[inside] = (depth <= 0.0) | (depth >= z[inside] - tolerance)
-        return seen
+        return inside, z, self.depth[rows[inside], cols[inside]]
 
 
 @dataclass(frozen=True, eq=False)
@@ -212,9 +226,16 @@ def find_best_match(world: WorldCloud, observation: CloudObservation, *, method:
     pose puts enough of the observation onto the world."""
     if len(observation.points) < 10:
         raise InputError(f"the observation has {len(observation.points)} points; record one of a visible object")
+    if method not in METHODS:
+        raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     registration = align(observation.points, world.points, observation.viewpoint, world.camera.position,
                          method=method, seed=seed)
     moved = transform_points(registration.transform, observation.points)
+    floating = float(world.seen_through(moved).mean())
+    if floating > MAX_SEEN_THROUGH:
+        raise TaskFailed(f"the best match ({registration.method}, fitness {registration.fitness:.0%}) puts "
+                         f"{floating:.0%} of the observation where the sensor sees free space; the object "
+                         "is not in this world or too little of it is visible")
     return Match(registration, moved, Frame.around(moved, FRAME_MARGIN))
 
 
