@@ -1,0 +1,421 @@
+"""VSL for pick-and-place on a tabletop seen by an oblique camera (paper, "Methodology",
+Algorithm 1, and "Real-world Experiments": the frames, the pick and place poses and the angles
+θ^Pick, θ^Place from the decomposed transform).
+
+Demonstration (Algorithm 1, part I): for each operation the tutor performs, the
+:class:`PickPlaceRecorder` keeps three observations: pre-pick (the world before the tutor takes
+the object), pre-place (the world while the tutor holds it, out of view) and post-place. Image
+subtraction of pre-pick and pre-place finds the object (getObject): the changed region,
+unprojected to the table at the height of the object's top, gives its footprint, centre (the
+pick point) and yaw; SIFT features of the object matched from pre-pick to post-place give the
+turn the tutor gave it and where its centre went (the place point). The heights of the object's
+top at the pick and at the place are the tutor's (the paper's h, "provided by the tutor").
+
+Reproduction (part II, :func:`locate`, :func:`plan_operation`): ``find_best_match`` finds the
+pre-pick observation in the new world with frames from the size of the biggest object
+(the paper's pre-pick frame) and the pre-place observation with frames from
+:data:`PLACE_FRAME` times that (the paper's two to three), both growing towards the whole
+world while matches are ambiguous (adaptive frames). The matched transforms map the recorded
+pick and place points into the world; the camera maps them onto the table, and the rotation
+they apply there gives the object's yaw now and its yaw at the place. The gripper closes across
+the object's narrower side, on whichever of the equivalent hand angles keeps the wrist's turn
+smallest; the Panda then runs the paper's trajectory (:mod:`vslsp.vsl.trajectory`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import cv2
+import numpy as np
+
+from vslsp.errors import InputError
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.image import channel_max
+from vslsp.vision.matching import Match, find_best_match, frame_sizes
+from vslsp.vision.transform import decompose
+
+PLACE_FRAME = 2.0  # the pre-place frame's first side, in sizes of the biggest object (the paper: 2 to 3)
+# Frames grow (×1.5 a step) while the match is ambiguous up to these multiples of their first
+# side: beyond, a frame sees mostly the rest of the scene, which the new world does not share
+# (its static landmarks would match in place and outvote the object).
+PICK_GROWTH = 2.0
+PLACE_GROWTH = 3.0
+CHANGE_THRESHOLD = 40  # grey levels: a pixel changed between two observations
+_SQUARE = 0.15  # a footprint whose sides differ by less than this fraction is square (closed either way)
+_STEP = 25.0  # px: the offsets through which a transform's rotation on the table is measured
+
+
+class TableCamera(Protocol):
+    """The camera's calibration: image px <-> table metres at a height z (m) above the table top."""
+
+    def pixel_to_table(self, u: float, v: float, z: float = 0.0) -> tuple[float, float]: ...
+
+    def table_to_pixel(self, x: float, y: float, z: float = 0.0) -> tuple[float, float]: ...
+
+
+class TableView:
+    """The camera's observations resampled onto the table: a top-down view of ``x_range`` ×
+    ``y_range`` (m) at ``px_per_m``, made with the homography of the plane at height ``z``
+    (m). An oblique camera sees a box's top skewed differently wherever it lies; in this view
+    the top of a box at any height is the same up to a constant scale, so a similarity (what
+    SIFT-RANSAC fits) maps an object or a place from one observation to another. The robot is
+    at the bottom (rows run against x), its left on the left (columns run against y). It is
+    itself a :class:`TableCamera` for its own pixels (through the camera, at any height)."""
+
+    def __init__(self, camera: TableCamera, x_range: tuple[float, float] = (0.22, 0.84),
+                 y_range: tuple[float, float] = (-0.42, 0.42), px_per_m: float = 1500.0, z: float = 0.02) -> None:
+        self.camera, self.x_range, self.y_range, self.px_per_m = camera, x_range, y_range, px_per_m
+        self.size = (int(round((y_range[1] - y_range[0]) * px_per_m)), int(round((x_range[1] - x_range[0]) * px_per_m)))
+        corners = [(x, y) for x in x_range for y in y_range]
+        image = np.array([camera.table_to_pixel(x, y, z) for x, y in corners], np.float32)
+        view = np.array([self._to_view(x, y) for x, y in corners], np.float32)
+        self.homography = cv2.getPerspectiveTransform(image, view)  # camera px -> view px, plane z
+        self.inverse = np.linalg.inv(self.homography)
+
+    def _to_view(self, x: float, y: float) -> tuple[float, float]:
+        return (self.y_range[1] - y) * self.px_per_m, (self.x_range[1] - x) * self.px_per_m
+
+    def rectify(self, image: np.ndarray) -> np.ndarray:
+        """The camera's image (H, W, 3) as seen from above (h, w, 3)."""
+        return cv2.warpPerspective(image, self.homography, self.size, flags=cv2.INTER_LINEAR,
+                                   borderMode=cv2.BORDER_REPLICATE)
+
+    def pixel_to_table(self, u: float, v: float, z: float = 0.0) -> tuple[float, float]:
+        return self.camera.pixel_to_table(*apply(self.inverse, (u, v)), z)
+
+    def table_to_pixel(self, x: float, y: float, z: float = 0.0) -> tuple[float, float]:
+        return apply(self.homography, self.camera.table_to_pixel(x, y, z))
+
+
+def wrap(angle: float) -> float:
+    """An angle (rad) in [-π, π)."""
+    return float((angle + np.pi) % (2.0 * np.pi) - np.pi)
+
+
+@dataclass(frozen=True, eq=False)
+class RecordedOperation:
+    """Operation i as VSL recorded it: the pre-pick, pre-place and post-place observations
+    (H, W, 3) uint8; the pick point (u, v) px in pre-pick and the place point (u, v) px in
+    post-place (the object's centre); the object's footprint (m, sides along and across its
+    yaw), its yaw (rad, table frame) before and the turn the tutor gave it; its size in the
+    image (px); the heights (m) of its top at the pick and at the place (the tutor's); the SIFT
+    features of the object φ_i (pre-pick, inside its region)."""
+
+    pre_pick: np.ndarray
+    pre_place: np.ndarray
+    post_place: np.ndarray
+    pick_point: tuple[float, float]
+    place_point: tuple[float, float]
+    footprint: tuple[float, float]
+    yaw: float
+    turn: float
+    object_size: float
+    pick_z: float
+    place_z: float
+    features: Features
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def observation_features(self, which: str) -> Features:
+        """SIFT features of the whole ``which`` ("pre_pick" or "pre_place") observation, once."""
+        if which not in self._cache:
+            self._cache[which] = extract_features(getattr(self, which))
+        return self._cache[which]
+
+    def to_dict(self) -> dict:
+        return {"pick_point": [round(c, 2) for c in self.pick_point],
+                "place_point": [round(c, 2) for c in self.place_point],
+                "footprint_m": [round(c, 4) for c in self.footprint], "yaw": round(self.yaw, 4),
+                "turn": round(self.turn, 4), "object_size_px": round(self.object_size, 1),
+                "pick_z": round(self.pick_z, 4), "place_z": round(self.place_z, 4), "features": len(self.features)}
+
+
+@dataclass(frozen=True, eq=False)
+class PickPlaceDemonstration:
+    """A recorded demonstration: the operations in order (Π: pick-and-place each)."""
+
+    operations: tuple[RecordedOperation, ...]
+
+    @property
+    def pick_frame(self) -> float:
+        """The pre-pick frame side (px): the biggest object's size in the image."""
+        return max(op.object_size for op in self.operations)
+
+    @property
+    def place_frame(self) -> float:
+        """The pre-place frame side (px): :data:`PLACE_FRAME` times the biggest object."""
+        return PLACE_FRAME * self.pick_frame
+
+
+class PickPlaceRecorder:
+    """Records a pick-and-place demonstration operation by operation (Algorithm 1, part I)."""
+
+    def __init__(self, camera: TableCamera) -> None:
+        self.camera = camera
+        self.operations: list[RecordedOperation] = []
+
+    def record(self, pre_pick: np.ndarray, pre_place: np.ndarray, post_place: np.ndarray, pick_z: float,
+               place_z: float, height: float) -> RecordedOperation:
+        """Add one operation from its three observations (H, W, 3) uint8, the heights (m) of
+        the object's top at the pick and at the place and its own ``height`` (m; the tutor's).
+        Raises InputError when the object is not seen leaving or arriving, or its features do
+        not match from one to the other."""
+        taken = changed_region(pre_pick, pre_place, "taken from the pre-pick observation")
+        put = changed_region(post_place, pre_place, "put down in the post-place observation")
+        centre, footprint, yaw = footprint_on_table(taken, self.camera, pick_z, pick_z - height)
+        pick_point = self.camera.table_to_pixel(centre[0], centre[1], pick_z)
+        features = extract_features(pre_pick, taken)
+        moved = object_motion(features, extract_features(post_place, put))
+        place_point = apply(moved, pick_point)
+        turn = table_rotation(self.camera, moved, pick_point, pick_z, place_z)
+        x, y, w, h = cv2.boundingRect(cv2.findNonZero(taken))
+        operation = RecordedOperation(np.array(pre_pick, copy=True), np.array(pre_place, copy=True),
+                                      np.array(post_place, copy=True), tuple(map(float, pick_point)),
+                                      tuple(map(float, place_point)), footprint, yaw, turn, float(max(w, h)),
+                                      float(pick_z), float(place_z), features)
+        self.operations.append(operation)
+        return operation
+
+    def demonstration(self) -> PickPlaceDemonstration:
+        if not self.operations:
+            raise InputError("the demonstration has no operations; record at least one pick-and-place")
+        return PickPlaceDemonstration(tuple(self.operations))
+
+
+def changed_region(image: np.ndarray, reference: np.ndarray, what: str = "moved") -> np.ndarray:
+    """The object that ``image`` shows and ``reference`` lacks (image subtraction and
+    thresholding): a mask (H, W) uint8 {0, 255}, the convex hull of the largest changed blob
+    and the blobs beside it. Raises InputError when nothing changed."""
+    difference = channel_max(cv2.absdiff(cv2.GaussianBlur(image, (5, 5), 0), cv2.GaussianBlur(reference, (5, 5), 0)))
+    changed = (difference > CHANGE_THRESHOLD).astype(np.uint8)
+    changed = cv2.morphologyEx(changed, cv2.MORPH_CLOSE, np.ones((9, 9), np.uint8))
+    changed = cv2.morphologyEx(changed, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
+    count, labels, stats, centroids = cv2.connectedComponentsWithStats(changed)
+    if count < 2 or stats[1:, cv2.CC_STAT_AREA].max() < 100:
+        raise InputError(f"no object was {what}: the observations do not differ; keep the object in view")
+    largest = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
+    reach = 0.75 * max(stats[largest, cv2.CC_STAT_WIDTH], stats[largest, cv2.CC_STAT_HEIGHT])
+    keep = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= 0.05 * stats[largest, cv2.CC_STAT_AREA]
+            and np.hypot(*(centroids[k] - centroids[largest])) <= reach]
+    points = np.vstack([cv2.findNonZero((labels == k).astype(np.uint8)) for k in keep])
+    mask = np.zeros(changed.shape, np.uint8)
+    cv2.fillConvexPoly(mask, cv2.convexHull(points), 255)
+    return mask
+
+
+def footprint_on_table(mask: np.ndarray, camera: TableCamera, top: float, bottom: float) -> tuple[
+        np.ndarray, tuple[float, float], float]:
+    """The footprint of the box seen as ``mask`` (H, W): its silhouette unprojected onto the
+    plane of its top (height ``top``, m) covers the top face and the visible sides seen from
+    there; unprojected onto the plane of its bottom (``bottom``) it covers the bottom face and
+    the top seen beyond it; the box's footprint is where the two overlap. Returns the centre (2,)
+    m, the sides (m; along its yaw first) and the yaw (rad, in [-π/2, π/2))."""
+    contour = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)[0]
+    outline = max(contour, key=cv2.contourArea).reshape(-1, 2).astype(float)
+    planes = [np.array([camera.pixel_to_table(u, v, z) for u, v in outline]) for z in (top, bottom)]
+    origin = np.minimum(planes[0].min(axis=0), planes[1].min(axis=0))
+    extent = np.maximum(planes[0].max(axis=0), planes[1].max(axis=0)) - origin
+    grid = np.ceil(extent / _GRID).astype(int) + 2
+    overlap = np.full((grid[1], grid[0]), 255, np.uint8)
+    for plane in planes:
+        region = np.zeros_like(overlap)
+        cv2.fillPoly(region, [np.round((plane - origin) / _GRID).astype(np.int32)], 255)
+        overlap &= region
+    points = cv2.findNonZero(overlap)
+    if points is None or len(points) < 10:
+        raise InputError("the moved object's footprint on the table is empty; keep it in view")
+    (cx, cy), (along, across), degrees = cv2.minAreaRect(points.astype(np.float32))
+    yaw = wrap(np.radians(degrees) * 2.0) / 2.0  # a box's yaw is defined modulo π
+    centre = origin + _GRID * np.array([cx, cy])
+    return centre, (float(along * _GRID), float(across * _GRID)), float(yaw)
+
+
+_GRID = 0.0005  # m per cell of the footprint's raster
+
+
+def object_motion(before: Features, after: Features) -> np.ndarray:
+    """The similarity (3, 3) px that takes the object's features ``before`` onto ``after``.
+    Raises InputError when they do not match."""
+    found = object_candidates(before, after, 1)
+    if not found:
+        raise InputError("the moved object's features do not match between pick and place; "
+                         "give it more texture, and let the tutor move one object at a time")
+    return found[0][0]
+
+
+def object_candidates(features: Features, seen: Features, count: int = 2) -> list[tuple[np.ndarray, int]]:
+    """Up to ``count`` placements of an object's ``features`` among the ``seen`` ones: ratio-
+    tested SIFT matches, RANSAC similarities one after the other on the matches left over;
+    each a transform (3, 3) px and its number of inliers (at least :data:`_MIN_INLIERS`)."""
+    if len(features) < 2 or len(seen) < 2:
+        return []
+    pairs = cv2.BFMatcher(cv2.NORM_L2).knnMatch(features.descriptors, seen.descriptors, k=2)
+    good = [m[0] for m in pairs if len(m) == 2 and m[0].distance < _RATIO * m[1].distance]
+    source = features.keypoints[[m.queryIdx for m in good], :2].reshape(-1, 1, 2)
+    target = seen.keypoints[[m.trainIdx for m in good], :2].reshape(-1, 1, 2)
+    cv2.setRNGSeed(0)  # deterministic RANSAC
+    found = []
+    while len(source) >= _MIN_INLIERS and len(found) < count:
+        model, inliers = cv2.estimateAffinePartial2D(source, target, method=cv2.RANSAC, ransacReprojThreshold=4.0)
+        if model is None or inliers is None or inliers.sum() < _MIN_INLIERS:
+            break
+        inliers = inliers.ravel().astype(bool)
+        found.append((np.vstack([model, [0.0, 0.0, 1.0]]), int(inliers.sum())))
+        source, target = source[~inliers], target[~inliers]
+    return found
+
+
+_RATIO = 0.8  # Lowe's ratio test
+_MIN_INLIERS = 4
+
+
+def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match:
+    """``findBestMatch`` of operation ``k``'s pre-pick observation in the pre-pick frame: the
+    object's features φ_k against the world's, SIFT and RANSAC as in the paper. The score is
+    the fraction of φ_k that are inliers; the match is ambiguous when a second placement
+    gathers nearly as many. Raises ValueError when the object is not found."""
+    op = demo.operations[k]
+    found = object_candidates(op.features, world_features)
+    if not found:
+        raise ValueError(f"operation {k + 1}'s object is not in the world (no SIFT-RANSAC match)")
+    transform, inliers = found[0]
+    x, y = apply(transform, op.pick_point)
+    decomposition = decompose(transform)
+    ambiguous = len(found) > 1 and found[1][1] >= _CLOSE * inliers
+    return Match(x, y, decomposition.theta, inliers / len(op.features), int(round(demo.pick_frame)), ambiguous,
+                 len(found), transform, decomposition)
+
+
+_CLOSE = 0.7  # a second placement with this share of the best one's inliers makes a match ambiguous
+
+
+def apply(transform: np.ndarray, point: tuple[float, float]) -> tuple[float, float]:
+    """``transform`` (3, 3) applied to a pixel ``point`` (u, v)."""
+    u, v = cv2.perspectiveTransform(np.array([[point]], np.float64), transform)[0, 0]
+    return float(u), float(v)
+
+
+def table_rotation(camera: TableCamera, transform: np.ndarray, point: tuple[float, float], z_from: float,
+                   z_to: float) -> float:
+    """The rotation (rad, counter-clockwise on the table) that the image ``transform`` (3, 3)
+    applies about ``point`` (px, on a surface at height ``z_from``, mapped onto one at
+    ``z_to``): the turn of two short offsets seen on the table, averaged."""
+    origin = np.array(camera.pixel_to_table(*point, z_from))
+    target = np.array(camera.pixel_to_table(*apply(transform, point), z_to))
+    turns = []
+    for offset in ((_STEP, 0.0), (0.0, _STEP)):
+        moved = (point[0] + offset[0], point[1] + offset[1])
+        before = np.array(camera.pixel_to_table(*moved, z_from)) - origin
+        after = np.array(camera.pixel_to_table(*apply(transform, moved), z_to)) - target
+        turns.append(np.arctan2(after[1], after[0]) - np.arctan2(before[1], before[0]))
+    return float(np.arctan2(np.mean(np.sin(turns)), np.mean(np.cos(turns))))
+
+
+@dataclass(frozen=True, eq=False)
+class PlannedOperation:
+    """Where to pick and place in the world: the pick and place matches, the hand's pick and
+    place poses (x, y, θ) in the table frame (θ the fingers' closing axis), the grasp width
+    (m), and the object's yaw now and at the place (rad)."""
+
+    pick_match: Match
+    place_match: Match
+    pick: tuple[float, float, float]
+    place: tuple[float, float, float]
+    grasp_width: float
+    yaw_now: float
+    yaw_target: float
+
+    def to_dict(self) -> dict:
+        return {"pick": [round(c, 4) for c in self.pick], "place": [round(c, 4) for c in self.place],
+                "grasp_width": round(self.grasp_width, 4), "yaw_now": round(self.yaw_now, 4),
+                "yaw_target": round(self.yaw_target, 4), "pick_match": _match_dict(self.pick_match),
+                "place_match": _match_dict(self.place_match)}
+
+
+def _match_dict(match: Match) -> dict:
+    return {k: round(v, 4) if isinstance(v, float) else v for k, v in match.to_dict().items()}
+
+
+def locate(demo: PickPlaceDemonstration, k: int, which: str, world: np.ndarray, world_features: Features,
+           largest_frame: float | None = None) -> Match:
+    """``findBestMatch`` of operation ``k``'s ``which`` observation ("pre_pick" or "pre_place")
+    in ``world`` (H, W, 3), frames growing from the pre-pick (or pre-place) frame up to
+    ``largest_frame`` px (default: :data:`PICK_GROWTH` or :data:`PLACE_GROWTH` times the
+    first). Raises ValueError when nothing matches."""
+    op = demo.operations[k]
+    start = demo.pick_frame if which == "pre_pick" else demo.place_frame
+    point = op.pick_point if which == "pre_pick" else op.place_point
+    largest = largest_frame or start * (PICK_GROWTH if which == "pre_pick" else PLACE_GROWTH)
+    sizes = [s for s in frame_sizes(start, world.shape) if s <= largest + 0.5] or [int(round(start))]
+    return find_best_match(getattr(op, which), world, point, start, sizes, op.observation_features(which),
+                           world_features)
+
+
+def plan_operation(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: TableCamera,
+                   world_features: Features | None = None, pick_match: Match | None = None,
+                   place_match: Match | None = None) -> PlannedOperation:
+    """Algorithm 1 lines 13-15 for operation ``k`` in the observed ``world`` (H, W, 3): the
+    pick and place matches (given, or found with :func:`locate`) turned into the hand's poses.
+    Raises ValueError when an observation is not found in the world."""
+    op = demo.operations[k]
+    world_features = world_features if world_features is not None else extract_features(world)
+    pick = pick_match or match_object(demo, k, world, world_features)
+    place = place_match or locate(demo, k, "pre_place", world, world_features)
+    pick_xy = camera.pixel_to_table(*apply(pick.transform, op.pick_point), op.pick_z)
+    place_xy = camera.pixel_to_table(*apply(place.transform, op.place_point), op.place_z)
+    yaw_now = op.yaw + table_rotation(camera, pick.transform, op.pick_point, op.pick_z, op.pick_z)
+    yaw_target = op.yaw + op.turn + table_rotation(camera, place.transform, op.place_point, op.place_z, op.place_z)
+    turn = wrap(yaw_target - yaw_now)
+    along, across = op.footprint
+    axis, width = (yaw_now, along) if along <= across else (yaw_now + np.pi / 2.0, across)
+    step = np.pi / 2.0 if abs(along - across) < _SQUARE * max(along, across) else np.pi
+    choices = [axis + n * step for n in range(-4, 5)]
+    theta = min(choices, key=lambda a: (max(abs(a), abs(a + turn)), abs(a)))
+    return PlannedOperation(pick, place, (float(pick_xy[0]), float(pick_xy[1]), float(theta)),
+                            (float(place_xy[0]), float(place_xy[1]), float(theta + turn)), float(min(along, across)),
+                            float(yaw_now), float(yaw_target))
+
+
+def identify(demo: PickPlaceDemonstration, world: np.ndarray, world_features: Features,
+             candidates: list[int] | None = None) -> tuple[int, Match] | None:
+    """Search the pre-pick dictionary (the paper's classification task): the operation among
+    ``candidates`` (default all) whose object matches ``world`` best (the most RANSAC inliers
+    relative to its features). None when none is found."""
+    best: tuple[int, Match] | None = None
+    for k in candidates if candidates is not None else range(len(demo.operations)):
+        try:
+            match = match_object(demo, k, world, world_features)
+        except ValueError:
+            continue
+        if best is None or match.score > best[1].score:
+            best = (k, match)
+    return best
+
+
+def identify_moved(demo: PickPlaceDemonstration, before: np.ndarray, after: np.ndarray,
+                   candidates: list[int]) -> int | None:
+    """Which recorded operation's object someone else (the tutor) just moved, seen in the
+    observations ``before`` and ``after`` (H, W, 3): the changed pixels hold the object twice,
+    where it left (``before``) and where it arrived (``after``); each candidate's features φ
+    are matched in both, and the first candidate in order whose object is seen at least
+    :data:`_SAME_OBJECT` as well as the best one wins. None when nothing recognisable moved."""
+    difference = channel_max(cv2.absdiff(cv2.GaussianBlur(before, (5, 5), 0), cv2.GaussianBlur(after, (5, 5), 0)))
+    mask = cv2.dilate((difference > CHANGE_THRESHOLD).astype(np.uint8) * 255, np.ones((15, 15), np.uint8))
+    if not mask.any():
+        return None
+    seen = [extract_features(image, mask) for image in (before, after)]
+    scores = [min(_matches(demo.operations[k].features, features) for features in seen) for k in candidates]
+    if not scores or max(scores) < _MIN_MATCHES:
+        return None
+    return next(k for k, score in zip(candidates, scores) if score >= _SAME_OBJECT * max(scores))
+
+
+_MIN_MATCHES = 6  # RANSAC inliers that recognise an object
+_SAME_OBJECT = 0.6
+
+
+def _matches(features: Features, seen: Features) -> int:
+    """RANSAC inliers of an object's ``features`` among the ``seen`` ones (0: not seen)."""
+    found = object_candidates(features, seen, 1)
+    return found[0][1] if found else 0

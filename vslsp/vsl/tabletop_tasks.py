@@ -1,0 +1,415 @@
+"""The five real-world VSL tasks of the paper ("Real-world Experiments", Table 1) in the
+tabletop world: the tutor's demonstration, the robot's reproduction and the ground-truth judge.
+
+- ``alphabet-ordering``: letters A-D put in a row by a static right-angle baseline (relative and
+  absolute positioning); reproduced in order from a new scatter.
+- ``animal-puzzle``: the frog's halves put on the 'pond' label, the giraffe's on the 'tree';
+  the labels are moved before the reproduction (relative positioning).
+- ``tower-of-hanoi``: three disks moved from the first base to the second in seven moves
+  (several operations on one object, stacking). In every other trial the user intervenes: the
+  tutor makes the first move to the third base; the robot watches, recognises the moved disk
+  as operation 1's (:func:`~vslsp.vsl.pick_place.identify_moved`), and goes on with operation
+  2. Nothing else changes: each pre-place observation is matched against the scene as it now
+  is, and since the bases look alike only what lies on and around them decides, the moves
+  follow the tutor's choice and the tower ends on the third base.
+- ``animals-vs-machines``: the tutor puts two animal and two machine cards into their bins; in
+  the reproduction the tutor presents the cards one at a time in a new order, and the robot
+  searches the whole pre-pick dictionary for the best match
+  (:func:`~vslsp.vsl.pick_place.identify`) instead of following the sequence (classification).
+- ``domino``: five picture-domino pieces laid end to end; in the reproduction the tutor opens
+  with one of the first three pieces anywhere (turned a little), and the tutor and the robot
+  take turns: the robot recognises the piece the tutor laid and answers with the next one.
+
+The judge reads the simulator's ground truth, which perception never does: after each
+operation, the moved object's pose relative to its anchor (the table, the baseline, a label, a
+base, a bin, the previous domino) must match the demonstration's within :data:`POSITION_TOLERANCE`
+and :data:`ANGLE_TOLERANCE` (and the stack level within :data:`LEVEL_TOLERANCE`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Iterator
+
+import numpy as np
+
+from vslsp.sim.tabletop import Item, Placement, PickPlaceResult, TabletopWorld
+from vslsp.vision.features import extract_features
+from vslsp.vsl import tabletop_scenes as scenes
+from vslsp.vsl.pick_place import (PickPlaceDemonstration, PickPlaceRecorder, PlannedOperation, TableView, identify,
+                                  identify_moved, plan_operation, wrap)
+
+POSITION_TOLERANCE = 0.015  # m
+ANGLE_TOLERANCE = np.radians(12.0)
+LEVEL_TOLERANCE = 0.008  # m, the height of a stacked object's bottom
+
+Move = tuple[str, Callable[[TabletopWorld], Placement], str | None]  # item, where (given the world), anchor
+
+
+@dataclass(frozen=True, eq=False)
+class TaskDemonstration:
+    """What the robot learned (``demonstration``) plus, for the judge only, the ground truth
+    of each operation: the item moved, its anchor (None: the table) and its pose relative to
+    the anchor afterwards (x, y, yaw, bottom height difference)."""
+
+    demonstration: PickPlaceDemonstration
+    items: tuple[str, ...]
+    anchors: tuple[str | None, ...]
+    relative: tuple[tuple[float, float, float, float], ...]
+
+
+@dataclass(frozen=True, eq=False)
+class OperationOutcome:
+    """One operation of a reproduction: the demonstrated operation ``index`` it reproduces, who
+    did it (``actor``: robot or tutor), the item it concerns (ground truth), the ``diagnosis``
+    ("ok", "no match", "ambiguous match", "wrong object", "misplaced", or the robot's "grasp
+    failed", "object slipped", "unreachable"), the plan and the execution, the errors against
+    the demonstration (ground truth), and the observation it was planned in."""
+
+    index: int
+    actor: str
+    item: str
+    diagnosis: str
+    planned: PlannedOperation | None = None
+    result: PickPlaceResult | None = None
+    errors: dict = field(default_factory=dict)
+    observation: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def ok(self) -> bool:
+        return self.diagnosis == "ok"
+
+    def to_dict(self) -> dict:
+        data = {"operation": self.index + 1, "actor": self.actor, "item": self.item, "diagnosis": self.diagnosis,
+                **self.errors}
+        if self.planned is not None:
+            data["plan"] = self.planned.to_dict()
+        if self.result is not None:
+            data["execution"] = {"ok": self.result.ok, "diagnosis": self.result.diagnosis, "held": self.result.held,
+                                 "duration_s": round(self.result.duration_s, 3)}
+        return data
+
+
+class TabletopTask:
+    """A task: its items and landmarks, the tutor's demonstration, the reproduction protocol
+    and the goal. Subclasses give :meth:`layout`, :meth:`moves` and :meth:`goal`."""
+
+    name = ""
+    anchor_map: dict[str, str] = {}
+
+    def layout(self, rng: np.random.Generator, phase: str) -> list[tuple[Item, Placement]]:
+        raise NotImplementedError
+
+    def moves(self, rng: np.random.Generator) -> Iterator[Move]:
+        raise NotImplementedError
+
+    def goal(self, world: TabletopWorld, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> bool:
+        """Every operation the reproduction owes was done, and the last demonstrated relation
+        of every item it moved holds at the end (ground truth)."""
+        owed = self.owed(demo, outcomes)
+        if not set(owed) <= {o.index for o in outcomes}:
+            return False
+        last = {demo.items[k]: k for k in owed}
+        return all(judge(world, demo, k, self.anchor_map)[0] for k in last.values())
+
+    def owed(self, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> list[int]:
+        """The demonstrated operations the reproduction must achieve: all of them."""
+        return list(range(len(demo.items)))
+
+    def demonstrate(self, world: TabletopWorld, rng: np.random.Generator) -> TaskDemonstration:
+        """The tutor's demonstration in ``world``, recorded operation by operation."""
+        recorder = PickPlaceRecorder(TableView(world))
+        items, anchors, relations = [], [], []
+        for name, where, anchor in self.moves(rng):
+            tutor_move(world, name, where(world), recorder)
+            items.append(name)
+            anchors.append(anchor)
+            relations.append(relation(world, name, anchor))
+        return TaskDemonstration(recorder.demonstration(), tuple(items), tuple(anchors), tuple(relations))
+
+    def reproduce(self, world: TabletopWorld, demo: TaskDemonstration, rng: np.random.Generator,
+                  keep: bool = False) -> list[OperationOutcome]:
+        """Algorithm 1 part II: every operation in the demonstrated order."""
+        return [robot_operation(world, demo, k, self.anchor_map, keep=keep) for k in range(len(demo.items))]
+
+
+def look(world: TabletopWorld) -> np.ndarray:
+    """What the robot sees: the camera's image seen from above (:class:`TableView`), (h, w, 3)."""
+    return TableView(world).rectify(world.observe())
+
+
+def tutor_move(world: TabletopWorld, name: str, placement: Placement, recorder: PickPlaceRecorder | None) -> None:
+    """The tutor takes ``name`` (out of view: the pre-place observation) and puts it at
+    ``placement``; the recorder, if any, records the three observations and the heights."""
+    pre_pick = look(world) if recorder else None
+    pick_z = world.pose(name)[2] + world.specs[name].size[2]
+    world.tutor_place(name, scenes.hold_placement(0))
+    pre_place = look(world) if recorder else None
+    world.tutor_place(name, placement)
+    if recorder:
+        height = world.specs[name].size[2]
+        recorder.record(pre_pick, pre_place, look(world), pick_z, world.pose(name)[2] + height, height)
+
+
+def relation(world: TabletopWorld, name: str, anchor: str | None) -> tuple[float, float, float, float]:
+    """Ground truth: ``name``'s pose seen from ``anchor`` (or the table): x, y, yaw, and the
+    height of its bottom above the anchor's bottom."""
+    x, y, z, yaw = world.pose(name)
+    if anchor is None:
+        return x, y, yaw, z
+    ax, ay, az, ayaw = world.pose(anchor)
+    return (*scenes.relative((ax, ay, ayaw), (x, y, yaw)), z - az)
+
+
+def judge(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dict[str, str]) -> tuple[bool, dict]:
+    """Does operation ``k``'s demonstrated relation hold now (ground truth)? ``anchor_map``
+    renames anchors (the user's intervention in the Tower of Hanoi)."""
+    anchor = demo.anchors[k]
+    now = relation(world, demo.items[k], anchor_map.get(anchor, anchor) if anchor else None)
+    wanted = demo.relative[k]
+    position = float(np.hypot(now[0] - wanted[0], now[1] - wanted[1]))
+    angle = abs(wrap(now[2] - wanted[2]))
+    level = abs(now[3] - wanted[3])
+    ok = position <= POSITION_TOLERANCE and angle <= ANGLE_TOLERANCE and level <= LEVEL_TOLERANCE
+    return ok, {"position_error_m": round(position, 4), "angle_error_deg": round(float(np.degrees(angle)), 2),
+                "level_error_m": round(level, 4)}
+
+
+def robot_operation(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dict[str, str],
+                    image: np.ndarray | None = None, pick_match=None, keep: bool = False) -> OperationOutcome:
+    """The robot reproduces operation ``k``: observe (unless given), match, plan, pick and
+    place, then the judge's verdict and, when it failed, the diagnosis."""
+    image = look(world) if image is None else image
+    features = extract_features(image)
+    kept = image if keep else None
+    try:
+        planned = plan_operation(demo.demonstration, k, image, TableView(world), features, pick_match=pick_match)
+    except ValueError:
+        return OperationOutcome(k, "robot", demo.items[k], "no match", observation=kept)
+    result = world.pick_and_place(planned.pick, planned.place, planned.grasp_width)
+    ok, errors = judge(world, demo, k, anchor_map)
+    if ok:
+        diagnosis = "ok"
+    elif not result.ok:
+        diagnosis = result.diagnosis or "grasp failed"
+    elif result.held != demo.items[k]:
+        diagnosis = "wrong object"
+    elif planned.pick_match.ambiguous or planned.place_match.ambiguous:
+        diagnosis = "ambiguous match"
+    else:
+        diagnosis = "misplaced"
+    return OperationOutcome(k, "robot", demo.items[k], diagnosis, planned, result, errors, kept)
+
+
+def tutor_operation(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dict[str, str],
+                    where: Placement, judged: bool = True) -> OperationOutcome:
+    """The tutor performs operation ``k`` (putting the item at ``where``); an opening move
+    (not ``judged``) may go anywhere."""
+    tutor_move(world, demo.items[k], where, None)
+    ok = not judged or judge(world, demo, k, anchor_map)[0]
+    return OperationOutcome(k, "tutor", demo.items[k], "ok" if ok else "misplaced")
+
+
+def placement_like(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor: str | None,
+                   on: str | None = None) -> Placement:
+    """Where the tutor puts operation ``k``'s item so that its demonstrated relation holds
+    with ``anchor`` (ground truth; the tutor sees the scene)."""
+    x, y, yaw, _ = demo.relative[k]
+    if anchor is None:
+        return Placement(x, y, yaw, on)
+    ax, ay, _, ayaw = world.pose(anchor)
+    return Placement(*scenes.compose((ax, ay, ayaw), (x, y, yaw)), on)
+
+
+# -- the five tasks -----------------------------------------------------------------------------
+class AlphabetOrdering(TabletopTask):
+    name = "alphabet-ordering"
+
+    def layout(self, rng, phase):
+        letters = scenes.letters()
+        keep_out = [(x, y, 0.05) for x, y, _ in scenes.LETTER_GOALS.values()]
+        keep_out += [(x, 0.1825, 0.02) for x in (0.47, 0.51, 0.55)]  # the baseline's short arm
+        return scenes.baseline_arms() + list(zip(letters, scenes.scatter(rng, letters, keep_out)))
+
+    def moves(self, rng):
+        for letter, (x, y, yaw) in scenes.LETTER_GOALS.items():
+            jitter = rng.normal(0.0, 0.002, 2)
+            yield letter, (lambda world, p=Placement(x + jitter[0], y + jitter[1], yaw): p), "baseline-long"
+
+
+class AnimalPuzzle(TabletopTask):
+    name = "animal-puzzle"
+
+    def layout(self, rng, phase):
+        labels = scenes.labels()
+        if phase == "demonstration":
+            poses = [(0.61, 0.13, 0.0), (0.61, -0.13, 0.0)]
+        else:  # the tutor moves the labels before the reproduction
+            region = ((0.57, 0.64), (-0.22, 0.22))
+            poses = [(p.x, p.y, rng.uniform(-0.5, 0.5)) for p in scenes.scatter(rng, labels, region=region)]
+        pieces = scenes.puzzle_pieces()
+        taken = [scenes.disc(label, pose) for label, pose in zip(labels, poses)]
+        return ([(label, Placement(*pose)) for label, pose in zip(labels, poses)]
+                + list(zip(pieces, scenes.scatter(rng, pieces, taken))))
+
+    def moves(self, rng):
+        for animal in ("frog", "giraffe"):
+            label = scenes.LABEL_OF[animal]
+            for part in (0, 1):
+                local = scenes.ON_LABEL[part]
+
+                def where(world, label=label, local=local):
+                    x, y, _, yaw = world.pose(label)
+                    return Placement(*scenes.compose((x, y, yaw), local), on=label)
+
+                yield f"{animal}-{part}", where, label
+
+
+class TowerOfHanoi(TabletopTask):
+    name = "tower-of-hanoi"
+
+    def __init__(self, intervention: bool = False) -> None:
+        self.intervention = intervention
+        self.anchor_map = {"base-2": "base-3", "base-3": "base-2"} if intervention else {}
+
+    def layout(self, rng, phase):
+        layout = scenes.hanoi_bases()
+        below = "base-1"
+        x, y, _ = scenes.BASE_POSES[1]
+        for disk in reversed(scenes.hanoi_disks()):
+            offset = rng.normal(0.0, 0.002, 2)
+            layout.append((disk, Placement(x + offset[0], y + offset[1], rng.uniform(-0.3, 0.3), on=below)))
+            below = disk.name
+        return layout
+
+    def moves(self, rng):
+        stacks = {1: ["disk-3", "disk-2", "disk-1"], 2: [], 3: []}
+        for disk, target in scenes.hanoi_moves():
+            name = f"disk-{disk}"
+            source = next(b for b, stack in stacks.items() if stack and stack[-1] == name)
+            stacks[source].pop()
+            below = stacks[target][-1] if stacks[target] else f"base-{target}"
+            stacks[target].append(name)
+            jitter = rng.normal(0.0, 0.002, 2)
+
+            def where(world, target=target, below=below, jitter=jitter):
+                x, y, _ = scenes.BASE_POSES[target]
+                return Placement(x + jitter[0], y + jitter[1], 0.0, on=below)
+
+            yield name, where, below  # judged on what it stands on: stack order
+
+    def reproduce(self, world, demo, rng, keep=False):
+        if not self.intervention:
+            return super().reproduce(world, demo, rng, keep)
+        # The user makes the first move to the third base; the robot watches and carries on.
+        before = look(world)
+        x, y, _ = scenes.BASE_POSES[3]
+        outcomes = [tutor_operation(world, demo, 0, self.anchor_map, Placement(x, y, 0.0, on="base-3"))]
+        after = look(world)
+        seen = identify_moved(demo.demonstration, before, after, list(range(len(demo.items))))
+        start = 1 if seen == 0 else 0  # had the robot not recognised the tutor's move, it would redo it
+        outcomes += [robot_operation(world, demo, k, self.anchor_map, after if k == start else None, keep=keep)
+                     for k in range(start, len(demo.items))]
+        return outcomes
+
+
+class AnimalsVsMachines(TabletopTask):
+    name = "animals-vs-machines"
+
+    def layout(self, rng, phase):
+        cards = scenes.pictures()
+        if phase == "demonstration":
+            region = ((0.33, 0.45), scenes.SCATTER_Y)
+            return scenes.bins() + list(zip(cards, scenes.scatter(rng, cards, region=region)))
+        return scenes.bins() + [(card, scenes.hold_placement(k + 2)) for k, card in enumerate(cards)]
+
+    def moves(self, rng):
+        filled = {"animals": 0, "machines": 0}
+        for k in rng.permutation(len(scenes.SUBJECTS)):
+            subject = scenes.SUBJECTS[k]
+            kind = "animals" if scenes.textures.PICTURES[subject] == "animal" else "machines"
+            slot = scenes.BIN_SLOTS[filled[kind]]
+            filled[kind] += 1
+            yield subject, (lambda world, b=f"bin-{kind}", s=slot: Placement(
+                *scenes.compose(world.pose(b)[:2] + (world.pose(b)[3],), s), on=b)), f"bin-{kind}"
+
+    def reproduce(self, world, demo, rng, keep=False):
+        order = list(demo.items)
+        while order == list(demo.items):  # a new order
+            order = [demo.items[k] for k in rng.permutation(len(order))]
+        outcomes, remaining = [], list(range(len(order)))
+        for subject in order:
+            (shown,) = scenes.scatter(rng, [world.specs[subject]], region=((0.34, 0.45), (-0.2, 0.2)))
+            world.tutor_place(subject, shown)
+            image = look(world)
+            found = identify(demo.demonstration, image, extract_features(image), remaining)
+            expected = demo.items.index(subject)
+            if found is None:
+                outcomes.append(OperationOutcome(expected, "robot", subject, "no match"))
+                continue
+            k, match = found
+            remaining.remove(k)
+            outcome = robot_operation(world, demo, k, self.anchor_map, image, match, keep)
+            if k != expected:  # the robot took the card for another: judge where the shown card went
+                outcome = OperationOutcome(expected, "robot", subject, "wrong object", outcome.planned,
+                                           outcome.result, judge(world, demo, expected, {})[1], outcome.observation)
+            outcomes.append(outcome)
+        return outcomes
+
+
+class Domino(TabletopTask):
+    name = "domino"
+
+    def layout(self, rng, phase):
+        pieces = scenes.domino_pieces()
+        return list(zip(pieces, scenes.scatter(rng, pieces)))
+
+    def moves(self, rng):
+        start = Placement(*scenes.DOMINO_START)
+        yield "domino-1", (lambda world: start), None
+        for k in range(2, scenes.DOMINOES + 1):
+            previous = f"domino-{k - 1}"
+            yield f"domino-{k}", (lambda world, p=previous: Placement(*scenes.compose(
+                world.pose(p)[:2] + (world.pose(p)[3],), scenes.DOMINO_NEXT))), previous
+
+    def owed(self, demo, outcomes):
+        """The game goes on from the tutor's opening piece to the last one."""
+        return list(range(outcomes[0].index + 1, len(demo.items))) if outcomes else []
+
+    def reproduce(self, world, demo, rng, keep=False):
+        first = int(rng.integers(0, 3))  # the tutor opens with one of the first three pieces
+        opening = _domino_opening(rng, scenes.DOMINOES - first)
+        outcomes: list[OperationOutcome] = []
+        k, where = first, Placement(*opening)
+        while k < len(demo.items):
+            before = look(world)
+            laid = {o.index for o in outcomes}
+            outcomes.append(tutor_operation(world, demo, k, self.anchor_map, where, judged=k != first))
+            after = look(world)
+            seen = identify_moved(demo.demonstration, before, after, [j for j in range(len(demo.items)) if j not in laid])
+            if seen is None or seen + 1 >= len(demo.items) or seen + 1 in laid:
+                break
+            outcomes.append(robot_operation(world, demo, seen + 1, self.anchor_map, after, keep=keep))
+            k = seen + 2
+            if k < len(demo.items):
+                where = placement_like(world, demo, k, demo.anchors[k])
+        return outcomes
+
+
+def _domino_opening(rng: np.random.Generator, pieces: int) -> tuple[float, float, float]:
+    """Where the tutor lays the opening piece: anywhere in the far band, turned a little, so
+    that the ``pieces`` still to come fit in the workspace."""
+    for _ in range(1000):
+        x, yaw = rng.uniform(0.62, 0.66), -np.pi / 2.0 + rng.uniform(-0.12, 0.12)
+        length = (pieces - 1) * scenes.DOMINO_NEXT[0]
+        y = rng.uniform(-0.26 + length * abs(np.sin(yaw)), 0.26)
+        end = scenes.compose((x, y, yaw), (length, 0.0, 0.0))
+        if 0.6 <= end[0] <= 0.68 and -0.27 <= end[1]:
+            return float(x), float(y), float(yaw)
+    raise RuntimeError("no opening for the domino chain")  # a layout bug, not input
+
+
+TASKS: dict[str, Callable[..., TabletopTask]] = {
+    "alphabet-ordering": AlphabetOrdering, "animal-puzzle": AnimalPuzzle, "tower-of-hanoi": TowerOfHanoi,
+    "animals-vs-machines": AnimalsVsMachines, "domino": Domino,
+}
