@@ -1,0 +1,55 @@
+"""The RGB-D table-cleaning scene of VSL-3D (vslsp/sim/cloud_scene.py): layouts, the tutor's
+6-DoF placements, ground truth and the seeded sensor noise."""
+
+import numpy as np
+import pytest
+
+from vslsp.errors import InputError
+from vslsp.sim.cloud_scene import CLEARANCE, TRAY_POSITION, CloudScene, euler_pose, random_layout
+
+
+def test_random_layouts_are_seeded_and_keep_objects_apart():
+    layout = random_layout(["duck", "teddy", "mug"], seed=5)
+    assert layout == random_layout(["duck", "teddy", "mug"], seed=5)
+    assert layout != random_layout(["duck", "teddy", "mug"], seed=6)
+    centres = np.array([v[:2] for v in layout.values()] + [TRAY_POSITION])
+    gaps = np.linalg.norm(centres[:, None] - centres[None], axis=2)[np.triu_indices(len(centres), 1)]
+    assert gaps.min() >= CLEARANCE
+
+
+def test_the_tutor_places_an_object_at_a_6dof_pose_and_the_truth_follows():
+    with CloudScene({"duck": (0.5, -0.1, 0.0)}) as scene:
+        pose = euler_pose(0.45, 0.05, 0.2, roll=0.3, pitch=-0.2, yaw=1.0)
+        scene.tutor_move("duck", pose)
+        np.testing.assert_allclose(scene.pose("duck"), pose, atol=1e-6)
+        resting = scene.resting_pose("duck", 0.6, -0.1, 2.0, roll=0.2)
+        np.testing.assert_allclose(scene.pose("duck"), pose, atol=1e-6)  # asking moves nothing
+        scene.tutor_move("duck", resting)
+        lower, upper = scene.bounds("duck")
+        assert lower[2] == pytest.approx(0.0, abs=0.002)  # touches the table
+        assert (lower[:2] + upper[:2]) / 2 == pytest.approx([0.6, -0.1], abs=1e-6)
+        floor = scene.surface_height(*TRAY_POSITION)
+        assert 0.002 < floor < 0.02  # the tray's floor, above the table top
+        scene.tutor_move("duck", scene.resting_pose("duck", *TRAY_POSITION, 0.0, support=floor))
+        assert scene.bounds("duck")[0][2] == pytest.approx(floor, abs=0.002)
+
+
+def test_sensor_noise_is_seeded_and_grows_with_depth():
+    layout = {"teddy": (0.5, -0.1, 0.3)}
+    with CloudScene(layout, noise=True, seed=2) as a, CloudScene(layout, noise=True, seed=2) as b, \
+            CloudScene(layout) as clean:
+        first, second, exact = a.capture().depth, b.capture().depth, clean.capture().depth
+    np.testing.assert_array_equal(first, second)
+    seen = exact > 0
+    error = (first - exact)[seen]
+    assert 0.0008 < np.std(error) < 0.003
+    near, far = exact[seen] < np.percentile(exact[seen], 20), exact[seen] > np.percentile(exact[seen], 80)
+    assert np.std(error[near]) < np.std(error[far])
+
+
+def test_unknown_objects_are_refused():
+    with pytest.raises(InputError, match="unknown object 'vase'"):
+        CloudScene({"vase": (0.5, 0.0, 0.0)})
+    with CloudScene({"cube": (0.5, 0.0, 0.0), "cube#2": (0.6, 0.1, 0.0)}, tray=False) as scene:
+        with pytest.raises(InputError, match="no object named 'duck'"):
+            scene.pose("duck")
