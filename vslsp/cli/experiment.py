@@ -9,7 +9,8 @@ from pathlib import Path
 import click
 
 EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order",  # as vslsp.experiments (heavy to import)
-               "house-roof")  # VSL without a robot: vslsp.vsl.tasks
+               "house-roof",  # VSL without a robot: vslsp.vsl.tasks
+               "alphabet-ordering", "animal-puzzle", "tower-of-hanoi", "animals-vs-machines", "domino")  # tabletop
 
 
 @click.command()
@@ -27,7 +28,8 @@ EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order",  # as vslsp.
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object on stdout.")
 def experiment(name: str, trials: int, seed: int, workers: int, faults: bool, planner: str,
                skills_dir: str | None, out: str | None, as_json: bool) -> None:
-    """Run experiment NAME (simple-vsl-task, keep-all-near, pull-in-order, house-roof) and write a report.
+    """Run experiment NAME (simple-vsl-task, keep-all-near, pull-in-order, house-roof, alphabet-ordering,
+    animal-puzzle, tower-of-hanoi, animals-vs-machines, domino) and write a report.
 
     Exit 0 when every trial succeeded, 1 otherwise.
     """
@@ -35,6 +37,10 @@ def experiment(name: str, trials: int, seed: int, workers: int, faults: bool, pl
         from vslsp.vsl.house_roof_report import command
 
         return command(trials, seed, workers, out, as_json, faults)
+    if name in EXPERIMENTS[4:]:
+        from vslsp.vsl.tabletop_report import command as tabletop_command
+
+        return tabletop_command(name, trials, seed, workers, out, as_json, faults)
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 

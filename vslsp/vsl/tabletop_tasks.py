@@ -17,7 +17,7 @@ tabletop world: the tutor's demonstration, the robot's reproduction and the grou
   searches the whole pre-pick dictionary for the best match
   (:func:`~vslsp.vsl.pick_place.identify`) instead of following the sequence (classification).
 - ``domino``: five picture-domino pieces laid end to end; in the reproduction the tutor opens
-  with one of the first three pieces anywhere (turned a little), and the tutor and the robot
+  with the first or the second piece anywhere (turned a little), and the tutor and the robot
   take turns: the robot recognises the piece the tutor laid and answers with the next one.
 
 The judge reads the simulator's ground truth, which perception never does: after each
@@ -377,7 +377,7 @@ class Domino(TabletopTask):
         return list(range(outcomes[0].index + 1, len(demo.items))) if outcomes else []
 
     def reproduce(self, world, demo, rng, keep=False):
-        first = int(rng.integers(0, 3))  # the tutor opens with one of the first three pieces
+        first = int(rng.integers(0, 2))  # the tutor opens with the first piece or the second
         opening = _domino_opening(rng, scenes.DOMINOES - first)
         outcomes: list[OperationOutcome] = []
         k, where = first, Placement(*opening)

@@ -17,7 +17,8 @@ from vslsp.parallel import run_jobs
 from vslsp.vsl.house_roof import HouseRoofDemonstration, ObservationFeatures, Reproduction, demonstrate, reproduce
 from vslsp.vsl.house_world import HouseWorld
 
-TASKS = ("house-roof",)
+TASKS = ("house-roof",  # the tabletop tasks' trials: vslsp.vsl.tabletop_report.run_trials
+         "alphabet-ordering", "animal-puzzle", "tower-of-hanoi", "animals-vs-machines", "domino")
 FRAMES = ("fixed", "adaptive")
 REPRODUCTION_SEED = 1_000_003  # the reproduction world's seed is the trial's plus this
 
