@@ -2,7 +2,7 @@
 includes an empty box and a set of objects which are randomly placed in the workspace"),
 watched by an RGB-D sensor in the role of the paper's Asus Xtion Pro Live.
 
-Objects are meshes from ``pybullet_data`` (a duck, a teddy bear, a mug, random blobs, a small cube)
+Objects are meshes from ``pybullet_data`` (a duck, a teddy bear, a mug, random blocks and blobs, a small cube)
 on a table whose top is the plane z = 0; a tray (the box) stands in it as a static landmark.
 The tutor puts an object at a given 6-DoF pose (it holds the object there: no physics step
 runs, so a tilted object stays tilted); :meth:`CloudScene.resting_pose` gives the pose at
@@ -30,8 +30,8 @@ with quiet():
 TABLE_HALF = (0.45, 0.50, 0.02)
 TABLE_CENTRE = (0.50, 0.0)
 TABLE_COLOUR = (0.80, 0.74, 0.62, 1.0)
-WORKSPACE_X = (0.38, 0.68)  # where objects may lie: well inside the sensor's view
-WORKSPACE_Y = (-0.22, 0.22)
+WORKSPACE_X = (0.36, 0.72)  # where objects may lie: well inside the sensor's view
+WORKSPACE_Y = (-0.24, 0.24)
 TRAY_POSITION = (0.56, 0.16)
 TRAY_SCALE = 0.4  # pybullet's traybox is 60 cm wide; this makes a 24 cm box
 CLEARANCE = 0.14  # m between the centres of two objects (and an object and the tray's rim)
@@ -48,16 +48,20 @@ class ObjectModel:
 
 OBJECTS: dict[str, ObjectModel] = {
     "duck": ObjectModel("duck_vhacd.urdf", 1.0, (np.pi / 2, 0.0)),
+    "duckling": ObjectModel("duck_vhacd.urdf", 0.7, (np.pi / 2, 0.0)),  # a smaller duck
     "teddy": ObjectModel("teddy_vhacd.urdf", 1.0, (np.pi / 2, 0.0)),
     "blob": ObjectModel("random_urdfs/013/013.urdf", 1.0),
     "shell": ObjectModel("random_urdfs/000/000.urdf", 1.0),
     "mug": ObjectModel("objects/mug.urdf", 1.0),
+    "ell": ObjectModel("random_urdfs/005/005.urdf", 1.0),  # an L-shaped block
     "cube": ObjectModel("cube_small.urdf", 1.0),
 }
-# Objects whose pose a single view pins down (no rotational symmetry): the duck, the teddy, the
-# mug. The blob is nearly symmetric under a half turn, the shell about its long axis, the cube
-# under quarter turns: their position is found, their rotation only up to that symmetry.
-ASYMMETRIC = ("duck", "teddy", "mug")
+# Objects whose pose any single view pins down (no rotational symmetry): the ducks and the
+# teddy. The L-shaped block looks the same turned over, the mug's turn shows only in its handle,
+# the blob is nearly symmetric under a half turn, the shell about its long axis, the cube under
+# quarter turns: their position is found, their rotation only up to that symmetry when the
+# telling part is out of view.
+ASYMMETRIC = ("duck", "duckling", "teddy")
 
 # The RGB-D sensor: 640 x 480, 45 degrees vertical field of view (an Xtion's), 0.63 m from the
 # middle of the workspace, looking down at about 53 degrees.
@@ -179,6 +183,16 @@ class CloudScene:
         """Ground-truth axis-aligned bounding box (lower (3,), upper (3,)) of object ``name``."""
         lower, upper = pb.getAABB(self._body(name), physicsClientId=self.client)
         return np.asarray(lower), np.asarray(upper)
+
+    def object_at(self, point: np.ndarray) -> str | None:
+        """The object whose bounding box holds ``point`` (3,) (the nearest box centre if several
+        do), or None: what a gripper closing there would take."""
+        holding = []
+        for name in self.bodies:
+            lower, upper = self.bounds(name)
+            if np.all(point >= lower - 0.005) and np.all(point <= upper + 0.005):
+                holding.append((float(np.linalg.norm(point - (lower + upper) / 2.0)), name))
+        return min(holding)[1] if holding else None
 
     def surface_height(self, x: float, y: float) -> float:
         """Height (m) of the first surface below (x, y) seen from above: the table, the tray's

@@ -35,31 +35,75 @@ def describe(points: np.ndarray, viewpoint: np.ndarray, voxel: float = FEATURE_V
     return sparse, compute_fpfh(sparse, normals, 5.0 * voxel, tree), tree
 
 
+def _turned_starts(source: np.ndarray, target: np.ndarray, turns: int) -> list[np.ndarray]:
+    """``turns`` poses (4, 4) that turn ``source`` about the vertical through its centroid by
+    multiples of 360/turns degrees and put its centroid on ``target``'s: the starts of a
+    multi-start ICP for objects resting on a table (mostly turned about z)."""
+    source_centre, target_centre = source.mean(axis=0), target.mean(axis=0)
+    starts = []
+    for angle in np.arange(turns) * 2.0 * np.pi / turns:
+        pose = np.eye(4)
+        pose[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
+        pose[:3, 3] = target_centre - pose[:3, :3] @ source_centre
+        starts.append(pose)
+    return starts
+
+
 def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, target_viewpoint: np.ndarray,
-          *, method: str = "prerejective_ransac", voxel: float = FEATURE_VOXEL, seed: int = 0) -> Registration:
+          *, method: str = "prerejective_ransac", voxel: float = FEATURE_VOXEL, seed: int = 0,
+          turns: int = 0) -> Registration:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
-    matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals. Raises
+    matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
+
+    With ``turns`` > 0 (``target`` is the object alone, as in getObject), ICP also starts from
+    that many turns about the vertical with the centroids put together, and the start that fits
+    best wins: a fallback when the features of a view-changed object correspond poorly. Raises
     :class:`TaskFailed` when less than half of the source ends within 3 mm of the target."""
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     if len(source) < 10 or len(target) < 10:
         raise TaskFailed(f"too few points to align ({len(source)} onto {len(target)}); "
                          "is the object inside the workspace and in view?")
+    sparse_source, sparse_target = voxel_downsample(source, voxel), voxel_downsample(target, voxel)
+    sparse_tree = KDTree(sparse_target)
+    starts: list[tuple[np.ndarray, str]] = []
     if method == "icp":
-        initial = np.eye(4)
-        initial[:3, 3] = target.mean(axis=0) - source.mean(axis=0)
-        coarse_name = "centroids"
+        starts.append((_turned_starts(source, target, 1)[0], "centroids"))
     else:
         sparse_source, source_features, _ = describe(source, source_viewpoint, voxel)
-        sparse_target, target_features, target_tree = describe(target, target_viewpoint, voxel)
+        sparse_target, target_features, sparse_tree = describe(target, target_viewpoint, voxel)
         find = prerejective_ransac if method == "prerejective_ransac" else sac_ia
-        coarse = find(sparse_source, sparse_target, source_features, target_features, 1.5 * voxel,
-                      seed=seed, target_tree=target_tree)
-        initial, coarse_name = coarse.transform, coarse.method
-    # Refine on the full-resolution target near the coarse pose.
+        try:
+            coarse = find(sparse_source, sparse_target, source_features, target_features, 1.5 * voxel,
+                          seed=seed, target_tree=sparse_tree)
+            starts.append((coarse.transform, coarse.method))
+        except TaskFailed:
+            if not turns:
+                raise
+    for start in _turned_starts(source, target, turns):
+        coarse = icp(sparse_source, sparse_target, start, max_distance=3.0 * voxel, method="point_to_point",
+                     iterations=30, target_tree=sparse_tree)
+        starts.append((coarse.transform, "multi-start-icp"))
+    # Refine the two best starts (by their fit of the sparse clouds) on the full resolution.
+    scored = sorted(starts, key=lambda start: -evaluate(sparse_source, sparse_tree, start[0], 1.5 * voxel)[0])
+    results = [_refine(source, target, target_viewpoint, initial, name, voxel) for initial, name in scored[:2]]
+    best = max((r for r in results if r is not None), key=lambda r: (r.fitness, -r.rmse), default=None)
+    if best is None:
+        raise TaskFailed(f"{scored[0][1]} put the observation where the world has no points")
+    if best.fitness < MIN_FITNESS:
+        raise TaskFailed(f"{best.method} fits only {best.fitness:.0%} of the observation within "
+                         f"{FINAL_DISTANCE * 1000:.0f} mm (needs {MIN_FITNESS:.0%}); the object is not "
+                         "in this world or too little of it is visible")
+    return best
+
+
+def _refine(source: np.ndarray, target: np.ndarray, target_viewpoint: np.ndarray, initial: np.ndarray,
+            name: str, voxel: float) -> Registration | None:
+    """Point-to-plane ICP from ``initial`` on the full-resolution target near it (None when no
+    target point is near)."""
     near = Frame.around(transform_points(initial, source), 4.0 * voxel).contains(target)
     if near.sum() < 10:
-        raise TaskFailed(f"{coarse_name} put the observation where the world has no points")
+        return None
     fine = target[near]
     tree = KDTree(fine)
     normals = estimate_normals(fine, FINE_RADIUS, target_viewpoint, tree).normals
@@ -67,8 +111,4 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
     result = icp(source, fine, result.transform, max_distance=FINAL_DISTANCE, target_normals=normals,
                  target_tree=tree)
     fitness, rmse = evaluate(source, tree, result.transform, FINAL_DISTANCE)
-    if fitness < MIN_FITNESS:
-        raise TaskFailed(f"{coarse_name}+ICP fits only {fitness:.0%} of the observation within "
-                         f"{FINAL_DISTANCE * 1000:.0f} mm (needs {MIN_FITNESS:.0%}); the object is not "
-                         "in this world or too little of it is visible")
-    return Registration(result.transform, fitness, rmse, f"{coarse_name}+icp")
+    return Registration(result.transform, fitness, rmse, f"{name}+icp")

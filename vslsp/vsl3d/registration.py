@@ -6,9 +6,9 @@ Point (ICP), Pre-rejective RANSAC (Buch et al. 2013), and SAmple Consensus Initi
 - Correspondences: each source point's most similar target points in FPFH space.
 - Pre-rejective RANSAC: three sampled correspondences are rejected before any pose is computed
   unless the triangles they span in source and target have similar edges (each edge ratio
-  ``min/max >= similarity``); the survivors' poses (Kabsch) are ranked by how many
-  correspondences they explain, and the best few are validated on the whole cloud: the
-  fraction of source points with a target point within ``max_distance``.
+  ``min/max >= similarity``); the survivors' poses (Kabsch) are ranked by their inlier
+  fraction on a fixed subset of the source points (a target point within ``max_distance``),
+  and the best few are validated on the whole source.
 - SAC-IA: three source points at least ``min_sample_distance`` apart, each paired with one of
   its ``k`` most similar target points at random; the pose with the smallest Huber-penalised
   nearest-neighbour error wins.
@@ -130,6 +130,7 @@ def _edges(points: np.ndarray) -> np.ndarray:
 def prerejective_ransac(source: np.ndarray, target: np.ndarray, source_features: np.ndarray,
                         target_features: np.ndarray, max_distance: float, *, iterations: int = 20000,
                         similarity: float = 0.9, correspondences: int = 3, validate: int = 20,
+                        screening_points: int = 100,
                         min_fitness: float = 0.25, seed: int = 0,
                         target_tree: KDTree | None = None) -> Registration:
     """Pre-rejective RANSAC (Buch et al. 2013) from ``source`` (Ns, 3) to ``target`` (Nt, 3)
@@ -146,13 +147,14 @@ def prerejective_ransac(source: np.ndarray, target: np.ndarray, source_features:
         raise TaskFailed("pre-rejective RANSAC: no sampled correspondences passed the edge test; "
                          "the observation and the world share no similar geometry")
     transforms = _kabsch(source[picked_source[alike]], target[picked_target[alike]])
-    # Rank the hypotheses by how many best correspondences they bring within max_distance.
-    best = target[candidates[:, 0]]
-    explained = np.concatenate([
-        np.sum(np.sum((_move(transforms[begin:begin + 256], source) - best) ** 2, axis=2)
-               <= max_distance ** 2, axis=1)
-        for begin in range(0, len(transforms), 256)])
-    ranked = np.argsort(-explained, kind="stable")[:validate]
+    # Buch's inlier fraction: rank every hypothesis on a fixed subset of the source points by
+    # nearest-neighbour search, then validate the best few on the whole source.
+    subset = source[rng.choice(len(source), min(screening_points, len(source)), replace=False)]
+    inliers = np.concatenate([
+        np.sum(tree.query(_move(transforms[begin:begin + 512], subset).reshape(-1, 3), 1)[0].reshape(-1, len(subset))
+               <= max_distance, axis=1)
+        for begin in range(0, len(transforms), 512)])
+    ranked = np.argsort(-inliers, kind="stable")[:validate]
     return _best_by_fitness(source, tree, transforms[ranked], max_distance, min_fitness, "prerejective-ransac")
 
 

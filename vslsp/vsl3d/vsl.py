@@ -31,9 +31,10 @@ from vslsp.vsl3d.registration import Registration, transform_points
 
 VOXEL = 0.002  # the paper's voxel size
 CHANGE_THRESHOLD = 0.01  # the paper's KNN distance threshold
-CLUSTER_DISTANCE = 0.015  # changed points closer than this belong to one region
+CLUSTER_DISTANCE = 0.03  # changed points closer than this belong to one object (bridges self-occlusion gaps, e.g. a mug and its handle)
 MIN_CLUSTER_POINTS = 150  # smaller changed regions are noise (150 voxels of 2 mm: 6 cm^2)
 FRAME_MARGIN = 0.01
+TURNS = 12  # getObject also tries ICP from 12 turns about the vertical (objects rest on a table)
 MAX_SEEN_THROUGH = 0.1  # a true match floats in front of the sensor's surfaces only at its rim
 
 
@@ -199,7 +200,7 @@ def get_object(pre: WorldCloud, post: WorldCloud, *, threshold: float = CHANGE_T
     before = points[(labels == leaving[0]) & ~side]
     after = points[(labels == arriving[0]) & side]
     viewpoint = pre.camera.position
-    registration = align(before, after, viewpoint, post.camera.position, method=method, seed=seed)
+    registration = align(before, after, viewpoint, post.camera.position, method=method, seed=seed, turns=TURNS)
     return MovedObject(CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
                        CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
                        registration)
