@@ -117,11 +117,17 @@ class RecordedOperation:
     features: Features
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
-    def observation_features(self, which: str) -> Features:
-        """SIFT features of the whole ``which`` ("pre_pick" or "pre_place") observation, once."""
-        if which not in self._cache:
-            self._cache[which] = extract_features(getattr(self, which))
-        return self._cache[which]
+    def observation_features(self, which: str, point: tuple[float, float], side: float) -> Features:
+        """SIFT features of the ``which`` ("pre_pick" or "pre_place") observation inside the
+        square of ``side`` px about ``point`` (the largest frame it is matched with), once."""
+        key = (which, point, side)
+        if key not in self._cache:
+            image = getattr(self, which)
+            mask = np.zeros(image.shape[:2], np.uint8)
+            half = side / 2.0 + 8.0  # SIFT needs a rim about a keypoint
+            mask[max(0, int(point[1] - half)):int(point[1] + half), max(0, int(point[0] - half)):int(point[0] + half)] = 1
+            self._cache[key] = extract_features(image, mask)
+        return self._cache[key]
 
     def to_dict(self) -> dict:
         return {"pick_point": [round(c, 2) for c in self.pick_point],
@@ -348,8 +354,8 @@ def locate(demo: PickPlaceDemonstration, k: int, which: str, world: np.ndarray, 
     point = op.pick_point if which == "pre_pick" else op.place_point
     largest = largest_frame or start * (PICK_GROWTH if which == "pre_pick" else PLACE_GROWTH)
     sizes = [s for s in frame_sizes(start, world.shape) if s <= largest + 0.5] or [int(round(start))]
-    return find_best_match(getattr(op, which), world, point, start, sizes, op.observation_features(which),
-                           world_features)
+    return find_best_match(getattr(op, which), world, point, start, sizes,
+                           op.observation_features(which, point, max(sizes)), world_features)
 
 
 def plan_operation(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: TableCamera,

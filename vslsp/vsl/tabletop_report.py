@@ -120,12 +120,15 @@ def _failure(trial: TabletopTrial) -> str:
                      for op in trial.operations if op["diagnosis"] != "ok") or "goal not reached"
 
 
-def write_report(folder: str | Path, name: str, trials: list[TabletopTrial], seed: int) -> dict:
-    """Write the report folder; the pictures re-run the first failed trial (else the first)."""
+def write_report(folder: str | Path, name: str, trials: list[TabletopTrial], seed: int,
+                 shown: TabletopTrial | None = None) -> dict:
+    """Write the report folder; the pictures show ``shown`` (a trial run with ``keep``), or
+    re-run the first failed trial (else the first) to get its images."""
     folder = Path(folder)
     (folder / "images").mkdir(parents=True, exist_ok=True)
     data = summary(name, trials, seed)
-    shown = run_trial((name, next((t for t in trials if not t.success), trials[0]).seed), keep=True)
+    if shown is None or shown.demonstration is None:
+        shown = run_trial((name, next((t for t in trials if not t.success), trials[0]).seed), keep=True)
     data["shown_trial"] = {"seed": shown.seed, "success": shown.success,
                            **(_figures(folder, shown) if shown.demonstration is not None else {})}
     data["results"] = [t.to_dict() for t in trials]

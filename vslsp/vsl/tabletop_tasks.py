@@ -119,9 +119,9 @@ class TabletopTask:
     def demonstrate(self, world: TabletopWorld, rng: np.random.Generator) -> TaskDemonstration:
         """The tutor's demonstration in ``world``, recorded operation by operation."""
         recorder = PickPlaceRecorder(TableView(world))
-        items, anchors, relations = [], [], []
+        items, anchors, relations, seen = [], [], [], None
         for name, where, anchor in self.moves(rng):
-            tutor_move(world, name, where(world), recorder)
+            seen = tutor_move(world, name, where(world), recorder, seen)
             items.append(name)
             anchors.append(anchor)
             relations.append(relation(world, name, anchor))
@@ -138,17 +138,23 @@ def look(world: TabletopWorld) -> np.ndarray:
     return TableView(world).rectify(world.observe())
 
 
-def tutor_move(world: TabletopWorld, name: str, placement: Placement, recorder: PickPlaceRecorder | None) -> None:
+def tutor_move(world: TabletopWorld, name: str, placement: Placement, recorder: PickPlaceRecorder | None,
+               pre_pick: np.ndarray | None = None) -> np.ndarray | None:
     """The tutor takes ``name`` (out of view: the pre-place observation) and puts it at
-    ``placement``; the recorder, if any, records the three observations and the heights."""
-    pre_pick = look(world) if recorder else None
+    ``placement``; the recorder, if any, records the three observations (``pre_pick`` may be
+    given: the last post-place one, nothing moved since) and the heights; returns the
+    post-place observation when recording."""
+    if recorder and pre_pick is None:
+        pre_pick = look(world)
     pick_z = world.pose(name)[2] + world.specs[name].size[2]
     world.tutor_place(name, scenes.hold_placement(0))
     pre_place = look(world) if recorder else None
     world.tutor_place(name, placement)
-    if recorder:
-        height = world.specs[name].size[2]
-        recorder.record(pre_pick, pre_place, look(world), pick_z, world.pose(name)[2] + height, height)
+    if not recorder:
+        return None
+    height, post_place = world.specs[name].size[2], look(world)
+    recorder.record(pre_pick, pre_place, post_place, pick_z, world.pose(name)[2] + height, height)
+    return post_place
 
 
 def relation(world: TabletopWorld, name: str, anchor: str | None) -> tuple[float, float, float, float]:

@@ -1,0 +1,28 @@
+"""domino (paper, "Domino: A Turn-taking Task"): the tutor opens with a piece anywhere, then the
+tutor and the robot take turns, the robot answering with the matching piece; and the report
+folder of the trial."""
+
+import json
+
+import pytest
+
+from vslsp.vsl import tabletop_scenes as scenes
+from vslsp.vsl.tabletop_report import run_trial, write_report
+
+pytestmark = pytest.mark.slow
+
+
+def test_domino_the_robot_answers_each_piece_the_tutor_lays_with_the_matching_one(tmp_path):
+    trial = run_trial(("domino", 0), keep=True)
+    assert trial.success
+    actors = [op["actor"] for op in trial.operations]
+    assert actors[0] == "tutor" and all(a != b for a, b in zip(actors, actors[1:]))  # turns alternate
+    laid = [int(op["item"].split("-")[1]) for op in trial.operations]
+    assert laid == list(range(laid[0], scenes.DOMINOES + 1))  # each answer is the next matching piece
+    data = write_report(tmp_path, "domino", [trial], 0, shown=trial)
+    saved = json.loads((tmp_path / "report.json").read_text())
+    assert saved["experiment"] == "domino" and saved["trials"] == 1 and saved["success_rate"] == 1.0
+    assert data["operation_success_rate"] == 1.0
+    for key in ("demonstration", "matches", "worlds", "trajectory"):
+        assert (tmp_path / saved["shown_trial"][key]).stat().st_size > 1000
+    assert "domino" in (tmp_path / "report.md").read_text()

@@ -1,0 +1,45 @@
+"""The tabletop tasks' trials and report: the summary counts the robot's operations and their
+diagnoses (the benchmark's figure), and the command refuses bad input before any work."""
+
+import pytest
+
+from vslsp.cli import main
+from vslsp.errors import InputError
+from vslsp.vsl.tabletop_report import TabletopTrial, make_task, run_trials, summary
+
+
+def operation(actor: str, diagnosis: str, item: str = "A") -> dict:
+    return {"operation": 1, "actor": actor, "item": item, "diagnosis": diagnosis}
+
+
+def test_the_summary_rates_the_robots_operations_and_names_the_failures():
+    trials = [TabletopTrial("domino", 0, True, [operation("tutor", "ok"), operation("robot", "ok")], 2.0),
+              TabletopTrial("domino", 1, False, [operation("tutor", "ok"), operation("robot", "grasp failed", "B")],
+                            4.0),
+              TabletopTrial("domino", 2, False, [], 1.0, error="demonstration: no object was taken")]
+    data = summary("domino", trials, 0)
+    assert (data["trials"], data["successes"], data["success_rate"]) == (3, 1, pytest.approx(1 / 3))
+    assert (data["operations"], data["operations_ok"], data["operation_success_rate"]) == (2, 1, 0.5)
+    assert data["diagnoses"] == {"grasp failed": 1, "ok": 1}  # the tutor's moves are not the robot's
+    assert data["s_per_trial"] == pytest.approx(7.0 / 3, abs=0.01)
+    assert [f["seed"] for f in data["failures"]] == [1, 2]
+    assert "operation 1 (robot, B): grasp failed" in data["failures"][0]["error"]
+
+
+def test_the_tower_of_hanoi_has_the_users_intervention_on_odd_seeds():
+    assert not make_task("tower-of-hanoi", 4).intervention and make_task("tower-of-hanoi", 5).intervention
+    assert make_task("tower-of-hanoi", 5).anchor_map == {"base-2": "base-3", "base-3": "base-2"}
+
+
+def test_bad_input_is_refused_before_any_work(capsys):
+    with pytest.raises(InputError, match="unknown task"):
+        run_trials("jigsaw", 1)
+    with pytest.raises(InputError, match="--workers"):
+        run_trials("domino", 1, workers=0)
+    with pytest.raises(SystemExit) as exit_info:
+        main(["experiment", "domino", "--trials", "0"])
+    assert exit_info.value.code == 2
+    with pytest.raises(SystemExit) as exit_info:
+        main(["experiment", "tower-of-hanoi", "--faults"])
+    assert exit_info.value.code == 2
+    assert "--faults applies to the VSL-SP experiments" in capsys.readouterr().err
