@@ -24,7 +24,9 @@ with quiet():
 ARM_JOINTS = tuple(range(7))
 FINGER_JOINTS = (9, 10)
 GRASP_LINK = 11  # panda_grasptarget: between the finger pads, 10.5 cm below the hand's flange
-TIP_BELOW_GRASP = 0.011  # the fingertips' lower ends lie this far below panda_grasptarget
+# The fingertips' lower ends lie this far below panda_grasptarget (the finger joints are 5.84 cm
+# below the flange, the finger mesh 5.385 cm long, panda_grasptarget 10.5 cm below the flange).
+TIP_BELOW_GRASP = 0.0584 + 0.05385 - 0.105
 FINGER_OPEN = 0.04  # m per finger: the gripper opens 8 cm
 LOWER = np.array([-2.9671, -1.8326, -2.9671, -3.1416, -2.9671, -0.0873, -2.9671])
 UPPER = np.array([2.9671, 1.8326, 2.9671, 0.0, 2.9671, 3.8223, 2.9671])
@@ -35,8 +37,10 @@ READY = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])  # a pose for th
 REST = np.array([0.205, -1.043, -0.191, -2.917, -0.172, 1.877, -0.625])
 PARK = np.array([-np.pi / 2.0, *REST[1:]])
 FINGER_FRICTION = 1.0
+FINGER_SPINNING_FRICTION = 0.1  # torsional: keeps a held tile from pivoting about the closing axis
 FINGER_FORCE = 20.0  # N the gripper's motor pushes with while closing and holding
 FINGER_SPEED = 0.1  # m/s
+PAD_STIFFNESS, PAD_DAMPING = 1e7, 100.0  # N/m, N s/m
 CONTACT_THRESHOLD = 3.0  # N of normal force on each finger that ends the closing
 IK_POSITION_TOLERANCE = 0.005  # m
 IK_ANGLE_TOLERANCE = np.radians(3.0)
@@ -59,10 +63,12 @@ class Panda:
             self.body = pb.loadURDF(f"{pybullet_data.getDataPath()}/franka_panda/panda.urdf", [0, 0, 0],
                                     useFixedBase=True, physicsClientId=client)
         for joint in FINGER_JOINTS:
-            # The URDF's soft pads (stiffness 3e4) with friction anchors jammed the fingers on a
-            # tile after a long turn: they would not open. Stiff pads without anchors release.
-            pb.changeDynamics(self.body, joint, lateralFriction=FINGER_FRICTION, spinningFriction=0.01,
-                              frictionAnchor=0, contactStiffness=1e6, contactDamping=1e3, physicsClientId=client)
+            # The URDF's soft pads (stiffness 3e4, damping 1e3) with friction anchors jammed the
+            # fingers on a tile after a long turn, and their damping held items to an opening
+            # finger: stiffer, less damped pads without anchors let go.
+            pb.changeDynamics(self.body, joint, lateralFriction=FINGER_FRICTION,
+                              spinningFriction=FINGER_SPINNING_FRICTION, frictionAnchor=0,
+                              contactStiffness=PAD_STIFFNESS, contactDamping=PAD_DAMPING, physicsClientId=client)
         # The fingers are geared together as in the real gripper (the URDF's mimic joint, which
         # pybullet ignores): the first finger's motor drives both, and a held item stays centred.
         gear = pb.createConstraint(self.body, FINGER_JOINTS[0], self.body, FINGER_JOINTS[1], pb.JOINT_GEAR,
