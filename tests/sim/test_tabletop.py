@@ -37,13 +37,17 @@ def turn_error(a: float, b: float) -> float:
     return float(abs(np.angle(np.exp(1j * (a - b)))))
 
 
-def test_observe_is_a_1280x960_rgb_image_and_the_same_layout_gives_the_same_bytes():
+def test_observe_is_a_1280x960_rgb_image_and_the_same_layout_gives_the_same_bytes_and_outcomes():
     layout = [(tile("A", 1), Placement(0.40, 0.10, 0.3)), (tile("B", 2), Placement(0.55, -0.12, -0.4))]
     with TabletopWorld(layout) as first, TabletopWorld(layout) as second:
         image = first.observe()
         assert image.shape == (960, 1280, 3) and image.dtype == np.uint8
         assert np.array_equal(image, second.observe())
         assert np.array_equal(image, first.observe())
+        moves = [world.pick_and_place((0.40, 0.10, 0.3), (0.50, 0.20, -0.9)) for world in (first, second)]
+        assert np.array_equal(moves[0].hand_path, moves[1].hand_path) and moves[0].ok
+        assert first.pose("A") == second.pose("A")
+        assert np.array_equal(first.observe(), second.observe())
 
 
 def test_the_parked_arm_is_out_of_view_and_the_table_fills_the_image():
