@@ -35,6 +35,7 @@ from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
 from vslsp.vision.matching import Match, find_best_match, frame_sizes
 from vslsp.vision.transform import decompose
+from vslsp.vsl.house_world import wrap
 
 PLACE_FRAME = 2.0  # the pre-place frame's first side, in sizes of the biggest object (the paper: 2 to 3)
 # Frames grow (×1.5 a step) while the match is ambiguous up to these multiples of their first
@@ -87,11 +88,6 @@ class TableView:
 
     def table_to_pixel(self, x: float, y: float, z: float = 0.0) -> tuple[float, float]:
         return apply(self.homography, self.camera.table_to_pixel(x, y, z))
-
-
-def wrap(angle: float) -> float:
-    """An angle (rad) in [-π, π)."""
-    return float((angle + np.pi) % (2.0 * np.pi) - np.pi)
 
 
 @dataclass(frozen=True, eq=False)

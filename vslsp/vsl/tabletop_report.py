@@ -23,7 +23,9 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.parallel import run_jobs
 from vslsp.vision.image import write_image
-from vslsp.vsl.tabletop_tasks import TASKS, OperationOutcome, TaskDemonstration, TabletopTask, look
+from vslsp.vsl.house_roof_report import _label, _small, _square
+from vslsp.vsl.tabletop_tasks import TASKS, OperationOutcome, TabletopTask, TaskDemonstration, look
+from vslsp.vsl.tasks import check_counts
 
 REPRODUCTION_SEED = 1_000_003
 _PICK, _PLACE = (255, 0, 255), (0, 170, 255)  # RGB
@@ -86,10 +88,7 @@ def run_trial(job: tuple[str, int], keep: bool = False) -> TabletopTrial:
 def run_trials(name: str, trials: int, seed: int = 0, workers: int = 1, on_done=None) -> list[TabletopTrial]:
     """``trials`` trials of task ``name`` with seeds ``seed``, ``seed + 1``, ... on ``workers``
     processes, in seed order; ``on_done(trial)`` as each comes back."""
-    if trials < 1:
-        raise InputError(f"--trials must be at least 1, got {trials}")
-    if workers < 1:
-        raise InputError(f"--workers must be at least 1, got {workers}")
+    check_counts(trials, workers)
     make_task(name, seed)  # an unknown name fails before any work
     return run_jobs(run_trial, [(name, seed + k) for k in range(trials)], workers, on_done)
 
@@ -145,8 +144,8 @@ def _figures(folder: Path, trial: TabletopTrial) -> dict:
     rows = []
     for k, op in enumerate(demo.operations):
         pre, pre_place = op.pre_pick.copy(), op.pre_place.copy()
-        _square(pre, op.pick_point, demo.pick_frame, _PICK)
-        _square(pre_place, op.place_point, demo.place_frame, _PLACE)
+        _square(pre, op.pick_point, int(demo.pick_frame), _PICK)
+        _square(pre_place, op.place_point, int(demo.place_frame), _PLACE)
         rows.append(np.hstack([_label(_small(pre), f"op {k + 1}: pre-pick ({trial.demonstration.items[k]})"),
                                _label(_small(pre_place), f"op {k + 1}: pre-place"),
                                _label(_small(op.post_place), f"op {k + 1}: post-place")]))
@@ -235,23 +234,6 @@ def _markdown(data: dict) -> str:
         lines.append(f"| {trial['seed']}{' ' + trial['variant'] if trial['variant'] else ''} | "
                      f"{'ok' if trial['success'] else 'failed'} | {trial['error'] or ops} |")
     return "\n".join(lines) + "\n"
-
-
-def _square(image: np.ndarray, centre: tuple[float, float], size: float, colour) -> None:
-    half = size / 2.0
-    cv2.rectangle(image, (int(centre[0] - half), int(centre[1] - half)), (int(centre[0] + half), int(centre[1] + half)),
-                  colour, 3)
-
-
-def _small(image: np.ndarray) -> np.ndarray:
-    return cv2.resize(image, None, fx=0.5, fy=0.5, interpolation=cv2.INTER_AREA)
-
-
-def _label(image: np.ndarray, text: str) -> np.ndarray:
-    image = image.copy()
-    cv2.putText(image, text, (8, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.6, (0, 0, 0), 4, cv2.LINE_AA)
-    cv2.putText(image, text, (8, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.6, (255, 255, 255), 1, cv2.LINE_AA)
-    return image
 
 
 def command(name: str, trials: int, seed: int, workers: int, out: str | None, as_json: bool,

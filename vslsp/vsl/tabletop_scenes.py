@@ -16,6 +16,7 @@ import numpy as np
 
 from vslsp.sim.tabletop import Item, Placement
 from vslsp.vsl import textures
+from vslsp.vsl.house_world import compose, relative  # noqa: F401  (poses (x, y, yaw) in the table frame)
 
 SCATTER_X = (0.33, 0.54)  # where objects lie at random: in reach, in view, clear of the goal areas
 SCATTER_Y = (-0.28, 0.28)
@@ -24,20 +25,6 @@ HOLD_Y = tuple(float(y) for y in np.linspace(-0.5, 0.5, 9))
 CLEARANCE = 0.045  # free table between scattered objects (fingers and frames)
 
 Pose = tuple[float, float, float]  # x, y (m), yaw (rad)
-
-
-def compose(frame: Pose, local: Pose) -> Pose:
-    """The pose ``local`` given in ``frame``, in the table frame."""
-    c, s = np.cos(frame[2]), np.sin(frame[2])
-    return (frame[0] + c * local[0] - s * local[1], frame[1] + s * local[0] + c * local[1], frame[2] + local[2])
-
-
-def relative(frame: Pose, pose: Pose) -> Pose:
-    """``pose`` (table frame) seen from ``frame``: x, y (m), yaw (rad, in [-π, π))."""
-    c, s = np.cos(frame[2]), np.sin(frame[2])
-    dx, dy = pose[0] - frame[0], pose[1] - frame[1]
-    turn = (pose[2] - frame[2] + np.pi) % (2.0 * np.pi) - np.pi
-    return (float(c * dx + s * dy), float(-s * dx + c * dy), float(turn))
 
 
 def _item(name: str, size: tuple[float, float, float], texture: np.ndarray, movable: bool = True) -> Item:
@@ -76,7 +63,7 @@ def puzzle_pieces() -> list[Item]:
 
 LABEL = (0.15, 0.09, PLATE)
 LABEL_OF = {"frog": "pond", "giraffe": "tree"}
-ON_LABEL = {0: (-0.028, 0.02, 0.0), 1: (0.028, 0.02, 0.0)}  # a piece's pose on its label (label frame)
+ON_LABEL = {0: (-0.032, 0.02, 0.0), 1: (0.032, 0.02, 0.0)}  # on its label (label frame), 9 mm apart
 
 
 def labels() -> list[Item]:

@@ -37,7 +37,8 @@ from vslsp.sim.tabletop import Item, Placement, PickPlaceResult, TabletopWorld
 from vslsp.vision.features import extract_features
 from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.vsl.pick_place import (PickPlaceDemonstration, PickPlaceRecorder, PlannedOperation, TableView, identify,
-                                  identify_moved, plan_operation, wrap)
+                                  identify_moved, plan_operation)
+from vslsp.vsl.house_world import wrap
 
 POSITION_TOLERANCE = 0.015  # m
 ANGLE_TOLERANCE = np.radians(12.0)

@@ -71,11 +71,16 @@ def run_trial(seed: int, keep: bool = False) -> HouseRoofTrial:
 def run_trials(trials: int, seed: int = 0, workers: int = 1, on_done=None) -> list[HouseRoofTrial]:
     """``trials`` trials with seeds ``seed``, ``seed + 1``, ... on ``workers`` processes, in seed
     order; ``on_done(trial)`` is called as each comes back (progress)."""
+    check_counts(trials, workers)
+    return run_jobs(run_trial, [seed + k for k in range(trials)], workers, on_done)
+
+
+def check_counts(trials: int, workers: int) -> None:
+    """--trials and --workers must be at least 1 (an InputError otherwise)."""
     if trials < 1:
         raise InputError(f"--trials must be at least 1, got {trials}")
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")
-    return run_jobs(run_trial, [seed + k for k in range(trials)], workers, on_done)
 
 
 def summary(trials: list[HouseRoofTrial], seed: int) -> dict:
