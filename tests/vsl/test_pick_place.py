@@ -10,8 +10,9 @@ from vslsp.errors import InputError
 from vslsp.sim.tabletop import Placement, TabletopWorld
 from vslsp.vision.features import extract_features
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.pick_place import (PickPlaceRecorder, TableView, changed_region, identify, identify_moved,
-                                  plan_operation, wrap)
+from vslsp.vsl.house_world import wrap
+from vslsp.vsl.pick_place import PickPlaceRecorder, TableView, changed_region
+from vslsp.vsl.reproduction import identify, identify_moved, plan_operation
 
 LETTERS = {item.name: item for item in scenes.letters()}
 FROM, TO = Placement(0.42, 0.12, 0.4), Placement(0.64, 0.07, 1.9)  # the tutor turns A by 1.5 rad

@@ -8,14 +8,14 @@ tabletop world: the tutor's demonstration, the robot's reproduction and the grou
 - ``tower-of-hanoi``: three disks moved from the first base to the second in seven moves
   (several operations on one object, stacking). In every other trial the user intervenes: the
   tutor makes the first move to the third base; the robot watches, recognises the moved disk
-  as operation 1's (:func:`~vslsp.vsl.pick_place.identify_moved`), and goes on with operation
+  as operation 1's (:func:`~vslsp.vsl.reproduction.identify_moved`), and goes on with operation
   2. Nothing else changes: each pre-place observation is matched against the scene as it now
   is, and since the bases look alike only what lies on and around them decides, the moves
   follow the tutor's choice and the tower ends on the third base.
 - ``animals-vs-machines``: the tutor puts two animal and two machine cards into their bins; in
   the reproduction the tutor presents the cards one at a time in a new order, and the robot
   searches the whole pre-pick dictionary for the best match
-  (:func:`~vslsp.vsl.pick_place.identify`) instead of following the sequence (classification).
+  (:func:`~vslsp.vsl.reproduction.identify`) instead of following the sequence (classification).
 - ``domino``: five picture-domino pieces laid end to end; in the reproduction the tutor opens
   with the first or the second piece anywhere (turned a little), and the tutor and the robot
   take turns: the robot recognises the piece the tutor laid and answers with the next one.
@@ -36,9 +36,9 @@ import numpy as np
 from vslsp.sim.tabletop import Item, Placement, PickPlaceResult, TabletopWorld
 from vslsp.vision.features import extract_features
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.pick_place import (PickPlaceDemonstration, PickPlaceRecorder, PlannedOperation, TableView, identify,
-                                  identify_moved, plan_operation)
 from vslsp.vsl.house_world import wrap
+from vslsp.vsl.pick_place import PickPlaceDemonstration, PickPlaceRecorder, TableView
+from vslsp.vsl.reproduction import PlannedOperation, identify, identify_moved, plan_operation
 
 POSITION_TOLERANCE = 0.015  # m
 ANGLE_TOLERANCE = np.radians(12.0)

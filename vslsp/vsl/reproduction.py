@@ -1,0 +1,166 @@
+"""VSL's reproduction of pick-and-place operations (paper, "Methodology", Algorithm 1 part II,
+lines 13-15, and "Real-world Experiments": the frames, the pick and place poses and the angles
+θ^Pick, θ^Place from the decomposed transform α T_sift = T R_θ R_−φ S_v R_φ P).
+
+For each recorded operation (:mod:`vslsp.vsl.pick_place`), in the new world seen from above:
+
+- pick (:func:`match_object`): the object's SIFT features φ matched against the world's and a
+  RANSAC similarity fitted (the paper's SIFT-RANSAC), the best placement winning by its
+  inliers; a second placement nearly as good makes the match ambiguous;
+- place (:func:`match_place`): ``find_best_match`` of the pre-place observation with frames from
+  :data:`~vslsp.vsl.pick_place.PLACE_FRAME` times the biggest object (the paper's two to three), growing while the
+  match is ambiguous (adaptive frames) up to :data:`PLACE_GROWTH` times that;
+- :func:`plan_operation`: the transforms map the recorded pick and place points into the world,
+  the camera maps them onto the table, and the rotation they apply there gives the object's yaw
+  now and at the place; the gripper closes across the object's narrower side, on whichever of
+  the equivalent hand angles keeps the wrist's turn smallest;
+- the dictionaries searched instead of followed: :func:`identify` (the classification task:
+  which recorded object is in view) and :func:`identify_moved` (turn-taking and user
+  intervention: which recorded object the tutor just moved).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.image import channel_max
+from vslsp.vision.matching import Match, find_best_match, frame_sizes
+from vslsp.vision.transform import decompose
+from vslsp.vsl.house_world import wrap
+from vslsp.vsl.pick_place import (CHANGE_THRESHOLD, PickPlaceDemonstration, TableCamera, apply, object_candidates,
+                                  table_rotation)
+
+# The pre-place frame grows (×1.5 a step) while the match is ambiguous up to this multiple of
+# its first side: beyond, a frame sees mostly the rest of the scene, which the new world does
+# not share (its static landmarks would match in place and outvote the place's surroundings).
+PLACE_GROWTH = 3.0
+_SQUARE = 0.15  # a footprint whose sides differ by less than this fraction is square (closed either way)
+
+
+def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match:
+    """``findBestMatch`` of operation ``k``'s pre-pick observation in the pre-pick frame: the
+    object's features φ_k against the world's, SIFT and RANSAC as in the paper. The score is
+    the fraction of φ_k that are inliers; the match is ambiguous when a second placement
+    gathers nearly as many. Raises ValueError when the object is not found."""
+    op = demo.operations[k]
+    found = object_candidates(op.features, world_features)
+    if not found:
+        raise ValueError(f"operation {k + 1}'s object is not in the world (no SIFT-RANSAC match)")
+    transform, inliers = found[0]
+    x, y = apply(transform, op.pick_point)
+    decomposition = decompose(transform)
+    ambiguous = len(found) > 1 and found[1][1] >= _CLOSE * inliers
+    return Match(x, y, decomposition.theta, inliers / len(op.features), int(round(demo.pick_frame)), ambiguous,
+                 len(found), transform, decomposition)
+
+
+_CLOSE = 0.7  # a second placement with this share of the best one's inliers makes a match ambiguous
+
+
+@dataclass(frozen=True, eq=False)
+class PlannedOperation:
+    """Where to pick and place in the world: the pick and place matches, the hand's pick and
+    place poses (x, y, θ) in the table frame (θ the fingers' closing axis), the grasp width
+    (m), and the object's yaw now and at the place (rad)."""
+
+    pick_match: Match
+    place_match: Match
+    pick: tuple[float, float, float]
+    place: tuple[float, float, float]
+    grasp_width: float
+    yaw_now: float
+    yaw_target: float
+
+    def to_dict(self) -> dict:
+        return {"pick": [round(c, 4) for c in self.pick], "place": [round(c, 4) for c in self.place],
+                "grasp_width": round(self.grasp_width, 4), "yaw_now": round(self.yaw_now, 4),
+                "yaw_target": round(self.yaw_target, 4), "pick_match": _match_dict(self.pick_match),
+                "place_match": _match_dict(self.place_match)}
+
+
+def _match_dict(match: Match) -> dict:
+    return {k: round(v, 4) if isinstance(v, float) else v for k, v in match.to_dict().items()}
+
+
+def match_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match:
+    """``findBestMatch`` of operation ``k``'s pre-place observation in ``world`` (h, w, 3):
+    frames from the pre-place frame, growing while ambiguous up to :data:`PLACE_GROWTH` times
+    it. Raises ValueError when nothing matches."""
+    op, start = demo.operations[k], demo.place_frame
+    sizes = [s for s in frame_sizes(start, world.shape) if s <= PLACE_GROWTH * start + 0.5] or [int(round(start))]
+    return find_best_match(op.pre_place, world, op.place_point, start, sizes,
+                           op.observation_features("pre_place", op.place_point, max(sizes)), world_features)
+
+
+def plan_operation(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: TableCamera,
+                   world_features: Features | None = None, pick_match: Match | None = None,
+                   place_match: Match | None = None) -> PlannedOperation:
+    """Algorithm 1 lines 13-15 for operation ``k`` in the observed ``world`` (H, W, 3): the
+    pick and place matches (given, or found with :func:`match_object` and :func:`match_place`)
+    turned into the hand's poses.
+    Raises ValueError when an observation is not found in the world."""
+    op = demo.operations[k]
+    world_features = world_features if world_features is not None else extract_features(world)
+    pick = pick_match or match_object(demo, k, world, world_features)
+    place = place_match or match_place(demo, k, world, world_features)
+    pick_xy = camera.pixel_to_table(*apply(pick.transform, op.pick_point), op.pick_z)
+    place_xy = camera.pixel_to_table(*apply(place.transform, op.place_point), op.place_z)
+    yaw_now = op.yaw + table_rotation(camera, pick.transform, op.pick_point, op.pick_z, op.pick_z)
+    yaw_target = op.yaw + op.turn + table_rotation(camera, place.transform, op.place_point, op.place_z, op.place_z)
+    turn = wrap(yaw_target - yaw_now)
+    along, across = op.footprint
+    axis, width = (yaw_now, along) if along <= across else (yaw_now + np.pi / 2.0, across)
+    step = np.pi / 2.0 if abs(along - across) < _SQUARE * max(along, across) else np.pi
+    choices = [axis + n * step for n in range(-4, 5)]
+    theta = min(choices, key=lambda a: (max(abs(a), abs(a + turn)), abs(a)))
+    return PlannedOperation(pick, place, (float(pick_xy[0]), float(pick_xy[1]), float(theta)),
+                            (float(place_xy[0]), float(place_xy[1]), float(theta + turn)), float(min(along, across)),
+                            float(yaw_now), float(yaw_target))
+
+
+def identify(demo: PickPlaceDemonstration, world: np.ndarray, world_features: Features,
+             candidates: list[int] | None = None) -> tuple[int, Match] | None:
+    """Search the pre-pick dictionary (the paper's classification task): the operation among
+    ``candidates`` (default all) whose object matches ``world`` best (the most RANSAC inliers
+    relative to its features). None when none is found."""
+    best: tuple[int, Match] | None = None
+    for k in candidates if candidates is not None else range(len(demo.operations)):
+        try:
+            match = match_object(demo, k, world, world_features)
+        except ValueError:
+            continue
+        if best is None or match.score > best[1].score:
+            best = (k, match)
+    return best
+
+
+def identify_moved(demo: PickPlaceDemonstration, before: np.ndarray, after: np.ndarray,
+                   candidates: list[int]) -> int | None:
+    """Which recorded operation's object someone else (the tutor) just moved, seen in the
+    observations ``before`` and ``after`` (H, W, 3): the changed pixels hold the object twice,
+    where it left (``before``) and where it arrived (``after``); each candidate's features φ
+    are matched in both, and the first candidate in order whose object is seen at least
+    :data:`_SAME_OBJECT` as well as the best one wins. None when nothing recognisable moved."""
+    difference = channel_max(cv2.absdiff(cv2.GaussianBlur(before, (5, 5), 0), cv2.GaussianBlur(after, (5, 5), 0)))
+    mask = cv2.dilate((difference > CHANGE_THRESHOLD).astype(np.uint8) * 255, np.ones((15, 15), np.uint8))
+    if not mask.any():
+        return None
+    seen = [extract_features(image, mask) for image in (before, after)]
+    scores = [min(_matches(demo.operations[k].features, features) for features in seen) for k in candidates]
+    if not scores or max(scores) < _MIN_MATCHES:
+        return None
+    return next(k for k, score in zip(candidates, scores) if score >= _SAME_OBJECT * max(scores))
+
+
+_MIN_MATCHES = 6  # RANSAC inliers that recognise an object
+_SAME_OBJECT = 0.6
+
+
+def _matches(features: Features, seen: Features) -> int:
+    """RANSAC inliers of an object's ``features`` among the ``seen`` ones (0: not seen)."""
+    found = object_candidates(features, seen, 1)
+    return found[0][1] if found else 0
