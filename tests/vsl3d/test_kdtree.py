@@ -60,3 +60,16 @@ def test_bad_input():
         tree.query(np.zeros((1, 3)), 6)
     with pytest.raises(InputError, match="radius"):
         tree.query_radius(np.zeros((1, 3)), -1.0)
+
+
+def test_bounded_knn_reports_only_neighbours_within_the_distance():
+    rng = np.random.default_rng(6)
+    points = rng.uniform(0, 0.2, (4000, 3))
+    queries = rng.uniform(-0.05, 0.25, (800, 3))
+    tree = KDTree(points)
+    distance, index = tree.query(queries, 3, max_distance=0.01)
+    reference, reference_index = brute_force_knn(points, queries, 3)
+    near = reference <= 0.01
+    np.testing.assert_allclose(distance[near], reference[near])
+    np.testing.assert_array_equal(index[near], reference_index[near])
+    assert np.all(np.isinf(distance[~near])) and np.all(index[~near] == -1)

@@ -17,7 +17,9 @@ from vslsp.vsl3d.cloud import Frame, voxel_downsample
 from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.normals import estimate_normals
-from vslsp.vsl3d.registration import Registration, evaluate, icp, prerejective_ransac, sac_ia, transform_points
+from vslsp.vsl3d.registration import (
+    Registration, evaluate, icp, icp_batch, prerejective_ransac, sac_ia, transform_points,
+)
 
 FEATURE_VOXEL = 0.005
 METHODS = ("prerejective_ransac", "sac_ia", "icp")
@@ -35,11 +37,11 @@ def describe(points: np.ndarray, viewpoint: np.ndarray, voxel: float = FEATURE_V
     return sparse, compute_fpfh(sparse, normals, 5.0 * voxel, tree), tree
 
 
-def _turned_starts(source: np.ndarray, target: np.ndarray, turns: int) -> list[np.ndarray]:
+def _turned_starts(source: np.ndarray, target_centre: np.ndarray, turns: int) -> list[np.ndarray]:
     """``turns`` poses (4, 4) that turn ``source`` about the vertical through its centroid by
-    multiples of 360/turns degrees and put its centroid on ``target``'s: the starts of a
-    multi-start ICP for objects resting on a table (mostly turned about z)."""
-    source_centre, target_centre = source.mean(axis=0), target.mean(axis=0)
+    multiples of 360/turns degrees and put its centroid on ``target_centre`` (3,): the starts of
+    a multi-start ICP for objects resting on a table (mostly turned about z)."""
+    source_centre = source.mean(axis=0)
     starts = []
     for angle in np.arange(turns) * 2.0 * np.pi / turns:
         pose = np.eye(4)
@@ -51,13 +53,13 @@ def _turned_starts(source: np.ndarray, target: np.ndarray, turns: int) -> list[n
 
 def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, target_viewpoint: np.ndarray,
           *, method: str = "prerejective_ransac", voxel: float = FEATURE_VOXEL, seed: int = 0,
-          turns: int = 0) -> Registration:
+          turns: int = 0, target_centre: np.ndarray | None = None) -> Registration:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
     matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
 
-    With ``turns`` > 0 (``target`` is the object alone, as in getObject), ICP also starts from
-    that many turns about the vertical with the centroids put together, and the start that fits
-    best wins: a fallback when the features of a view-changed object correspond poorly. Raises
+    With ``turns`` > 0 (``target`` is the object alone, as in getObject, or a window around it),
+    ICP also starts from that many turns about the vertical with the source's centroid put on
+    ``target_centre`` (default: the target's centroid), and the start that fits best wins: a fallback when the features of a view-changed object correspond poorly. Raises
     :class:`TaskFailed` when less than half of the source ends within 3 mm of the target."""
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
@@ -68,7 +70,7 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
     sparse_tree = KDTree(sparse_target)
     starts: list[tuple[np.ndarray, str]] = []
     if method == "icp":
-        starts.append((_turned_starts(source, target, 1)[0], "centroids"))
+        starts.append((_turned_starts(source, target.mean(axis=0), 1)[0], "centroids"))
     else:
         sparse_source, source_features, _ = describe(source, source_viewpoint, voxel)
         sparse_target, target_features, sparse_tree = describe(target, target_viewpoint, voxel)
@@ -80,10 +82,11 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
         except TaskFailed:
             if not turns:
                 raise
-    for start in _turned_starts(source, target, turns):
-        coarse = icp(sparse_source, sparse_target, start, max_distance=3.0 * voxel, method="point_to_point",
-                     iterations=30, target_tree=sparse_tree)
-        starts.append((coarse.transform, "multi-start-icp"))
+    centre = target.mean(axis=0) if target_centre is None else np.asarray(target_centre, dtype=float)
+    if turns:
+        turned = icp_batch(sparse_source, sparse_target, np.stack(_turned_starts(source, centre, turns)),
+                           max_distance=3.0 * voxel, target_tree=sparse_tree)
+        starts.extend((transform, "multi-start-icp") for transform in turned)
     # Refine the two best starts (by their fit of the sparse clouds) on the full resolution.
     scored = sorted(starts, key=lambda start: -evaluate(sparse_source, sparse_tree, start[0], 1.5 * voxel)[0])
     results = [_refine(source, target, target_viewpoint, initial, name, voxel) for initial, name in scored[:2]]

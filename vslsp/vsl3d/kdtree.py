@@ -88,19 +88,31 @@ class KDTree:
     def __len__(self) -> int:
         return len(self.points)
 
-    def query(self, queries: np.ndarray, k: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    def query(self, queries: np.ndarray, k: int = 1,
+              max_distance: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The ``k`` nearest points of each query (Q, 3): distances (Q, k) ascending and point
-        indices (Q, k). A query that is a point of the tree finds itself first (distance 0)."""
+        indices (Q, k). A query that is a point of the tree finds itself first (distance 0).
+
+        With ``max_distance`` only points that near count (a much smaller search, as ICP and
+        change detection need): missing neighbours have distance inf and index -1."""
         queries = self._check(queries)
         if not 1 <= k <= len(self):
             raise InputError(f"k must be between 1 and the {len(self)} points of the tree, got {k}")
-        distances = np.empty((len(queries), k))
-        indices = np.empty((len(queries), k), dtype=np.int64)
+        distances = np.full((len(queries), k), np.inf)
+        indices = np.full((len(queries), k), -1, dtype=np.int64)
         for begin in range(0, len(queries), _CHUNK):
             chunk = queries[begin:begin + _CHUNK]
-            found = self._search(chunk, self._knn_bound(chunk, k), k)
-            distances[begin:begin + len(chunk)] = found.distance.reshape(-1, k)
-            indices[begin:begin + len(chunk)] = found.index.reshape(-1, k)
+            if max_distance is None:
+                found = self._search(chunk, self._knn_bound(chunk, k), k)
+                distances[begin:begin + len(chunk)] = found.distance.reshape(-1, k)
+                indices[begin:begin + len(chunk)] = found.index.reshape(-1, k)
+            else:
+                # The k-th distance of a nearby node often bounds tighter than max_distance.
+                bound2 = np.minimum(self._knn_bound(chunk, k), float(max_distance) ** 2)
+                found = self._search(chunk, bound2, k)
+                rank = np.arange(len(found.query)) - np.searchsorted(found.query, found.query)
+                distances[begin + found.query, rank] = found.distance
+                indices[begin + found.query, rank] = found.index
         return distances, indices
 
     def query_radius(self, queries: np.ndarray, radius: float,

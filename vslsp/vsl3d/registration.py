@@ -64,11 +64,14 @@ def rigid_transform(source: np.ndarray, target: np.ndarray) -> np.ndarray:
     return _kabsch(source[None], target[None])[0]
 
 
-def _kabsch(source: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """Batched Kabsch: sources and targets (B, N, 3) to transforms (B, 4, 4)."""
-    source_mean = source.mean(axis=1, keepdims=True)
-    target_mean = target.mean(axis=1, keepdims=True)
-    covariance = np.einsum("bni,bnj->bij", source - source_mean, target - target_mean)
+def _kabsch(source: np.ndarray, target: np.ndarray, weights: np.ndarray | None = None) -> np.ndarray:
+    """Batched (weighted) Kabsch: sources and targets (B, N, 3), weights (B, N) (default all
+    1) to transforms (B, 4, 4)."""
+    weights = np.ones(source.shape[:2]) if weights is None else weights
+    total = np.maximum(weights.sum(axis=1), 1e-12)[:, None, None]
+    source_mean = np.einsum("bn,bni->bi", weights, source)[:, None] / total
+    target_mean = np.einsum("bn,bni->bi", weights, target)[:, None] / total
+    covariance = np.einsum("bn,bni,bnj->bij", weights, source - source_mean, target - target_mean)
     u, _, vt = np.linalg.svd(covariance)
     sign = np.sign(np.linalg.det(np.einsum("bij,bjk->bik", vt.transpose(0, 2, 1), u.transpose(0, 2, 1))))
     sign[sign == 0] = 1.0
@@ -84,7 +87,7 @@ def _kabsch(source: np.ndarray, target: np.ndarray) -> np.ndarray:
 def evaluate(source: np.ndarray, target_tree: KDTree, transform: np.ndarray,
              max_distance: float) -> tuple[float, float]:
     """(fitness, inlier RMSE) of ``transform`` moving ``source`` (N, 3) onto the tree's cloud."""
-    distance, _ = target_tree.query(transform_points(transform, source), 1)
+    distance, _ = target_tree.query(transform_points(transform, source), 1, max_distance)
     inlier = distance[:, 0] <= max_distance
     rmse = float(np.sqrt(np.mean(distance[inlier, 0] ** 2))) if inlier.any() else float("inf")
     return float(inlier.mean()), rmse
@@ -151,7 +154,8 @@ def prerejective_ransac(source: np.ndarray, target: np.ndarray, source_features:
     # nearest-neighbour search, then validate the best few on the whole source.
     subset = source[rng.choice(len(source), min(screening_points, len(source)), replace=False)]
     inliers = np.concatenate([
-        np.sum(tree.query(_move(transforms[begin:begin + 512], subset).reshape(-1, 3), 1)[0].reshape(-1, len(subset))
+        np.sum(tree.query(_move(transforms[begin:begin + 512], subset).reshape(-1, 3), 1, max_distance)[0]
+               .reshape(-1, len(subset))
                <= max_distance, axis=1)
         for begin in range(0, len(transforms), 512)])
     ranked = np.argsort(-inliers, kind="stable")[:validate]
@@ -212,7 +216,7 @@ def icp(source: np.ndarray, target: np.ndarray, initial: np.ndarray | None = Non
     previous = np.inf
     for _ in range(iterations):
         moved = transform_points(transform, source)
-        distance, index = tree.query(moved, 1)
+        distance, index = tree.query(moved, 1, max_distance)
         inlier = distance[:, 0] <= max_distance
         if inlier.sum() < 6:
             break
@@ -228,6 +232,25 @@ def icp(source: np.ndarray, target: np.ndarray, initial: np.ndarray | None = Non
         previous = error
     fitness, rmse = evaluate(source, tree, transform, max_distance)
     return Registration(transform, fitness, rmse, f"icp-{method.replace('_', '-')}")
+
+
+def icp_batch(source: np.ndarray, target: np.ndarray, starts: np.ndarray, *, max_distance: float,
+              iterations: int = 30, target_tree: KDTree | None = None) -> np.ndarray:
+    """Point-to-point ICP from each of ``starts`` (B, 4, 4) at once (one tree query per
+    iteration for all of them): the refined transforms (B, 4, 4)."""
+    tree = target_tree if target_tree is not None else KDTree(target)
+    transforms = np.array(starts, dtype=float)
+    for _ in range(iterations):
+        moved = _move(transforms, source)
+        distance, index = tree.query(moved.reshape(-1, 3), 1, max_distance)
+        inlier = (distance[:, 0] <= max_distance).reshape(len(transforms), len(source))
+        matched = target[np.where(index[:, 0] >= 0, index[:, 0], 0)].reshape(moved.shape)
+        steps = _kabsch(moved, matched, inlier.astype(float))
+        steps[inlier.sum(axis=1) < 6] = np.eye(4)
+        transforms = np.einsum("bij,bjk->bik", steps, transforms)
+        if np.allclose(steps, np.eye(4), atol=1e-7):
+            break
+    return transforms
 
 
 def _point_to_plane_step(source: np.ndarray, target: np.ndarray, normals: np.ndarray) -> np.ndarray:

@@ -26,7 +26,8 @@ from vslsp.errors import VslspError
 from vslsp.sim.cloud_scene import TRAY_POSITION, CloudScene, RGBDImage, random_layout
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.registration import transform_error
-from vslsp.vsl3d.vsl import MovedObject, WorldCloud, find_best_match, get_object
+from vslsp.vsl3d.matching import find_best_match
+from vslsp.vsl3d.vsl import MovedObject, WorldCloud, get_object
 
 WORKSPACE = Frame((0.25, -0.40, 0.006), (0.90, 0.40, 0.40))  # the world: above the table top
 # The demonstration: two objects into the box, the last in front of it (nearer the sensor).

@@ -11,9 +11,7 @@ to 3D Tasks"; Algorithm 1 with clouds for images).
   Euclidean clustering; exactly one object must have left one place and arrived at one place.
   Its *pre-* and *post-action observations* are the changed points in cuboid *frames*, and its
   6-DoF motion (4x4) comes from registering one onto the other.
-- ``findBestMatch`` (Algorithm 1, lines 13-14) is :func:`find_best_match`: a recorded
-  observation is found in a new world by FPFH correspondences, pre-rejective RANSAC or SAC-IA,
-  then point-to-plane ICP.
+- ``findBestMatch`` (Algorithm 1, lines 13-14) is in :mod:`vslsp.vsl3d.matching`.
 """
 
 from __future__ import annotations
@@ -24,10 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.vsl3d.alignment import METHODS, align
+from vslsp.vsl3d.alignment import align
 from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
 from vslsp.vsl3d.kdtree import KDTree
-from vslsp.vsl3d.registration import Registration, transform_points
+from vslsp.vsl3d.registration import Registration
 
 VOXEL = 0.002  # the paper's voxel size
 CHANGE_THRESHOLD = 0.01  # the paper's KNN distance threshold
@@ -35,7 +33,6 @@ CLUSTER_DISTANCE = 0.03  # changed points closer than this belong to one object 
 MIN_CLUSTER_POINTS = 150  # smaller changed regions are noise (150 voxels of 2 mm: 6 cm^2)
 FRAME_MARGIN = 0.01
 TURNS = 12  # getObject also tries ICP from 12 turns about the vertical (objects rest on a table)
-MAX_SEEN_THROUGH = 0.1  # a true match floats in front of the sensor's surfaces only at its rim
 
 
 @dataclass(frozen=True, eq=False)
@@ -141,7 +138,7 @@ def changed_points(reference: WorldCloud, other: WorldCloud, threshold: float = 
         return np.zeros(0, dtype=bool)
     if len(reference.points) == 0:
         return reference.visible(other.points, threshold)
-    distance, _ = KDTree(reference.points).query(other.points, 1)
+    distance, _ = KDTree(reference.points).query(other.points, 1, threshold)
     return (distance[:, 0] > threshold) & reference.visible(other.points, threshold)
 
 
@@ -204,40 +201,6 @@ def get_object(pre: WorldCloud, post: WorldCloud, *, threshold: float = CHANGE_T
     return MovedObject(CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
                        CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
                        registration)
-
-
-@dataclass(frozen=True, eq=False)
-class Match:
-    """Where a recorded observation is in a new world: ``registration`` (observation -> world)
-    and the observation's points moved there, ``points`` (N, 3), in their new ``frame``."""
-
-    registration: Registration
-    points: np.ndarray
-    frame: Frame
-
-    @property
-    def position(self) -> np.ndarray:
-        """Where the object's centroid is now (3,)."""
-        return self.points.mean(axis=0)
-
-
-def find_best_match(world: WorldCloud, observation: CloudObservation, *, method: str = "prerejective_ransac",
-                    seed: int = 0) -> Match:
-    """Find ``observation`` in ``world`` and its pose there. Raises :class:`TaskFailed` when no
-    pose puts enough of the observation onto the world."""
-    if len(observation.points) < 10:
-        raise InputError(f"the observation has {len(observation.points)} points; record one of a visible object")
-    if method not in METHODS:
-        raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
-    registration = align(observation.points, world.points, observation.viewpoint, world.camera.position,
-                         method=method, seed=seed)
-    moved = transform_points(registration.transform, observation.points)
-    floating = float(world.seen_through(moved).mean())
-    if floating > MAX_SEEN_THROUGH:
-        raise TaskFailed(f"the best match ({registration.method}, fitness {registration.fitness:.0%}) puts "
-                         f"{floating:.0%} of the observation where the sensor sees free space; the object "
-                         "is not in this world or too little of it is visible")
-    return Match(registration, moved, Frame.around(moved, FRAME_MARGIN))
 
 
 def _centre(points: np.ndarray) -> str:

@@ -1,0 +1,105 @@
+"""``findBestMatch`` of VSL-3D (paper, Algorithm 1, lines 13-14; section "VSL-3D": "each
+captured world observation after being voxelized is compared with the corresponding recorded
+observations in the dictionaries and a metric is applied to find the best match").
+
+The recorded observation is first aligned with the whole world (FPFH correspondences, a global
+method, point-to-plane ICP). A match must fit (half of the observation within 3 mm of the
+world) and must not float: a true pose puts almost no point where the sensor sees free space
+(it saw a surface behind the point). When the global alignment fails those tests the match is
+searched window by window ("window search", the paper's other metric): the world is split into
+object-sized clusters above the support surfaces, and the observation is aligned with each
+window from several turns about the vertical; the best verified fit wins.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from vslsp.errors import InputError, TaskFailed
+from vslsp.vsl3d.alignment import METHODS, align
+from vslsp.vsl3d.cloud import Frame
+from vslsp.vsl3d.registration import Registration, transform_points
+from vslsp.vsl3d.vsl import FRAME_MARGIN, TURNS, CloudObservation, WorldCloud, euclidean_clusters
+
+MAX_SEEN_THROUGH = 0.1  # a true match floats in front of the sensor's surfaces only at its rim
+SUPPORT_CLEARANCE = 0.012  # windows are found above the lowest surfaces (table, a box's floor)
+WINDOW_GAP = 0.01  # objects farther apart than this are separate windows
+WINDOW_MARGIN = 0.02
+
+
+@dataclass(frozen=True, eq=False)
+class Match:
+    """Where a recorded observation is in a new world: ``registration`` (observation -> world)
+    and the observation's points moved there, ``points`` (N, 3), in their new ``frame``."""
+
+    registration: Registration
+    points: np.ndarray
+    frame: Frame
+
+    @property
+    def position(self) -> np.ndarray:
+        """Where the object's centroid is now (3,)."""
+        return self.points.mean(axis=0)
+
+
+def find_best_match(world: WorldCloud, observation: CloudObservation, *, method: str = "prerejective_ransac",
+                    seed: int = 0) -> Match:
+    """Find ``observation`` in ``world`` and its pose there. Raises :class:`TaskFailed` when no
+    verified pose puts enough of the observation onto the world."""
+    if len(observation.points) < 10:
+        raise InputError(f"the observation has {len(observation.points)} points; record one of a visible object")
+    if method not in METHODS:
+        raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
+    try:
+        registration = align(observation.points, world.points, observation.viewpoint, world.camera.position,
+                             method=method, seed=seed)
+        return _verified(world, observation, registration)
+    except TaskFailed as error:
+        global_failure = str(error)
+    best: Match | None = None
+    windows = 0
+    for window, centre in object_windows(world.points, observation.points):
+        windows += 1
+        try:
+            registration = align(observation.points, window, observation.viewpoint, world.camera.position,
+                                 method=method, seed=seed, turns=TURNS, target_centre=centre)
+            match = _verified(world, observation, registration)
+        except TaskFailed:
+            continue
+        if best is None or match.registration.fitness > best.registration.fitness:
+            best = match
+    if best is None:
+        raise TaskFailed(f"no match: {global_failure}; nor in any of {windows} object-sized windows of the world")
+    return best
+
+
+def object_windows(points: np.ndarray, observation: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """The world's points (M, 3) around each object-sized cluster above the support surfaces,
+    with the cluster's centroid (3,): clusters of at least a fifth of the observation's points
+    and at most 2.5 times its extent (a box around objects is not a window)."""
+    lifted = points[points[:, 2] > points[:, 2].min() + SUPPORT_CLEARANCE]
+    if len(lifted) == 0:
+        return
+    labels = euclidean_clusters(lifted, WINDOW_GAP)
+    extent = np.linalg.norm(observation.max(axis=0) - observation.min(axis=0))
+    for label in range(labels.max() + 1):
+        cluster = lifted[labels == label]
+        if len(cluster) < 0.2 * len(observation):
+            break  # labels run from the largest cluster down
+        if np.linalg.norm(cluster.max(axis=0) - cluster.min(axis=0)) > 2.5 * extent:
+            continue
+        window = Frame.around(cluster, WINDOW_MARGIN)
+        yield points[window.contains(points)], cluster.mean(axis=0)
+
+
+def _verified(world: WorldCloud, observation: CloudObservation, registration: Registration) -> Match:
+    moved = transform_points(registration.transform, observation.points)
+    floating = float(world.seen_through(moved).mean())
+    if floating > MAX_SEEN_THROUGH:
+        raise TaskFailed(f"the best match ({registration.method}, fitness {registration.fitness:.0%}) puts "
+                         f"{floating:.0%} of the observation where the sensor sees free space; the object "
+                         "is not in this world or too little of it is visible")
+    return Match(registration, moved, Frame.around(moved, FRAME_MARGIN))
