@@ -93,7 +93,8 @@ class OperationOutcome:
 
 class TabletopTask:
     """A task: its items and landmarks, the tutor's demonstration, the reproduction protocol
-    and the goal. Subclasses give :meth:`layout`, :meth:`moves` and :meth:`goal`."""
+    and the goal. Subclasses give :meth:`layout` and :meth:`moves`, and may change the
+    protocol (:meth:`reproduce`) and what it owes (:meth:`owed`)."""
 
     name = ""
     anchor_map: dict[str, str] = {}
