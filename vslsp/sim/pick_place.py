@@ -28,7 +28,7 @@ with quiet():
 
 TIME_STEP = 1.0 / 240.0
 PATH = trajectory.TrajectoryParameters(height=0.15, durations=(1.0, 1.4, 1.0), samples=25)
-GRASP_DEPTH = 0.010  # the fingertips close this far below an item's top
+GRASP_DEPTH = 0.03  # the fingertips close this far below an item's top (the pads hold its whole side)
 TIP_CLEARANCE = 0.003  # and at least this far above the surface they come down beside it
 FINGER_WIDTH = 0.012  # room each finger needs beside the opening
 PLACE_CLEARANCE = 0.006  # the carried item arrives this far above the surface, then comes down
