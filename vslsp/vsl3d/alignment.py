@@ -10,6 +10,8 @@ put on each other), and point-to-plane ICP refines it on the full-resolution poi
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
@@ -26,6 +28,7 @@ METHODS = ("prerejective_ransac", "sac_ia", "icp")
 FINE_RADIUS = 0.006  # normals of the full-resolution target, for point-to-plane ICP
 FINAL_DISTANCE = 0.003  # inlier distance of the last ICP round and of the reported fitness
 MIN_FITNESS = 0.5
+MAX_SEEN_THROUGH = 0.1  # a true pose floats in front of the sensor's surfaces only at its rim
 
 
 def describe(points: np.ndarray, viewpoint: np.ndarray, voxel: float = FEATURE_VOXEL
@@ -53,7 +56,8 @@ def _turned_starts(source: np.ndarray, target_centre: np.ndarray, turns: int) ->
 
 def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, target_viewpoint: np.ndarray,
           *, method: str = "prerejective_ransac", voxel: float = FEATURE_VOXEL, seed: int = 0,
-          turns: int = 0, target_centre: np.ndarray | None = None) -> Registration:
+          turns: int = 0, target_centre: np.ndarray | None = None,
+          seen_through: Callable[[np.ndarray], np.ndarray] | None = None) -> Registration:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
     matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
 
@@ -87,10 +91,18 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
         turned = icp_batch(sparse_source, sparse_target, np.stack(_turned_starts(source, centre, turns)),
                            max_distance=3.0 * voxel, target_tree=sparse_tree)
         starts.extend((transform, "multi-start-icp") for transform in turned)
-    # Refine the two best starts (by their fit of the sparse clouds) on the full resolution.
-    scored = sorted(starts, key=lambda start: -evaluate(sparse_source, sparse_tree, start[0], 1.5 * voxel)[0])
-    results = [_refine(source, target, target_viewpoint, initial, name, voxel) for initial, name in scored[:2]]
-    best = max((r for r in results if r is not None), key=lambda r: (r.fitness, -r.rmse), default=None)
+
+    def floating(transform: np.ndarray, points: np.ndarray) -> float:
+        return float(seen_through(transform_points(transform, points)).mean()) if seen_through else 0.0
+
+    # A pose scores its fit less the part of it floating in free space. The three best starts
+    # on the sparse clouds are refined on the full resolution; the best refined pose wins.
+    def sparse_score(start: tuple[np.ndarray, str]) -> float:
+        return evaluate(sparse_source, sparse_tree, start[0], 1.5 * voxel)[0] - floating(start[0], sparse_source)
+
+    refined = [r for r in (_refine(source, target, target_viewpoint, initial, name, voxel)
+                           for initial, name in sorted(starts, key=sparse_score, reverse=True)[:3]) if r is not None]
+    best = max(refined, key=lambda r: (r.fitness - floating(r.transform, source), -r.rmse), default=None)
     if best is None:
         raise TaskFailed(f"{scored[0][1]} put the observation where the world has no points")
     if best.fitness < MIN_FITNESS:

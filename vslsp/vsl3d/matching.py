@@ -19,12 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.vsl3d.alignment import METHODS, align
+from vslsp.vsl3d.alignment import MAX_SEEN_THROUGH, METHODS, align
 from vslsp.vsl3d.cloud import Frame
 from vslsp.vsl3d.registration import Registration, transform_points
 from vslsp.vsl3d.vsl import FRAME_MARGIN, TURNS, CloudObservation, WorldCloud, euclidean_clusters
 
-MAX_SEEN_THROUGH = 0.1  # a true match floats in front of the sensor's surfaces only at its rim
 SUPPORT_CLEARANCE = 0.012  # windows are found above the lowest surfaces (table, a box's floor)
 WINDOW_GAP = 0.01  # objects farther apart than this are separate windows
 WINDOW_MARGIN = 0.02
@@ -55,7 +54,7 @@ def find_best_match(world: WorldCloud, observation: CloudObservation, *, method:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     try:
         registration = align(observation.points, world.points, observation.viewpoint, world.camera.position,
-                             method=method, seed=seed)
+                             method=method, seed=seed, seen_through=world.seen_through)
         return _verified(world, observation, registration)
     except TaskFailed as error:
         global_failure = str(error)
@@ -65,7 +64,8 @@ def find_best_match(world: WorldCloud, observation: CloudObservation, *, method:
         windows += 1
         try:
             registration = align(observation.points, window, observation.viewpoint, world.camera.position,
-                                 method=method, seed=seed, turns=TURNS, target_centre=centre)
+                                 method=method, seed=seed, turns=TURNS, target_centre=centre,
+                                 seen_through=world.seen_through)
             match = _verified(world, observation, registration)
         except TaskFailed:
             continue

@@ -197,7 +197,8 @@ def get_object(pre: WorldCloud, post: WorldCloud, *, threshold: float = CHANGE_T
     before = points[(labels == leaving[0]) & ~side]
     after = points[(labels == arriving[0]) & side]
     viewpoint = pre.camera.position
-    registration = align(before, after, viewpoint, post.camera.position, method=method, seed=seed, turns=TURNS)
+    registration = align(before, after, viewpoint, post.camera.position, method=method, seed=seed, turns=TURNS,
+                         seen_through=post.seen_through)
     return MovedObject(CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
                        CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
                        registration)
