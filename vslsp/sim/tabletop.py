@@ -138,7 +138,6 @@ class TabletopWorld:
         self.panda = Panda(c)
         self.bodies: dict[str, int] = {}
         self.specs: dict[str, Item] = {}
-        self.steps = 0
         try:
             for item, placement in layout:
                 if item.name in self.bodies:
@@ -201,7 +200,6 @@ class TabletopWorld:
     def step(self, n: int = 1) -> None:
         for _ in range(n):
             pb.stepSimulation(physicsClientId=self.client)
-        self.steps += n
 
     def settle(self, max_steps: int = 480) -> None:
         """Step until every movable item is at rest (or ``max_steps``)."""
@@ -264,8 +262,8 @@ class TabletopWorld:
         return execute_pick_and_place(self, pick, place, grasp_width)
 
     def probe(self, x: float, y: float, ignore: int | None = None) -> tuple[float, int]:
-        """The height of the first surface below (x, y) seen from above, and its body (the
-        table is -1 when nothing is there): a depth sensor's reading, passing through ``ignore``."""
+        """The height of the first surface below (x, y) seen from above and its body (height 0
+        and body -1 off the table): a depth sensor's reading that looks through ``ignore``."""
         start = 0.6
         while True:
             hit = pb.rayTest([x, y, start], [x, y, -0.01], physicsClientId=self.client)[0]
