@@ -6,7 +6,6 @@ import pytest
 
 from vslsp.errors import TaskFailed
 from vslsp.vsl3d.alignment import align, describe
-from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.normals import estimate_normals
 from vslsp.vsl3d.registration import (
     icp, prerejective_ransac, rigid_transform, sac_ia, transform_error, transform_points,

@@ -10,7 +10,9 @@ to 3D Tasks"; Algorithm 1 with clouds for images).
   that is occlusion by the moved object, not motion. The changed points are grouped by
   Euclidean clustering; exactly one object must have left one place and arrived at one place.
   Its *pre-* and *post-action observations* are the changed points in cuboid *frames*, and its
-  6-DoF motion (4x4) comes from registering one onto the other.
+  6-DoF motion (4x4) comes from registering one onto the other (FPFH + RANSAC or SAC-IA, and
+  ICP from 12 turns about the vertical; the pose that fits best without floating in front of
+  what the post-action capture saw wins).
 - ``findBestMatch`` (Algorithm 1, lines 13-14) is in :mod:`vslsp.vsl3d.matching`.
 """
 
@@ -25,11 +27,13 @@ from vslsp.errors import InputError, TaskFailed
 from vslsp.vsl3d.alignment import align
 from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
 from vslsp.vsl3d.kdtree import KDTree
-from vslsp.vsl3d.registration import Registration
+from vslsp.vsl3d.registration import Registration, transform_error
 
 VOXEL = 0.002  # the paper's voxel size
 CHANGE_THRESHOLD = 0.01  # the paper's KNN distance threshold
-CLUSTER_DISTANCE = 0.03  # changed points closer than this belong to one object (bridges self-occlusion gaps, e.g. a mug and its handle)
+# Changed points closer than this belong to one object: bridges self-occlusion gaps (a mug and
+# its handle); two objects moved at once must end farther apart to be told apart.
+CLUSTER_DISTANCE = 0.03
 MIN_CLUSTER_POINTS = 150  # smaller changed regions are noise (150 voxels of 2 mm: 6 cm^2)
 FRAME_MARGIN = 0.01
 TURNS = 12  # getObject also tries ICP from 12 turns about the vertical (objects rest on a table)
@@ -118,8 +122,7 @@ class MovedObject:
         return self.registration.transform
 
     def to_dict(self) -> dict:
-        rotation = self.transform[:3, :3]
-        angle = np.degrees(np.arccos(np.clip((np.trace(rotation) - 1.0) / 2.0, -1.0, 1.0)))
+        _, angle = transform_error(self.transform, np.eye(4), self.pre.centroid)
         return {
             "pre": {"frame": self.pre.frame.to_dict(), "centroid": self.pre.centroid.tolist(),
                     "points": len(self.pre.points)},
