@@ -73,3 +73,17 @@ def test_bounded_knn_reports_only_neighbours_within_the_distance():
     np.testing.assert_allclose(distance[near], reference[near])
     np.testing.assert_array_equal(index[near], reference_index[near])
     assert np.all(np.isinf(distance[~near])) and np.all(index[~near] == -1)
+
+
+def test_large_batches_are_answered_in_chunks_like_small_ones():
+    rng = np.random.default_rng(8)
+    points = rng.uniform(0, 0.1, (1500, 3))
+    queries = rng.uniform(0, 0.1, (9000, 3))  # more than one chunk of queries
+    tree = KDTree(points)
+    distance, index = tree.query(queries, 4)
+    reference, _ = brute_force_knn(points, queries, 4)
+    np.testing.assert_allclose(distance, reference)
+    found = tree.query_radius(queries, 0.008)
+    expected = (np.linalg.norm(queries[:, None] - points[None], axis=2) <= 0.008).sum(axis=1)
+    np.testing.assert_array_equal(found.counts(len(queries)), expected)
+    assert np.all(np.diff(found.query) >= 0)
