@@ -119,28 +119,30 @@ class Panda:
         atan2(y, x) at joint 1 and joint 7 turns the hand the other way round."""
         return float(np.pi / 4.0 + np.arctan2(y, x) - (theta + np.pi / 2.0))
 
-    def inverse_kinematics(self, position: np.ndarray, theta: float, iterations: int = 1) -> np.ndarray:
+    def inverse_kinematics(self, position: np.ndarray, theta: float, refine: bool = False) -> np.ndarray:
         """Joint angles (7,) that put the fingertips at ``position`` (3,) closing along ``theta``,
-        from the arm's current state, with the null space pulled towards :data:`READY`."""
+        from the arm's current joints, with the null space pulled towards :data:`READY` (joint 1
+        towards the target, joint 7 towards the wrist angle). That pull makes pybullet's
+        solution miss by a few mm; ``refine`` sets the arm there and solves again with the null
+        space pulled towards the solution itself (the arm is left at the result)."""
         x, y = float(position[0]), float(position[1])
         rest = READY.copy()
         rest[0] = np.arctan2(y, x)
         rest[6] = np.clip(self.wrist_angle(x, y, theta), LOWER[6], UPPER[6])
-        target = np.asarray(position, float) + [0.0, 0.0, TIP_BELOW_GRASP]
-        q = self.joints()
-        saved = q
-        for k in range(iterations):
-            if k:
-                self._set(q)
-            solution = pb.calculateInverseKinematics(
-                self.body, GRASP_LINK, target.tolist(), down_orientation(theta),
-                lowerLimits=[*LOWER, 0.0, 0.0], upperLimits=[*UPPER, FINGER_OPEN, FINGER_OPEN],
-                jointRanges=[*(UPPER - LOWER), FINGER_OPEN, FINGER_OPEN], restPoses=[*rest, 0.0, 0.0],
-                maxNumIterations=100, residualThreshold=1e-6, physicsClientId=self.client)
-            q = np.clip(np.array(solution[:7]), LOWER, UPPER)
-        if iterations > 1:
-            self._set(saved)
+        target = (np.asarray(position, float) + [0.0, 0.0, TIP_BELOW_GRASP]).tolist()
+        q = self._null_space_ik(target, down_orientation(theta), rest)
+        if refine:
+            self._set(q)
+            q = self._null_space_ik(target, down_orientation(theta), q)
         return q
+
+    def _null_space_ik(self, target: list[float], orientation: tuple, rest: np.ndarray) -> np.ndarray:
+        solution = pb.calculateInverseKinematics(
+            self.body, GRASP_LINK, target, orientation,
+            lowerLimits=[*LOWER, 0.0, 0.0], upperLimits=[*UPPER, FINGER_OPEN, FINGER_OPEN],
+            jointRanges=[*(UPPER - LOWER), FINGER_OPEN, FINGER_OPEN], restPoses=[*rest, 0.0, 0.0],
+            maxNumIterations=100, residualThreshold=1e-5, physicsClientId=self.client)
+        return np.clip(np.array(solution[:7]), LOWER, UPPER)
 
     def plan(self, points: np.ndarray, thetas: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, float, float]:
         """Joint angles (N, 7) along hand poses ``points`` (N, 3), ``thetas`` (N,), each solved
@@ -150,7 +152,7 @@ class Panda:
         self._set(start)
         path, worst_position, worst_angle = [], 0.0, 0.0
         for point, theta in zip(points, thetas):
-            q = self.inverse_kinematics(point, float(theta), iterations=3)
+            q = self.inverse_kinematics(point, float(theta), refine=True)
             self._set(q)
             reached, reached_theta = self.hand()
             turn = np.angle(np.exp(2j * (reached_theta - theta))) / 2.0

@@ -33,6 +33,7 @@ TIP_CLEARANCE = 0.003  # and at least this far above the surface they come down 
 FINGER_WIDTH = 0.012  # room each finger needs beside the opening
 PLACE_CLEARANCE = 0.006  # the carried item arrives this far above the surface, then comes down
 DESCENT_SPEED = 0.05  # m/s of the guarded descent
+DESCENT_STEPS = 4  # physics steps between its checks for touch
 MAX_DESCENT = 0.03
 SWING_TIME = 0.5  # s between parked (out of view) and rest
 RETREAT = 0.04  # m the hand rises straight up after the release
@@ -136,13 +137,12 @@ class Operation:
             if self.panda.finger_opening() > 2.0 * FINGER_OPEN - 2e-3:
                 break
 
-    def guarded_descent(self, start: np.ndarray, theta: float, held: int) -> None:
-        """Lower the hand from ``start`` (3,) until ``held`` presses on something other than the
-        robot with :data:`TOUCH_FORCE`, or :data:`MAX_DESCENT` is used up."""
-        drop, every = DESCENT_SPEED * TIME_STEP * 4, 4
-        for k in range(1, int(MAX_DESCENT / drop) + 1):
-            self.panda.drive(self.panda.inverse_kinematics(start - [0.0, 0.0, k * drop], theta))
-            self.step(every)
+    def guarded_descent(self, joints: np.ndarray, held: int) -> None:
+        """Lower the hand along joint samples (N, 7) :data:`DESCENT_STEPS` apart until ``held``
+        presses on something other than the robot with :data:`TOUCH_FORCE`."""
+        for q in joints:
+            self.panda.drive(q)
+            self.step(DESCENT_STEPS)
             self.record()
             pressed = sum(c[9] for c in pb.getContactPoints(held, physicsClientId=self.world.client)
                           if c[2] != self.panda.body)
@@ -206,7 +206,10 @@ def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple
     t, xyz, theta, (at_pick, at_place, at_home) = cycle(rest, pick_point, place_point, theta_pick, theta_place,
                                                         theta_rest)
     joints, position_error, angle_error = panda.plan(xyz, theta, REST)
-    if position_error > IK_POSITION_TOLERANCE or angle_error > IK_ANGLE_TOLERANCE:
+    drop = DESCENT_SPEED * DESCENT_STEPS * TIME_STEP
+    below = xyz[at_place] - np.outer(np.arange(1, int(MAX_DESCENT / drop) + 1) * drop, [0.0, 0.0, 1.0])
+    descent, descent_error, _ = panda.plan(below, np.full(len(below), theta_place), joints[at_place])
+    if max(position_error, descent_error) > IK_POSITION_TOLERANCE or angle_error > IK_ANGLE_TOLERANCE:
         return op.result("unreachable", None)
 
     movable = [world.bodies[n] for n, item in world.specs.items() if item.movable]
@@ -228,7 +231,7 @@ def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple
     if panda.between_fingers([held]) is None:
         diagnosis = "object slipped"
     else:
-        op.guarded_descent(xyz[at_place], theta_place, held)
+        op.guarded_descent(descent, held)
     op.release()
     op.follow(np.vstack([panda.joints(), joints[at_place + 1: at_home + 1]]), t[at_place: at_home + 1])
     op.follow(joints[at_home:], t[at_home:])
