@@ -10,8 +10,9 @@ For each operation the tutor performs, the :class:`PickPlaceRecorder` keeps thre
 pre-pick (the world before the tutor takes the object), pre-place (the world while the tutor
 holds it, out of view) and post-place. Image subtraction of pre-pick and pre-place finds the
 object (getObject): its silhouette, unprojected onto the planes of its top and of its bottom,
-gives its footprint, centre (the pick point) and yaw; its SIFT features φ matched from pre-pick
-to post-place give the turn the tutor gave it and where its centre went (the place point). The
+gives its footprint, centre (the pick point) and yaw, and likewise where it was put (the place
+point); the two yaws give the turn the tutor gave it up to a quarter turn, and its SIFT
+features φ matched from pre-pick to post-place tell which. The
 heights of the object's top at the pick and at the place, and its own height, are the tutor's
 (the paper's h, "provided by the tutor"). The pre-pick frame is the biggest object's size, the
 pre-place frame :data:`PLACE_FRAME` times that. The reproduction is
@@ -154,11 +155,12 @@ class PickPlaceRecorder:
         taken = changed_region(pre_pick, pre_place, "taken from the pre-pick observation")
         put = changed_region(post_place, pre_place, "put down in the post-place observation")
         centre, footprint, yaw = footprint_on_table(taken, self.camera, pick_z, pick_z - height)
+        placed, _, placed_yaw = footprint_on_table(put, self.camera, place_z, place_z - height)
         pick_point = self.camera.table_to_pixel(centre[0], centre[1], pick_z)
+        place_point = self.camera.table_to_pixel(placed[0], placed[1], place_z)
         features = extract_features(pre_pick, taken)
-        moved = object_motion(features, extract_features(post_place, put))
-        place_point = apply(moved, pick_point)
-        turn = table_rotation(self.camera, moved, pick_point, pick_z, place_z)
+        turn = self._turn(features, extract_features(post_place, put), pick_point, place_point, (pick_z, place_z),
+                          placed_yaw - yaw)
         x, y, w, h = cv2.boundingRect(cv2.findNonZero(taken))
         operation = RecordedOperation(np.array(pre_pick, copy=True), np.array(pre_place, copy=True),
                                       np.array(post_place, copy=True), tuple(map(float, pick_point)),
@@ -166,6 +168,21 @@ class PickPlaceRecorder:
                                       float(pick_z), float(place_z), features)
         self.operations.append(operation)
         return operation
+
+    def _turn(self, before: Features, after: Features, pick_point: tuple[float, float],
+              place_point: tuple[float, float], heights: tuple[float, float], boxes: float) -> float:
+        """The turn (rad) the tutor gave the object: the boxes' yaws give it up to a quarter turn
+        (``boxes``, their difference); the object's SIFT features matched from the pick to the
+        place say which, from the first RANSAC placement that puts its centre where the object
+        was seen put down (within :data:`_AGREE`). Raises InputError when none does."""
+        target = np.array(self.camera.pixel_to_table(*place_point, heights[1]))
+        for transform, _ in object_candidates(before, after, 3):
+            centre = np.array(self.camera.pixel_to_table(*apply(transform, pick_point), heights[1]))
+            if np.hypot(*(centre - target)) <= _AGREE:
+                seen = table_rotation(self.camera, transform, pick_point, *heights)
+                return wrap(boxes + np.pi / 2.0 * round((seen - boxes) / (np.pi / 2.0)))
+        raise InputError("the moved object's features do not match between pick and place; give it more "
+                         "texture, and let the tutor move one object at a time")
 
     def demonstration(self) -> PickPlaceDemonstration:
         if not self.operations:
@@ -224,16 +241,6 @@ def footprint_on_table(mask: np.ndarray, camera: TableCamera, top: float, bottom
 _GRID = 0.0005  # m per cell of the footprint's raster
 
 
-def object_motion(before: Features, after: Features) -> np.ndarray:
-    """The similarity (3, 3) px that takes the object's features ``before`` onto ``after``.
-    Raises InputError when they do not match."""
-    found = object_candidates(before, after, 1)
-    if not found:
-        raise InputError("the moved object's features do not match between pick and place; "
-                         "give it more texture, and let the tutor move one object at a time")
-    return found[0][0]
-
-
 def object_candidates(features: Features, seen: Features, count: int = 2) -> list[tuple[np.ndarray, int]]:
     """Up to ``count`` placements of an object's ``features`` among the ``seen`` ones: ratio-
     tested SIFT matches, RANSAC similarities one after the other on the matches left over;
@@ -257,6 +264,7 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
 
 
 _RATIO = 0.8  # Lowe's ratio test
+_AGREE = 0.01  # m: a feature match agrees with the object's seen footprint
 _MIN_INLIERS = 4
 
 
