@@ -29,6 +29,9 @@ FINE_RADIUS = 0.006  # normals of the full-resolution target, for point-to-plane
 FINAL_DISTANCE = 0.003  # inlier distance of the last ICP round and of the reported fitness
 MIN_FITNESS = 0.5
 MAX_SEEN_THROUGH = 0.1  # a true pose floats in front of the sensor's surfaces only at its rim
+# A point in free space is evidence against a pose (the sensor saw through it); a point without a
+# counterpart may just be a side the other view does not show. The former weighs three times.
+FLOATING_WEIGHT = 3.0
 
 
 def describe(points: np.ndarray, viewpoint: np.ndarray, voxel: float = FEATURE_VOXEL
@@ -93,9 +96,11 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
         starts.extend((transform, "multi-start-icp") for transform in turned)
 
     def floating(transform: np.ndarray, points: np.ndarray) -> float:
-        return float(seen_through(transform_points(transform, points)).mean()) if seen_through else 0.0
+        if seen_through is None:
+            return 0.0
+        return FLOATING_WEIGHT * float(seen_through(transform_points(transform, points)).mean())
 
-    # A pose scores its fit less the part of it floating in free space. The three best starts
+    # A pose scores its fit less (three times) the part of it floating in free space. The three best starts
     # on the sparse clouds are refined on the full resolution; the best refined pose wins.
     def sparse_score(start: tuple[np.ndarray, str]) -> float:
         return evaluate(sparse_source, sparse_tree, start[0], 1.5 * voxel)[0] - floating(start[0], sparse_source)
