@@ -66,7 +66,11 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
 
     With ``turns`` > 0 (``target`` is the object alone, as in getObject, or a window around it),
     ICP also starts from that many turns about the vertical with the source's centroid put on
-    ``target_centre`` (default: the target's centroid), and the start that fits best wins: a fallback when the features of a view-changed object correspond poorly. Raises
+    ``target_centre`` (default: the target's centroid): a fallback when the features of a
+    view-changed object correspond poorly. ``seen_through(points (N, 3)) -> mask (N,)`` marks
+    points where the target's sensor saw free space; a pose's score is its fitness less three
+    times the fraction of the source it puts there. The three best starts on the sparse clouds
+    are refined on the full resolution and the best scoring pose wins. Raises
     :class:`TaskFailed` when less than half of the source ends within 3 mm of the target."""
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
@@ -89,8 +93,8 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
         except TaskFailed:
             if not turns:
                 raise
-    centre = target.mean(axis=0) if target_centre is None else np.asarray(target_centre, dtype=float)
     if turns:
+        centre = target.mean(axis=0) if target_centre is None else np.asarray(target_centre, dtype=float)
         turned = icp_batch(sparse_source, sparse_target, np.stack(_turned_starts(source, centre, turns)),
                            max_distance=3.0 * voxel, target_tree=sparse_tree)
         starts.extend((transform, "multi-start-icp") for transform in turned)
@@ -100,16 +104,15 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
             return 0.0
         return FLOATING_WEIGHT * float(seen_through(transform_points(transform, points)).mean())
 
-    # A pose scores its fit less (three times) the part of it floating in free space. The three best starts
-    # on the sparse clouds are refined on the full resolution; the best refined pose wins.
     def sparse_score(start: tuple[np.ndarray, str]) -> float:
         return evaluate(sparse_source, sparse_tree, start[0], 1.5 * voxel)[0] - floating(start[0], sparse_source)
 
+    best_starts = sorted(starts, key=sparse_score, reverse=True)[:3]
     refined = [r for r in (_refine(source, target, target_viewpoint, initial, name, voxel)
-                           for initial, name in sorted(starts, key=sparse_score, reverse=True)[:3]) if r is not None]
+                           for initial, name in best_starts) if r is not None]
     best = max(refined, key=lambda r: (r.fitness - floating(r.transform, source), -r.rmse), default=None)
     if best is None:
-        raise TaskFailed(f"{scored[0][1]} put the observation where the world has no points")
+        raise TaskFailed(f"{best_starts[0][1]} put the observation where the world has no points")
     if best.fitness < MIN_FITNESS:
         raise TaskFailed(f"{best.method} fits only {best.fitness:.0%} of the observation within "
                          f"{FINAL_DISTANCE * 1000:.0f} mm (needs {MIN_FITNESS:.0%}); the object is not "
