@@ -132,6 +132,17 @@ def test_items_stack_with_placement_on_and_with_pick_and_place_onto_another_item
         assert world.pose("base") == pytest.approx((0.60, 0.15, 0.0, 0.0), abs=1e-6)
 
 
+def test_a_grasp_with_a_given_width_takes_a_cube_from_between_close_neighbours():
+    layout = [(Item("cube", (0.05, 0.05, 0.05), picture(9)), Placement(0.50, 0.0)),
+              (tile("L", 1), Placement(0.50, 0.075)), (tile("R", 2), Placement(0.50, -0.075))]
+    with TabletopWorld(layout) as world:
+        result = world.pick_and_place((0.50, 0.0, np.pi / 2), (0.40, 0.20, np.pi / 2), grasp_width=0.05)
+        assert result.ok and result.held == "cube"
+        assert np.hypot(world.pose("cube")[0] - 0.40, world.pose("cube")[1] - 0.20) < 0.01
+        for name, y in (("L", 0.075), ("R", -0.075)):  # the fingers came down between them
+            assert np.allclose(world.pose(name)[:2], (0.50, y), atol=1e-3)
+
+
 def test_a_pick_where_nothing_lies_is_a_failed_grasp_and_moves_nothing():
     with TabletopWorld([(tile("A"), Placement(0.40, 0.10))]) as world:
         before = world.pose("A")
