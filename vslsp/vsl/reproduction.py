@@ -14,6 +14,8 @@ For each recorded operation (:mod:`vslsp.vsl.pick_place`), in the new world seen
   the camera maps them onto the table, and the rotation they apply there gives the object's yaw
   now and at the place; the gripper closes across the object's narrower side, on whichever of
   the equivalent hand angles keeps the wrist's turn smallest;
+- :func:`correction`: a last look after the operation; an object the execution left off its
+  planned place is picked and placed once more;
 - the dictionaries searched instead of followed: :func:`identify` (the classification task:
   which recorded object is in view) and :func:`identify_moved` (turn-taking and user
   intervention: which recorded object the tutor just moved).
@@ -31,8 +33,8 @@ from vslsp.vision.image import channel_max
 from vslsp.vision.matching import Match, find_best_match, frame_sizes
 from vslsp.vision.transform import decompose
 from vslsp.vsl.house_world import wrap
-from vslsp.vsl.pick_place import (CHANGE_THRESHOLD, PickPlaceDemonstration, TableCamera, apply, object_candidates,
-                                  table_rotation)
+from vslsp.vsl.pick_place import (CHANGE_THRESHOLD, PickPlaceDemonstration, RecordedOperation, TableCamera, apply,
+                                  object_candidates, table_rotation)
 
 # The pre-place frame grows (×1.5 a step) while the match is ambiguous up to this multiple of
 # its first side: beyond, a frame sees mostly the rest of the scene, which the new world does
@@ -111,15 +113,49 @@ def plan_operation(demo: PickPlaceDemonstration, k: int, world: np.ndarray, came
     place_xy = camera.pixel_to_table(*apply(place.transform, op.place_point), op.place_z)
     yaw_now = op.yaw + table_rotation(camera, pick.transform, op.pick_point, op.pick_z, op.pick_z)
     yaw_target = op.yaw + op.turn + table_rotation(camera, place.transform, op.place_point, op.place_z, op.place_z)
+    return _hand_poses(op, pick, place, pick_xy, place_xy, yaw_now, yaw_target)
+
+
+def _hand_poses(op: RecordedOperation, pick: Match, place: Match, pick_xy, place_xy, yaw_now: float,
+                yaw_target: float) -> PlannedOperation:
+    """The hand's pick and place poses for an object of ``op``'s footprint at ``pick_xy`` (m)
+    turned ``yaw_now`` that must go to ``place_xy`` turned ``yaw_target``: the fingers close
+    across its narrower side, on the branch that keeps the wrist's angles smallest."""
     turn = wrap(yaw_target - yaw_now)
     along, across = op.footprint
-    axis, width = (yaw_now, along) if along <= across else (yaw_now + np.pi / 2.0, across)
+    axis = yaw_now if along <= across else yaw_now + np.pi / 2.0
     step = np.pi / 2.0 if abs(along - across) < _SQUARE * max(along, across) else np.pi
     choices = [axis + n * step for n in range(-4, 5)]
     theta = min(choices, key=lambda a: (max(abs(a), abs(a + turn)), abs(a)))
     return PlannedOperation(pick, place, (float(pick_xy[0]), float(pick_xy[1]), float(theta)),
                             (float(place_xy[0]), float(place_xy[1]), float(theta + turn)), float(min(along, across)),
                             float(yaw_now), float(yaw_target))
+
+
+def correction(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: TableCamera,
+               planned: PlannedOperation, world_features: Features | None = None) -> PlannedOperation | None:
+    """A last look after operation ``k`` (the loop closed through perception): the object
+    found again in ``world`` (h, w, 3), at the height of its place; when its centre lies more
+    than :data:`CORRECTION` from the planned place (the grasp slid it in the fingers, the
+    release nudged it), the pick-and-place that puts it right, else None (also when it is not
+    found clearly enough to act on)."""
+    op = demo.operations[k]
+    world_features = world_features if world_features is not None else extract_features(world)
+    try:
+        found = match_object(demo, k, world, world_features)
+    except ValueError:
+        return None
+    if found.ambiguous or found.score < _SURE:
+        return None
+    centre = camera.pixel_to_table(*apply(found.transform, op.pick_point), op.place_z)
+    if np.hypot(centre[0] - planned.place[0], centre[1] - planned.place[1]) <= CORRECTION:
+        return None
+    yaw_now = op.yaw + table_rotation(camera, found.transform, op.pick_point, op.pick_z, op.place_z)
+    return _hand_poses(op, found, planned.place_match, centre, planned.place[:2], yaw_now, planned.yaw_target)
+
+
+CORRECTION = 0.006  # m: an object further than this from its planned place is put right
+_SURE = 0.15  # the share of an object's features that must agree before the robot acts on a last look
 
 
 def identify(demo: PickPlaceDemonstration, world: np.ndarray, world_features: Features,

@@ -53,7 +53,7 @@ def baseline_arms() -> list[tuple[Item, Placement]]:
              Placement(0.565, 0.1825))]
 
 
-LETTER_GOALS = {letter: (0.64, 0.14 - 0.07 * k, 0.0) for k, letter in enumerate("ABCD")}  # row by the baseline
+LETTER_GOALS = {letter: (0.635, 0.13 - 0.07 * k, 0.0) for k, letter in enumerate("ABCD")}  # row by the baseline
 
 
 def puzzle_pieces() -> list[Item]:

@@ -38,7 +38,7 @@ from vslsp.vision.features import extract_features
 from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.vsl.house_world import wrap
 from vslsp.vsl.pick_place import PickPlaceDemonstration, PickPlaceRecorder, TableView
-from vslsp.vsl.reproduction import PlannedOperation, identify, identify_moved, plan_operation
+from vslsp.vsl.reproduction import PlannedOperation, correction, identify, identify_moved, plan_operation
 
 POSITION_TOLERANCE = 0.015  # m
 ANGLE_TOLERANCE = np.radians(12.0)
@@ -186,7 +186,9 @@ def judge(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dic
 def robot_operation(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dict[str, str],
                     image: np.ndarray | None = None, pick_match=None, keep: bool = False) -> OperationOutcome:
     """The robot reproduces operation ``k``: observe (unless given), match, plan, pick and
-    place, then the judge's verdict and, when it failed, the diagnosis."""
+    place, take a last look and put the object right if the execution left it off its place
+    (:func:`~vslsp.vsl.reproduction.correction`), then the judge's verdict and, when it
+    failed, the diagnosis."""
     image = look(world) if image is None else image
     features = extract_features(image)
     kept = image if keep else None
@@ -195,7 +197,13 @@ def robot_operation(world: TabletopWorld, demo: TaskDemonstration, k: int, ancho
     except ValueError:
         return OperationOutcome(k, "robot", demo.items[k], "no match", observation=kept)
     result = world.pick_and_place(planned.pick, planned.place, planned.grasp_width)
+    corrected = False
+    if result.ok:  # a last look: an object the execution left off its place is put right, once
+        fix = correction(demo.demonstration, k, look(world), TableView(world), planned)
+        if fix is not None:
+            result, corrected = world.pick_and_place(fix.pick, fix.place, fix.grasp_width), True
     ok, errors = judge(world, demo, k, anchor_map)
+    errors["corrected"] = corrected
     if ok:
         diagnosis = "ok"
     elif not result.ok:
