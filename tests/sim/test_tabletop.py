@@ -143,6 +143,18 @@ def test_a_grasp_with_a_given_width_takes_a_cube_from_between_close_neighbours()
             assert np.allclose(world.pose(name)[:2], (0.50, y), atol=1e-3)
 
 
+def test_an_item_put_next_to_a_landmark_lands_flat_on_target():
+    # The closed fingertips come down 2-3.5 cm either side of the block, over the 4 mm baseline
+    # 3 cm away: the grip is taken high enough for them to clear it.
+    baseline = Item("baseline", (0.025, 0.34, 0.004), picture(10), movable=False)
+    block = Item("B", (0.04, 0.055, 0.03), picture(11))
+    with TabletopWorld([(baseline, Placement(0.6775, 0.0)), (block, Placement(0.40, 0.20, 2.9))]) as world:
+        assert world.pick_and_place((0.40, 0.20, 2.9), (0.635, 0.06, 0.0)).ok
+        x, y, z, yaw = world.pose("B")
+        assert np.hypot(x - 0.635, y - 0.06) < 0.005 and abs(z) < 1e-3 and turn_error(yaw, 0.0) < np.radians(2.0)
+        assert world.pose("baseline") == pytest.approx((0.6775, 0.0, 0.0, 0.0), abs=1e-6)
+
+
 def test_a_pick_where_nothing_lies_is_a_failed_grasp_and_moves_nothing():
     with TabletopWorld([(tile("A"), Placement(0.40, 0.10))]) as world:
         before = world.pose("A")

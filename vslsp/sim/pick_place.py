@@ -31,6 +31,8 @@ PATH = trajectory.TrajectoryParameters(height=0.15, durations=(1.0, 1.4, 1.0), s
 GRASP_DEPTH = 0.03  # the fingertips close this far below an item's top (the pads hold its whole side)
 TIP_CLEARANCE = 0.003  # and at least this far above the surface they come down beside it
 FINGER_WIDTH = 0.012  # room each finger needs beside the opening
+FINGERTIP_DISTANCES = (0.015, 0.025, 0.035, 0.045, 0.055)  # m from the centre where closed fingertips can be
+MIN_GRIP = 0.006  # m of an item's side the fingertips hold at the least
 PLACE_CLEARANCE = 0.006  # the carried item arrives this far above the surface, then comes down
 DESCENT_SPEED = 0.05  # m/s of the guarded descent
 DESCENT_STEPS = 4  # physics steps between its checks for touch
@@ -174,17 +176,26 @@ def cycle(rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_pick: flo
             (at_pick, at_place, at_place + 5))
 
 
-def key_points(world, pick: np.ndarray, place: np.ndarray, theta_pick: float,
+def ring(world, centre: np.ndarray, theta: float, distances: tuple[float, ...], ignore: int | None = None) -> float:
+    """The highest surface the depth probe sees at ``distances`` (m) either side of ``centre``
+    (2,) along the closing axis at angle ``theta``: where the fingertips come down."""
+    axis = np.array([np.cos(theta), np.sin(theta)])
+    return max(world.probe(*(centre[:2] + sign * d * axis), ignore=ignore)[0] for d in distances for sign in (-1, 1))
+
+
+def key_points(world, pick: np.ndarray, place: np.ndarray, theta_pick: float, theta_place: float,
                each: float) -> tuple[np.ndarray, np.ndarray]:
-    """The fingertips' pick and place points (3,) from the depth probe: the top at the pick,
-    the surface beside it where the fingertips come down, and the surface at the place (seen
-    through the item to be picked)."""
+    """The fingertips' pick and place points (3,) from the depth probe. At the pick: the top,
+    and the surface beside it where the open fingertips come down; at the place (seen through
+    the item to be picked): the surface and what lies where the closed fingertips come down.
+    The fingertips grip :data:`GRASP_DEPTH` below the top but stay :data:`TIP_CLEARANCE` above
+    the surfaces beside the item at both ends (a landmark next to the place lifts the grip)."""
     top, target = world.probe(pick[0], pick[1])
-    axis = np.array([np.cos(theta_pick), np.sin(theta_pick)])
-    beside = max(world.probe(*(pick[:2] + sign * (each + FINGER_WIDTH) * axis))[0] for sign in (-1.0, 1.0))
-    tip_pick = max(top - GRASP_DEPTH, beside + TIP_CLEARANCE)
+    beside = ring(world, pick, theta_pick, (each + FINGER_WIDTH,))
     bottom = beside if beside < top else 0.0
     surface = max(world.probe(place[0] + dx, place[1] + dy, ignore=target)[0] for dx, dy in PROBE_OFFSETS)
+    lift = ring(world, place, theta_place, FINGERTIP_DISTANCES, ignore=target) + TIP_CLEARANCE - surface
+    tip_pick = max(top - GRASP_DEPTH, beside + TIP_CLEARANCE, min(bottom + lift, top - MIN_GRIP))
     tip_place = surface + (tip_pick - bottom) + PLACE_CLEARANCE
     return np.array([pick[0], pick[1], tip_pick]), np.array([place[0], place[1], tip_place])
 
@@ -202,7 +213,7 @@ def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple
     panda.reset(PARK)
     theta_pick, theta_place = wrist_branch(pick, place)
     each = FINGER_OPEN if grasp_width is None else float(np.clip(grasp_width / 2.0 + 0.01, 0.005, FINGER_OPEN))
-    pick_point, place_point = key_points(world, pick, place, theta_pick, each)
+    pick_point, place_point = key_points(world, pick, place, theta_pick, theta_place, each)
     t, xyz, theta, (at_pick, at_place, at_home) = cycle(rest, pick_point, place_point, theta_pick, theta_place,
                                                         theta_rest)
     joints, position_error, angle_error = panda.plan(xyz, theta, REST)
