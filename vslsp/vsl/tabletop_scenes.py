@@ -36,7 +36,7 @@ LETTER = (0.04, 0.055, 0.03)  # letter blocks: closed across x, side by side alo
 PIECE = (0.055, 0.04, 0.02)  # puzzle pieces: two halves end to end along x, closed across y
 PICTURE = (0.055, 0.045, 0.02)  # animal and machine cards
 DOMINO = (0.07, 0.035, 0.015)  # picture-domino pieces: end to end along x
-DISKS = {1: (0.06, 0.045, 0.025), 2: (0.075, 0.045, 0.025), 3: (0.09, 0.045, 0.025)}
+DISKS = {1: (0.06, 0.045, 0.035), 2: (0.075, 0.045, 0.035), 3: (0.09, 0.045, 0.035)}  # thick: fingers hold one
 PLATE = 0.004  # the thickness of landmark plates
 
 
