@@ -155,6 +155,19 @@ def test_an_item_put_next_to_a_landmark_lands_flat_on_target():
         assert world.pose("baseline") == pytest.approx((0.6775, 0.0, 0.0, 0.0), abs=1e-6)
 
 
+def test_the_top_disk_of_a_tower_is_taken_alone():
+    base = Item("base", (0.12, 0.12, 0.01), picture(12), movable=False)
+    sizes = {"disk-3": (0.09, 0.045, 0.025), "disk-2": (0.075, 0.045, 0.025), "disk-1": (0.06, 0.045, 0.025)}
+    layout = [(base, Placement(0.53, 0.24))]
+    for (name, size), below in zip(sizes.items(), ("base", "disk-3", "disk-2")):
+        layout.append((Item(name, size, picture(len(layout))), Placement(0.53, 0.24, 0.0, on=below)))
+    with TabletopWorld(layout) as world:
+        result = world.pick_and_place((0.53, 0.24, np.pi / 2), (0.53, -0.01, np.pi / 2))
+        assert result.ok and result.held == "disk-1"
+        assert world.pose("disk-1")[:3] == pytest.approx((0.53, -0.01, 0.0), abs=0.005)
+        assert world.pose("disk-2")[:3] == pytest.approx((0.53, 0.24, 0.035), abs=0.002)  # left on the tower
+
+
 def test_a_pick_where_nothing_lies_is_a_failed_grasp_and_moves_nothing():
     with TabletopWorld([(tile("A"), Placement(0.40, 0.10))]) as world:
         before = world.pose("A")

@@ -186,12 +186,16 @@ def ring(world, centre: np.ndarray, theta: float, distances: tuple[float, ...], 
 def key_points(world, pick: np.ndarray, place: np.ndarray, theta_pick: float, theta_place: float,
                each: float) -> tuple[np.ndarray, np.ndarray]:
     """The fingertips' pick and place points (3,) from the depth probe. At the pick: the top,
-    and the surface beside it where the open fingertips come down; at the place (seen through
-    the item to be picked): the surface and what lies where the closed fingertips come down.
+    and the highest surface under the item and beside it where the fingertips come down and
+    close; at the place (seen through the item to be picked): the surface and what lies where
+    the closed fingertips come down.
     The fingertips grip :data:`GRASP_DEPTH` below the top but stay :data:`TIP_CLEARANCE` above
     the surfaces beside the item at both ends (a landmark next to the place lifts the grip)."""
     top, target = world.probe(pick[0], pick[1])
-    beside = ring(world, pick, theta_pick, (each + FINGER_WIDTH,))
+    # Seen through the item, so a stacked item's support counts: the fingers, sweeping in from
+    # the open position, must not close on the item below.
+    sweep = tuple(d for d in FINGERTIP_DISTANCES if d < each + FINGER_WIDTH) + (each + FINGER_WIDTH,)
+    beside = ring(world, pick, theta_pick, sweep, ignore=target)
     bottom = beside if beside < top else 0.0
     surface = max(world.probe(place[0] + dx, place[1] + dy, ignore=target)[0] for dx, dy in PROBE_OFFSETS)
     lift = ring(world, place, theta_place, FINGERTIP_DISTANCES, ignore=target) + TIP_CLEARANCE - surface
