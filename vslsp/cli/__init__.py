@@ -22,6 +22,7 @@ COMMANDS: dict[str, str] = {
     "pddl": "vslsp.cli.pddl:pddl",
     "shell": "vslsp.cli.pddl:shell",  # the same as `vslsp pddl shell`
     "plan": "vslsp.cli.plan:plan",
+    "vsl3d": "vslsp.cli.vsl3d:vsl3d",
     "validate": "vslsp.cli.validate:validate",
     "experiment": "vslsp.cli.experiment:experiment",
     "demo": "vslsp.cli.demo:demo",
