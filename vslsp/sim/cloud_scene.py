@@ -21,6 +21,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.sim.camera import Camera
+from vslsp.sim.client import PhysicsClient
 from vslsp.sim.quiet import quiet
 
 with quiet():
@@ -98,7 +99,7 @@ def euler_pose(x: float, y: float, z: float, roll: float = 0.0, pitch: float = 0
     return pose_matrix(np.array([x, y, z]), pb.getQuaternionFromEuler([roll, pitch, yaw]))
 
 
-class CloudScene:
+class CloudScene(PhysicsClient):
     """A pybullet world (DIRECT) with the table, the tray and ``objects``: name -> (x, y, yaw).
 
     Each name must be one of :data:`OBJECTS` (a name may carry a suffix after ``#`` for a
@@ -201,16 +202,6 @@ class CloudScene:
         _, _, fraction, _, _ = pb.rayTest(start, end, physicsClientId=self.client)[0]
         return float(start[2] - fraction * (start[2] - end[2]))
 
-    def close(self) -> None:
-        if self.client is not None:
-            pb.disconnect(self.client)
-            self.client = None
-
-    def __enter__(self) -> CloudScene:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
 
     def _body(self, name: str) -> int:
         if name not in self.bodies:

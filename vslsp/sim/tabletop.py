@@ -27,6 +27,7 @@ from vslsp.errors import InputError
 from vslsp.sim.camera import Camera
 from vslsp.sim.panda import PARK, Panda
 from vslsp.sim.pick_place import TIME_STEP, PickPlaceResult, execute_pick_and_place
+from vslsp.sim.client import PhysicsClient
 from vslsp.sim.quiet import quiet
 
 with quiet():
@@ -117,7 +118,7 @@ def box_mesh(size: tuple[float, float, float], top_rows: float) -> tuple[list, l
     return vertices, indices, uvs, normals
 
 
-class TabletopWorld:
+class TabletopWorld(PhysicsClient):
     """The world of ``layout`` (items in order: an item ``on`` another follows it). pybullet
     runs headless unless ``gui``; the world has no randomness of its own, so the same layout
     gives byte-identical observations and the same outcomes (``seed`` is kept for reports)."""
@@ -210,16 +211,6 @@ class TabletopWorld:
                               for b in movable):
                 break
 
-    def close(self) -> None:
-        if self.client is not None:
-            pb.disconnect(self.client)
-            self.client = None
-
-    def __enter__(self) -> TabletopWorld:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
 
     # -- what the camera sees -------------------------------------------------------------
     def observe(self) -> np.ndarray:

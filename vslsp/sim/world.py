@@ -16,6 +16,7 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.sim.camera import Camera
 from vslsp.sim.robot import TIME_STEP
+from vslsp.sim.client import PhysicsClient
 from vslsp.sim.quiet import quiet
 from vslsp.sim.scene import COLOURS, LINE_WIDTH, TABLE_Z, CubeSpec, SceneSpec
 
@@ -39,7 +40,7 @@ class Observation:
     camera: Camera
 
 
-class World:
+class World(PhysicsClient):
     """A pybullet world built from a :class:`SceneSpec`; close it (or use ``with``) when done."""
 
     def __init__(self, spec: SceneSpec | None = None, *, seed: int = 0, gui: bool = False,
@@ -119,15 +120,7 @@ class World:
     def close(self) -> None:
         if self.robot is not None:
             self.robot.close()
-        if self.client is not None:
-            pb.disconnect(self.client)
-            self.client = None
-
-    def __enter__(self) -> World:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+        super().close()
 
     # -- ground truth (for tests and the tutor; perception never reads it) ----------------
     def cube_pose(self, name: str) -> tuple[float, float, float]:

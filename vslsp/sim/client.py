@@ -1,0 +1,27 @@
+"""The part every simulated world shares: its own pybullet client, closed once, usable in ``with``."""
+
+from __future__ import annotations
+
+from typing import Self
+
+from vslsp.sim.quiet import quiet
+
+with quiet():
+    import pybullet as pb
+
+
+class PhysicsClient:
+    """A world that owns the pybullet client ``self.client`` (None once closed)."""
+
+    client: int | None = None
+
+    def close(self) -> None:
+        if self.client is not None:
+            pb.disconnect(self.client)
+            self.client = None
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
