@@ -10,7 +10,12 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
-from vslsp.sim.tabletop import WORKSPACE_X, WORKSPACE_Y, Item, Placement, TabletopWorld
+from vslsp.sim.quiet import quiet
+from vslsp.sim.tabletop import (TABLE_CENTRE, TABLE_COLOUR, TABLE_HALF, WORKSPACE_X, WORKSPACE_Y, Item, Placement,
+                                 TabletopWorld)
+
+with quiet():
+    import pybullet as pb
 
 TILE = (0.06, 0.06, 0.012)
 
@@ -55,6 +60,21 @@ def test_the_parked_arm_is_out_of_view_and_the_table_fills_the_image():
         image = world.observe().astype(int)
     # An empty table is one shade everywhere: no arm, no table edge in view.
     assert np.abs(image - np.median(image.reshape(-1, 3), axis=0)).max() <= 12
+
+
+def test_the_table_drawn_as_a_backdrop_looks_like_the_rasterised_table():
+    layout = [(tile("A", 1), Placement(0.40, 0.10, 0.3)), (tile("B", 2), Placement(0.55, -0.10, 0.0)),
+              (tile("C", 3), Placement(0.55, -0.10, 0.5, on="B"))]
+    with TabletopWorld(layout) as world:
+        image = world.observe()
+        depth = world.camera.render(world.client, world.backdrop)[1]
+        c = world.client  # now rasterise the table top as well, and look again without the backdrop
+        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR, physicsClientId=c)
+        pb.createMultiBody(0, -1, visual, [*TABLE_CENTRE, -TABLE_HALF[2]], physicsClientId=c)
+        rasterised, rasterised_depth = world.camera.render(c)
+    differing = np.any(image != rasterised, axis=2)
+    assert differing.sum() <= 1e-4 * differing.size  # depth-test ties where an item's edge meets the table
+    assert np.abs(depth - rasterised_depth).max() < 1e-3
 
 
 def test_pixel_and_table_coordinates_round_trip_over_the_workspace_with_the_robot_at_the_bottom():

@@ -28,3 +28,19 @@ def test_features_round_trip_through_npz_without_pickle(tmp_path):
         loaded = Features.from_arrays(arrays, "op01")
     assert np.array_equal(loaded.keypoints, features.keypoints)
     assert np.array_equal(loaded.descriptors, features.descriptors)
+
+
+def test_a_mask_gives_the_full_image_features_inside_it_in_image_pixels():
+    image = houses_world([(100, 100), (300, 200)], [0, 1])
+    mask = np.zeros(image.shape[:2], np.uint8)
+    mask[190:270, 290:370] = 1
+    masked = extract_features(image, mask)
+    whole = extract_features(image)
+    inside = whole.keypoints[(whole.keypoints[:, 0] >= 290) & (whole.keypoints[:, 0] < 370)
+                             & (whole.keypoints[:, 1] >= 190) & (whole.keypoints[:, 1] < 270)]
+    assert len(masked) >= 0.8 * len(inside) > 5
+    x, y = masked.keypoints[:, 0], masked.keypoints[:, 1]
+    assert (x >= 289).all() and (x < 371).all() and (y >= 189).all() and (y < 271).all()
+    distance = np.linalg.norm(inside[:, None, :2] - masked.keypoints[None, :, :2], axis=2).min(axis=1)
+    assert np.mean(distance < 0.5) >= 0.8  # the same keypoints, found in the cut-out
+    assert len(extract_features(image, np.zeros_like(mask))) == 0

@@ -47,16 +47,30 @@ class Features:
 def extract_features(image: np.ndarray, mask: np.ndarray | None = None) -> Features:
     """SIFT features of an RGB image (H, W, 3) uint8, optionally only where ``mask`` (H, W) is set.
 
-    Keypoint coordinates are in the pixels of ``image``.
+    Keypoint coordinates are in the pixels of ``image``. With a mask only the mask's bounding
+    box and a rim of :data:`MASK_RIM` px about it are processed: OpenCV builds the whole scale
+    space under a mask, so a small object in a 1280x960 view would otherwise cost a full
+    extraction (about 0.3 s instead of 10-20 ms; the keypoints inside the mask are the same but
+    for a few of the largest scales, which the rim cuts).
     """
-    grey = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)
+    offset = (0, 0)
     if mask is not None:
         mask = (np.asarray(mask) > 0).astype(np.uint8) * 255
+        rows, cols = np.nonzero(mask.any(axis=1))[0], np.nonzero(mask.any(axis=0))[0]
+        if not len(rows):
+            return Features.empty()
+        y0, y1 = max(0, rows[0] - MASK_RIM), min(mask.shape[0], rows[-1] + 1 + MASK_RIM)
+        x0, x1 = max(0, cols[0] - MASK_RIM), min(mask.shape[1], cols[-1] + 1 + MASK_RIM)
+        image, mask, offset = image[y0:y1, x0:x1], np.ascontiguousarray(mask[y0:y1, x0:x1]), (x0, y0)
+    grey = cv2.cvtColor(np.ascontiguousarray(image), cv2.COLOR_RGB2GRAY)
     keypoints, descriptors = sift().detectAndCompute(grey, mask)
     if descriptors is None or not keypoints:
         return Features.empty()
-    points = np.array([(k.pt[0], k.pt[1], k.size, k.angle) for k in keypoints], np.float32)
+    points = np.array([(k.pt[0] + offset[0], k.pt[1] + offset[1], k.size, k.angle) for k in keypoints], np.float32)
     return Features(points, descriptors.astype(np.float32))
+
+
+MASK_RIM = 32  # px of image about a mask's bounding box that SIFT sees (its blurs and descriptors reach out)
 
 
 def object_features(image: np.ndarray, box: tuple[int, int, int, int], margin: int = 8) -> Features:
