@@ -12,7 +12,7 @@ from vslsp.vision.features import extract_features
 from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.vsl.house_world import wrap
 from vslsp.vsl.pick_place import PickPlaceRecorder, TableView, changed_region
-from vslsp.vsl.reproduction import identify, identify_moved, plan_operation
+from vslsp.vsl.reproduction import correction, identify, identify_moved, plan_operation
 
 LETTERS = {item.name: item for item in scenes.letters()}
 FROM, TO = Placement(0.42, 0.12, 0.4), Placement(0.64, 0.07, 1.9)  # the tutor turns A by 1.5 rad
@@ -92,6 +92,24 @@ def test_the_plan_in_a_new_world_picks_the_object_where_it_is_and_places_it_as_d
     assert abs(wrap(2 * (plan.pick[2] - elsewhere.yaw))) < np.radians(8.0)
     assert max(abs(plan.pick[2]), abs(plan.place[2])) <= np.pi + 1e-9
     assert not plan.pick_match.ambiguous
+
+
+def test_the_last_look_puts_right_an_object_left_off_its_place_and_leaves_one_on_it(recorded):
+    demo, after = recorded
+    with world_with(Placement(0.36, -0.02, -2.5), Placement(0.45, 0.2, 1.0)) as world:
+        image = look(world)
+        plan = plan_operation(demo, 0, image, TableView(world), extract_features(image))
+        world.tutor_place("A", Placement(plan.place[0], plan.place[1], after[3]))  # as planned
+        assert correction(demo, 0, look(world), TableView(world), plan) is None
+        off = Placement(plan.place[0] + 0.02, plan.place[1] - 0.015, after[3] + 0.2)  # nudged 2.5 cm, turned
+        world.tutor_place("A", off)
+        fix = correction(demo, 0, look(world), TableView(world), plan)
+        assert fix is not None and fix.pick[:2] == pytest.approx((off.x, off.y), abs=0.005)
+        assert fix.place[:2] == pytest.approx(plan.place[:2], abs=1e-9)
+        assert world.pick_and_place(fix.pick, fix.place, fix.grasp_width).ok
+        x, y, _, yaw = world.pose("A")
+    assert (x, y) == pytest.approx(after[:2], abs=0.006)
+    assert abs(wrap(yaw - after[3])) < np.radians(4.0)
 
 
 def test_the_dictionaries_are_searched_for_the_object_in_view_and_for_what_the_tutor_moved(recorded):

@@ -138,13 +138,13 @@ def correction(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: 
     found again in ``world`` (h, w, 3), at the height of its place; when its centre lies more
     than :data:`CORRECTION` from the planned place (the grasp slid it in the fingers, the
     release nudged it), the pick-and-place that puts it right, else None (also when it is not
-    found clearly enough to act on). Without ``world_features`` the robot looks only within
-    :data:`LOOK_AROUND` pre-place frames about the planned place (an object further off was
-    not nudged; the look costs a tenth of the whole view's)."""
+    found clearly enough to act on). Without ``world_features`` the robot looks only within a
+    square :data:`LOOK_AROUND` times the object's size about the planned place (an object
+    further off was not nudged; the look costs a fraction of the whole view's)."""
     op = demo.operations[k]
     if world_features is None:
         u, v = camera.table_to_pixel(planned.place[0], planned.place[1], op.place_z)
-        half = LOOK_AROUND * demo.place_frame / 2.0
+        half = LOOK_AROUND * op.object_size / 2.0
         around = np.zeros(world.shape[:2], np.uint8)
         around[max(0, int(v - half)):max(0, int(v + half)), max(0, int(u - half)):max(0, int(u + half))] = 1
         world_features = extract_features(world, around)
@@ -162,7 +162,7 @@ def correction(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: 
 
 
 CORRECTION = 0.006  # m: an object further than this from its planned place is put right
-LOOK_AROUND = 2.0  # the last look's square side, in pre-place frames (each twice the biggest object)
+LOOK_AROUND = 3.0  # the last look's square side in object sizes: the object is in it while less than one size off
 _SURE = 0.15  # the share of an object's features that must agree before the robot acts on a last look
 
 
