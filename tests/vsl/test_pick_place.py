@@ -8,10 +8,10 @@ import pytest
 
 from vslsp.errors import InputError
 from vslsp.sim.tabletop import Placement, TabletopWorld
-from vslsp.vision.features import extract_features
+from vslsp.vision.features import Features, extract_features
 from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.vsl.house_world import wrap
-from vslsp.vsl.pick_place import PickPlaceRecorder, TableView, changed_region
+from vslsp.vsl.pick_place import PickPlaceRecorder, TableView, apply, changed_region, object_candidates
 from vslsp.vsl.reproduction import correction, identify, identify_moved, plan_operation
 
 LETTERS = {item.name: item for item in scenes.letters()}
@@ -110,6 +110,24 @@ def test_the_last_look_puts_right_an_object_left_off_its_place_and_leaves_one_on
         x, y, _, yaw = world.pose("A")
     assert (x, y) == pytest.approx(after[:2], abs=0.006)
     assert abs(wrap(yaw - after[3])) < np.radians(4.0)
+
+
+def test_a_placement_that_maps_many_features_onto_one_spot_loses_to_the_object_seen_turned():
+    rng = np.random.default_rng(3)
+    points = rng.uniform(0, 100, (40, 2)).astype(np.float32)
+    obj = Features(np.column_stack([points, np.full((40, 2), 3.0, np.float32)]),
+                   rng.uniform(0, 1, (40, 128)).astype(np.float32))
+    turn = np.radians(160.0)
+    rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+    turned = points[:8] @ rotation.T + (600.0, 400.0)  # the object, 8 features found again
+    spot = np.full((12, 2), (200.0, 150.0)) + rng.uniform(-1, 1, (12, 2))  # 12 features on one spot
+    seen = Features(np.column_stack([np.vstack([turned, spot]), np.full((20, 2), 3.0)]).astype(np.float32),
+                    obj.descriptors[:20].copy())
+    found = object_candidates(obj, seen, 3)
+    assert found and found[0][1] == 8
+    assert apply(found[0][0], (50.0, 50.0)) == pytest.approx(tuple(np.array([50.0, 50.0]) @ rotation.T + (600, 400)),
+                                                             abs=0.5)
+    assert all(0.67 <= np.hypot(t[0, 0], t[1, 0]) <= 1.5 for t, _ in found)
 
 
 def test_the_dictionaries_are_searched_for_the_object_in_view_and_for_what_the_tutor_moved(recorded):

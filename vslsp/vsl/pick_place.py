@@ -243,12 +243,21 @@ _GRID = 0.0005  # m per cell of the footprint's raster
 
 def object_candidates(features: Features, seen: Features, count: int = 2) -> list[tuple[np.ndarray, int]]:
     """Up to ``count`` placements of an object's ``features`` among the ``seen`` ones: ratio-
-    tested SIFT matches, RANSAC similarities one after the other on the matches left over;
-    each a transform (3, 3) px and its number of inliers (at least :data:`_MIN_INLIERS`)."""
+    tested SIFT matches, each seen keypoint kept for its closest match only, RANSAC
+    similarities one after the other on the matches left over; each a transform (3, 3) px and
+    its number of inliers (at least :data:`_MIN_INLIERS`). A similarity that shrinks or grows
+    the object beyond :data:`_SCALES` is no placement (the view is from above, and heights
+    change an object's size by a few per cent): one that maps many features onto one spot
+    would otherwise outvote the object seen turned."""
     if len(features) < 2 or len(seen) < 2:
         return []
     pairs = cv2.BFMatcher(cv2.NORM_L2).knnMatch(features.descriptors, seen.descriptors, k=2)
-    good = [m[0] for m in pairs if len(m) == 2 and m[0].distance < _RATIO * m[1].distance]
+    closest: dict[int, cv2.DMatch] = {}
+    for m in pairs:
+        if len(m) == 2 and m[0].distance < _RATIO * m[1].distance:
+            if m[0].trainIdx not in closest or m[0].distance < closest[m[0].trainIdx].distance:
+                closest[m[0].trainIdx] = m[0]
+    good = sorted(closest.values(), key=lambda m: m.queryIdx)
     source = features.keypoints[[m.queryIdx for m in good], :2].reshape(-1, 1, 2)
     target = seen.keypoints[[m.trainIdx for m in good], :2].reshape(-1, 1, 2)
     cv2.setRNGSeed(0)  # deterministic RANSAC
@@ -258,7 +267,8 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
         if model is None or inliers is None or inliers.sum() < _MIN_INLIERS:
             break
         inliers = inliers.ravel().astype(bool)
-        found.append((np.vstack([model, [0.0, 0.0, 1.0]]), int(inliers.sum())))
+        if _SCALES[0] <= np.hypot(model[0, 0], model[1, 0]) <= _SCALES[1]:
+            found.append((np.vstack([model, [0.0, 0.0, 1.0]]), int(inliers.sum())))
         source, target = source[~inliers], target[~inliers]
     return found
 
@@ -266,6 +276,7 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
 _RATIO = 0.8  # Lowe's ratio test
 _AGREE = 0.01  # m: a feature match agrees with the object's seen footprint
 _MIN_INLIERS = 4
+_SCALES = (0.67, 1.5)  # the sizes an object may seem to take from one observation to another
 
 
 def apply(transform: np.ndarray, point: tuple[float, float]) -> tuple[float, float]:
