@@ -152,7 +152,7 @@ def correction(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: 
         found = match_object(demo, k, world, world_features)
     except ValueError:
         return None
-    if found.ambiguous or found.score < _SURE:
+    if found.ambiguous or found.score * len(op.features) < _SURE:
         return None
     centre = camera.pixel_to_table(*apply(found.transform, op.pick_point), op.place_z)
     if np.hypot(centre[0] - planned.place[0], centre[1] - planned.place[1]) <= CORRECTION:
@@ -163,7 +163,8 @@ def correction(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: 
 
 CORRECTION = 0.006  # m: an object further than this from its planned place is put right
 LOOK_AROUND = 3.0  # the last look's square side in object sizes: the object is in it while less than one size off
-_SURE = 0.15  # the share of an object's features that must agree before the robot acts on a last look
+_SURE = 10  # RANSAC inliers of the object's features that must agree before the robot acts on a last look
+# (a count, not a share: an object seen turned half round keeps 10-15 % of its features)
 
 
 def identify(demo: PickPlaceDemonstration, world: np.ndarray, world_features: Features,
