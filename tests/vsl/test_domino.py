@@ -26,3 +26,11 @@ def test_domino_the_robot_answers_each_piece_the_tutor_lays_with_the_matching_on
     for key in ("demonstration", "matches", "worlds", "trajectory"):
         assert (tmp_path / saved["shown_trial"][key]).stat().st_size > 1000
     assert "domino" in (tmp_path / "report.md").read_text()
+
+
+def test_the_answer_goes_by_the_piece_just_laid_when_the_tutor_opens_with_the_second_piece():
+    # Seed 27: the tutor opens with piece 2; piece 1, which the demonstration's larger pre-place
+    # frames hold beside piece 2, lies elsewhere on the table, and once drew the answer to it.
+    trial = run_trial(("domino", 27))
+    assert trial.operations[0]["item"] == "domino-2"
+    assert trial.success and all(op["diagnosis"] == "ok" for op in trial.operations)

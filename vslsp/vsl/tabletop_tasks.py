@@ -34,11 +34,13 @@ from typing import Callable, Iterator
 import numpy as np
 
 from vslsp.sim.tabletop import Item, Placement, PickPlaceResult, TabletopWorld
-from vslsp.vision.features import extract_features
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.matching import Match
 from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.vsl.house_world import wrap
 from vslsp.vsl.pick_place import PickPlaceDemonstration, PickPlaceRecorder, TableView
-from vslsp.vsl.reproduction import PlannedOperation, correction, identify, identify_moved, plan_operation
+from vslsp.vsl.reproduction import (PlannedOperation, correction, identify, identify_moved, match_object, match_place,
+                                   plan_operation)
 
 POSITION_TOLERANCE = 0.015  # m
 ANGLE_TOLERANCE = np.radians(12.0)
@@ -184,7 +186,8 @@ def judge(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dic
 
 
 def robot_operation(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dict[str, str],
-                    image: np.ndarray | None = None, pick_match=None, keep: bool = False) -> OperationOutcome:
+                    image: np.ndarray | None = None, pick_match=None, keep: bool = False,
+                    place_match=None) -> OperationOutcome:
     """The robot reproduces operation ``k``: observe (unless given), match, plan, pick and
     place, take a last look and put the object right if the execution left it off its place
     (:func:`~vslsp.vsl.reproduction.correction`), then the judge's verdict and, when it
@@ -193,7 +196,8 @@ def robot_operation(world: TabletopWorld, demo: TaskDemonstration, k: int, ancho
     features = extract_features(image)
     kept = image if keep else None
     try:
-        planned = plan_operation(demo.demonstration, k, image, TableView(world), features, pick_match=pick_match)
+        planned = plan_operation(demo.demonstration, k, image, TableView(world), features, pick_match=pick_match,
+                                 place_match=place_match)
     except ValueError:
         return OperationOutcome(k, "robot", demo.items[k], "no match", observation=kept)
     result = world.pick_and_place(planned.pick, planned.place, planned.grasp_width)
@@ -405,11 +409,33 @@ class Domino(TabletopTask):
             seen = identify_moved(demo.demonstration, before, after, [j for j in range(len(demo.items)) if j not in laid])
             if seen is None or seen + 1 >= len(demo.items) or seen + 1 in laid:
                 break
-            outcomes.append(robot_operation(world, demo, seen + 1, self.anchor_map, after, keep=keep))
+            outcomes.append(robot_operation(world, demo, seen + 1, self.anchor_map, after, keep=keep,
+                                            place_match=answer_place(demo.demonstration, seen, seen + 1, after)))
             k = seen + 2
             if k < len(demo.items):
                 where = placement_like(world, demo, k, demo.anchors[k])
         return outcomes
+
+
+def answer_place(demo: PickPlaceDemonstration, played: int, answer: int, world: np.ndarray) -> Match | None:
+    """Turn-taking: where operation ``answer`` puts its piece, searched only about the piece of
+    operation ``played`` that the tutor just laid (found by its features φ in ``world``), within
+    the demonstrated distance between their places and a pre-place frame more. The pre-place
+    frame, grown while ambiguous, also holds pieces laid before in the demonstration; in a new
+    game they lie elsewhere and would draw the match to them. None when the played piece is not
+    found or nothing matches about it (the robot then searches the whole view)."""
+    features = extract_features(world)
+    try:
+        piece = match_object(demo, played, world, features)
+    except ValueError:
+        return None
+    reach = float(np.hypot(*np.subtract(demo.operations[answer].place_point, demo.operations[played].place_point)))
+    half = reach + demo.pick_frame
+    near = np.all(np.abs(features.keypoints[:, :2] - (piece.x, piece.y)) <= half, axis=1)
+    try:
+        return match_place(demo, answer, world, Features(features.keypoints[near], features.descriptors[near]))
+    except ValueError:
+        return None
 
 
 def _domino_opening(rng: np.random.Generator, pieces: int) -> tuple[float, float, float]:
