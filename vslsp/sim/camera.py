@@ -7,6 +7,7 @@ camera centre and intersecting it with ``z = TABLE_Z``.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -100,23 +101,20 @@ class Camera:
         np.copyto(depth, plane_depth, where=empty)
         return pixels[:, :, :3].copy(), depth
 
+    @functools.lru_cache(maxsize=4)  # noqa: B019 (cameras and backdrops are small frozen values)
     def _plane(self, backdrop: Backdrop) -> tuple[np.ndarray, np.ndarray]:
         """The depth (H, W) float32 of ``backdrop``'s plane at each pixel centre and where the
         ray meets its rectangle (H, W) bool; computed once per camera and backdrop."""
-        key = (self, backdrop.z, backdrop.x_range, backdrop.y_range)
-        if key not in _PLANES:
-            right, down, forward = self.axes()
-            u = (np.arange(self.width) + 0.5 - self.width / 2.0) / self.focal
-            v = (np.arange(self.height) + 0.5 - self.height / 2.0) / self.focal
-            rays = forward + u[None, :, None] * right + v[:, None, None] * down  # (H, W, 3), unit depth
-            with np.errstate(divide="ignore", invalid="ignore"):
-                t = (backdrop.z - self.eye[2]) / rays[:, :, 2]
-            x, y = self.eye[0] + t * rays[:, :, 0], self.eye[1] + t * rays[:, :, 1]
-            seen = ((t > NEAR) & (t < FAR) & (x >= backdrop.x_range[0]) & (x <= backdrop.x_range[1])
-                    & (y >= backdrop.y_range[0]) & (y <= backdrop.y_range[1]))
-            _PLANES.clear()  # one camera at a time in practice; keep the memory bounded
-            _PLANES[key] = (np.where(seen, t, FAR).astype(np.float32), seen)
-        return _PLANES[key]
+        right, down, forward = self.axes()
+        u = (np.arange(self.width) + 0.5 - self.width / 2.0) / self.focal
+        v = (np.arange(self.height) + 0.5 - self.height / 2.0) / self.focal
+        rays = forward + u[None, :, None] * right + v[:, None, None] * down  # (H, W, 3), unit depth
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (backdrop.z - self.eye[2]) / rays[:, :, 2]
+        x, y = self.eye[0] + t * rays[:, :, 0], self.eye[1] + t * rays[:, :, 1]
+        seen = ((t > NEAR) & (t < FAR) & (x >= backdrop.x_range[0]) & (x <= backdrop.x_range[1])
+                & (y >= backdrop.y_range[0]) & (y <= backdrop.y_range[1]))
+        return np.where(seen, t, FAR).astype(np.float32), seen
 
 
 LIGHT_DIRECTION = (0.3, 0.4, 1.0)
@@ -135,5 +133,3 @@ class Backdrop:
     y_range: tuple[float, float]
     colour: tuple[int, int, int]
 
-
-_PLANES: dict = {}

@@ -30,7 +30,7 @@ FRAME_GROWTH = 1.5
 _NEIGHBOURS = 4  # world matches kept per frame keypoint (copies of a repeated object)
 _ALTERNATIVE = 1.3  # ... when within this factor of the nearest one's descriptor distance
 _MAX_CANDIDATES = 8
-_SCALE_RANGE = (0.67, 1.5)  # same camera and objects: the frame is not much scaled
+SCALE_RANGE = (0.67, 1.5)  # same camera and objects: a frame or an object is not much scaled
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,7 +155,7 @@ def _candidates(obs: Features, world: Features, box, matcher, grey_obs, grey_wor
         mask = mask.ravel().astype(bool)
         transform = np.vstack([model, [0.0, 0.0, 1.0]])
         scale = float(np.sqrt(abs(np.linalg.det(model[:, :2]))))
-        if _SCALE_RANGE[0] <= scale <= _SCALE_RANGE[1]:
+        if SCALE_RANGE[0] <= scale <= SCALE_RANGE[1]:
             score = _correlation(grey_obs, grey_world, box, transform)
             candidates.append(Candidate(transform, pairs[mask], score))
         pairs = pairs[~mask]

@@ -29,6 +29,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.vision.features import Features, extract_features
+from vslsp.vision.matching import SCALE_RANGE
 from vslsp.vision.image import channel_max
 from vslsp.vsl.house_world import wrap
 
@@ -246,7 +247,7 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
     tested SIFT matches, each seen keypoint kept for its closest match only, RANSAC
     similarities one after the other on the matches left over; each a transform (3, 3) px and
     its number of inliers (at least :data:`_MIN_INLIERS`). A similarity that shrinks or grows
-    the object beyond :data:`_SCALES` is no placement (the view is from above, and heights
+    the object beyond :data:`~vslsp.vision.matching.SCALE_RANGE` is no placement (the view is from above, and heights
     change an object's size by a few per cent): one that maps many features onto one spot
     would otherwise outvote the object seen turned."""
     if len(features) < 2 or len(seen) < 2:
@@ -267,7 +268,7 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
         if model is None or inliers is None or inliers.sum() < _MIN_INLIERS:
             break
         inliers = inliers.ravel().astype(bool)
-        if _SCALES[0] <= np.hypot(model[0, 0], model[1, 0]) <= _SCALES[1]:
+        if SCALE_RANGE[0] <= np.hypot(model[0, 0], model[1, 0]) <= SCALE_RANGE[1]:
             found.append((np.vstack([model, [0.0, 0.0, 1.0]]), int(inliers.sum())))
         source, target = source[~inliers], target[~inliers]
     return found
@@ -276,7 +277,6 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
 _RATIO = 0.8  # Lowe's ratio test
 _AGREE = 0.01  # m: a feature match agrees with the object's seen footprint
 _MIN_INLIERS = 4
-_SCALES = (0.67, 1.5)  # the sizes an object may seem to take from one observation to another
 
 
 def apply(transform: np.ndarray, point: tuple[float, float]) -> tuple[float, float]:

@@ -187,13 +187,13 @@ def judge(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dic
 
 def robot_operation(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dict[str, str],
                     image: np.ndarray | None = None, pick_match=None, keep: bool = False,
-                    place_match=None) -> OperationOutcome:
+                    place_match=None, features: Features | None = None) -> OperationOutcome:
     """The robot reproduces operation ``k``: observe (unless given), match, plan, pick and
     place, take a last look and put the object right if the execution left it off its place
     (:func:`~vslsp.vsl.reproduction.correction`), then the judge's verdict and, when it
     failed, the diagnosis."""
     image = look(world) if image is None else image
-    features = extract_features(image)
+    features = extract_features(image) if features is None else features
     kept = image if keep else None
     try:
         planned = plan_operation(demo.demonstration, k, image, TableView(world), features, pick_match=pick_match,
@@ -409,22 +409,25 @@ class Domino(TabletopTask):
             seen = identify_moved(demo.demonstration, before, after, [j for j in range(len(demo.items)) if j not in laid])
             if seen is None or seen + 1 >= len(demo.items) or seen + 1 in laid:
                 break
+            features = extract_features(after)
+            place = answer_place(demo.demonstration, seen, seen + 1, after, features)
             outcomes.append(robot_operation(world, demo, seen + 1, self.anchor_map, after, keep=keep,
-                                            place_match=answer_place(demo.demonstration, seen, seen + 1, after)))
+                                            place_match=place, features=features))
             k = seen + 2
             if k < len(demo.items):
                 where = placement_like(world, demo, k, demo.anchors[k])
         return outcomes
 
 
-def answer_place(demo: PickPlaceDemonstration, played: int, answer: int, world: np.ndarray) -> Match | None:
+def answer_place(demo: PickPlaceDemonstration, played: int, answer: int, world: np.ndarray,
+                 features: Features) -> Match | None:
     """Turn-taking: where operation ``answer`` puts its piece, searched only about the piece of
     operation ``played`` that the tutor just laid (found by its features φ in ``world``), within
     the demonstrated distance between their places and a pre-place frame more. The pre-place
     frame, grown while ambiguous, also holds pieces laid before in the demonstration; in a new
     game they lie elsewhere and would draw the match to them. None when the played piece is not
-    found or nothing matches about it (the robot then searches the whole view)."""
-    features = extract_features(world)
+    found or nothing matches about it (the robot then searches the whole view). ``features``
+    are the SIFT features of ``world``."""
     try:
         piece = match_object(demo, played, world, features)
     except ValueError:
