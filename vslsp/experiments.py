@@ -24,7 +24,6 @@ import numpy as np
 from vslsp.demonstration import tutor_operation
 from vslsp.errors import InputError, TaskFailed, VslspError
 from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
-from vslsp.parallel import run_jobs
 from vslsp.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
 from vslsp.skills.library import SkillLibrary
 from vslsp.sim import COLOURS, SceneSpec, World
@@ -323,28 +322,3 @@ def _record(trial: Trial, run: Execution) -> None:
                                    grounding))
     if run.error and trial.error is None:
         trial.error = run.error
-
-
-# --- many trials ------------------------------------------------------------------------------
-
-def _trial_job(args: tuple) -> Trial:
-    experiment, seed, library_path, faults, planner, keep = args
-    from vslsp.sim.quiet import quiet  # noqa: F401  (workers import the simulator quietly)
-
-    trial = run_trial(experiment, seed, SkillLibrary.load(library_path), faults=faults, planner=planner)
-    if not keep:
-        trial.observations, trial.executions, trial.steps = [], [], []
-    return trial
-
-
-def run_trials(experiment: str, trials: int, seed: int, library_path, *, workers: int = 1, faults: bool = False,
-               planner: str = "fast-downward", on_done=None) -> list[Trial]:
-    """``trials`` seeded trials (seeds ``seed``, ``seed + 1``, ...), on ``workers`` processes.
-
-    The first trial keeps its artefacts for the report. ``on_done(trial)`` is called as each
-    trial finishes (progress). Results come back in seed order.
-    """
-    if experiment not in EXPERIMENTS:
-        raise InputError(f"unknown experiment {experiment!r}; choose one of {', '.join(EXPERIMENTS)}")
-    jobs = [(experiment, seed + k, str(library_path), faults, planner, k == 0) for k in range(trials)]
-    return run_jobs(_trial_job, jobs, workers, on_done)

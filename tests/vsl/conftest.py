@@ -5,7 +5,7 @@ import pytest
 
 from vslsp.sim.tabletop import TabletopWorld
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.tabletop_report import REPRODUCTION_SEED, make_task
+from vslsp.tasks.tabletop import REPRODUCTION_SEED, make_task
 
 
 @pytest.fixture

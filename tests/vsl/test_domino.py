@@ -7,19 +7,20 @@ import json
 import pytest
 
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.tabletop_report import run_trial, write_report
+from vslsp.tasks import Run, get_task, write_report
 
 pytestmark = pytest.mark.slow
 
 
 def test_domino_the_robot_answers_each_piece_the_tutor_lays_with_the_matching_one(tmp_path):
-    trial = run_trial(("domino", 0), keep=True)
+    task = get_task("domino")
+    trial = task.run_trial(0, keep=True)
     assert trial.success
     actors = [op["actor"] for op in trial.operations]
     assert actors[0] == "tutor" and all(a != b for a, b in zip(actors, actors[1:]))  # turns alternate
     laid = [int(op["item"].split("-")[1]) for op in trial.operations]
     assert laid == list(range(laid[0], scenes.DOMINOES + 1))  # each answer is the next matching piece
-    data = write_report(tmp_path, "domino", [trial], 0, shown=trial)
+    data = write_report(tmp_path, task, Run([trial], [0]))
     saved = json.loads((tmp_path / "report.json").read_text())
     assert saved["experiment"] == "domino" and saved["trials"] == 1 and saved["success_rate"] == 1.0
     assert data["operation_success_rate"] == 1.0
@@ -31,6 +32,6 @@ def test_domino_the_robot_answers_each_piece_the_tutor_lays_with_the_matching_on
 def test_the_answer_goes_by_the_piece_just_laid_when_the_tutor_opens_with_the_second_piece():
     # Seed 27: the tutor opens with piece 2; piece 1, which the demonstration's larger pre-place
     # frames hold beside piece 2, lies elsewhere on the table, and once drew the answer to it.
-    trial = run_trial(("domino", 27))
+    trial = get_task("domino").run_trial(27)
     assert trial.operations[0]["item"] == "domino-2"
     assert trial.success and all(op["diagnosis"] == "ok" for op in trial.operations)

@@ -13,7 +13,7 @@ from vslsp.errors import InputError
 from vslsp.vision.synthetic import body_sprite, houses_world, paste, roof_sprite
 from vslsp.vsl.house_roof import PIXEL_SIZE, demonstrate, reproduce
 from vslsp.vsl.house_world import BELOW, TOP, HouseWorld, compose, relative, wrap
-from vslsp.vsl.tasks import run_trial, run_trials
+from vslsp.tasks import get_task
 
 # Trials whose new world makes the fixed small frame go wrong (found by running the trials;
 # about three in four do): ops 1 and 2 land on free bodies, op 3 below an occupied one.
@@ -92,8 +92,8 @@ def test_the_adaptive_frame_reproduces_the_demonstration_in_a_new_world(demo):
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", FIXED_FRAME_FAILS)
 def test_a_fixed_small_frame_puts_the_third_roof_below_a_finished_house(seed):
-    trial = run_trial(seed)
-    fixed, adaptive = trial.results["fixed"], trial.results["adaptive"]
+    trial = get_task("house-roof").run_trial(seed)
+    fixed, adaptive = trial.details["fixed"], trial.details["adaptive"]
     assert [op["diagnosis"] for op in fixed["operations"]] == ["ok", "ok", "wrong place"]
     third = fixed["operations"][2]
     assert third["slot"] == "below" and third["place"]["ambiguous"]  # the right shape, the wrong house
@@ -126,5 +126,5 @@ def test_bad_input_is_a_clear_error(capsys):
     with pytest.raises(SystemExit) as done:
         main(["experiment", "house-roof", "--faults"])
     assert done.value.code == 2 and "--faults applies to the VSL-SP experiments" in capsys.readouterr().err
-    with pytest.raises(InputError, match="at least 1"):
-        run_trials(0)
+    with pytest.raises(InputError, match="--planner applies to the VSL-SP experiments"):
+        get_task("house-roof", planner="fast-downward")

@@ -5,7 +5,8 @@ import pytest
 
 from vslsp.cli import main
 from vslsp.errors import InputError
-from vslsp.vsl.tabletop_report import TabletopTrial, make_task, run_trials, summary
+from vslsp.tasks import Run, TrialResult, get_task, summary
+from vslsp.tasks.tabletop import make_task
 
 
 def operation(actor: str, diagnosis: str, item: str = "A") -> dict:
@@ -13,11 +14,11 @@ def operation(actor: str, diagnosis: str, item: str = "A") -> dict:
 
 
 def test_the_summary_rates_the_robots_operations_and_names_the_failures():
-    trials = [TabletopTrial("domino", 0, True, [operation("tutor", "ok"), operation("robot", "ok")], 2.0),
-              TabletopTrial("domino", 1, False, [operation("tutor", "ok"), operation("robot", "grasp failed", "B")],
-                            4.0),
-              TabletopTrial("domino", 2, False, [], 1.0, error="demonstration: no object was taken")]
-    data = summary("domino", trials, 0)
+    trials = [TrialResult("domino", 0, True, None, 2.0, [operation("tutor", "ok"), operation("robot", "ok")]),
+              TrialResult("domino", 1, False, "operation 1 (robot, B): grasp failed", 4.0,
+                          [operation("tutor", "ok"), operation("robot", "grasp failed", "B")]),
+              TrialResult("domino", 2, False, "demonstration: no object was taken", 1.0, [])]
+    data = summary(get_task("domino"), Run(trials, [0, 1, 2]))
     assert (data["trials"], data["successes"], data["success_rate"]) == (3, 1, pytest.approx(1 / 3))
     assert (data["operations"], data["operations_ok"], data["operation_success_rate"]) == (2, 1, 0.5)
     assert data["diagnoses"] == {"grasp failed": 1, "ok": 1}  # the tutor's moves are not the robot's
@@ -32,10 +33,11 @@ def test_the_tower_of_hanoi_has_the_users_intervention_on_odd_seeds():
 
 
 def test_bad_input_is_refused_before_any_work(capsys):
-    with pytest.raises(InputError, match="unknown task"):
-        run_trials("jigsaw", 1)
-    with pytest.raises(InputError, match="--workers"):
-        run_trials("domino", 1, workers=0)
+    with pytest.raises(InputError, match="unknown experiment 'jigsaw'"):
+        get_task("jigsaw")
+    with pytest.raises(SystemExit) as exit_info:
+        main(["experiment", "domino", "--workers", "0"])
+    assert exit_info.value.code == 2
     with pytest.raises(SystemExit) as exit_info:
         main(["experiment", "domino", "--trials", "0"])
     assert exit_info.value.code == 2

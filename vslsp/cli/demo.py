@@ -27,24 +27,22 @@ def demo(out: str, seed: int, gui: bool, skills_dir: str | None) -> None:
     """Run the full VSL-SP pipeline (pull-in-order) on the embedded scene and write a report."""
     from rich.console import Console
 
-    from vslsp.experiments import run_trial
-    from vslsp.report import write_report
-    from vslsp.skills.library import SkillLibrary, default_library_path
+    from vslsp.tasks import Run, get_task, write_report
 
     console = Console(stderr=True)
     start = time.perf_counter()
-    library_path = Path(skills_dir) if skills_dir else default_library_path()
+    task = get_task("pull-in-order", skills=skills_dir)
     with console.status("loading the skill library") as status:
-        library = SkillLibrary.load(library_path)
-        console.log(f"skills {', '.join(sorted(library.skills))} from {library_path}")
+        console.log(f"skills from {task.library_path}")
 
         def stage(what: str) -> None:
             console.log(what)
             status.update(what)
 
-        trial = run_trial("pull-in-order", seed, library, gui=gui, on_stage=stage)
-    folder = write_report(out, "pull-in-order", [trial])
-    details = trial.details
+        result = task.run_trial(seed, keep=True, on_stage=stage, gui=gui)
+        result.time_s = time.perf_counter() - start
+    write_report(out, task, Run([result], [seed]))
+    trial, details = result.artefacts, result.details
     if trial.domain is not None:
         console.log("learned action models:\n" + trial.domain.to_pddl())
     if trial.task is not None:
@@ -52,7 +50,7 @@ def demo(out: str, seed: int, gui: bool, skills_dir: str | None) -> None:
     if details.get("plan"):
         console.log(f"plan (Fast Downward): {', '.join(details['plan'])}")
     console.log(f"executed order: VSL-SP {details.get('vsl_sp_order')}, VSL {details.get('vsl_order')}; "
-                f"{trial.replans} replans")
-    verdict = "succeeded" if trial.success else f"failed: {trial.error}"
-    click.echo(f"demo {verdict} in {time.perf_counter() - start:.0f} s; report: {folder / 'report.md'}")
-    sys.exit(0 if trial.success else 1)
+                f"{details.get('replans', 0)} replans")
+    verdict = "succeeded" if result.success else f"failed: {result.error}"
+    click.echo(f"demo {verdict} in {time.perf_counter() - start:.0f} s; report: {Path(out) / 'report.md'}")
+    sys.exit(0 if result.success else 1)

@@ -1,4 +1,9 @@
-"""``vslsp experiment NAME``: the paper's VSL-SP experiments as seeded, randomised trials."""
+"""``vslsp experiment NAME``: any registered experiment of the paper as seeded, randomised trials.
+
+Every experiment takes the same options and writes the same report folder (``report.json``,
+``report.md``, figures); ``--list`` lists them. Options that only some experiments take
+(``--faults``, ``--planner``, ``--skills``, ``--method``) are refused by the others.
+"""
 
 from __future__ import annotations
 
@@ -8,69 +13,108 @@ from pathlib import Path
 
 import click
 
-EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order",  # as vslsp.experiments (heavy to import)
-               "house-roof",  # VSL without a robot: vslsp.vsl.tasks
-               "alphabet-ordering", "animal-puzzle", "tower-of-hanoi", "animals-vs-machines", "domino")  # tabletop
-
 
 @click.command()
-@click.argument("name", type=click.Choice(EXPERIMENTS))
-@click.option("--trials", type=click.IntRange(1, 10000), default=1, show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the first trial (then seed+1, ...).")
-@click.option("--workers", type=click.IntRange(1, 64), default=1, show_default=True,
-              help="Processes running trials in parallel.")
-@click.option("--faults", is_flag=True, help="Inject an execution fault per trial (cube nudged back, step skipped).")
-@click.option("--planner", default="fast-downward", show_default=True, help="unified-planning oneshot planner.")
+@click.argument("name", required=False)
+@click.option("--list", "list_them", is_flag=True, help="List the experiments (with --json: as JSON) and exit.")
+@click.option("--trials", type=click.IntRange(1, 100_000), default=1, show_default=True)
+@click.option("--seed", type=click.IntRange(0, None), default=0, show_default=True,
+              help="Seed of the first trial (then seed+1, ...); a non-negative integer.")
+@click.option("--workers", type=click.IntRange(1, 256), default=1, show_default=True,
+              help="Trials running in parallel (processes, or Ray tasks with --backend ray).")
+@click.option("--backend", type=click.Choice(["local", "ray"]), default="local", show_default=True,
+              help="local: this machine's processes; ray: a Ray cluster (pip install 'vslsp[ray]').")
+@click.option("--address", default=None,
+              help="With --backend ray: the cluster's address ('auto', 'ray://HOST:10001', HOST:PORT); "
+                   "default: a local Ray instance started for the run.")
+@click.option("--faults", is_flag=True, help="VSL-SP: inject an execution fault per trial (cube nudged back, "
+                                              "step skipped).")
+@click.option("--planner", default=None, help="VSL-SP: unified-planning oneshot planner [default: fast-downward].")
 @click.option("--skills", "skills_dir", type=click.Path(file_okay=False), default=None,
-              help="Skill library folder (default: the shipped skills/).")
+              help="VSL-SP: skill library folder (default: the shipped skills).")
+@click.option("--method", default=None, help="VSL-3D: match finding (prerejective_ransac, sac_ia, icp).")
 @click.option("--out", type=click.Path(file_okay=False), default=None,
               help="Report folder (default: out/experiments/NAME).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object on stdout.")
-def experiment(name: str, trials: int, seed: int, workers: int, faults: bool, planner: str,
-               skills_dir: str | None, out: str | None, as_json: bool) -> None:
-    """Run experiment NAME (simple-vsl-task, keep-all-near, pull-in-order, house-roof, alphabet-ordering,
-    animal-puzzle, tower-of-hanoi, animals-vs-machines, domino) and write a report.
+def experiment(name: str | None, list_them: bool, trials: int, seed: int, workers: int, backend: str,
+               address: str | None, faults: bool, planner: str | None, skills_dir: str | None, method: str | None,
+               out: str | None, as_json: bool) -> None:
+    """Run experiment NAME (see --list) and write a report folder.
 
-    Exit 0 when every trial succeeded, 1 otherwise.
+    Exit 0 when every trial succeeded, 1 when a trial failed or the run was interrupted, 2 for
+    bad input (found before any trial runs).
     """
-    if name == "house-roof":
-        from vslsp.vsl.house_roof_report import command
+    from vslsp.errors import InputError
+    from vslsp.tasks import get_task, list_tasks
 
-        return command(trials, seed, workers, out, as_json, faults)
-    if name in EXPERIMENTS[4:]:
-        from vslsp.vsl.tabletop_report import command as tabletop_command
-
-        return tabletop_command(name, trials, seed, workers, out, as_json, faults)
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-    from vslsp.experiments import run_trials
-    from vslsp.report import summary, write_report
-    from vslsp.skills.library import SkillLibrary, default_library_path
-
-    library_path = Path(skills_dir) if skills_dir else default_library_path()
-    SkillLibrary.load(library_path)  # a missing or corrupt library is reported before any work
+    if list_them:
+        entries = [cls().describe() for cls in list_tasks()]
+        if as_json:
+            click.echo(json.dumps({"experiments": entries}))
+        else:
+            for entry in entries:
+                click.echo(f"{entry['name']:<22} {entry['system']:<7} {entry['paper_section']}")
+        return
+    if name is None:
+        raise InputError("name an experiment (vslsp experiment --list shows them)")
+    if address is not None and backend != "ray":
+        raise InputError("--address applies to --backend ray")
+    task = get_task(name, faults=faults, planner=planner, skills=skills_dir, method=method)
     folder = Path(out) if out else Path("out") / "experiments" / name
-    console = Console(stderr=True)
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  TextColumn("{task.fields[ok]} ok"), console=console, transient=True) as progress:
-        task = progress.add_task(name, total=trials, ok=0)
-        done = {"ok": 0}
-
-        def advance(trial) -> None:
-            done["ok"] += trial.success
-            progress.update(task, advance=1, ok=done["ok"])
-
-        results = run_trials(name, trials, seed, library_path, workers=workers, faults=faults, planner=planner,
-                             on_done=advance)
-    write_report(folder, name, results, faults)
-    data = summary(name, results, faults)
-    data["report"] = str(folder)
+    _prepare_output(folder)
+    data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend,
+                          address=address)
     if as_json:
         click.echo(json.dumps(data))
     else:
+        partial = f" (interrupted after {data['trials']} of {data['trials_requested']})" if data.get("partial") else ""
         click.echo(f"{name}: {data['successes']}/{data['trials']} trials succeeded "
-                   f"({100 * data['success_rate']:.1f} %), {data['replans']} replans; report: {folder}")
+                   f"({100 * data['success_rate']:.1f} %){partial}, {data['mean_time_s']} s per trial; "
+                   f"report: {folder / 'report.md'}")
         for failure in data["failures"][:10]:
             click.echo(f"  seed {failure['seed']}: {failure['error']}", err=True)
-    sys.exit(0 if data["successes"] == data["trials"] else 1)
+    sys.exit(0 if data["successes"] == data["trials"] and not data.get("partial") else 1)
+
+
+def _prepare_output(folder: Path) -> None:
+    """Create the report folder and check it is writable, before any trial runs."""
+    from vslsp.errors import InputError
+
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / ".vslsp-write-test"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as error:
+        raise InputError(f"cannot write the report folder {folder}: {error.strerror or error}; "
+                         "choose another --out") from None
+
+
+def run_experiment(task, seeds, folder: Path, *, workers: int = 1, backend: str = "local",
+                   address: str | None = None) -> dict:
+    """Run the trials with a progress bar on stderr and write the report; returns the summary."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from vslsp.tasks import run_trials, write_report
+
+    seeds = list(seeds)
+    console = Console(stderr=True)
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  TextColumn("{task.fields[ok]} ok"), console=console, transient=True) as progress:
+        bar = progress.add_task(task.name, total=len(seeds), ok=0)
+        done = {"ok": 0, "finished": 0}
+
+        def advance(result) -> None:
+            done["ok"] += result.success
+            done["finished"] += 1
+            progress.update(bar, advance=1, ok=done["ok"])
+
+        def interrupted(signal_name: str) -> None:
+            console.print(f"{signal_name}: stopping now: cancelling the outstanding trials, ending the workers, "
+                          f"writing the report of the {done['finished']} finished trials")
+
+        run = run_trials(task, seeds, workers=workers, backend=backend, address=address, on_done=advance,
+                         on_interrupt=interrupted)
+        progress.update(bar, description=f"{task.name}: report")
+        return write_report(folder, task, run)

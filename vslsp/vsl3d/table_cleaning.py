@@ -15,9 +15,7 @@ final pose. Perception never reads the ground truth.
 
 from __future__ import annotations
 
-import json
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 import cv2
 import numpy as np
@@ -53,6 +51,9 @@ class OperationResult:
     final_error_deg: float | None = None
     error: str | None = None
 
+    def to_dict(self) -> dict:
+        return {**asdict(self), "success": self.success}
+
     @property
     def success(self) -> bool:
         return (self.error is None and self.picked == self.moved and self.final_error_mm is not None
@@ -71,7 +72,7 @@ class TableCleaningResult:
 
     def to_dict(self) -> dict:
         return {"experiment": "table-cleaning", "seed": self.seed, "method": self.method, "success": self.success,
-                "operations": [{**asdict(op), "success": op.success} for op in self.operations]}
+                "operations": [op.to_dict() for op in self.operations]}
 
 
 def _world(image: RGBDImage) -> WorldCloud:
@@ -91,9 +92,11 @@ def draw_frame(rgb: np.ndarray, camera: DepthCamera, frame: Frame, colour: tuple
     return image
 
 
-def run_table_cleaning(seed: int = 0, method: str = "prerejective_ransac", out: Path | None = None) -> TableCleaningResult:
-    """Demonstrate the table cleaning in a seeded random scene, reshuffle, reproduce; write
-    images and ``report.json`` to ``out`` when given."""
+def run_table_cleaning(seed: int = 0, method: str = "prerejective_ransac"
+                       ) -> tuple[TableCleaningResult, list[np.ndarray], np.ndarray]:
+    """Demonstrate the table cleaning in a seeded random scene, reshuffle, reproduce. Returns the
+    outcome, the demonstration's pre|post RGB images (H, 2W, 3) with the found object's frame,
+    and the final RGB view (H, W, 3)."""
     rng = np.random.default_rng(seed)
     names = [name for name, _, _ in OPERATIONS] + ["blob"]  # the blob stays on the table
     layout = random_layout(names, seed)
@@ -146,16 +149,4 @@ def run_table_cleaning(seed: int = 0, method: str = "prerejective_ransac", out: 
                                      picked, *errors)
             results.append(result)
         final = scene.capture().rgb
-    outcome = TableCleaningResult(seed, method, tuple(results))
-    if out is not None:
-        _write(Path(out), outcome, images, final)
-    return outcome
-
-
-def _write(out: Path, outcome: TableCleaningResult, images: list[np.ndarray], final: np.ndarray) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    for index, image in enumerate(images, start=1):
-        cv2.imwrite(str(out / f"demonstration_{index}.png"), cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
-    cv2.imwrite(str(out / "reproduction_final.png"), cv2.cvtColor(final, cv2.COLOR_RGB2BGR))
-    (out / "report.json").write_text(json.dumps(outcome.to_dict(), indent=2))
-
+    return TableCleaningResult(seed, method, tuple(results)), images, final

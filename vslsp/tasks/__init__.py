@@ -1,0 +1,15 @@
+"""Tasks: every experiment of the paper behind one interface, one registry, one trial runner and
+one report (``vslsp experiment NAME``; ``vslsp experiment --list``).
+
+Public API: :class:`Task` (subclass it), :func:`register` (class decorator), :class:`TrialResult`
+(what a trial returns), :class:`System`, :class:`Option`, :func:`get_task`, :func:`list_tasks`,
+:func:`run_trials`, :func:`write_report`. See ``docs/tasks.md`` for a task written from scratch.
+"""
+
+from vslsp.tasks.base import Option, System, Task, TrialResult
+from vslsp.tasks.registry import get_task, list_tasks, register, task_class
+from vslsp.tasks.report import summary, write_report
+from vslsp.tasks.runner import Run, run_one, run_trials
+
+__all__ = ["Option", "Run", "System", "Task", "TrialResult", "get_task", "list_tasks", "register", "run_one",
+           "run_trials", "summary", "task_class", "write_report"]

@@ -1,0 +1,155 @@
+"""The task interface: every experiment of the paper is a :class:`Task` behind one registry.
+
+A task names itself (``name``), its system of the paper (:class:`System`) and section
+(``paper_section``), the common options it accepts (``options``), and runs one seeded trial
+with :meth:`Task.run_trial`, which returns the one trial-result type, :class:`TrialResult`.
+The trial runner (:mod:`vslsp.tasks.runner`) runs many trials (seeded, parallel, in seed
+order) and the report (:mod:`vslsp.tasks.report`) writes the same folder layout for all:
+``report.json``, ``report.md`` and the task's figures of one trial (:meth:`Task.figures`).
+
+Writing a task::
+
+    from vslsp.tasks import System, Task, TrialResult, register
+
+    @register
+    class CountToThree(Task):
+        name = "count-to-three"
+        system = System.VSL
+        paper_section = "an example"
+        description = "succeeds when the seed's draw is below 3"
+
+        def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
+            value = int(np.random.default_rng(seed).integers(0, 4))
+            return TrialResult(self.name, seed, value < 3, None if value < 3 else f"drew {value}")
+"""
+
+from __future__ import annotations
+
+import enum
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar
+
+from vslsp.errors import InputError
+
+
+class System(str, enum.Enum):
+    """The three systems of the paper."""
+
+    VSL = "VSL"
+    VSL_3D = "VSL-3D"
+    VSL_SP = "VSL-SP"
+
+
+class Option(str, enum.Enum):
+    """Options of ``vslsp experiment`` that only some tasks take."""
+
+    FAULTS = "faults"  # inject execution faults (a cube nudged back, a step skipped)
+    PLANNER = "planner"  # the unified-planning oneshot planner
+    SKILLS = "skills"  # the skill-library folder
+    METHOD = "method"  # VSL-3D's match-finding method
+
+
+@dataclass
+class TrialResult:
+    """One trial of any task.
+
+    ``success`` is judged on the simulator's ground truth; ``error`` says why a trial failed;
+    ``operations`` holds one JSON record per operation (what moved, how it was found, how it
+    ended); ``details`` holds the task's other JSON fields; ``artefacts`` holds what the report
+    draws (images, demonstrations), kept only when the trial ran with ``keep``.
+    """
+
+    experiment: str
+    seed: int
+    success: bool
+    error: str | None = None
+    time_s: float = 0.0
+    operations: list[dict] | None = None
+    details: dict = field(default_factory=dict)
+    artefacts: Any = field(default=None, repr=False, compare=False)
+
+    def to_dict(self) -> dict:
+        """The trial's JSON record (``results`` of ``report.json``)."""
+        data: dict = {"experiment": self.experiment, "seed": self.seed, "success": self.success,
+                      "error": self.error, "time_s": round(self.time_s, 3)}
+        if self.operations is not None:
+            data["operations"] = self.operations
+        return {**data, **self.details}
+
+    @property
+    def cause(self) -> str:
+        """A short failure cause for the report's tally ("ok" for a success)."""
+        if self.success:
+            return "ok"
+        text = (self.error or "goal not reached").split(":")[0]
+        return text[:60]
+
+    def without_artefacts(self) -> TrialResult:
+        """The same result with nothing kept for the report (what crosses processes)."""
+        return TrialResult(self.experiment, self.seed, self.success, self.error, self.time_s, self.operations,
+                           self.details)
+
+
+class Task:
+    """Base class of the registered experiments (see the module docstring for an example).
+
+    Subclasses set the class attributes and implement :meth:`run_trial`; they may override
+    :meth:`check` (options, before any work), :meth:`summary` (extra summary fields),
+    :meth:`figures` (the report's pictures of one trial) and :meth:`shown_seed`.
+    A task instance holds its options only, so that it can be sent to worker processes.
+    """
+
+    name: ClassVar[str]
+    system: ClassVar[System]
+    paper_section: ClassVar[str]
+    description: ClassVar[str] = ""
+    options: ClassVar[frozenset[Option]] = frozenset()
+    keep_first: ClassVar[bool] = False  # the first trial keeps its artefacts (costly to re-run)
+
+    def __init__(self, **options: Any) -> None:
+        self.settings: dict[str, Any] = {k: v for k, v in options.items() if v is not None}
+
+    def option(self, name: Option, default: Any = None) -> Any:
+        """The value of a task option (``default`` when not given)."""
+        return self.settings.get(name.value, default)
+
+    def check(self) -> None:
+        """Validate the options before any trial runs (raise :class:`InputError`)."""
+
+    def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
+        """Run the trial of ``seed``; ``keep`` keeps the artefacts that :meth:`figures` draws."""
+        raise NotImplementedError
+
+    def summary(self, results: list[TrialResult]) -> dict:
+        """Task-specific summary fields, added to the common ones of ``report.json``."""
+        return {}
+
+    def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
+        """Write the report's pictures of ``shown`` (a trial run with ``keep``) into ``folder``;
+        returns their paths relative to it (and any other JSON to show with them)."""
+        return {}
+
+    def shown_seed(self, results: list[TrialResult]) -> int:
+        """The trial the report illustrates: the first failed one, else the first."""
+        return next((r.seed for r in results if not r.success), results[0].seed)
+
+    def markdown(self, data: Mapping[str, Any]) -> list[str]:
+        """Task-specific lines of ``report.md`` after the summary table."""
+        return []
+
+    def describe(self) -> dict:
+        """The entry of ``vslsp experiment --list --json``."""
+        return {"name": self.name, "system": self.system.value, "paper_section": self.paper_section,
+                "description": self.description, "options": sorted(o.value for o in self.options)}
+
+
+def timed(task: Task, seed: int, keep: bool) -> TrialResult:
+    """Run one trial and stamp its wall time."""
+    start = time.perf_counter()
+    result = task.run_trial(seed, keep)
+    result.time_s = time.perf_counter() - start
+    return result
+

@@ -1,0 +1,47 @@
+"""Drawing helpers shared by the reports' pictures (RGB images, OpenCV)."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+PICK, PLACE = (255, 0, 255), (0, 170, 255)  # RGB: the pick frame (magenta), the place frame (orange)
+SCALE = 0.5  # pictures at half the camera's resolution
+
+
+def small(image: np.ndarray, scale: float = SCALE) -> np.ndarray:
+    """``image`` (H, W, 3) shrunk by ``scale``."""
+    return cv2.resize(image, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA)
+
+
+def label(image: np.ndarray, text: str, origin: tuple[int, int] = (8, 26)) -> np.ndarray:
+    """A copy of ``image`` with ``text`` in white on a dark band, readable on any background."""
+    image = image.copy()
+    (width, height), baseline = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, 0.6, 2)
+    x, y = origin
+    top, bottom = max(0, y - height - 6), min(image.shape[0], y + baseline + 4)
+    band = image[top:bottom, max(0, x - 6):min(image.shape[1], x + width + 6)]
+    band[:] = (0.25 * band).astype(image.dtype)
+    cv2.putText(image, text, origin, cv2.FONT_HERSHEY_SIMPLEX, 0.6, (255, 255, 255), 2, cv2.LINE_AA)
+    return image
+
+
+def square(image: np.ndarray, centre: tuple[float, float], size: float, colour: tuple[int, int, int]) -> None:
+    """Draw an axis-aligned square frame of side ``size`` px about ``centre`` (in place)."""
+    half = size / 2.0
+    cv2.rectangle(image, point((centre[0] - half, centre[1] - half)), point((centre[0] + half, centre[1] + half)),
+                  colour, 3)
+
+
+def point(xy) -> tuple[int, int]:
+    """Pixel coordinates rounded for OpenCV."""
+    return int(round(xy[0])), int(round(xy[1]))
+
+
+def grid(panels: list[np.ndarray], columns: int) -> np.ndarray:
+    """Panels of one size in rows of ``columns`` (the last row padded with black)."""
+    rows = []
+    for i in range(0, len(panels), columns):
+        row = panels[i:i + columns]
+        rows.append(np.hstack(row + [np.zeros_like(panels[0])] * (columns - len(row))))
+    return np.vstack(rows)

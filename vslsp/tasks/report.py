@@ -1,0 +1,124 @@
+"""The report folder of every experiment run: ``report.json``, ``report.md`` and figures.
+
+``report.json`` holds the summary (the keys of ``vslsp experiment --json``: ``experiment``,
+``trials``, ``successes``, ``success_rate``, ``mean_time_s``, ``failures``, ``results``,
+``report``, then the task's own fields) and every trial's record in seed order.
+``report.md`` opens with a summary table a person can read (trials, successes, failures by
+cause, time), then the task's own lines, the figures of one trial and a row per trial. The
+figures are the task's (:meth:`~vslsp.tasks.base.Task.figures`) for the trial that
+:meth:`~vslsp.tasks.base.Task.shown_seed` picks, re-run with its artefacts when the run did
+not keep them (trials are deterministic, so the re-run is the same trial).
+"""
+
+from __future__ import annotations
+
+import json
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.runner import Run, run_one
+
+
+def summary(task: Task, run: Run, folder: Path | None = None) -> dict:
+    """The JSON summary of a run (the ``--json`` output and the head of ``report.json``)."""
+    results = run.results
+    successes = sum(r.success for r in results)
+    data: dict[str, Any] = {
+        "experiment": task.name,
+        "system": task.system.value,
+        "paper_section": task.paper_section,
+        "trials": len(results),
+        "seed": run.seeds[0],
+        "successes": successes,
+        "success_rate": successes / len(results) if results else 0.0,
+        "mean_time_s": round(sum(r.time_s for r in results) / len(results), 2) if results else 0.0,
+        "failures": [{"seed": r.seed, "error": r.error or "goal not reached"} for r in results if not r.success],
+        "failure_causes": dict(Counter(r.cause for r in results if not r.success).most_common()),
+    }
+    if run.partial:
+        data["partial"] = True
+        data["trials_requested"] = len(run.seeds)
+        data["interrupted"] = run.interrupted
+    data.update(task.summary(results))
+    data["results"] = [r.to_dict() for r in results]
+    data["report"] = str(folder) if folder is not None else None
+    return data
+
+
+def write_report(folder: str | Path, task: Task, run: Run, *, figures: bool = True) -> dict:
+    """Write the report folder of ``run``; returns the summary written to ``report.json``.
+
+    ``figures=False`` (or an interrupted run) skips the pictures, which may re-run a trial.
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    data = summary(task, run, folder)
+    if figures and run.results and not run.partial:
+        seed = task.shown_seed(run.results)
+        shown = next((r for r in run.results if r.seed == seed and r.artefacts is not None), None)
+        if shown is None:
+            shown = run_one(task, seed, keep=True)
+        files = task.figures(folder, shown) if shown.artefacts is not None else {}
+        data["shown_trial"] = {"seed": shown.seed, "success": shown.success, **files}
+    (folder / "report.json").write_text(json.dumps(data, indent=2) + "\n")
+    (folder / "report.md").write_text(markdown(task, data))
+    return data
+
+
+def markdown(task: Task, data: dict) -> str:
+    """``report.md``: the summary table first, then the task's lines, the figures, the trials."""
+    title = f"# {data['experiment']} ({data['system']}, paper: {data['paper_section']})"
+    causes = ", ".join(f"{cause}: {n}" for cause, n in data["failure_causes"].items()) or "none"
+    lines = [title, ""]
+    if task.description:
+        lines += [task.description, ""]
+    if data.get("partial"):
+        lines += [f"**Partial run**: interrupted ({data['interrupted']}) after {data['trials']} of "
+                  f"{data['trials_requested']} trials; the figures below are those of the finished trials.", ""]
+    lines += ["| trials | succeeded | success rate | failures by cause | mean time per trial |",
+              "|---|---|---|---|---|",
+              f"| {data['trials']} (seeds {data['seed']}-{data['seed'] + max(data['trials'] - 1, 0)}) | "
+              f"{data['successes']} | {100 * data['success_rate']:.1f} % | {causes} | {data['mean_time_s']} s |", ""]
+    lines += task.markdown(data)
+    if data["failures"]:
+        lines += ["## Failures", ""] + [f"- seed {f['seed']}: {f['error']}" for f in data["failures"][:30]]
+        if len(data["failures"]) > 30:
+            lines.append(f"- ... and {len(data['failures']) - 30} more (report.json)")
+        lines.append("")
+    shown = data.get("shown_trial")
+    if shown:
+        lines += [f"## Trial {shown['seed']} ({'succeeded' if shown['success'] else 'FAILED'})", ""]
+        for key, value in shown.items():
+            if isinstance(value, str) and value.endswith(".png"):
+                lines += [f"### {key.replace('_', ' ')}", "", f"![{key}]({value})", ""]
+            elif isinstance(value, str) and value.endswith((".pddl", ".txt")):
+                lines += [f"- {key}: [{value}]({value})"]
+            elif key == "rules" and value:
+                lines += ["Rules learned from the demonstrations:", ""] + [f"- {rule}" for rule in value] + [""]
+            elif key == "images":
+                for image in value:
+                    lines += [f"### {image['title']}", "", f"![{image['title']}]({image['file']})", ""]
+                    if "pre" in image:
+                        lines += [f"Raw images: [pre]({image['pre']}), [post]({image['post']})", ""]
+        lines.append("")
+    lines += ["## Trials", "", "| seed | result | time (s) | notes |", "|---|---|---|---|"]
+    for record in data["results"]:
+        lines.append(f"| {record['seed']} | {'ok' if record['success'] else 'FAILED'} | {record['time_s']} | "
+                     f"{_note(record)} |")
+    return "\n".join(lines) + "\n"
+
+
+def _note(record: dict) -> str:
+    if record.get("error"):
+        return str(record["error"]).replace("|", "/")[:200]
+    operations = record.get("operations") or []
+    diagnoses = Counter(str(op.get("diagnosis", "ok" if op.get("success", True) else "failed")) for op in operations
+                        if isinstance(op, dict))
+    return ", ".join(f"{k}: {v}" for k, v in diagnoses.items()) if diagnoses else ""
+
+
+def result_lines(results: list[TrialResult]) -> list[str]:
+    """One line per failed trial, for the command line."""
+    return [f"  seed {r.seed}: {r.error or 'goal not reached'}" for r in results if not r.success]

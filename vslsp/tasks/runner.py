@@ -1,0 +1,191 @@
+"""The one trial runner: seeded trials of any registered task, in parallel, results in seed order.
+
+Backends: ``local`` runs the trials in this process (one worker) or on a pool of spawned
+processes (pybullet and torch do not survive a fork); ``ray`` runs each trial as a Ray task
+(:mod:`vslsp.tasks.ray_backend`). Whatever the backend:
+
+- the same seed gives the same result (a trial builds everything from its seed);
+- a trial that raises is recorded as a failed trial with the error, never lost;
+- a worker process that dies is replaced and its trial retried once, then recorded as failed;
+- Ctrl-C or SIGTERM stops at once: outstanding trials are cancelled, every worker ends, and
+  the trials that finished are returned (``Run.interrupted``) so that their report is written.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import signal
+import traceback
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any
+
+from vslsp.errors import InputError
+from vslsp.tasks.base import Task, TrialResult, timed
+
+BACKENDS = ("local", "ray")
+
+
+class Interrupted(Exception):
+    """Ctrl-C or SIGTERM during a run."""
+
+
+@dataclass
+class Run:
+    """The outcome of :func:`run_trials`: the finished trials in seed order, and whether the run
+    was cut short (``interrupted``: the signal's name) before every seed ran."""
+
+    results: list[TrialResult]
+    seeds: list[int]
+    interrupted: str | None = None
+
+    @property
+    def partial(self) -> bool:
+        return len(self.results) < len(self.seeds)
+
+
+def run_one(task: Task, seed: int, keep: bool = False) -> TrialResult:
+    """One trial; anything it raises becomes a failed trial that says what went wrong."""
+    try:
+        result = timed(task, seed, keep)
+    except Exception as error:  # noqa: BLE001  (a trial that raises is recorded, never lost)
+        where = traceback.extract_tb(error.__traceback__)[-1]
+        return TrialResult(task.name, seed, False,
+                           f"{type(error).__name__}: {error} (at {where.filename.split('/')[-1]}:{where.lineno})")
+    return result if keep else result.without_artefacts()
+
+
+def check_counts(trials: int, workers: int) -> None:
+    """--trials and --workers must be at least 1."""
+    if trials < 1:
+        raise InputError(f"--trials must be at least 1, got {trials}")
+    if workers < 1:
+        raise InputError(f"--workers must be at least 1, got {workers}")
+
+
+def run_trials(task: Task, seeds: Sequence[int], *, workers: int = 1, backend: str = "local",
+               address: str | None = None, on_done: Callable[[TrialResult], None] | None = None,
+               on_interrupt: Callable[[str], None] | None = None) -> Run:
+    """Run the trials of ``seeds`` on ``backend`` with ``workers`` in parallel.
+
+    ``on_done(result)`` is called as each trial finishes (in any order: progress);
+    ``on_interrupt(signal_name)`` as soon as an interrupt arrives. The first seed keeps its
+    artefacts when the task asks for it (``Task.keep_first``).
+    """
+    seeds = list(seeds)
+    check_counts(len(seeds), workers)
+    if backend not in BACKENDS:
+        raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+    keep = {seeds[0]} if task.keep_first else set()
+    done: dict[int, TrialResult] = {}
+
+    def finished(result: TrialResult) -> None:
+        done[result.seed] = result
+        if on_done is not None:
+            on_done(result)
+
+    interrupted = None
+    with _signals_raise() as received:
+        try:
+            if backend == "ray":
+                from vslsp.tasks.ray_backend import run_on_ray
+
+                run_on_ray(task, seeds, keep, workers, address, finished)
+            elif workers == 1 or len(seeds) == 1:
+                for seed in seeds:
+                    finished(run_one(task, seed, seed in keep))
+            else:
+                _run_pool(task, seeds, keep, workers, finished)
+        except (Interrupted, KeyboardInterrupt):
+            interrupted = received[0] if received else "SIGINT"
+            if on_interrupt is not None:
+                on_interrupt(interrupted)
+    return Run([done[s] for s in seeds if s in done], seeds, interrupted)
+
+
+@contextmanager
+def _signals_raise() -> Iterator[list[str]]:
+    """SIGTERM raises :class:`Interrupted` in the main thread (SIGINT already raises
+    KeyboardInterrupt); the list holds the name of the signal received."""
+    received: list[str] = []
+
+    def handler(number: int, frame: Any) -> None:
+        received.append(signal.Signals(number).name)
+        raise Interrupted(received[-1])
+
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread: leave signals alone
+        yield received
+        return
+    try:
+        yield received
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _worker_init() -> None:
+    # The parent handles Ctrl-C for all (and ends the workers); a worker must not die of it half-way.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    from vslsp.sim.quiet import quiet  # noqa: F401  (workers import the simulator quietly)
+
+
+def _new_pool(workers: int) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=_worker_init)
+
+
+def _end_pool(pool: ProcessPoolExecutor) -> None:
+    """Stop a pool now: cancel what has not started and terminate its processes."""
+    processes = list(getattr(pool, "_processes", {}).values())  # the executor offers no kill
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(timeout=5)
+        if process.is_alive():
+            process.kill()
+
+
+def _run_pool(task: Task, seeds: list[int], keep: set[int], workers: int,
+              finished: Callable[[TrialResult], None]) -> None:
+    """Trials on a process pool, at most ``workers`` in flight (so that when a worker dies,
+    the trials it may have been running are known and retried once in a fresh pool)."""
+    queue = list(seeds)
+    retried: set[int] = set()
+    pool = _new_pool(workers)
+    running: dict[Future, int] = {}
+    try:
+        while queue or running:
+            # A retried trial runs alone, so that a second death is its own and no other trial's.
+            while queue and len(running) < workers and not (running and (queue[0] in retried or
+                                                                          any(s in retried for s in running.values()))):
+                seed = queue.pop(0)
+                running[pool.submit(run_one, task, seed, seed in keep)] = seed
+            completed, _ = wait(list(running), return_when=FIRST_COMPLETED)
+            broken = []
+            for future in completed:
+                seed = running.pop(future)
+                try:
+                    finished(future.result())
+                except BrokenProcessPool:
+                    broken.append(seed)
+            if broken:
+                # Every trial in flight was lost with the pool: retry each once in a fresh one.
+                lost = sorted(broken + list(running.values()))
+                running.clear()
+                _end_pool(pool)
+                pool = _new_pool(workers)
+                for seed in lost:
+                    if seed in retried:
+                        finished(TrialResult(task.name, seed, False, "worker died: its process ended during the "
+                                                                     "trial twice (crash or out of memory)"))
+                    else:
+                        retried.add(seed)
+                        queue.insert(0, seed)
+    finally:
+        _end_pool(pool)
