@@ -12,7 +12,8 @@ from vslsp.cli import main
 from vslsp.errors import InputError
 from vslsp.vision.synthetic import body_sprite, houses_world, paste, roof_sprite
 from vslsp.vsl.house_roof import PIXEL_SIZE, demonstrate, reproduce
-from vslsp.vsl.house_world import BELOW, TOP, HouseWorld, compose, relative, wrap
+from vslsp.geometry.poses import compose, relative, wrap
+from vslsp.vsl.house_world import BELOW, TOP, HouseWorld
 from vslsp.tasks import get_task
 
 # Trials whose new world makes the fixed small frame go wrong (found by running the trials;

@@ -3,7 +3,7 @@ and the grasping paragraph of section "Methodology") executed by the Panda of a
 :class:`~vslsp.sim.tabletop.TabletopWorld`.
 
 Before moving, the heights of the pick and the place come from a downward depth probe, the
-whole cycle rest → pick → place → rest of :func:`vslsp.vsl.trajectory.pick_and_place` is
+whole cycle rest → pick → place → rest of :func:`vslsp.geometry.trajectory.pick_and_place` is
 solved by IK, and the operation is "unreachable" when a solution misses its hand pose. Then the
 arm follows the joint path by position control; at the pick the fingers close until the normal
 force on each reaches a threshold ("grasp failed" when no movable item is between them); at the
@@ -21,7 +21,7 @@ from vslsp.errors import InputError
 from vslsp.sim.panda import CONTACT_THRESHOLD, FINGER_FORCE, FINGER_OPEN, IK_ANGLE_TOLERANCE, \
     IK_POSITION_TOLERANCE, PARK, REST, UPPER, Panda
 from vslsp.sim.quiet import quiet
-from vslsp.vsl import trajectory
+from vslsp.geometry import trajectory
 
 with quiet():
     import pybullet as pb

@@ -3,7 +3,7 @@ camera above the workspace looking down obliquely at 1280×960, textured items a
 and a Franka Panda with a parallel gripper standing in for the WAM with its Barrett hand.
 
 A pick-and-place follows the paper's cycle rest → pick → place → rest
-(:func:`vslsp.vsl.trajectory.pick_and_place`: cubic paths in x and y, the height profile
+(:func:`vslsp.geometry.trajectory.pick_and_place`: cubic paths in x and y, the height profile
 (traj3), cubic time scaling, trapezoidal rotation θ_pick → θ_place). The arm is driven along it
 by position control of IK solutions; the fingers close until the contact force reaches a
 threshold (the paper's torque threshold), and at the place the hand comes down until the held

@@ -16,7 +16,7 @@ window search over the angle), then reproduces the task in a new, randomised wor
   the object (the paper's pre-place frame) that either stays fixed or grows (adaptive frame);
   every copy of the place's surroundings is a candidate and the frame grows until one stands
   out, which gives the place point and θ_place (plus the demonstrated turn);
-- the paper's trajectory (:mod:`vslsp.vsl.trajectory`) carries the roof rest → pick → place
+- the paper's trajectory (:mod:`vslsp.geometry.trajectory`) carries the roof rest → pick → place
   → rest.
 
 The fixed frame cannot see whether a house already has its roof and may put the third roof
@@ -42,7 +42,7 @@ from vslsp.vsl.demonstration import Demonstration, DemonstrationRecorder
 from vslsp.vsl.house_world import (ANGLE_TOLERANCE, DEMONSTRATED, POSITION_TOLERANCE, SLOTS, WORLD_SIZE, HouseWorld,
                                    Pose2, compose, pose_dict,
                                    relative, wrap)
-from vslsp.vsl.trajectory import PickPlaceTrajectory, TrajectoryParameters, pick_and_place
+from vslsp.geometry.trajectory import PickPlaceTrajectory, TrajectoryParameters, pick_and_place
 
 PIXEL_SIZE = 0.001  # m per px: the board is 96 x 72 cm
 REST = (480.0, 800.0, 0.15)  # the hand's rest point: px beyond the bottom edge (robot side), m high

@@ -16,9 +16,9 @@ from functools import lru_cache
 import cv2
 import numpy as np
 
+from vslsp.geometry.poses import Pose2, compose, relative, wrap
 from vslsp.vision.synthetic import board, body_sprite, covers, paste, roof_sprite
 
-Pose2 = tuple[float, float, float]  # x, y px; angle rad (image coordinates)
 WORLD_SIZE = (960, 720)  # (W, H) px
 BASELINE = ((30, 694), (930, 694))  # the static landmark, well below the objects
 # A roof's pose in its body's frame (px, rad): its base edge on the body's top edge, or upside
@@ -29,24 +29,6 @@ DEMONSTRATED = ("top", "top", "below")  # the tutor's three operations, as in th
 POSITION_TOLERANCE, ANGLE_TOLERANCE = 6.0, np.radians(6.0)  # a roof this close to a slot is in it
 _BODY, _ROOF = body_sprite(), roof_sprite()
 _CLEARANCE = {("body", "body"): 250.0, ("body", "roof"): 180.0, ("roof", "roof"): 110.0}
-
-
-def compose(a: Pose2, b: Pose2) -> Pose2:
-    """a ∘ b: pose ``b`` given in the frame of ``a``, expressed in the image."""
-    c, s = np.cos(a[2]), np.sin(a[2])
-    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
-
-
-def relative(a: Pose2, b: Pose2) -> Pose2:
-    """a⁻¹ ∘ b: pose ``b`` in the frame of ``a``."""
-    c, s = np.cos(a[2]), np.sin(a[2])
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    return (c * dx + s * dy, -s * dx + c * dy, wrap(b[2] - a[2]))
-
-
-def wrap(angle: float) -> float:
-    """``angle`` (rad) in [−π, π)."""
-    return float((angle + np.pi) % (2.0 * np.pi) - np.pi)
 
 
 @dataclass(frozen=True)

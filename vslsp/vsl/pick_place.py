@@ -31,7 +31,7 @@ from vslsp.errors import InputError
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import SCALE_RANGE
 from vslsp.vision.image import channel_max
-from vslsp.vsl.house_world import wrap
+from vslsp.geometry.poses import wrap
 
 PLACE_FRAME = 2.0  # the pre-place frame's side, in sizes of the biggest object (the paper: two to three)
 CHANGE_THRESHOLD = 40  # grey levels: a pixel changed between two observations

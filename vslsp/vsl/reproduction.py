@@ -32,7 +32,7 @@ from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
 from vslsp.vision.matching import Match, find_best_match, frame_sizes
 from vslsp.vision.transform import decompose
-from vslsp.vsl.house_world import wrap
+from vslsp.geometry.poses import wrap
 from vslsp.vsl.pick_place import (CHANGE_THRESHOLD, PickPlaceDemonstration, RecordedOperation, TableCamera, apply,
                                   object_candidates, table_rotation)
 

@@ -37,7 +37,7 @@ from vslsp.sim.tabletop import Item, Placement, PickPlaceResult, TabletopWorld
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import Match
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.house_world import wrap
+from vslsp.geometry.poses import wrap
 from vslsp.vsl.pick_place import PickPlaceDemonstration, PickPlaceRecorder, TableView
 from vslsp.vsl.reproduction import (PlannedOperation, correction, identify, identify_moved, match_object, match_place,
                                    plan_operation)

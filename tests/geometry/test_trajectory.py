@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
-from vslsp.vsl.trajectory import (
+from vslsp.geometry.trajectory import (
     PAPER_H0,
     TrajectoryParameters,
     cubic_path,
