@@ -1,4 +1,4 @@
-"""The ``vslsp`` command line (see ``DESIGN.md``: command-line contract).
+"""The ``vslsp`` command line (the contract: ``docs/cli.md``).
 
 Subcommands live in their own modules and are imported only when used, so that
 ``vslsp --help`` stays fast (torch and pybullet are heavy to import). To add a command,

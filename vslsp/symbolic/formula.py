@@ -4,7 +4,7 @@ Paper: "Generalization of Learned Skills as Symbolic Action Models" and "Impleme
 one predicate, ``(far ?b)``, describes push and pull; goals such as "no block is far" and the
 demonstrated order, which PDDL 3.0 writes as trajectory constraints. The operator the paper
 calls "somewhere-after" is PDDL 3.0's ``(sometime-before p q)``: p may only hold after q has
-held (see DESIGN.md).
+held (the PDDL 3.0 semantics of ``sometime-before``).
 
 Formulas are small frozen values. Terms are strings: ``"?b"`` is a variable, anything else an
 object. A state is a ``frozenset`` of ground :class:`Atom`. Every formula prints as PDDL
