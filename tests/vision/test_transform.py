@@ -42,7 +42,8 @@ def test_a_mirrored_transform_keeps_a_proper_rotation_and_a_negative_scale():
 
 def test_the_angle_comes_from_the_second_row_of_the_rotation():
     # The paper's arctan(R(2,2) / R(2,1)) is cot θ's arctangent, π/2 − θ; we return θ.
-    theta = 0.5
-    rotation = _similarity(theta, 1.0, 0, 0)[:2, :2]
-    assert rotation_angle(rotation) == pytest.approx(theta)
-    assert np.arctan(rotation[1, 1] / rotation[1, 0]) == pytest.approx(np.pi / 2 - theta)
+    # The literal formula also loses the quadrant; ours holds over the whole circle.
+    for theta in np.linspace(-3.0, 3.0, 13):
+        rotation = _similarity(theta, 1.0, 0, 0)[:2, :2]
+        assert rotation_angle(rotation) == pytest.approx(theta)
+        assert rotation_angle(2.5 * rotation) == pytest.approx(theta)  # a scaled rotation: the same angle
