@@ -28,7 +28,7 @@ from vslsp.pipeline import Execution, execute_task, explore_skill, learn_models,
 from vslsp.skills.library import SkillLibrary
 from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.symbolic import Domain, Task, learn_task
-from vslsp.vision.matching import find_best_match
+from vslsp.vision.matching import Match, find_best_match
 from vslsp.vsl.demonstration import DemonstrationRecorder
 from vslsp.vsl.grounding import ground
 
@@ -192,11 +192,8 @@ def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
     comes first; plain-coloured cubes give few keypoints, so when the match lands on no object
     (or on one of another colour) the object's symbol (its colour name) decides.
     """
-    try:
-        match = find_best_match(op.pre_observation, state.image, (op.pose_pre.x, op.pose_pre.y), op.object_size)
-    except ValueError:
-        match = None
-    if match is not None:
+    match = find_best_match(op.pre_observation, state.image, (op.pose_pre.x, op.pose_pre.y), op.object_size)
+    if isinstance(match, Match):
         best, distance = None, np.inf
         for name, obj in state.objects.items():
             d = float(np.hypot(obj.pixel[0] - match.x, obj.pixel[1] - match.y))

@@ -5,7 +5,7 @@ import cv2
 import numpy as np
 import pytest
 
-from vslsp.vision.matching import find_best_match, frame_sizes
+from vslsp.vision.matching import NoMatch, find_best_match, frame_sizes
 from vslsp.vision.synthetic import BODY_SIZE, houses_world
 
 
@@ -72,3 +72,9 @@ def test_an_object_s_recorded_features_recognise_it_in_a_later_observation():
     match = find_best_match(observation, later, (230.0, 165.0), object_size=BODY_SIZE,
                             observation_features=phi)
     assert np.hypot(match.x - 330.0, match.y - 215.0) < 3.0 and abs(np.degrees(match.theta)) < 2.0
+
+
+def test_an_object_that_is_not_in_the_world_is_a_no_match_result_not_an_exception():
+    blank = np.full_like(WORLD, 128)
+    match = find_best_match(DEMO, blank, PLACE, object_size=40)
+    assert isinstance(match, NoMatch) and not match and "no SIFT match" in match.reason

@@ -65,6 +65,16 @@ class Match:
                 "ambiguous": self.ambiguous, "candidates": self.candidates}
 
 
+@dataclass(frozen=True)
+class NoMatch:
+    """Match finding found nothing: why (a typed outcome, not an exception). False in a test."""
+
+    reason: str
+
+    def __bool__(self) -> bool:
+        return False
+
+
 def frame_sizes(object_size: float, world_shape: tuple[int, ...]) -> list[int]:
     """Adaptive frame sides (px): from the object's size, ×1.5 each step, to the whole world."""
     largest = int(max(world_shape[:2]))
@@ -84,7 +94,7 @@ def find_best_match(
     observation_features: Features | None = None,
     world_features: Features | None = None,
     model: str = "similarity",
-) -> Match:
+) -> Match | NoMatch:
     """Where the object at ``point`` (x, y px) of ``observation`` (h, w, 3) is in ``world``
     (H, W, 3), both RGB uint8.
 
@@ -93,7 +103,7 @@ def find_best_match(
     image may be passed. ``model``: the transform fitted to the winning inliers, "similarity"
     (rigid motion on the table seen by the same camera: the default, stable with few
     inliers) or "homography" (the paper's general T_sift, when at least 8 inliers).
-    Raises ValueError when no frame finds any match.
+    Returns :class:`NoMatch` when no frame finds any match (ValueError: an unknown ``model``).
     """
     if model not in ("similarity", "homography"):
         raise ValueError(f"unknown model {model!r}; use 'similarity' or 'homography'")
@@ -116,7 +126,7 @@ def find_best_match(
         if unique and candidates[0].score >= MIN_SCORE:
             break
     if best is None:
-        raise ValueError("no SIFT match of the observation's frame in the world at any frame size")
+        return NoMatch("no SIFT match of the observation's frame in the world at any frame size")
     candidate, size, count, unique = best
     transform = _refine(candidate, model)
     x, y = cv2.perspectiveTransform(np.array([[point]], np.float32), transform)[0, 0]

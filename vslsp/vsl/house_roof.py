@@ -37,7 +37,7 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
-from vslsp.vision.matching import MARGIN, MIN_SCORE, Match, find_best_match, frame_sizes
+from vslsp.vision.matching import MARGIN, MIN_SCORE, Match, NoMatch, find_best_match, frame_sizes
 from vslsp.vsl.demonstration import Demonstration, DemonstrationRecorder
 from vslsp.vsl.house_world import (ANGLE_TOLERANCE, DEMONSTRATED, POSITION_TOLERANCE, SLOTS, WORLD_SIZE, HouseWorld,
                                    Pose2, compose, pose_dict,
@@ -199,21 +199,18 @@ def reproduce(demo: HouseRoofDemonstration, world: HouseWorld, frame: str = "ada
     start, results, pre_place_worlds = world, [], []
     for k, operation in enumerate(demo.demonstration.operations):
         seen = world.render()
-        try:
-            pick = find_best_match(operation.pre_observation, seen, (operation.pose_pre.x, operation.pose_pre.y),
-                                   operation.object_size, [pick_frame(operation.object_size)], features.pre_pick[k])
-        except ValueError:
+        pick = find_best_match(operation.pre_observation, seen, (operation.pose_pre.x, operation.pose_pre.y),
+                               operation.object_size, [pick_frame(operation.object_size)], features.pre_pick[k])
+        if isinstance(pick, NoMatch):
             results.append(OperationResult(None, None, 0.0, 0.0, None, None, None, None, "no match"))
             continue
         grasped = world.roof_at((pick.x, pick.y))
         lifted = world if grasped is None else world.with_roof(grasped, None)
         seen = lifted.render()
         pre_place_worlds.append(seen)
-        try:
-            place = match_place(demo.pre_place[k], seen, (operation.pose_post.x, operation.pose_post.y),
-                                operation.object_size, place_frames(frame, operation.object_size),
-                                features.pre_place[k])
-        except ValueError:
+        place = match_place(demo.pre_place[k], seen, (operation.pose_post.x, operation.pose_post.y),
+                            operation.object_size, place_frames(frame, operation.object_size), features.pre_place[k])
+        if isinstance(place, NoMatch):
             results.append(OperationResult(pick, None, pick.theta, 0.0, None, grasped, None, None, "no match"))
             continue
         theta_place = pick.theta + wrap(place.theta + demo.turns[k] - pick.theta)  # the shorter turn
@@ -257,31 +254,29 @@ def place_frames(frame: str, object_size: float) -> list[int]:
 
 
 def match_place(observation: np.ndarray, world: np.ndarray, point: tuple[float, float], object_size: float,
-                sizes: list[int], observation_features: Features) -> Match:
+                sizes: list[int], observation_features: Features) -> Match | NoMatch:
     """``findBestMatch`` of a pre-place observation (h, w, 3) in ``world`` (H, W, 3) with frames
     of the given ``sizes`` (px, growing): every copy of the place's surroundings is a candidate
     (found by ``find_best_match`` with the copies already found left out, and at each size), and
     the frame grows until one candidate's correlation beats all others by ``MARGIN``. When none
     does, the best candidate of the largest frame that still sees what the demonstration saw
     (the best correlation has not dropped by ``MARGIN``) is returned, flagged ambiguous; with a
-    single (fixed) size that is the first place that matches best. Raises ValueError when
+    single (fixed) size that is the first place that matches best. :class:`NoMatch` when
     nothing matches at all."""
     world_features = extract_features(world)
     candidates: list[Match] = []
     for index, size in enumerate(sizes):
         remaining = world_features
         for _ in range(_COPIES if index == 0 else 1):
-            try:
-                match = find_best_match(observation, world, point, object_size, [size], observation_features,
-                                        remaining)
-            except ValueError:
+            match = find_best_match(observation, world, point, object_size, [size], observation_features, remaining)
+            if isinstance(match, NoMatch):
                 break
             if all(np.hypot(match.x - c.x, match.y - c.y) > object_size / 2.0 for c in candidates):
                 candidates.append(match)
             away = np.hypot(remaining.keypoints[:, 0] - match.x, remaining.keypoints[:, 1] - match.y) > size / 2.0
             remaining = Features(remaining.keypoints[away], remaining.descriptors[away])
     if not candidates:
-        raise ValueError("no SIFT match of the pre-place observation in the world")
+        return NoMatch("no SIFT match of the pre-place observation in the world")
     chosen = None
     for size in sizes:
         scores = np.array([frame_correlation(observation, world, point, size, c.transform) for c in candidates])

@@ -30,7 +30,7 @@ import numpy as np
 
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
-from vslsp.vision.matching import Match, find_best_match, frame_sizes
+from vslsp.vision.matching import Match, NoMatch, find_best_match, frame_sizes
 from vslsp.vision.transform import decompose
 from vslsp.geometry.poses import wrap
 from vslsp.vsl.pick_place import (CHANGE_THRESHOLD, PickPlaceDemonstration, RecordedOperation, TableCamera, apply,
@@ -43,15 +43,16 @@ PLACE_GROWTH = 3.0
 _SQUARE = 0.15  # a footprint whose sides differ by less than this fraction is square (closed either way)
 
 
-def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match:
+def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features
+                 ) -> Match | NoMatch:
     """``findBestMatch`` of operation ``k``'s pre-pick observation in the pre-pick frame: the
     object's features φ_k against the world's, SIFT and RANSAC as in the paper. The score is
     the fraction of φ_k that are inliers; the match is ambiguous when a second placement
-    gathers nearly as many. Raises ValueError when the object is not found."""
+    gathers nearly as many. :class:`NoMatch` when the object is not found."""
     op = demo.operations[k]
     found = object_candidates(op.features, world_features)
     if not found:
-        raise ValueError(f"operation {k + 1}'s object is not in the world (no SIFT-RANSAC match)")
+        return NoMatch(f"operation {k + 1}'s object is not in the world (no SIFT-RANSAC match)")
     transform, inliers = found[0]
     x, y = apply(transform, op.pick_point)
     decomposition = decompose(transform)
@@ -88,10 +89,11 @@ def _match_dict(match: Match) -> dict:
     return {k: round(v, 4) if isinstance(v, float) else v for k, v in match.to_dict().items()}
 
 
-def match_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match:
+def match_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features
+                ) -> Match | NoMatch:
     """``findBestMatch`` of operation ``k``'s pre-place observation in ``world`` (h, w, 3):
     frames from the pre-place frame, growing while ambiguous up to :data:`PLACE_GROWTH` times
-    it. Raises ValueError when nothing matches."""
+    it. :class:`NoMatch` when nothing matches."""
     op, start = demo.operations[k], demo.place_frame
     sizes = [s for s in frame_sizes(start, world.shape) if s <= PLACE_GROWTH * start + 0.5] or [int(round(start))]
     return find_best_match(op.pre_place, world, op.place_point, start, sizes,
@@ -100,15 +102,17 @@ def match_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_f
 
 def plan_operation(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: TableCamera,
                    world_features: Features | None = None, pick_match: Match | None = None,
-                   place_match: Match | None = None) -> PlannedOperation:
+                   place_match: Match | None = None) -> PlannedOperation | NoMatch:
     """Algorithm 1 lines 13-15 for operation ``k`` in the observed ``world`` (H, W, 3): the
     pick and place matches (given, or found with :func:`match_object` and :func:`match_place`)
     turned into the hand's poses.
-    Raises ValueError when an observation is not found in the world."""
+    :class:`NoMatch` when an observation is not found in the world."""
     op = demo.operations[k]
     world_features = world_features if world_features is not None else extract_features(world)
     pick = pick_match or match_object(demo, k, world, world_features)
     place = place_match or match_place(demo, k, world, world_features)
+    if isinstance(pick, NoMatch) or isinstance(place, NoMatch):
+        return pick if isinstance(pick, NoMatch) else place
     pick_xy = camera.pixel_to_table(*apply(pick.transform, op.pick_point), op.pick_z)
     place_xy = camera.pixel_to_table(*apply(place.transform, op.place_point), op.place_z)
     yaw_now = op.yaw + table_rotation(camera, pick.transform, op.pick_point, op.pick_z, op.pick_z)
@@ -148,9 +152,8 @@ def correction(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: 
         around = np.zeros(world.shape[:2], np.uint8)
         around[max(0, int(v - half)):max(0, int(v + half)), max(0, int(u - half)):max(0, int(u + half))] = 1
         world_features = extract_features(world, around)
-    try:
-        found = match_object(demo, k, world, world_features)
-    except ValueError:
+    found = match_object(demo, k, world, world_features)
+    if isinstance(found, NoMatch):
         return None
     if found.ambiguous or found.score * len(op.features) < _SURE:
         return None
@@ -174,9 +177,8 @@ def identify(demo: PickPlaceDemonstration, world: np.ndarray, world_features: Fe
     relative to its features). None when none is found."""
     best: tuple[int, Match] | None = None
     for k in candidates if candidates is not None else range(len(demo.operations)):
-        try:
-            match = match_object(demo, k, world, world_features)
-        except ValueError:
+        match = match_object(demo, k, world, world_features)
+        if isinstance(match, NoMatch):
             continue
         if best is None or match.score > best[1].score:
             best = (k, match)

@@ -35,7 +35,7 @@ import numpy as np
 
 from vslsp.sim.tabletop import Item, Placement, PickPlaceResult, TabletopWorld
 from vslsp.vision.features import Features, extract_features
-from vslsp.vision.matching import Match
+from vslsp.vision.matching import Match, NoMatch
 from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.geometry.poses import wrap
 from vslsp.vsl.pick_place import PickPlaceDemonstration, PickPlaceRecorder, TableView
@@ -195,10 +195,9 @@ def robot_operation(world: TabletopWorld, demo: TaskDemonstration, k: int, ancho
     image = look(world) if image is None else image
     features = extract_features(image) if features is None else features
     kept = image if keep else None
-    try:
-        planned = plan_operation(demo.demonstration, k, image, TableView(world), features, pick_match=pick_match,
-                                 place_match=place_match)
-    except ValueError:
+    planned = plan_operation(demo.demonstration, k, image, TableView(world), features, pick_match=pick_match,
+                             place_match=place_match)
+    if isinstance(planned, NoMatch):
         return OperationOutcome(k, "robot", demo.items[k], "no match", observation=kept)
     result = world.pick_and_place(planned.pick, planned.place, planned.grasp_width)
     corrected = False
@@ -428,17 +427,14 @@ def answer_place(demo: PickPlaceDemonstration, played: int, answer: int, world: 
     game they lie elsewhere and would draw the match to them. None when the played piece is not
     found or nothing matches about it (the robot then searches the whole view). ``features``
     are the SIFT features of ``world``."""
-    try:
-        piece = match_object(demo, played, world, features)
-    except ValueError:
+    piece = match_object(demo, played, world, features)
+    if isinstance(piece, NoMatch):
         return None
     reach = float(np.hypot(*np.subtract(demo.operations[answer].place_point, demo.operations[played].place_point)))
     half = reach + demo.pick_frame
     near = np.all(np.abs(features.keypoints[:, :2] - (piece.x, piece.y)) <= half, axis=1)
-    try:
-        return match_place(demo, answer, world, Features(features.keypoints[near], features.descriptors[near]))
-    except ValueError:
-        return None
+    place = match_place(demo, answer, world, Features(features.keypoints[near], features.descriptors[near]))
+    return None if isinstance(place, NoMatch) else place
 
 
 def _domino_opening(rng: np.random.Generator, pieces: int) -> tuple[float, float, float]:
