@@ -10,8 +10,8 @@ import shutil
 from pathlib import Path
 
 import pytest
-
 from cli_run import REPO, unwritable_folder, vslsp, vslsp_process
+
 from vslsp.skills import default_library_path
 
 # Commands that share an edge: a seed, a report folder (option --out). The command comes first,

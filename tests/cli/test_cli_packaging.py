@@ -11,8 +11,8 @@ import venv
 from pathlib import Path
 
 import pytest
-
 from cli_run import REPO
+
 from vslsp.data import pddl_folder, shipped_folder, skills_folder
 
 
@@ -49,8 +49,9 @@ def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    where = subprocess.run([str(python), "-c", "import vslsp.data as d; print(d.skills_folder()); print(d.pddl_folder())"],
-                           capture_output=True, text=True, cwd=elsewhere, env=env, timeout=600)
+    show = "import vslsp.data as d; print(d.skills_folder()); print(d.pddl_folder())"
+    where = subprocess.run([str(python), "-c", show], capture_output=True, text=True, cwd=elsewhere, env=env,
+                           timeout=600)
     skills, pddl = (Path(line) for line in where.stdout.split())
     assert environment in skills.parents and environment in pddl.parents  # inside the installed package
     vslsp = str(environment / "bin" / "vslsp")

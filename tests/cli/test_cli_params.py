@@ -7,10 +7,18 @@ from pathlib import Path
 
 import click
 import pytest
-
 from cli_run import unwritable_folder
-from vslsp.cli.params import (MAX_SEED, OUTPUT_FILE, OUTPUT_FOLDER, count, positive_float, prepare_output_file,
-                              prepare_output_folder, seed_option)
+
+from vslsp.cli.params import (
+    MAX_SEED,
+    OUTPUT_FILE,
+    OUTPUT_FOLDER,
+    count,
+    positive_float,
+    prepare_output_file,
+    prepare_output_folder,
+    seed_option,
+)
 from vslsp.errors import InputError
 
 

@@ -9,8 +9,8 @@ import shlex
 import shutil
 
 import pytest
-
 from cli_run import vslsp
+
 from vslsp.skills import SkillLibrary, default_library_path
 
 

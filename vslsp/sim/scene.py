@@ -236,7 +236,8 @@ def _check_scene_data(data: object) -> None:
         raise InputError(f"landmark is {landmark!r}, not an object with x and angle")
     x = number(landmark.get("x", LandmarkSpec.x), "landmark.x")
     if not TABLE_X[0] <= x <= TABLE_X[1]:
-        raise InputError(f"landmark.x is {x} m: the line would be off the table (x from {TABLE_X[0]} to {TABLE_X[1]} m)")
+        raise InputError(f"landmark.x is {x} m: the line would be off the table "
+                         f"(x from {TABLE_X[0]} to {TABLE_X[1]} m)")
     number(landmark.get("angle", LandmarkSpec.angle), "landmark.angle")
 
 

@@ -20,6 +20,7 @@ import re
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -148,7 +149,7 @@ class SkillLibrary:
         folder.mkdir(parents=True, exist_ok=True)
         for name, skill in self.skills.items():
             skill.reach.save(folder / f"{name}_reach.npz")
-            arrays = {f"t_{k}": t for k, (t, _) in enumerate(skill.demos)}
+            arrays: dict[str, Any] = {f"t_{k}": t for k, (t, _) in enumerate(skill.demos)}
             arrays.update({f"y_{k}": y for k, (_, y) in enumerate(skill.demos)})
             np.savez(folder / f"{name}_demos.npz", **arrays)
         index = {
@@ -184,17 +185,17 @@ class SkillLibrary:
             index = json.loads(index_file.read_text(encoding="utf-8"))
         except FileNotFoundError as error:
             if strict:
-                raise InputError(f"no skill library in {folder} (library.json is missing); "
-                                 f"create one with `vslsp teach push --out {folder}` and `vslsp teach pull --out {folder}`") from error
+                raise InputError(f"no skill library in {folder} (library.json is missing); create one with "
+                                 f"`vslsp teach push --out {folder}` and `vslsp teach pull --out {folder}`") from error
             return cls(), []
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
             problem = f"{index_file} is corrupt ({error}); re-create it with {fix_all}"
             if strict:
                 raise InputError(problem) from error
             return cls(), [problem]
-        problem = _index_problem(index)
-        if problem is not None:
-            problem = f"{index_file} is not a vslsp skill library ({problem}); re-create it with {fix_all}"
+        wrong = _index_problem(index)
+        if wrong is not None:
+            problem = f"{index_file} is not a vslsp skill library ({wrong}); re-create it with {fix_all}"
             if strict:
                 raise InputError(problem)
             return cls(), [problem]
@@ -296,15 +297,13 @@ def _check_dmp_arrays(arrays: dict[str, np.ndarray], path: Path) -> None:
               "alpha_x": (0, 1e3, False), "tau": (0, MAX_TAU, False), "dt": (MIN_DT, MAX_TAU, False),
               "amplitude": (0, MAX_COORDINATE, False), "n_demos": (0, 10**6, True)}
     for key, (low, high, integer) in limits.items():
-        if key in meta:
-            _number(meta[key], f"{path.name}: {key}", low, high, integer=integer,
-                    low_open=key in ("alpha_z", "alpha_x", "tau"))
-    if "weights" in arrays:
+        values = meta.get(key)
+        # A list (a value per dimension) is checked value by value.
+        for k, value in enumerate(values if isinstance(values, list) else [values] if key in meta else []):
+            _number(value, f"{path.name}: {key}" + (f"[{k}]" if isinstance(values, list) else ""), low, high,
+                    integer=integer, low_open=key in ("alpha_z", "alpha_x", "tau"))
+    if "weights" in arrays:  # its shape is the DMP's own check (DMP.load)
         _check_array(arrays["weights"], f"{path.name}: weights", MAX_WEIGHT)
-        n_basis, n_dims = meta.get("n_basis"), meta.get("n_dims")
-        if n_basis is not None and arrays["weights"].shape != (n_basis, n_dims):
-            raise _Invalid(f"{path.name}: weights have shape {arrays['weights'].shape}, not (n_basis, n_dims) = "
-                           f"({n_basis}, {n_dims})")
 
 
 def _check_array(array: np.ndarray, field: str, limit: float) -> None:
@@ -325,7 +324,7 @@ def _check_reach(reach: DMP, path: Path) -> None:
     """The DMP's own fields after :meth:`DMP.load`: what the skill's rollouts rely on."""
     if reach.n_dims != 3:
         raise _Invalid(f"{path.name}: n_dims is {reach.n_dims}, not 3 (x, y, z)")
-    _check_array(np.asarray(reach.weights), f"{path.name}: weights", MAX_WEIGHT)
+    _check_array(np.asarray(reach.weights, dtype=float), f"{path.name}: weights", MAX_WEIGHT)
     _number(reach.tau, f"{path.name}: tau", 0.0, MAX_TAU, low_open=True)
     _number(reach.dt, f"{path.name}: dt", MIN_DT, MAX_TAU)
     if reach.dt > reach.tau:
