@@ -212,16 +212,17 @@ def _check_scene_data(data: object) -> None:
 
     def number(value: object, field: str) -> float:
         if isinstance(value, bool) or not isinstance(value, int | float):
-            raise InputError(f"{field} is {value!r}, not a number")
+            raise InputError(f"not a scene description: {field} is {value!r}, not a number")
         if not np.isfinite(value):
             raise InputError(f"{field} is {value}: not a finite number")
         return float(value)
 
     for k, cube in enumerate(data["cubes"]):
         if not isinstance(cube, dict):
-            raise InputError(f"cubes[{k}] is {cube!r}, not an object with name, colour, x, y, yaw")
+            raise InputError(f"not a scene description: cubes[{k}] is {cube!r}, "
+                             "not an object with name, colour, x, y, yaw")
         if not isinstance(cube.get("name"), str) or not cube["name"]:
-            raise InputError(f"cubes[{k}].name is {cube.get('name')!r}, not a name")
+            raise InputError(f"not a scene description: cubes[{k}].name is {cube.get('name')!r}, not a name")
         size = number(cube.get("size", CUBE_SIZE), f"cubes[{k}].size")
         if not 0.02 <= size <= 0.1:
             raise InputError(f"cubes[{k}].size is {size} m; use 0.02-0.1 m")
@@ -233,7 +234,7 @@ def _check_scene_data(data: object) -> None:
         number(cube.get("yaw", 0.0), f"cubes[{k}].yaw")
     landmark = data.get("landmark", {})
     if not isinstance(landmark, dict):
-        raise InputError(f"landmark is {landmark!r}, not an object with x and angle")
+        raise InputError(f"not a scene description: landmark is {landmark!r}, not an object with x and angle")
     x = number(landmark.get("x", LandmarkSpec.x), "landmark.x")
     if not TABLE_X[0] <= x <= TABLE_X[1]:
         raise InputError(f"landmark.x is {x} m: the line would be off the table "
