@@ -1,6 +1,7 @@
 """The skill library of vslsp.skills.library: the shipped push/pull, its files, and hand paths."""
 
 import json
+import re
 import shutil
 
 import numpy as np
@@ -8,7 +9,7 @@ import pytest
 
 from vslsp.dmp import DMP
 from vslsp.errors import InputError
-from vslsp.skills import SKILL_NAMES, SkillLibrary, default_library_path
+from vslsp.skills import SKILL_NAMES, Skill, SkillLibrary, default_library_path
 from vslsp.skills.library import from_object_frame
 
 
@@ -89,7 +90,7 @@ def test_save_and_load_round_trip(library, tmp_path):
         assert np.array_equal(after.reach.weights, before.reach.weights)
         assert np.array_equal(after.goal, before.goal) and np.array_equal(after.move, before.move)
         assert len(after.demos) == len(before.demos)
-        for (t0, y0), (t1, y1) in zip(before.demos, after.demos):
+        for (t0, y0), (t1, y1) in zip(before.demos, after.demos, strict=True):
             assert np.array_equal(t0, t1) and np.array_equal(y0, y1)
         assert after.summary() == before.summary()
         assert np.array_equal(after.hand_path(start, object_xy, normal), before.hand_path(start, object_xy, normal))
@@ -191,3 +192,116 @@ def test_rotating_the_line_normal_rotates_the_hand_path_about_the_object(library
     # Not a mere translation: the same start with a turned normal gives another path.
     other = skill.hand_path(start, object_xy, turn[:2, :2] @ normal)
     assert len(other) != len(path) or np.abs(other - path).max() > 0.01
+
+
+# -- every value is checked on load (issue 17) ---------------------------------------------------
+def edit_index(change):
+    def edit(folder):
+        index = json.loads((folder / "library.json").read_text())
+        change(index)
+        (folder / "library.json").write_text(json.dumps(index))
+    return edit
+
+
+def edit_npz(change, file="push_reach.npz"):
+    def edit(folder):
+        arrays = dict(np.load(folder / file))
+        change(arrays)
+        np.savez(folder / file, **arrays)
+    return edit
+
+
+def dmp_meta(key, value):
+    def change(arrays):
+        arrays["meta"] = np.array(json.dumps({**json.loads(str(arrays["meta"])), key: value}))
+    return change
+
+
+def write_pickle(folder):
+    import pickle
+
+    (folder / "push_reach.npz").write_bytes(pickle.dumps({"weights": [1.0, 2.0]}))
+
+
+BAD_LIBRARIES = {
+    "nan goal": (edit_index(lambda i: i["skills"]["push"].update(goal=[float("nan"), 0.0, 0.6])),
+                 r"skill 'push'.*goal\[0\] is nan: not finite"),
+    "goal of 2 values": (edit_index(lambda i: i["skills"]["pull"].update(goal=[0.1, 0.2])),
+                         r"skill 'pull'.*goal is \[0\.1, 0\.2\], not a list of 3 numbers"),
+    "huge move": (edit_index(lambda i: i["skills"]["push"].update(move=[1e9, 0.0, 0.0])),
+                  r"move\[0\] is 1e\+09, outside \[-10, 10\]"),
+    "skills as a list": (edit_index(lambda i: i.update(skills=[{"name": "push"}])),
+                         r'not a vslsp skill library \("skills" is a JSON list'),
+    "entry as a string": (edit_index(lambda i: i["skills"].update(push="push.npz")),
+                          r"the entry of skill 'push' is a JSON str"),
+    "travel model as a string": (edit_index(lambda i: i["skills"]["pull"].update(travel_model="linear")),
+                                 r"skill 'pull'.*travel_model is 'linear', not an object"),
+    "travel model without a slope": (edit_index(lambda i: i["skills"]["pull"].update(travel_model={"offset": 0})),
+                                     r"travel_model is .*, not an object with \"slope\" and \"offset\""),
+    "nan slope": (edit_index(lambda i: i["skills"]["pull"]["travel_model"].update(slope=float("nan"))),
+                  r"travel_model\.slope is nan: not finite"),
+    "reach file outside the folder": (edit_index(lambda i: i["skills"]["push"].update(reach_file="../../x.npz")),
+                                      r"reach_file is '\.\./\.\./x\.npz', not the name of a file"),
+    "unsupported version": (edit_index(lambda i: i.update(version=2)), r"version 2 is not supported"),
+    "weights x1e12": (edit_npz(lambda a: a.update(weights=a["weights"] * 1e12)),
+                      r"push_reach\.npz: weights reach 1\.44e\+14, beyond any plausible value"),
+    "nan weights": (edit_npz(lambda a: a.update(weights=a["weights"] * np.nan)),
+                    r"push_reach\.npz: weights are not finite \(150 NaN or infinite"),
+    "weights of another shape": (edit_npz(lambda a: a.update(weights=a["weights"][:10]), "pull_reach.npz"),
+                                 r"pull_reach\.npz is not a vslsp DMP"),
+    "text weights": (edit_npz(lambda a: a.update(weights=np.array(["a", "b"]))), r"weights are of type <U1"),
+    "tau 0": (edit_npz(dmp_meta("tau", 0.0)), r"push_reach\.npz: tau is 0, outside \(0, 60\]"),
+    "tau nan": (edit_npz(dmp_meta("tau", float("nan"))), r"tau is nan: not finite"),
+    "tau 1e12": (edit_npz(dmp_meta("tau", 1e12)), r"tau is 1e\+12, outside"),
+    "dt 0": (edit_npz(dmp_meta("dt", 0.0)), r"dt is 0, outside"),
+    "n_basis 1e12": (edit_npz(dmp_meta("n_basis", 10**12)), r"n_basis is 1e\+12, outside \[2, 1000\]"),
+    "n_basis as text": (edit_npz(dmp_meta("n_basis", "50")), r"n_basis is '50', not an integer"),
+    "tiny amplitude": (edit_npz(dmp_meta("amplitude", 1e-5)),
+                       r"its rollout from a demonstrated start goes .* m from the goal"),
+    "nan demonstration": (edit_npz(lambda a: a.update(y_0=a["y_0"] * np.nan), "push_demos.npz"),
+                          r"push_demos\.npz: y_0 are not finite"),
+    "demonstration of 2 dimensions": (edit_npz(lambda a: a.update(y_1=a["y_1"][:, :2]), "push_demos.npz"),
+                                      r"demonstration 1 has t of shape \(\d+,\) and y of shape \(\d+, 2\)"),
+    "time going back": (edit_npz(lambda a: a.update(t_0=a["t_0"][::-1].copy()), "push_demos.npz"),
+                        r"t_0, the sample times of demonstration 0, do not increase"),
+    "a pickle as the reach": (write_pickle, r"push_reach\.npz holds pickled Python objects"),
+    "object arrays in the demonstrations": (
+        lambda f: np.savez(f / "pull_demos.npz", t_0=np.array([{"a": 1}], dtype=object)),
+        r"pull_demos\.npz holds pickled Python objects"),
+}
+
+
+@pytest.mark.parametrize("case", BAD_LIBRARIES, ids=str)
+def test_every_value_of_a_library_is_checked_and_named(copy, case):
+    edit, expected = BAD_LIBRARIES[case]
+    edit(copy)
+    with pytest.raises(InputError) as error:
+        SkillLibrary.load(copy)
+    message = str(error.value)
+    assert re.search(expected, message), message
+    assert "allow_pickle" not in message and "unsafe" not in message  # never advise loading a pickle
+    assert f"--out {copy} --force`" in message  # a command that re-creates it (tests/cli runs one)
+
+
+def test_salvage_keeps_the_skills_that_load(copy):
+    (copy / "push_reach.npz").write_bytes(b"garbage")
+    library, problems = SkillLibrary.salvage(copy)
+    assert sorted(library.skills) == ["pull"] and len(problems) == 1 and "skill 'push'" in problems[0]
+    (copy / "library.json").write_text("{")
+    library, problems = SkillLibrary.salvage(copy)
+    assert library.skills == {} and "library.json is corrupt" in problems[0]
+    library, problems = SkillLibrary.salvage(copy / "none")  # no library yet: an empty one, nothing wrong
+    assert library.skills == {} and problems == []
+
+
+def test_require_names_the_missing_skills(library):
+    library.require(SKILL_NAMES)
+    with pytest.raises(InputError, match=r"skills has no 'stack' and no 'slide' skill.*vslsp teach stack --out skills"):
+        library.require(["stack", "slide", "push"], "skills")
+
+
+def test_a_hand_path_of_implausible_length_is_refused_before_resampling(library):
+    skill = library["push"]
+    huge = Skill("push", skill.reach, skill.goal, np.array([1e12, 0.0, 0.0]), [], {})
+    with pytest.raises(InputError, match=r"skill 'push' gives a hand path of 1e\+12 m"):
+        huge.hand_path(np.array([0.1, -0.25, 0.7]), np.array([0.25, -0.1]), np.array([1.0, 0.0]))

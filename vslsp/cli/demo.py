@@ -15,15 +15,17 @@ from pathlib import Path
 
 import click
 
+from vslsp.cli.params import OUTPUT_FOLDER, seed_option
+
 
 @click.command()
-@click.option("--out", type=click.Path(file_okay=False), default="out/demo", show_default=True,
-              help="Report folder.")
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the embedded scene.")
+@click.option("--out", type=OUTPUT_FOLDER, default="out/demo", show_default=True,
+              help="Report folder (created and checked for writing before the run).")
+@seed_option(help="Seed of the embedded scene (0 to 4294967295).")
 @click.option("--gui", is_flag=True, help="Show the pybullet GUI (needs a display).")
 @click.option("--skills", "skills_dir", type=click.Path(file_okay=False), default=None,
-              help="Skill library folder (default: the shipped skills/).")
-def demo(out: str, seed: int, gui: bool, skills_dir: str | None) -> None:
+              help="Skill library folder (default: the shipped skills).")
+def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
     """Run the full VSL-SP pipeline (pull-in-order) on the embedded scene and write a report."""
     from rich.console import Console
 

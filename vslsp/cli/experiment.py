@@ -13,13 +13,14 @@ from pathlib import Path
 
 import click
 
+from vslsp.cli.params import prepare_output_folder, seed_option
+
 
 @click.command()
 @click.argument("name", required=False)
 @click.option("--list", "list_them", is_flag=True, help="List the experiments (with --json: as JSON) and exit.")
 @click.option("--trials", type=click.IntRange(1, 100_000), default=1, show_default=True)
-@click.option("--seed", type=click.IntRange(0, None), default=0, show_default=True,
-              help="Seed of the first trial (then seed+1, ...); a non-negative integer.")
+@seed_option(help="Seed of the first trial (then seed+1, ...), 0 to 4294967295.")
 @click.option("--workers", type=click.IntRange(1, 256), default=1, show_default=True,
               help="Trials running in parallel (processes, or Ray tasks with --backend ray).")
 @click.option("--backend", type=click.Choice(["local", "ray"]), default="local", show_default=True,
@@ -61,7 +62,7 @@ def experiment(name: str | None, list_them: bool, trials: int, seed: int, worker
         raise InputError("--address applies to --backend ray")
     task = get_task(name, faults=faults, planner=planner, skills=skills_dir, method=method)
     folder = Path(out) if out else Path("out") / "experiments" / name
-    _prepare_output(folder)
+    prepare_output_folder(folder)
     data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend,
                           address=address)
     if as_json:
@@ -74,20 +75,6 @@ def experiment(name: str | None, list_them: bool, trials: int, seed: int, worker
         for failure in data["failures"][:10]:
             click.echo(f"  seed {failure['seed']}: {failure['error']}", err=True)
     sys.exit(0 if data["successes"] == data["trials"] and not data.get("partial") else 1)
-
-
-def _prepare_output(folder: Path) -> None:
-    """Create the report folder and check it is writable, before any trial runs."""
-    from vslsp.errors import InputError
-
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        probe = folder / ".vslsp-write-test"
-        probe.write_text("")
-        probe.unlink()
-    except OSError as error:
-        raise InputError(f"cannot write the report folder {folder}: {error.strerror or error}; "
-                         "choose another --out") from None
 
 
 def run_experiment(task, seeds, folder: Path, *, workers: int = 1, backend: str = "local",

@@ -7,17 +7,22 @@ from pathlib import Path
 
 import click
 
+from vslsp.cli.params import OUTPUT_FOLDER, count, seed_option
+
+MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
+
 
 @click.command()
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random scene.")
-@click.option("--scene", "scene_file", type=click.Path(dir_okay=False), default=None,
+@seed_option(help="Seed of the random scene (0 to 4294967295).")
+@click.option("--scene", "scene_file", type=click.Path(exists=True, dir_okay=False), default=None,
               help="A scene JSON file (cubes and landmark) instead of a random scene.")
 @click.option("--cubes", type=click.IntRange(1, 3), default=3, show_default=True, help="Number of cubes.")
-@click.option("--out", type=click.Path(file_okay=False), default="out/scene", show_default=True)
-@click.option("--width", type=int, default=640, show_default=True)
-@click.option("--height", type=int, default=480, show_default=True)
+@click.option("--out", type=OUTPUT_FOLDER, default="out/scene", show_default=True,
+              help="Folder for the views (created; must be writable).")
+@click.option("--width", type=count(MAX_IMAGE_SIDE), default=640, show_default=True, help="Image width (px).")
+@click.option("--height", type=count(MAX_IMAGE_SIDE), default=480, show_default=True, help="Image height (px).")
 @click.option("--gui", is_flag=True, help="Open the pybullet window.")
-def scene(seed: int, scene_file: str | None, cubes: int, out: str, width: int, height: int, gui: bool) -> None:
+def scene(seed: int, scene_file: str | None, cubes: int, out: Path, width: int, height: int, gui: bool) -> None:
     """Render the robot's head camera and the overhead camera (RGB PNG, depth .npy)."""
     import cv2
     import numpy as np
@@ -25,8 +30,7 @@ def scene(seed: int, scene_file: str | None, cubes: int, out: str, width: int, h
     from vslsp.sim import CAMERA_NAMES, SceneSpec, World
 
     spec = SceneSpec.load(scene_file) if scene_file else SceneSpec.random(seed, n_cubes=cubes)
-    folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
+    folder = out
     with World(spec, gui=gui) as world:
         for name in CAMERA_NAMES:
             observation = world.observe(name, width, height)

@@ -1,4 +1,10 @@
-"""``vslsp teach {push,pull}``: kinesthetic demonstrations in the simulator, then the DMP skill."""
+"""``vslsp teach {push,pull}``: kinesthetic demonstrations in the simulator, then the DMP skill.
+
+The skill goes into ``--out`` (default ``out/skills`` in the working directory). The shipped
+library, the installed package and the source tree are written only when asked explicitly:
+``--out skills --force``. ``--force`` also re-teaches into a damaged library (its readable
+skills are kept).
+"""
 
 from __future__ import annotations
 
@@ -6,25 +12,65 @@ from pathlib import Path
 
 import click
 
+from vslsp.cli.params import count, prepare_output_folder, seed_option
+from vslsp.errors import InputError
+
+DEFAULT_OUT = Path("out") / "skills"
+
+
+def protected_folder(folder: Path) -> str | None:
+    """Why ``folder`` belongs to vslsp itself (the shipped data, the package or the source tree), or None."""
+    import vslsp
+    from vslsp.data import shipped_folder
+
+    package = Path(vslsp.__file__).resolve().parent
+    places = {"the installed package vslsp": package}
+    for kind in ("skills", "pddl"):
+        try:
+            places[f"the shipped {kind} folder"] = shipped_folder(kind).resolve()
+        except FileNotFoundError:
+            pass
+    if (package.parent / "pyproject.toml").is_file():  # a source checkout
+        places["the vslsp source tree"] = package.parent
+    target = folder.resolve()
+    for what, place in places.items():
+        inside = target == place or place in target.parents
+        if what == "the vslsp source tree":  # its top level only: out/ and the like are the user's
+            inside = target == place
+        if inside:
+            return f"{folder} is {what} ({place})" if target == place else f"{folder} is inside {what} ({place})"
+    return None
+
 
 @click.command()
 @click.argument("skill", type=click.Choice(["push", "pull"]))
-@click.option("--demos", type=click.IntRange(1, 100), default=5, show_default=True,
+@click.option("--demos", type=count(100), default=5, show_default=True,
               help="Number of demonstrations from different start poses.")
-@click.option("--seed", type=int, default=0, show_default=True)
-@click.option("--out", type=click.Path(file_okay=False), default=None,
-              help="Skill library folder to write into (default: the shipped skills/ folder).")
-def teach(skill: str, demos: int, seed: int, out: str | None) -> None:
+@seed_option()
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=DEFAULT_OUT, show_default=True,
+              help="Skill library folder to write into (the skill is added to a library already there).")
+@click.option("--force", is_flag=True,
+              help="Allow writing into the shipped skills/ (or the package, the source tree) and replace a "
+                   "damaged library's unreadable parts.")
+def teach(skill: str, demos: int, seed: int, out: Path, force: bool) -> None:
     """Record kinesthetic-style demonstrations of SKILL and learn it; write the library and a figure."""
+    protected = protected_folder(out)
+    if protected and not force:
+        raise InputError(f"--out: {protected}; vslsp teach writes there only with --force "
+                         f"(or give another folder, default {DEFAULT_OUT})")
+    folder = prepare_output_folder(out)
+
     from rich.progress import Progress
 
     from vslsp.errors import TaskFailed, UnreachableError
-    from vslsp.skills.library import SkillLibrary, default_library_path
-    from vslsp.skills.teach import learn_skill, plot_skill, record_demonstration
+    from vslsp.skills.library import SkillLibrary
+    from vslsp.skills.teach import Demonstration, learn_skill, plot_skill, record_demonstration
 
-    folder = Path(out) if out else default_library_path()
-    library = SkillLibrary.load(folder) if (folder / "library.json").exists() else SkillLibrary()
-    recorded, skipped = [], []
+    library, damaged = SkillLibrary.salvage(folder)
+    if damaged and not force:
+        raise InputError(f"--out: {folder} holds a damaged skill library: {damaged[0]}")
+    recorded: list[Demonstration] = []
+    skipped: list[str] = []
     with Progress(transient=True) as progress:
         task = progress.add_task(f"demonstrating {skill}", total=demos)
         # A demonstration whose start the arm cannot reach is redone from another start, as a
@@ -48,5 +94,7 @@ def teach(skill: str, demos: int, seed: int, out: str | None) -> None:
     plot_skill(learned, figure)
     for line in skipped:
         click.echo(f"redone: {line}", err=True)
+    for problem in damaged:
+        click.echo(f"replaced (--force): {problem}", err=True)
     click.echo(f"{skill}: {learned.reach.n_demos} demonstrations, fit RMSE "
                f"{learned.reach.fit_rmse * 1000:.1f} mm -> {folder / 'library.json'}, {figure}")

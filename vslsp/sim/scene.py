@@ -120,6 +120,7 @@ class SceneSpec:
 
     @classmethod
     def from_dict(cls, data: dict) -> SceneSpec:
+        _check_scene_data(data)
         try:
             cubes = tuple(CubeSpec(**cube) for cube in data["cubes"])
             landmark = LandmarkSpec(**data.get("landmark", {}))
@@ -133,9 +134,13 @@ class SceneSpec:
     @classmethod
     def load(cls, path: str | Path) -> SceneSpec:
         try:
-            return cls.from_dict(json.loads(Path(path).read_text()))
-        except (OSError, json.JSONDecodeError) as error:
+            data = json.loads(Path(path).read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
             raise InputError(f"cannot read scene file {path}: {error}") from error
+        try:
+            return cls.from_dict(data)
+        except InputError as error:
+            raise InputError(f"scene file {path}: {error}") from error
 
     def save(self, path: str | Path) -> None:
         Path(path).write_text(json.dumps(self.to_dict(), indent=2) + "\n")
@@ -188,6 +193,53 @@ class SceneSpec:
             f"cannot place {n_cubes} cubes without overlap where the robot can push and pull them; "
             "use at most 3 cubes (or another seed)"
         )
+
+
+# The table top of vslsp.sim.world (TABLE_CENTRE ± TABLE_HALF): scene files must keep cubes on it.
+TABLE_X = (0.06, 0.86)
+TABLE_Y = (-0.75, 0.65)
+MAX_CUBES = 12
+
+
+def _check_scene_data(data: object) -> None:
+    """Check a scene description read from a file: types, finite numbers, cubes whole on the table
+    top; an :class:`InputError` names the field (``cubes[1].x``) and what is wrong."""
+    if not isinstance(data, dict) or not isinstance(data.get("cubes"), list):
+        raise InputError('not a scene description: expected {"cubes": [{"name", "colour", "x", "y", "yaw"}, ...], '
+                         '"landmark": {"x", "angle"}}')
+    if len(data["cubes"]) > MAX_CUBES:
+        raise InputError(f"cubes: {len(data['cubes'])} cubes, at most {MAX_CUBES} fit the table")
+
+    def number(value: object, field: str) -> float:
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise InputError(f"not a scene description: {field} is {value!r}, not a number")
+        if not np.isfinite(value):
+            raise InputError(f"{field} is {value}: not a finite number")
+        return float(value)
+
+    for k, cube in enumerate(data["cubes"]):
+        if not isinstance(cube, dict):
+            raise InputError(f"not a scene description: cubes[{k}] is {cube!r}, "
+                             "not an object with name, colour, x, y, yaw")
+        if not isinstance(cube.get("name"), str) or not cube["name"]:
+            raise InputError(f"not a scene description: cubes[{k}].name is {cube.get('name')!r}, not a name")
+        size = number(cube.get("size", CUBE_SIZE), f"cubes[{k}].size")
+        if not 0.02 <= size <= 0.1:
+            raise InputError(f"cubes[{k}].size is {size} m; use 0.02-0.1 m")
+        for axis, (low, high) in (("x", TABLE_X), ("y", TABLE_Y)):
+            value = number(cube.get(axis), f"cubes[{k}].{axis}")
+            if not low + size / 2 <= value <= high - size / 2:
+                raise InputError(f"cubes[{k}].{axis} is {value} m: the cube {cube['name']!r} would be off the table "
+                                 f"({axis} from {low + size / 2:.3f} to {high - size / 2:.3f} m)")
+        number(cube.get("yaw", 0.0), f"cubes[{k}].yaw")
+    landmark = data.get("landmark", {})
+    if not isinstance(landmark, dict):
+        raise InputError(f"not a scene description: landmark is {landmark!r}, not an object with x and angle")
+    x = number(landmark.get("x", LandmarkSpec.x), "landmark.x")
+    if not TABLE_X[0] <= x <= TABLE_X[1]:
+        raise InputError(f"landmark.x is {x} m: the line would be off the table "
+                         f"(x from {TABLE_X[0]} to {TABLE_X[1]} m)")
+    number(landmark.get("angle", LandmarkSpec.angle), "landmark.angle")
 
 
 def _placeable(landmark: LandmarkSpec, far: np.ndarray, centres: np.ndarray) -> np.ndarray:

@@ -37,10 +37,11 @@ class IcubExperiment(Task):
     keep_first = True  # a trial takes tens of seconds: the first one's artefacts travel back instead of a re-run
 
     def check(self) -> None:
-        """The skill library loads (a missing or corrupt one is reported before any work)."""
-        from vslsp.skills.library import SkillLibrary
+        """The skill library loads and has push and pull (a missing or corrupt one, or a missing
+        skill, is reported before any work); the planner exists."""
+        from vslsp.skills.library import SKILL_NAMES, SkillLibrary
 
-        SkillLibrary.load(self.library_path)
+        SkillLibrary.load(self.library_path).require(SKILL_NAMES, self.library_path)
 
     @property
     def library_path(self) -> Path:

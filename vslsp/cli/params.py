@@ -1,0 +1,204 @@
+"""Shared click parameter types: every command checks its options here, before any work.
+
+A bad value is a usage error (exit 2, one line naming the option, no traceback). The API:
+
+``SEED`` (type) / :func:`seed_option` (decorator)
+    A seed: an integer in ``0 .. MAX_SEED``. ``--seed -1`` -> ``Invalid value for '--seed': -1 is
+    negative; a seed is an integer from 0 to 4294967295``. Every seed feeds
+    ``numpy.random.default_rng``, so the same seed gives the same run.
+``OUTPUT_FOLDER`` (type) / :func:`prepare_output_folder` (function)
+    A folder the command writes into. Converting the option creates the folder (and its parents)
+    and probes that a file can be written there, so a read-only folder or a path under a file is
+    reported up front, naming the path, instead of as an ``OSError`` after the whole run. Use the
+    function for a folder known only later (a default computed from another argument); it raises
+    :class:`vslsp.errors.InputError` (exit 2).
+``OUTPUT_FILE`` (type) / :func:`prepare_output_file` (function)
+    A file the command will write: its folder is created and probed the same way; an existing
+    folder at that path is refused.
+:func:`count` (type factory)
+    A positive integer with an upper bound: ``count(4096)`` for ``--width``, ``count(10000)``
+    for ``--trials``. ``0`` and negatives -> ``0 is not in the range 1<=x<=4096``.
+:func:`positive_float` (type factory)
+    A finite float > 0 (optionally <= a bound): NaN, inf, 0 and negatives are refused
+    (click's own ``FloatRange`` lets NaN through).
+
+Example::
+
+    @click.command()
+    @seed_option()
+    @click.option("--out", type=OUTPUT_FOLDER, default="out/scene", show_default=True)
+    @click.option("--width", type=count(4096), default=640)
+    def scene(seed: int, out: Path, width: int) -> None: ...
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+
+from vslsp.errors import InputError
+
+MAX_SEED = 2**32 - 1
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+class Seed(click.ParamType):
+    """An integer seed in ``0 .. MAX_SEED``."""
+
+    name = "seed"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
+        if isinstance(value, bool):
+            self.fail(f"{value!r} is not an integer seed", param, ctx)
+        if isinstance(value, int):
+            seed = value
+        else:
+            try:
+                seed = int(str(value).strip(), 10)
+            except ValueError:
+                self.fail(f"{value!r} is not an integer; a seed is an integer from 0 to {MAX_SEED}", param, ctx)
+        if seed < 0:
+            self.fail(f"{seed} is negative; a seed is an integer from 0 to {MAX_SEED}", param, ctx)
+        if seed > MAX_SEED:
+            self.fail(f"{seed} is too large; a seed is an integer from 0 to {MAX_SEED}", param, ctx)
+        return seed
+
+
+SEED = Seed()
+
+
+def seed_option(help: str = "Seed of the run (0 to 4294967295): the same seed, the same result.",  # noqa: A002
+                default: int = 0) -> Callable[[F], F]:
+    """The ``--seed`` option every seeded command shares."""
+    return click.option("--seed", type=SEED, default=default, show_default=True, help=help)
+
+
+def _probe(folder: Path) -> None:
+    """Write and remove a small file in ``folder``; raise OSError when that is impossible."""
+    handle, name = tempfile.mkstemp(prefix=".vslsp-write-probe-", dir=folder)
+    try:
+        os.write(handle, b"ok")
+    finally:
+        os.close(handle)
+        os.unlink(name)
+
+
+def _blocking_file(path: Path) -> Path | None:
+    """The first existing non-folder along ``path`` (itself or a parent), if any."""
+    for candidate in [*reversed(path.parents), path]:
+        if candidate.exists() and not candidate.is_dir():
+            return candidate
+    return None
+
+
+def _folder_problem(path: Path) -> str | None:
+    """Create ``path`` as a folder and probe it; a sentence saying what is wrong, or None."""
+    blocker = _blocking_file(path)
+    if blocker is not None:
+        return (f"{blocker} is a file, so the folder {path} cannot be created there; "
+                "choose another output folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        _probe(path)
+    except OSError as error:
+        reason = error.strerror or str(error)
+        return f"cannot write into the folder {path} ({reason}); choose a writable output folder"
+    return None
+
+
+def prepare_output_folder(path: str | os.PathLike[str], option: str = "--out") -> Path:
+    """Create the output folder ``path`` and check that it is writable; return it.
+
+    Raises :class:`InputError` (exit 2) naming ``option`` and the path otherwise.
+    """
+    folder = Path(path)
+    problem = _folder_problem(folder)
+    if problem is not None:
+        raise InputError(f"{option}: {problem}")
+    return folder
+
+
+def prepare_output_file(path: str | os.PathLike[str], option: str = "--out") -> Path:
+    """Check that the file ``path`` can be written (its folder is created and probed); return it.
+
+    Raises :class:`InputError` (exit 2) naming ``option`` and the path otherwise.
+    """
+    target = Path(path)
+    if target.is_dir():
+        raise InputError(f"{option}: {target} is a folder; give a file name")
+    problem = _folder_problem(target.parent)
+    if problem is None and target.exists() and not os.access(target, os.W_OK):
+        problem = f"the file {target} is read-only; choose another file"
+    if problem is not None:
+        raise InputError(f"{option}: {problem}")
+    return target
+
+
+class OutputFolder(click.ParamType):
+    """A folder created and probed for writing when the option is read (value: a ``Path``)."""
+
+    name = "folder"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Path:
+        if value is None or value == "":
+            self.fail("an empty path is not a folder", param, ctx)
+        problem = _folder_problem(Path(value))
+        if problem is not None:
+            self.fail(problem, param, ctx)
+        return Path(value)
+
+
+class OutputFile(click.ParamType):
+    """A file path whose folder is created and probed when the option is read (value: a ``Path``)."""
+
+    name = "file"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Path:
+        if value is None or value == "":
+            self.fail("an empty path is not a file name", param, ctx)
+        try:
+            return prepare_output_file(value)
+        except InputError as error:
+            self.fail(str(error).split(": ", 1)[1], param, ctx)
+
+
+OUTPUT_FOLDER = OutputFolder()
+OUTPUT_FILE = OutputFile()
+
+
+def count(maximum: int) -> click.IntRange:
+    """A positive integer ``1 .. maximum`` (sizes, numbers of trials, workers, demonstrations)."""
+    return click.IntRange(1, maximum)
+
+
+class PositiveFloat(click.ParamType):
+    """A finite float > 0, at most ``maximum`` when given."""
+
+    name = "float"
+
+    def __init__(self, maximum: float | None = None) -> None:
+        self.maximum = maximum
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> float:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is not a number", param, ctx)
+        if not math.isfinite(number):
+            self.fail(f"{value} is not a finite number", param, ctx)
+        if number <= 0:
+            self.fail(f"{value} is not positive; give a number > 0", param, ctx)
+        if self.maximum is not None and number > self.maximum:
+            self.fail(f"{value} is larger than {self.maximum}", param, ctx)
+        return number
+
+
+def positive_float(maximum: float | None = None) -> PositiveFloat:
+    """A finite float > 0 (and <= ``maximum`` when given)."""
+    return PositiveFloat(maximum)
