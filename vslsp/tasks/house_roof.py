@@ -23,7 +23,7 @@ from vslsp.tasks.base import System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square
 from vslsp.tasks.registry import register
 
-FRAMES = ("fixed", "adaptive")
+FRAMES = ("fixed", "adaptive")  # the values of vslsp.vision.matching.FrameMode, as the report orders them
 REPRODUCTION_SEED = 1_000_003  # the reproduction world's seed is the trial's plus this
 
 

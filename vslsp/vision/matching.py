@@ -14,6 +14,7 @@ The winning transform is refined on its inliers and decomposed as α T = T R_θ 
 
 from __future__ import annotations
 
+import enum
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -63,6 +64,14 @@ class Match:
     def to_dict(self) -> dict:
         return {"x": self.x, "y": self.y, "theta": self.theta, "score": self.score, "frame": self.frame,
                 "ambiguous": self.ambiguous, "candidates": self.candidates}
+
+
+class FrameMode(str, enum.Enum):
+    """How the pre-place frame is chosen: grown until one place stands out (the paper's
+    adaptive frame) or a fixed small one (the baseline it is compared with)."""
+
+    ADAPTIVE = "adaptive"
+    FIXED = "fixed"
 
 
 @dataclass(frozen=True)

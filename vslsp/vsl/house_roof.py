@@ -37,7 +37,7 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
-from vslsp.vision.matching import MARGIN, MIN_SCORE, Match, NoMatch, find_best_match, frame_sizes
+from vslsp.vision.matching import MARGIN, MIN_SCORE, FrameMode, Match, NoMatch, find_best_match, frame_sizes
 from vslsp.vsl.demonstration import Demonstration, DemonstrationRecorder
 from vslsp.vsl.house_world import (ANGLE_TOLERANCE, DEMONSTRATED, POSITION_TOLERANCE, SLOTS, WORLD_SIZE, HouseWorld,
                                    Pose2, compose, pose_dict,
@@ -163,7 +163,7 @@ class Reproduction:
     """A reproduction with one frame policy: the worlds before and after, each operation, and
     whether the final world reaches the demonstrated goal (ground truth)."""
 
-    frame: str
+    frame: FrameMode
     world_before: HouseWorld
     world_after: HouseWorld
     operations: tuple[OperationResult, ...]
@@ -174,7 +174,7 @@ class Reproduction:
         return self.world_after.goal_reached()
 
     def to_dict(self) -> dict:
-        return {"frame": self.frame, "success": self.success,
+        return {"frame": FrameMode(self.frame).value, "success": self.success,
                 "operations": [op.to_dict() for op in self.operations],
                 "houses": {str(k): v for k, v in self.world_after.houses().items()},
                 "world_after": self.world_after.to_dict()}
@@ -188,13 +188,14 @@ class ObservationFeatures:
         self.pre_place = [extract_features(image) for image in demo.pre_place]
 
 
-def reproduce(demo: HouseRoofDemonstration, world: HouseWorld, frame: str = "adaptive",
+def reproduce(demo: HouseRoofDemonstration, world: HouseWorld, frame: FrameMode | str = FrameMode.ADAPTIVE,
               features: ObservationFeatures | None = None) -> Reproduction:
     """Algorithm 1 part II in ``world``: for each recorded operation, find the pre-pick and
     pre-place observations (``frame`` "adaptive" or "fixed", see :func:`place_frames`), move
     the hand along the pick-and-place trajectory, and let the grasped roof land where it ends."""
-    if frame not in ("adaptive", "fixed"):
+    if frame not in tuple(FrameMode):
         raise InputError(f"unknown frame policy {frame!r}; use 'adaptive' or 'fixed'")
+    frame = FrameMode(frame)
     features = features or ObservationFeatures(demo)
     start, results, pre_place_worlds = world, [], []
     for k, operation in enumerate(demo.demonstration.operations):
@@ -241,14 +242,14 @@ def pick_frame(object_size: float) -> int:
     return int(round(PICK_FRAME * object_size))
 
 
-def place_frames(frame: str, object_size: float) -> list[int]:
+def place_frames(frame: FrameMode | str, object_size: float) -> list[int]:
     """The pre-place frame sides (px) to try: from :data:`PLACE_FRAME` object sizes, ×1.5 up to
     :data:`ADAPTIVE_LIMIT` object sizes ("adaptive"), or the first of them only ("fixed"), too
     small to see whether a house already has its roof. Beyond the limit a frame sees mostly
     the rest of the board, which the randomised world does not share, and a match there that
     stands out is chance."""
     sizes = frame_sizes(PLACE_FRAME * object_size, (WORLD_SIZE[1], WORLD_SIZE[0]))
-    if frame == "fixed":
+    if FrameMode(frame) is FrameMode.FIXED:
         return sizes[:1]
     return [size for size in sizes if size <= ADAPTIVE_LIMIT * object_size] or sizes[:1]
 
