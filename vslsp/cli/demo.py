@@ -29,11 +29,13 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
     """Run the full VSL-SP pipeline (pull-in-order) on the embedded scene and write a report."""
     from rich.console import Console
 
-    from vslsp.tasks import Run, get_task, write_report
+    from vslsp.tasks import Run, write_report
+    from vslsp.tasks.icub import PullInOrder
 
     console = Console(stderr=True)
     start = time.perf_counter()
-    task = get_task("pull-in-order", skills=skills_dir)
+    task = PullInOrder(skills=skills_dir)
+    task.check()
     with console.status("loading the skill library") as status:
         console.log(f"skills from {task.library_path}")
 

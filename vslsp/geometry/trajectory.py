@@ -178,7 +178,10 @@ def pick_and_place(rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_
     rest, pick, place = points
     legs = ((rest, pick, theta_rest, theta_pick), (pick, place, theta_pick, theta_place),
             (place, rest, theta_place, theta_rest))
-    times, positions, angles, starts = [], [], [], []
+    times: list[np.ndarray] = []
+    positions: list[np.ndarray] = []
+    angles: list[np.ndarray] = []
+    starts: list[int] = []
     clock = t_start
     for k, ((a, b, theta_a, theta_b), duration) in enumerate(zip(legs, parameters.durations)):
         t, xyz, theta = segment(a, b, theta_a, theta_b, clock, clock + duration, parameters)

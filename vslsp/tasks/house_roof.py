@@ -48,8 +48,8 @@ class HouseRoof(Task):
 
         try:
             demo = demonstrate(seed)
-        except InputError as error:  # the recorder could not see the tutor's operation
-            return TrialResult(self.name, seed, False, f"demonstration: {error}", details={"reproduction_ms": {}})
+        except InputError as unseen:  # the recorder could not see the tutor's operation
+            return TrialResult(self.name, seed, False, f"demonstration: {unseen}", details={"reproduction_ms": {}})
         features = ObservationFeatures(demo)
         world = HouseWorld.random(seed + REPRODUCTION_SEED)
         results, milliseconds, reproductions = {}, {}, {}

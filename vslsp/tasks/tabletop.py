@@ -44,8 +44,8 @@ class TabletopExperiment(Task):
         with TabletopWorld(task.layout(rng, "demonstration"), seed) as world:
             try:
                 demo = task.demonstrate(world, rng)
-            except InputError as error:
-                return TrialResult(self.name, seed, False, f"demonstration: {error}", operations=[],
+            except InputError as unseen:
+                return TrialResult(self.name, seed, False, f"demonstration: {unseen}", operations=[],
                                    details={"variant": variant})
             goal = look(world) if keep else None
         rng = np.random.default_rng(seed + REPRODUCTION_SEED)

@@ -56,7 +56,8 @@ class Line:
 
     @classmethod
     def from_dict(cls, data: dict) -> Line:
-        return cls(tuple(map(float, data["p1"])), tuple(map(float, data["p2"])))
+        (x1, y1), (x2, y2) = data["p1"], data["p2"]
+        return cls((float(x1), float(y1)), (float(x2), float(y2)))
 
 
 def fit_line(dark: np.ndarray, scale: int = 1, what: str = "image") -> Line:

@@ -161,9 +161,9 @@ def _candidates(obs: Features, world: Features, box, matcher, grey_obs, grey_wor
         return []
     query = obs.keypoints[inside, :2]
     knn = matcher.knnMatch(obs.descriptors[inside], world.descriptors, k=min(_NEIGHBOURS, len(world)))
-    pairs = [(query[m.queryIdx], world.keypoints[m.trainIdx, :2])
-             for row in knn for m in row if m.distance <= _ALTERNATIVE * row[0].distance]
-    pairs = np.array(pairs, np.float32)  # (M, 2, 2)
+    pairs = np.array([(query[m.queryIdx], world.keypoints[m.trainIdx, :2])
+                      for row in knn for m in row if m.distance <= _ALTERNATIVE * row[0].distance],
+                     np.float32)  # (M, 2, 2)
     candidates: list[Candidate] = []
     cv2.setRNGSeed(0)  # deterministic RANSAC
     while len(pairs) >= 3 and len(candidates) < _MAX_CANDIDATES:
@@ -185,7 +185,8 @@ def _candidates(obs: Features, world: Features, box, matcher, grey_obs, grey_wor
 def _distinct(candidates: list[Candidate], box) -> list[Candidate]:
     """Drop candidates that put the frame where a better one already did."""
     centre = np.array([[(box[0] + box[2]) / 2.0, (box[1] + box[3]) / 2.0, 1.0]])
-    kept, places = [], []
+    kept: list[Candidate] = []
+    places: list[np.ndarray] = []
     radius = max(4.0, min(box[2] - box[0], box[3] - box[1]) / 4.0)
     for candidate in candidates:
         place = (candidate.transform @ centre.T).ravel()[:2]

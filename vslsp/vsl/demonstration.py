@@ -116,7 +116,7 @@ class Demonstration:
                 "pre_observation": pre_file,
                 "post_observation": post_file,
             })
-        np.savez(folder / "features.npz", **arrays)
+        np.savez(folder / "features.npz", **arrays)  # type: ignore[arg-type]
         path = folder / "demonstration.json"
         path.write_text(json.dumps({
             "format": FORMAT,
@@ -172,12 +172,15 @@ class DemonstrationRecorder:
         """Ground one operation from its pre- and post-action observations (H, W, 3) uint8."""
         grounding = ground(pre, post, self.robot_side)
         before, after = grounding.pre_object, grounding.post_object
+        if before is None or after is None:
+            raise InputError("the moved object is not seen both before and after the operation; let the tutor "
+                             "move one object at a time, in the camera's view")
         operation = Operation(
             pre_observation=np.array(pre, copy=True),
             post_observation=np.array(post, copy=True),
             grounding=grounding,
-            pose_pre=Pose(*before.centroid, float(np.radians(before.orientation))),
-            pose_post=Pose(*after.centroid, float(np.radians(after.orientation))),
+            pose_pre=Pose(float(before.centroid[0]), float(before.centroid[1]), float(np.radians(before.orientation))),
+            pose_post=Pose(float(after.centroid[0]), float(after.centroid[1]), float(np.radians(after.orientation))),
             object_size=float(max(before.box[2], before.box[3])),
             features=object_features(pre, before.box),
         )

@@ -224,7 +224,9 @@ def reproduce(demo: HouseRoofDemonstration, world: HouseWorld, frame: FrameMode 
         hand_at_pick = (pick.x, pick.y, pick.theta)
         end = trajectory.segments[2]
         hand_at_place = (*(trajectory.xyz[end, :2] / PIXEL_SIZE), float(trajectory.theta[end]))
-        landed = compose(hand_at_place, relative(hand_at_pick, world.roofs[grasped]))
+        held = world.roofs[grasped]
+        assert held is not None  # the roof found under the hand lies on the board
+        landed = compose(hand_at_place, relative(hand_at_pick, held))
         occupied = world.houses()
         world = lifted.with_roof(grasped, landed)
         slot = world.slot_of(landed)
@@ -289,7 +291,7 @@ def match_place(observation: np.ndarray, world: np.ndarray, point: tuple[float, 
                          candidates=len(candidates))
         if unique and chosen.score >= MIN_SCORE:
             break
-    return chosen
+    return chosen if chosen is not None else NoMatch("no frame size gave a placement of the pre-place observation")
 
 
 def frame_correlation(observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int,

@@ -53,7 +53,7 @@ class HouseWorld:
             for _ in range(10000):
                 x = rng.uniform(margin, WORLD_SIZE[0] - margin)
                 y = rng.uniform(margin, BASELINE[0][1] - below)
-                if all(np.hypot(x - px, y - py) >= _CLEARANCE[tuple(sorted((kind, other)))]
+                if all(np.hypot(x - px, y - py) >= _CLEARANCE[(kind, other) if kind <= other else (other, kind)]
                        for other, px, py in placed):
                     break
             else:  # pragma: no cover - the board has room for far more than six objects
@@ -68,9 +68,9 @@ class HouseWorld:
         image = _empty_board(self.texture).copy()
         for pose in self.bodies:
             paste(image, _BODY, pose)
-        for pose in self.roofs:
-            if pose is not None:
-                paste(image, _ROOF, pose)
+        for roof in self.roofs:
+            if roof is not None:
+                paste(image, _ROOF, roof)
         return image
 
     def with_roof(self, index: int, pose: Pose2 | None) -> HouseWorld:
@@ -89,13 +89,14 @@ class HouseWorld:
     def slot_of(self, roof: Pose2) -> tuple[int, str, float, float]:
         """The body and slot (top/below) nearest to a roof pose, with the position (px) and
         angle (rad) errors."""
-        best = None
+        best: tuple[int, str, float, float] | None = None
         for index, body in enumerate(self.bodies):
             rel = relative(body, roof)
             for name, slot in SLOTS.items():
                 error = (float(np.hypot(rel[0] - slot[0], rel[1] - slot[1])), abs(wrap(rel[2] - slot[2])))
                 if best is None or error[0] < best[2]:
                     best = (index, name, *error)
+        assert best is not None  # a world has three bodies
         return best
 
     def houses(self) -> dict[int, list[str]]:

@@ -164,8 +164,8 @@ class PickPlaceRecorder:
                           placed_yaw - yaw)
         x, y, w, h = cv2.boundingRect(cv2.findNonZero(taken))
         operation = RecordedOperation(np.array(pre_pick, copy=True), np.array(pre_place, copy=True),
-                                      np.array(post_place, copy=True), tuple(map(float, pick_point)),
-                                      tuple(map(float, place_point)), footprint, yaw, turn, float(max(w, h)),
+                                      np.array(post_place, copy=True), (float(pick_point[0]), float(pick_point[1])),
+                                      (float(place_point[0]), float(place_point[1])), footprint, yaw, turn, float(max(w, h)),
                                       float(pick_z), float(place_z), features)
         self.operations.append(operation)
         return operation
@@ -262,7 +262,7 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
     source = features.keypoints[[m.queryIdx for m in good], :2].reshape(-1, 1, 2)
     target = seen.keypoints[[m.trainIdx for m in good], :2].reshape(-1, 1, 2)
     cv2.setRNGSeed(0)  # deterministic RANSAC
-    found = []
+    found: list[tuple[np.ndarray, int]] = []
     while len(source) >= _MIN_INLIERS and len(found) < count:
         model, inliers = cv2.estimateAffinePartial2D(source, target, method=cv2.RANSAC, ransacReprojThreshold=4.0)
         if model is None or inliers is None or inliers.sum() < _MIN_INLIERS:

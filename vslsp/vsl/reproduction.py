@@ -111,8 +111,10 @@ def plan_operation(demo: PickPlaceDemonstration, k: int, world: np.ndarray, came
     world_features = world_features if world_features is not None else extract_features(world)
     pick = pick_match or match_object(demo, k, world, world_features)
     place = place_match or match_place(demo, k, world, world_features)
-    if isinstance(pick, NoMatch) or isinstance(place, NoMatch):
-        return pick if isinstance(pick, NoMatch) else place
+    if isinstance(pick, NoMatch):
+        return pick
+    if isinstance(place, NoMatch):
+        return place
     pick_xy = camera.pixel_to_table(*apply(pick.transform, op.pick_point), op.pick_z)
     place_xy = camera.pixel_to_table(*apply(place.transform, op.place_point), op.place_z)
     yaw_now = op.yaw + table_rotation(camera, pick.transform, op.pick_point, op.pick_z, op.pick_z)

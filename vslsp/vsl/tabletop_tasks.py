@@ -157,6 +157,7 @@ def tutor_move(world: TabletopWorld, name: str, placement: Placement, recorder: 
     if not recorder:
         return None
     height, post_place = world.specs[name].size[2], look(world)
+    assert pre_pick is not None and pre_place is not None  # looked at above when recording
     recorder.record(pre_pick, pre_place, post_place, pick_z, world.pose(name)[2] + height, height)
     return post_place
 

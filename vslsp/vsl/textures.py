@@ -204,7 +204,8 @@ def domino_piece(index: int, size: tuple[float, float] = (0.08, 0.04)) -> np.nda
 
 def _domino_picture(k: int, size: tuple[float, float]) -> np.ndarray:
     """Picture ``k`` that two domino halves share, as big as a piece."""
-    image = _canvas(size, f"domino-picture-{k}", tuple(int(c) for c in 160 + _PALETTE[k % len(_PALETTE)] // 3),
+    tint = 160 + _PALETTE[k % len(_PALETTE)] // 3
+    image = _canvas(size, f"domino-picture-{k}", (int(tint[0]), int(tint[1]), int(tint[2])),
                     density=0.9, border=None)
     h, w = image.shape[:2]
     cv2.circle(image, (w // 2, h // 2), int(0.42 * h), tuple(int(c) for c in _PALETTE[(k + 5) % 8]), 5, cv2.LINE_AA)
