@@ -31,7 +31,7 @@ from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.symbolic import Domain, Task, learn_task
 from vslsp.vision.matching import find_best_match
 from vslsp.vsl.demonstration import DemonstrationRecorder
-from vslsp.vsl.grounding import ground
+from vslsp.grounding.operation import ground
 
 EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order")
 ORDERED_COLOURS = ("orange", "green", "yellow")

@@ -20,7 +20,7 @@ from vslsp.errors import TaskFailed
 from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, PlanResult, Step, Task, learn_domain, make_problem, solve
-from vslsp.vsl.grounding import Grounding, ground
+from vslsp.grounding.operation import Grounding, ground
 
 MAX_REPLANS = 4
 

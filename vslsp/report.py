@@ -17,7 +17,7 @@ import numpy as np
 
 from vslsp.experiments import Trial
 from vslsp.vision.image import write_image
-from vslsp.vsl.overlay import draw_grounding
+from vslsp.grounding.overlay import draw_grounding
 
 
 def summary(experiment: str, trials: list[Trial], faults: bool = False) -> dict:

@@ -10,7 +10,7 @@ import pytest
 
 from vslsp.sim import COLOURS, CubeSpec, LandmarkSpec, SceneSpec, World
 from vslsp.sim.scene import WORKSPACE_X, WORKSPACE_Y
-from vslsp.vsl.grounding import ground_scene
+from vslsp.grounding.operation import ground_scene
 
 WORLDS, STATES = 3, 17  # 51 scenes
 # The execution watches through the head camera at 320x240; each scene is also seen by one

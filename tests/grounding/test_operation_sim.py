@@ -10,7 +10,7 @@ import pytest
 from vslsp.errors import InputError
 from vslsp.sim import COLOURS, CubeSpec, LandmarkSpec, SceneSpec, World
 from vslsp.sim.scene import WORKSPACE_X, WORKSPACE_Y
-from vslsp.vsl.grounding import ground
+from vslsp.grounding.operation import ground
 
 WORLDS, MOVES = 12, 10  # x 2 cameras = 240 pairs
 MARGIN = 0.035  # cubes stay this far (m) from the line: a cube 5 cm wide is not "on" it
