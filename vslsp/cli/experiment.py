@@ -26,13 +26,25 @@ EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order",  # as vslsp.
 @click.option("--out", type=click.Path(file_okay=False), default=None,
               help="Report folder (default: out/experiments/NAME).")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object on stdout.")
+@click.option("--predicates", "predicates_file", type=click.Path(dir_okay=False), default=None,
+              help="A Python file of your predicates (@predicate from vslsp.grounding), grounded with far at every "
+                   "observed step and learned into the action models, rules and goals (simple-vsl-task, "
+                   "keep-all-near, pull-in-order). It runs as Python with your rights, like a pytest conftest.py.")
 def experiment(name: str, trials: int, seed: int, workers: int, faults: bool, planner: str,
-               skills_dir: str | None, out: str | None, as_json: bool) -> None:
+               skills_dir: str | None, out: str | None, as_json: bool, predicates_file: str | None) -> None:
     """Run experiment NAME (simple-vsl-task, keep-all-near, pull-in-order, house-roof, alphabet-ordering,
     animal-puzzle, tower-of-hanoi, animals-vs-machines, domino) and write a report.
 
     Exit 0 when every trial succeeded, 1 otherwise.
     """
+    if predicates_file is not None:
+        from vslsp.errors import InputError
+        from vslsp.grounding import load_predicates
+
+        if name not in EXPERIMENTS[:3]:
+            raise InputError(f"--predicates applies to {', '.join(EXPERIMENTS[:3])} (VSL-SP), not to {name}")
+        load_predicates(predicates_file)  # a file that does not load is reported before any work
+        predicates_file = str(Path(predicates_file).resolve())
     if name == "house-roof":
         from vslsp.vsl.house_roof_report import command
 
@@ -62,7 +74,7 @@ def experiment(name: str, trials: int, seed: int, workers: int, faults: bool, pl
             progress.update(task, advance=1, ok=done["ok"])
 
         results = run_trials(name, trials, seed, library_path, workers=workers, faults=faults, planner=planner,
-                             on_done=advance)
+                             on_done=advance, predicates_file=predicates_file)
     write_report(folder, name, results, faults)
     data = summary(name, results, faults)
     data["report"] = str(folder)
