@@ -20,6 +20,13 @@ def on_robot_side(obj, scene):
     return scene.landmark.signed_distance(obj.x, obj.y) < 0
 
 
+@predicate("warm")
+def warm(obj, scene):
+    """A red, orange or yellow object (by its colour symbol: red, red_2, ...). No skill changes it,
+    so it stays out of the learned action models."""
+    return obj.name.split("_")[0] in ("red", "orange", "yellow")
+
+
 @predicate("left-of", arity=2)
 def left_of(a, b, scene):
     """a's centre is left of b's in the image."""

@@ -20,9 +20,10 @@ def test_pulling_green_across_the_line(synthetic_pair, assert_grounds):
     pair = synthetic_pair([Square("red", (150, 400)), Square("green", (450, 150))], move=(1, (430, 400)))
     assert_grounds(
         pair.pre, pair.post, predicates=PREDICATES,
-        atoms_pre=["(far green)", "(on-robot-side red)", "(right-half green)", "(left-of red green)",
+        atoms_pre=["(far green)", "(on-robot-side red)", "(right-half green)", "(warm red)", "(left-of red green)",
                    "(in-front-of red green)"],
-        atoms_post=["(on-robot-side red)", "(on-robot-side green)", "(right-half green)", "(left-of red green)"],
+        atoms_post=["(on-robot-side red)", "(on-robot-side green)", "(right-half green)", "(warm red)",
+                    "(left-of red green)"],
     )
 
 
@@ -38,7 +39,7 @@ def test_a_wrong_expectation_names_the_missing_and_unexpected_atoms(synthetic_pa
     pair = synthetic_pair([Square("red", (150, 400)), Square("green", (450, 150))], move=(1, (430, 400)))
     with pytest.raises(AssertionError, match=r"missing \(left-of green red\); unexpected \(left-of red green\)"):
         assert_grounds(pair.pre, pair.post, predicates=PREDICATES, atoms_post=[
-            "(on-robot-side red)", "(on-robot-side green)", "(right-half green)", "(left-of green red)"])
+            "(on-robot-side red)", "(on-robot-side green)", "(right-half green)", "(warm red)", "(left-of green red)"])
 
 
 @pytest.mark.slow

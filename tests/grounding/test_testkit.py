@@ -86,4 +86,4 @@ def test_example_predicates_file_loads():
     from pathlib import Path
 
     names = [p.name for p in load_predicates(Path(__file__).parents[2] / "examples/grounding/predicates.py")]
-    assert names == ["right-half", "on-robot-side", "left-of", "in-front-of"]
+    assert names == ["right-half", "on-robot-side", "warm", "left-of", "in-front-of"]
