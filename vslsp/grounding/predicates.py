@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import inspect
+import math
 import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -59,7 +60,7 @@ class Box:
         """Distance (px) between the boxes; 0 when they touch or overlap."""
         dx = max(0.0, other.x0 - self.x1, self.x0 - other.x1)
         dy = max(0.0, other.y0 - self.y1, self.y0 - other.y1)
-        return float(np.hypot(dx, dy))
+        return math.hypot(dx, dy)
 
     def contains(self, other: Box) -> bool:
         """Whether ``other`` lies wholly within this box (RCC: a tangential or non-tangential part)."""
@@ -85,15 +86,19 @@ class Landmark:
 
     line: Line
     robot_side: str = "bottom"
-    _sign: float = field(init=False, repr=False, compare=False, default=1.0)
+    _plane: tuple[float, float, float] = field(init=False, repr=False, compare=False, default=(0.0, 0.0, 0.0))
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "_sign", -float(np.sign(towards_robot(self.line, self.robot_side))))
+        # signed_distance = a x + b y + c: the line's normal turned to the far side (plain floats: fast).
+        sign = -float(np.sign(towards_robot(self.line, self.robot_side)))
+        nx, ny = (float(v) * sign for v in self.line.normal)
+        object.__setattr__(self, "_plane", (nx, ny, -(nx * self.line.p1[0] + ny * self.line.p1[1])))
 
     def signed_distance(self, x: float, y: float) -> float:
         """Distance (px) of the image point (x, y) from the line, positive on its far side (away
         from the robot)."""
-        return self._sign * self.line.signed_distance((x, y))
+        a, b, c = self._plane
+        return a * x + b * y + c
 
 
 @dataclass(frozen=True)
@@ -166,16 +171,20 @@ class Predicate:
 
     def evaluate(self, args: Sequence[SceneObject], scene: Scene) -> bool:
         """The value for ``args`` (``arity`` objects); a raise or a non-bool is an InputError."""
-        atom = f"({self.name} {' '.join(a.name for a in args)})"
         try:
             value = self.function(*args, scene)
         except Exception as error:  # the user's code: any error is theirs to fix
-            raise InputError(f"predicate {self.name} raised {type(error).__name__}: {error} while grounding {atom}; "
-                             f"fix its function {_where(self.function)}") from error
-        if not isinstance(value, (bool, np.bool_)):
-            raise InputError(f"predicate {self.name} returned {type(value).__name__} {value!r} for {atom}, not a "
-                             f"bool; make its function {_where(self.function)} return True or False")
+            raise InputError(f"predicate {self.name} raised {type(error).__name__}: {error} while grounding "
+                             f"{self._atom(args)}; fix its function {_where(self.function)}") from error
+        if value is True or value is False:
+            return value
+        if not isinstance(value, np.bool_):
+            raise InputError(f"predicate {self.name} returned {type(value).__name__} {value!r} for {self._atom(args)}, "
+                             f"not a bool; make its function {_where(self.function)} return True or False")
         return bool(value)
+
+    def _atom(self, args: Sequence[SceneObject]) -> str:
+        return f"({self.name} {' '.join(a.name for a in args)})"
 
 
 def _where(function: Callable) -> str:
