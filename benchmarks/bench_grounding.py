@@ -119,7 +119,7 @@ def rendered(rng: np.random.Generator, camera: str) -> Pair:
         if all(np.linalg.norm(xy - p) > 0.075 for p in places):
             places.append(xy)
     cubes = tuple(CubeSpec(c, c, float(p[0]), float(p[1]), float(rng.uniform(-0.8, 0.8)))
-                  for c, p in zip(colours, places))
+                  for c, p in zip(colours, places, strict=False))
     move = (colours[int(rng.integers(k))], (float(places[k][0]), float(places[k][1])))
     return rendered_pair(SceneSpec(cubes=cubes, landmark=landmark), move, camera=camera)
 
@@ -193,7 +193,7 @@ def _command(args: list[str]) -> float:
 def cost(runs: int) -> bool:
     colours = list(COLOUR_NAMES) + list(COLOUR_NAMES[:4])
     places = [(70 + 125 * (i % 5), 90 + 300 * (i // 5) + 30 * (i % 2)) for i in range(10)]
-    squares = [Square(c, p, 50) for c, p in zip(colours, places)]
+    squares = [Square(c, p, 50) for c, p in zip(colours, places, strict=True)]
     pair = synthetic_pair(squares, move=(2, (330, 300)), noise=3.0)
     with tempfile.TemporaryDirectory() as folder:
         pre, post = pair.save(folder)

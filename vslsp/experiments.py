@@ -25,14 +25,14 @@ from vslsp.demonstration import tutor_operation
 from vslsp.errors import InputError, TaskFailed, VslspError
 from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
 from vslsp.grounding import load_predicates
+from vslsp.grounding.operation import ground
 from vslsp.parallel import run_jobs
 from vslsp.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
-from vslsp.skills.library import SkillLibrary
 from vslsp.sim import COLOURS, SceneSpec, World
+from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, Task, learn_task
 from vslsp.vision.matching import find_best_match
 from vslsp.vsl.demonstration import DemonstrationRecorder
-from vslsp.grounding.operation import ground
 
 EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order")
 ORDERED_COLOURS = ("orange", "green", "yellow")

@@ -19,10 +19,10 @@ import numpy as np
 from vslsp.demonstration import ObservedStep
 from vslsp.errors import TaskFailed
 from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
-from vslsp.skills.library import SkillLibrary
-from vslsp.symbolic import Domain, PlanResult, Step, Task, learn_domain, make_problem, solve
 from vslsp.grounding import Predicate, unary_literals, with_builtins
 from vslsp.grounding.operation import Grounding, ground
+from vslsp.skills.library import SkillLibrary
+from vslsp.symbolic import Domain, PlanResult, Step, Task, learn_domain, make_problem, solve
 
 MAX_REPLANS = 4
 

@@ -10,8 +10,8 @@ import cv2
 import numpy as np
 import pytest
 
-from vslsp.vision.image import read_image, write_image
 from vslsp.grounding.synthetic import Square, tabletop_image
+from vslsp.vision.image import read_image, write_image
 
 
 def _vslsp(*args):

@@ -36,7 +36,8 @@ def ground(pre: str, post: str, robot_side: str, predicates_file: str | None, as
 
 def _ground(pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool,
             overlay: str | None) -> None:
-    from vslsp.grounding import draw_grounding, ground as ground_pair, load_predicates, with_builtins
+    from vslsp.grounding import draw_grounding, load_predicates, with_builtins
+    from vslsp.grounding import ground as ground_pair
     from vslsp.vision.image import check_image_output, read_image, write_image
 
     if overlay:

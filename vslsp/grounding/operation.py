@@ -137,7 +137,7 @@ class SceneGrounding:
 
     def far_by_name(self) -> dict[str, bool]:
         """Object symbol -> (far b); repeated symbols get a suffix: red, red_2, ..."""
-        return dict(zip(symbol_names(self.objects), self.far))
+        return dict(zip(symbol_names(self.objects), self.far, strict=True))
 
     def scene(self) -> Scene:
         """The observation as predicates see it."""
@@ -150,7 +150,8 @@ class SceneGrounding:
     def to_dict(self) -> dict:
         return {
             "landmark": self.landmark.to_dict(),
-            "objects": [{"name": o.name, **_point(o.centroid), "far": f} for o, f in zip(self.objects, self.far)],
+            "objects": [{"name": o.name, **_point(o.centroid), "far": f}
+                        for o, f in zip(self.objects, self.far, strict=True)],
         }
 
 

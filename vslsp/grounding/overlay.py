@@ -55,8 +55,8 @@ def draw_atoms(pre: np.ndarray, post: np.ndarray, grounding: Grounding,
     _text(panels[1], f"action: {grounding.action or 'none'}", (8, 8 + 36 * thickness), thickness)
     if notes is not None:
         rows = max(len(notes[0]), len(notes[1]), 1)
-        strips = [_notes(panel.shape[1], lines, thickness, rows) for panel, lines in zip(panels, notes)]
-        panels = [np.vstack([panel, strip]) for panel, strip in zip(panels, strips)]
+        strips = [_notes(panel.shape[1], lines, thickness, rows) for panel, lines in zip(panels, notes, strict=True)]
+        panels = [np.vstack([panel, strip]) for panel, strip in zip(panels, strips, strict=True)]
     return np.hstack(panels)
 
 

@@ -142,7 +142,7 @@ def scene_of(objects: Sequence[DetectedObject], size: tuple[int, int], line: Lin
     """The :class:`Scene` of perceived ``objects`` in an image of ``size`` (W, H) px."""
     check_robot_side(robot_side)
     members = {}
-    for name, obj in zip(symbol_names(objects), objects):
+    for name, obj in zip(symbol_names(objects), objects, strict=True):
         x, y, w, h = obj.box
         members[name] = SceneObject(name, float(obj.centroid[0]), float(obj.centroid[1]),
                                     Box(float(x), float(y), float(x + w), float(y + h)), obj.area, obj.orientation)

@@ -117,7 +117,10 @@ def synthetic_pair(squares: Sequence[Square], move: tuple[int, tuple[float, floa
     after[index] = replace(after[index], centre=(float(centre[0]), float(centre[1])))
     pre = tabletop_image(list(squares), line, size, noise=noise, seed=seed)
     post = tabletop_image(after, line, size, noise=noise, seed=seed + 1)
-    truth_line = Line(*sorted((tuple(map(float, line[0])), tuple(map(float, line[1]))))) if line is not None else None
+    truth_line = None
+    if line is not None:
+        ends = sorted(((float(line[0][0]), float(line[0][1])), (float(line[1][0]), float(line[1][1]))))
+        truth_line = Line(ends[0], ends[1])
 
     def truth(placed: Sequence[Square]) -> Scene:
         return _scene(((_square_symbol(s), s.centre[0], s.centre[1], _square_box(s)) for s in placed),
@@ -151,8 +154,8 @@ def rendered_pair(spec, move: tuple[str, tuple[float, float]], *, camera: str = 
                 box = Box(*pixels.min(axis=0), *pixels.max(axis=0))
                 entries.append((cube.colour, u, v, box))
             landmark = world.spec.landmark
-            ends = [view.table_to_pixel(*(landmark.point + t * landmark.direction)) for t in (-0.3, 0.3)]
-            line = Line(*sorted(ends))
+            ends = sorted(view.table_to_pixel(*(landmark.point + t * landmark.direction)) for t in (-0.3, 0.3))
+            line = Line(ends[0], ends[1])
             return rgb, _scene(entries, size, line, "bottom")
 
         pre, truth_pre = observe()

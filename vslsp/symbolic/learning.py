@@ -12,8 +12,8 @@ Everything here is a pure function of recorded data (:class:`Step`), never of th
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import Iterable, Mapping, Sequence
 
 from vslsp.errors import InputError
 from vslsp.symbolic.formula import (
@@ -24,8 +24,8 @@ from vslsp.symbolic.formula import (
     conjunction,
     forall,
     formula_from_list,
-    holds,
     formula_to_list,
+    holds,
     literal,
 )
 from vslsp.symbolic.model import Action, Domain, Predicate, Problem
@@ -59,7 +59,7 @@ class Step:
                 "after": {o: dict(v) for o, v in self.after.items()}}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Step":
+    def from_dict(cls, data: dict) -> Step:
         return cls(data["action"], data["obj"], data["before"], data["after"])
 
 
@@ -131,7 +131,7 @@ class Rule:
                 "context": [list(c) for c in self.context], "sources": [list(s) for s in self.sources]}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Rule":
+    def from_dict(cls, data: dict) -> Rule:
         return cls(data["obj"], tuple((p, bool(v)) for p, v in data["effect"]),
                    tuple((o, p, bool(v)) for o, p, v in data["context"]), tuple((i, j) for i, j in data["sources"]))
 
@@ -145,7 +145,7 @@ class Task:
     constraints: tuple[Constraint, ...] = ()
     rules: tuple[Rule, ...] = ()
 
-    def without_order(self) -> "Task":
+    def without_order(self) -> Task:
         """The same goal with no ordering: the planner is free to choose the sequence."""
         return replace(self, constraints=())
 
@@ -158,7 +158,7 @@ class Task:
                 "rules": [r.to_dict() for r in self.rules]}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Task":
+    def from_dict(cls, data: dict) -> Task:
         return cls(formula_from_list(data["goal"]),  # type: ignore[arg-type]
                    tuple(formula_from_list(c) for c in data.get("constraints", ())),  # type: ignore[misc]
                    tuple(Rule.from_dict(r) for r in data.get("rules", ())))
@@ -221,8 +221,8 @@ def generalise(rules: Sequence[Rule]) -> list[Rule]:
         if len(colours) > 1 and not opposite & set(effect):
             merged.append(Rule("?", effect, tuple(sorted(c for c in context if c[0] not in colours)), sources))
         else:
-            merged.extend(Rule(c, effect, tuple(sorted(context)), tuple(s for r in group if r.obj == c for s in r.sources))
-                          for c in colours)
+            merged.extend(Rule(c, effect, tuple(sorted(context)),
+                               tuple(s for r in group if r.obj == c for s in r.sources)) for c in colours)
     return merged
 
 
@@ -324,5 +324,6 @@ def make_problem(domain: Domain, task: Task, state: Literals, name: str = "vsl-s
     # An ordering whose later literal already holds in this scene is done with: the order can only
     # speak of what is still to be done (this is what lets the robot replan halfway through).
     universe, now = problem.universe(), frozenset(init)
-    pending = tuple(c for c in task.constraints if not (isinstance(c, SometimeBefore) and holds(c.formula, now, universe)))
+    pending = tuple(c for c in task.constraints
+                    if not (isinstance(c, SometimeBefore) and holds(c.formula, now, universe)))
     return replace(problem, constraints=pending)

@@ -157,5 +157,5 @@ def channel_min(image: np.ndarray) -> np.ndarray:
 
 def colour_distance(image: np.ndarray, colour: np.ndarray) -> np.ndarray:
     """Largest per-channel difference (H, W) uint8 between an image (H, W, 3) and one colour (3,)."""
-    a, b, c = (cv2.absdiff(channel, float(value)) for channel, value in zip(cv2.split(image), colour))
+    a, b, c = (cv2.absdiff(channel, float(value)) for channel, value in zip(cv2.split(image), colour, strict=True))
     return cv2.max(cv2.max(a, b), c)
