@@ -128,3 +128,21 @@ def test_bad_sizes_overlays_and_predicates_exit_2_before_any_work(images, args, 
     assert message in result.stderr and "Traceback" not in result.stderr
     assert message in json.loads(result.stdout)["error"]
     assert not (images / "x.txt").exists() and not (images / "noext").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--robot-side", "under"), "Invalid value for '--robot-side'"),
+    (("--colour", "red"), "No such option '--colour'"),
+])
+def test_usage_errors_under_json_print_json(images, args, message):
+    result = _vslsp("ground", images / "pre.png", images / "post.png", "--json", *args)
+    assert result.returncode == 2 and message in result.stderr
+    assert message in json.loads(result.stdout)["error"]
+
+
+def test_experiment_predicates_are_checked_before_any_work(images):
+    result = _vslsp("experiment", "keep-all-near", "--predicates", images / "syntax.py", "--json")
+    assert result.returncode == 2 and "syntax.py, line 3: SyntaxError" in result.stderr
+    result = _vslsp("experiment", "house-roof", "--predicates", images / "preds.py")
+    assert result.returncode == 2 and "--predicates applies to simple-vsl-task, keep-all-near, pull-in-order" \
+        in result.stderr

@@ -10,7 +10,20 @@ import click
 from vslsp.errors import VslspError
 
 
-@click.command()
+class _JsonErrors(click.Command):
+    """Under ``--json``, a usage error (an unknown option, a bad --robot-side) prints its JSON too."""
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        wants_json = "--json" in args
+        try:
+            return super().parse_args(ctx, args)
+        except click.UsageError as error:
+            if wants_json:
+                click.echo(json.dumps({"error": error.format_message(), "exit_code": 2}))
+            raise
+
+
+@click.command(cls=_JsonErrors)
 @click.argument("pre", type=click.Path(dir_okay=False))
 @click.argument("post", type=click.Path(dir_okay=False))
 @click.option("--robot-side", type=click.Choice(["bottom", "top", "left", "right"]), default="bottom",
