@@ -14,6 +14,12 @@ whose truth is known, and what grounding every atom adds to ``vslsp ground``.
    decoding, JSON included), minimum of several runs, in the same run. Target: < 20 ms added.
 
 Run: .venv/bin/python benchmarks/bench_grounding.py [--synthetic N] [--rendered N] [--runs N]
+
+Measured (defaults: 300 synthetic pairs, 60 rendered pairs over both cameras, 30 timed runs; a
+2-core machine shared with other jobs, load about 10):
+  vslsp ground, 10 objects 640x480: 36.8 ms without predicates, 49.6 ms with them: +12.9 ms (ratio 1.35)
+  synthetic >= 10 px from the boundary: 100.00 % of 26965 atoms;  < 10 px: 98.21 % of 1175
+  rendered  >= 10 px from the boundary: 100.00 % of 4293 atoms;   < 10 px: 96.32 % of 353
 """
 
 from __future__ import annotations

@@ -44,7 +44,7 @@ from vslsp.vision.colour import COLOUR_NAMES, GENERIC
 from vslsp.vision.image import read_image, write_image
 from vslsp.vision.landmark import Line
 
-__all__ = ["Pair", "Square", "assert_grounds", "rendered_pair", "synthetic_pair"]
+__all__ = ["Pair", "Square", "assert_grounds", "rendered_pair", "synthetic_pair", "tabletop_image"]
 
 LINE = ((0.0, 300.0), (640.0, 260.0))  # the synthetic tabletop's default landmark (two points, px)
 
