@@ -22,6 +22,7 @@ import tempfile
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -43,6 +44,9 @@ from vslsp.grounding.synthetic import Square, tabletop_image
 from vslsp.vision.colour import COLOUR_NAMES, GENERIC
 from vslsp.vision.image import read_image, write_image
 from vslsp.vision.landmark import Line
+
+if TYPE_CHECKING:
+    from vslsp.sim import SceneSpec
 
 __all__ = ["Pair", "Square", "assert_grounds", "rendered_pair", "synthetic_pair", "tabletop_image"]
 
@@ -129,7 +133,7 @@ def synthetic_pair(squares: Sequence[Square], move: tuple[int, tuple[float, floa
     return Pair(pre, post, truth(squares), truth(after))
 
 
-def rendered_pair(spec, move: tuple[str, tuple[float, float]], *, camera: str = "head",
+def rendered_pair(spec: SceneSpec, move: tuple[str, tuple[float, float]], *, camera: str = "head",
                   size: tuple[int, int] = (640, 480), robot: bool = False) -> Pair:
     """The pybullet scene of ``spec`` (a :class:`~vslsp.sim.SceneSpec`) seen by ``camera`` at
     ``size`` (W, H), before and after the tutor moved cube ``move[0]`` to ``move[1]`` (x, y) m
