@@ -26,8 +26,8 @@ from vslsp.sim import SceneSpec, World
 from vslsp.sim.scene import TABLE_Z, WORKSPACE_X, WORKSPACE_Y
 from vslsp.vision.features import sift
 from vslsp.vision.matching import find_best_match
-from vslsp.vision.synthetic import BODY_SIZE, houses_world
-from vslsp.vsl.grounding import Grounding, ground, ground_scene
+from vslsp.vsl.house_sprites import BODY_SIZE, houses_world
+from vslsp.grounding.operation import Grounding, ground, ground_scene
 
 SIZES = ((640, 480), (1280, 960))
 CAMERAS = ("head", "overhead")

@@ -17,7 +17,7 @@ __all__ = ["VslspError", "__version__", "ground"]
 def __getattr__(name: str):
     # ``vslsp.ground`` is imported on first use, so that ``import vslsp`` stays light (no OpenCV).
     if name == "ground":
-        from vslsp.vsl.grounding import ground
+        from vslsp.grounding.operation import ground
 
         return ground
     raise AttributeError(f"module 'vslsp' has no attribute {name!r}")

@@ -14,7 +14,7 @@ import numpy as np
 
 from vslsp.errors import TaskFailed
 from vslsp.execution import PerceivedState, perceive
-from vslsp.vsl.grounding import Grounding, ground
+from vslsp.grounding.operation import Grounding, ground
 
 TUTOR_BEYOND = 0.055  # the tutor puts a cube this far (m) on the other side of the line
 

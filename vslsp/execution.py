@@ -18,7 +18,7 @@ from vslsp.skills.execute import execute_skill
 from vslsp.skills.library import SkillLibrary
 from vslsp.sim import TABLE_Z, CUBE_SIZE
 from vslsp.sim.robot import HandTrajectory
-from vslsp.vsl.grounding import SceneGrounding, ground_scene
+from vslsp.grounding.operation import SceneGrounding, ground_scene
 
 
 @dataclass(frozen=True)

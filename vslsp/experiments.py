@@ -24,17 +24,21 @@ import numpy as np
 from vslsp.demonstration import tutor_operation
 from vslsp.errors import InputError, TaskFailed, VslspError
 from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
+from vslsp.grounding.operation import ground
 from vslsp.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
-from vslsp.skills.library import SkillLibrary
 from vslsp.sim import COLOURS, SceneSpec, World
+from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, Task, learn_task
 from vslsp.vision.matching import Match, find_best_match
 from vslsp.vsl.demonstration import DemonstrationRecorder
-from vslsp.vsl.grounding import ground
 
 EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order")
 ORDERED_COLOURS = ("orange", "green", "yellow")
 FAULTS = ("nudge", "skip")
+# With user predicates the robot tries each skill this many times (different cubes and places):
+# an effect or a precondition must hold in every execution, so a predicate that one execution
+# changed by chance (a cube pushed across the image's middle) stays out of the models.
+EXPLORATIONS_WITH_PREDICATES = 3
 
 
 @dataclass
@@ -57,6 +61,7 @@ class Trial:
     steps: list[StepResult] = field(default_factory=list, repr=False)
     gui: bool = field(default=False, repr=False)
     on_stage: object = field(default=None, repr=False, compare=False)
+    predicates: tuple = field(default=(), repr=False, compare=False)  # the user's, grounded at every step
 
     def stage(self, what: str) -> None:
         """Report progress (the demo's spinner)."""
@@ -80,11 +85,14 @@ def scene_for(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None 
 
 
 def run_trial(experiment: str, seed: int, library: SkillLibrary, *, faults: bool = False,
-              planner: str = "fast-downward", gui: bool = False, on_stage=None) -> Trial:
-    """Run one trial of ``experiment``; user errors propagate, task failures are recorded."""
+              planner: str = "fast-downward", gui: bool = False, on_stage=None, predicates: tuple = ()) -> Trial:
+    """Run one trial of ``experiment``; user errors propagate, task failures are recorded.
+
+    ``predicates``: the user's (:func:`vslsp.grounding.load_predicates`), grounded with ``far``
+    at every observed step; action models, rules and goals are learned over all of them."""
     if experiment not in EXPERIMENTS:
         raise InputError(f"unknown experiment {experiment!r}; choose one of {', '.join(EXPERIMENTS)}")
-    trial = Trial(experiment, seed, gui=gui, on_stage=on_stage)
+    trial = Trial(experiment, seed, gui=gui, on_stage=on_stage, predicates=tuple(predicates))
     start = time.perf_counter()
     rng = np.random.default_rng(seed)
     fault_plan = {int(rng.integers(0, 2)): str(rng.choice(FAULTS))} if faults else {}
@@ -101,8 +109,20 @@ def run_trial(experiment: str, seed: int, library: SkillLibrary, *, faults: bool
     trial.failed_steps = sum(not s.ok for s in trial.steps)
     if trial.failed_steps:
         trial.details["step_errors"] = [f"{s.action} {s.obj}: {s.error}" for s in trial.steps if not s.ok]
+    if trial.predicates:
+        trial.details["predicates"] = [p.name for p in trial.predicates]
+        if trial.domain is not None:
+            trial.details["action_models"] = [line for a in trial.domain.actions for line in _model_lines(a)]
+        if trial.task is not None:
+            trial.details["rules"] = [str(rule) for rule in trial.task.rules]
     trial.time_s = time.perf_counter() - start
     return trial
+
+
+def _model_lines(action) -> list[str]:
+    """An action model in two readable lines: its preconditions and its effects (PDDL)."""
+    effects = " ".join(e.to_pddl() for e in action.effects)
+    return [f"{action.name}: pre {action.precondition.to_pddl()}", f"{action.name}: eff {effects}"]
 
 
 # --- watching the tutor ----------------------------------------------------------------------
@@ -119,7 +139,7 @@ def _watch(world, trial: Trial, operations: list[tuple[str, str]], title: str,
         if recorder is not None:
             recorder.record(state.image, after.image)
         trial.observations.append((f"{title}, operation {i}", state.image, after.image, grounding))
-        steps.append(to_step(grounding, state, after))
+        steps.append(to_step(grounding, state, after, trial.predicates))
         state = after
     return steps
 
@@ -134,15 +154,20 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
     """The robot tries push and pull, each on a cube alone on the table, and learns their models."""
     explorations = []
     trial.stage("the robot tries push and pull and watches what they do")
-    for k, action in enumerate(("push", "pull")):
-        colour = str(rng.choice(list(COLOURS)))
-        with World(scene_for(trial.seed + 2_000_003 + k, (colour,), (action == "pull",)), gui=trial.gui) as world:
-            exploration = explore_skill(world, library, action)
-        explorations.append(exploration)
-        grounding, (pre, post) = exploration.groundings[0], exploration.images[0]
-        trial.observations.append((f"the robot tries {action}", pre, post, grounding))
+    rounds = EXPLORATIONS_WITH_PREDICATES if trial.predicates else 1
+    for r in range(rounds):
+        for k, action in enumerate(("push", "pull")):
+            colour = str(rng.choice(list(COLOURS)))
+            spec = scene_for(trial.seed + 2_000_003 + k + 2 * r, (colour,), (action == "pull",))
+            with World(spec, gui=trial.gui) as world:
+                exploration = explore_skill(world, library, action, predicates=trial.predicates)
+            explorations.append(exploration)
+            grounding, (pre, post) = exploration.groundings[0], exploration.images[0]
+            trial.observations.append((f"the robot tries {action}" + (f" ({r + 1})" if rounds > 1 else ""), pre,
+                                       post, grounding))
     trial.domain = learn_models(explorations)
     return trial.domain
+
 
 
 # --- VSL reproduction (Algorithm 1, part II) ----------------------------------------------------
@@ -215,8 +240,10 @@ def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
         colours = tuple(c.colour for c in world.spec.cubes)
         recorder = DemonstrationRecorder(world.observe("head").rgb)
         operations = _tutor_task(world.spec, rng, world)
-        _watch(world, trial, operations, "demonstration", recorder)
+        watched = _watch(world, trial, operations, "demonstration", recorder)
         demonstration = recorder.demonstration()
+    if trial.predicates:  # VSL reproduces without symbols; the grounded changes are reported
+        trial.details["demonstrated_changes"] = [f"{s.action} {s.obj}: {s.changed()}" for s in watched]
     goal = {op.symbol: op.grounding.far_post for op in demonstration.operations}
     # Reshuffled: new places and a new line pose, each cube on the side it started from.
     with World(scene_for(trial.seed + 1_000_003, colours, start_far), gui=trial.gui) as world:
@@ -247,7 +274,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
             pulls = [(c, a) for c, a in _tutor_task(world.spec, rng, world) if a == "pull"]
             pulled |= {c for c, _ in pulls}
             demonstrations.append(_watch(world, trial, pulls, f"demonstration {i + 1}"))
-    trial.task = learn_task(demonstrations, ordered=False)
+    trial.task = learn_task(demonstrations, ordered=False, models=trial.domain if trial.predicates else None)
     n = int(rng.integers(1, 4))
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=n, replace=False))
     far = tuple(bool(v) for v in rng.random(n) < 0.6)
@@ -255,7 +282,8 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
         far = (True,) + far[1:]
     with World(scene_for(trial.seed + 1_000_003, colours, far), gui=trial.gui) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-        run = execute_task(world, library, trial.domain, trial.task, planner=planner, faults=faults)
+        run = execute_task(world, library, trial.domain, trial.task, planner=planner, faults=faults,
+                           predicates=trial.predicates)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
     trial.success = run.success and not any(final.values())
@@ -274,7 +302,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
         steps = _watch(world, trial, [(c, "pull") for c in ORDERED_COLOURS], "demonstration", recorder)
         demonstration = recorder.demonstration()
     trial.stage("learning the task and its order; planning and executing (VSL-SP)")
-    trial.task = learn_task([steps], ordered=True)
+    trial.task = learn_task([steps], ordered=True, models=trial.domain if trial.predicates else None)
     test_scene = scene_for(trial.seed + 1_000_003, ORDERED_COLOURS, all_far)
     # VSL-SP: the order comes from the sometime-before constraints the planner must respect.
     with World(test_scene, gui=trial.gui) as world:
@@ -286,7 +314,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
                     became_near.append(cube.colour)
 
         run = execute_task(world, library, trial.domain, trial.task, planner=planner, faults=faults,
-                           on_step=watch_truth)
+                           on_step=watch_truth, predicates=trial.predicates)
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
     # VSL: the same test scene, reproduced from the single demonstration by match finding.

@@ -10,6 +10,7 @@ did not cross the line, the cube was knocked back) makes the robot replan from w
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -18,25 +19,31 @@ import numpy as np
 from vslsp.demonstration import ObservedStep
 from vslsp.errors import TaskFailed
 from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
+from vslsp.grounding import Predicate, unary_literals, with_builtins
+from vslsp.grounding.operation import Grounding, ground
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, PlanResult, Step, Task, learn_domain, make_problem, solve
-from vslsp.vsl.grounding import Grounding, ground
 
 MAX_REPLANS = 4
 
 
-def literals(state: PerceivedState) -> dict[str, dict[str, bool]]:
-    """The grounded predicates of every object seen: ``{"green": {"far": True}, ...}``."""
-    return {name: {"far": far} for name, far in state.far().items()}
+def literals(state: PerceivedState, predicates: Sequence[Predicate] | None = None) -> dict[str, dict[str, bool]]:
+    """The grounded predicates of every object seen: ``{"green": {"far": True}, ...}``; with the
+    user's unary ``predicates`` too (``far`` is always there)."""
+    if not predicates:
+        return {name: {"far": far} for name, far in state.far().items()}
+    values = unary_literals(state.grounding.atoms(with_builtins(predicates)))
+    return {name: values.get(name, {}) for name in state.objects}
 
 
-def to_step(grounding: Grounding, before: PerceivedState, after: PerceivedState) -> Step:
+def to_step(grounding: Grounding, before: PerceivedState, after: PerceivedState,
+            predicates: Sequence[Predicate] | None = None) -> Step:
     """A grounded operation as the symbolic layer learns from it."""
-    return Step(grounding.action, grounding.name, literals(before), literals(after))
+    return Step(grounding.action, grounding.name, literals(before, predicates), literals(after, predicates))
 
 
-def observed_to_steps(observed: list[ObservedStep]) -> list[Step]:
-    return [to_step(s.grounding, s.before, s.after) for s in observed]
+def observed_to_steps(observed: list[ObservedStep], predicates: Sequence[Predicate] | None = None) -> list[Step]:
+    return [to_step(s.grounding, s.before, s.after, predicates) for s in observed]
 
 
 @dataclass(frozen=True)
@@ -48,7 +55,8 @@ class Exploration:
     images: tuple[tuple[np.ndarray, np.ndarray], ...] = field(repr=False)
 
 
-def explore_skill(world, library: SkillLibrary, action: str, obj: str | None = None) -> Exploration:
+def explore_skill(world, library: SkillLibrary, action: str, obj: str | None = None,
+                  predicates: Sequence[Predicate] | None = None) -> Exploration:
     """The robot executes ``action`` on a cube and watches: VSL grounds the pre/post pair.
 
     The grounded execution (which object moved, ``far`` before and after) is what the
@@ -66,7 +74,7 @@ def explore_skill(world, library: SkillLibrary, action: str, obj: str | None = N
     grounding = ground(state.image, after.image)
     if grounding.action != action:
         raise TaskFailed(f"the robot executed {action} but saw {grounding.action or 'no change of far'}")
-    return Exploration((to_step(grounding, state, after),), (grounding,), ((state.image, after.image),))
+    return Exploration((to_step(grounding, state, after, predicates),), (grounding,), ((state.image, after.image),))
 
 
 def learn_models(explorations: list[Exploration]) -> Domain:
@@ -106,7 +114,8 @@ class Execution:
 
 def execute_task(world, library: SkillLibrary, domain: Domain, task: Task, *, planner: str = "fast-downward",
                  faults: dict[int, str] | None = None, max_replans: int = MAX_REPLANS,
-                 on_step: Callable[[StepResult, PerceivedState], None] | None = None) -> Execution:
+                 on_step: Callable[[StepResult, PerceivedState], None] | None = None,
+                 predicates: Sequence[Predicate] | None = None) -> Execution:
     """Plan ``task`` in the scene the robot sees and execute the plan, replanning on failures.
 
     ``faults`` maps the index of an executed step (0-based, over the whole run) to a fault to
@@ -118,7 +127,7 @@ def execute_task(world, library: SkillLibrary, domain: Domain, task: Task, *, pl
     state = perceive(world)
     run.states.append(state)
     while True:
-        problem = make_problem(domain, task, literals(state))
+        problem = make_problem(domain, task, literals(state, predicates))
         try:
             plan = solve(domain, problem, planner)
         except TaskFailed as failure:

@@ -6,7 +6,7 @@ import pytest
 
 from vslsp.errors import InputError
 from vslsp.vision.change import detect_change
-from vslsp.vision.synthetic import Square, tabletop_image
+from vslsp.grounding.synthetic import Square, tabletop_image
 
 STILL = Square("blue", (480, 400), angle=20)
 

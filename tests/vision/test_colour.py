@@ -5,7 +5,7 @@ import pytest
 
 from vslsp.sim import COLOURS
 from vslsp.vision.colour import COLOUR_NAMES, GENERIC, colour_name
-from vslsp.vision.synthetic import PAINTS
+from vslsp.grounding.synthetic import PAINTS
 
 
 @pytest.mark.parametrize("name", COLOUR_NAMES)

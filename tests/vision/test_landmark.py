@@ -5,7 +5,7 @@ import pytest
 
 from vslsp.errors import InputError
 from vslsp.vision.landmark import find_landmark
-from vslsp.vision.synthetic import Square, tabletop_image
+from vslsp.grounding.synthetic import Square, tabletop_image
 
 
 def _distance_to(line, point):

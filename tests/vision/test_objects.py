@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from vslsp.vision.objects import detect_objects
-from vslsp.vision.synthetic import Square, tabletop_image
+from vslsp.grounding.synthetic import Square, tabletop_image
 
 
 def test_objects_are_found_left_to_right_with_colour_and_centroid():

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
-from vslsp.vision.synthetic import Square, tabletop_image
+from vslsp.grounding.synthetic import Square, tabletop_image
 from vslsp.vsl.demonstration import Demonstration, DemonstrationRecorder
 
 SCENES = [

@@ -10,7 +10,7 @@ import pytest
 
 from vslsp.cli import main
 from vslsp.errors import InputError
-from vslsp.vision.synthetic import body_sprite, houses_world, paste, roof_sprite
+from vslsp.vsl.house_sprites import body_sprite, houses_world, paste, roof_sprite
 from vslsp.vsl.house_roof import PIXEL_SIZE, demonstrate, reproduce
 from vslsp.geometry.poses import compose, relative, wrap
 from vslsp.vsl.house_world import BELOW, TOP, HouseWorld

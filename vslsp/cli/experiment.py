@@ -2,7 +2,7 @@
 
 Every experiment takes the same options and writes the same report folder (``report.json``,
 ``report.md``, figures); ``--list`` lists them. Options that only some experiments take
-(``--faults``, ``--planner``, ``--skills``, ``--method``) are refused by the others.
+(``--faults``, ``--planner``, ``--skills``, ``--predicates``, ``--method``) are refused by the others.
 """
 
 from __future__ import annotations
@@ -36,10 +36,14 @@ from vslsp.cli.params import prepare_output_folder, seed_option
 @click.option("--method", default=None, help="VSL-3D: match finding (prerejective_ransac, sac_ia, icp).")
 @click.option("--out", type=click.Path(file_okay=False), default=None,
               help="Report folder (default: out/experiments/NAME).")
+@click.option("--predicates", "predicates_file", type=click.Path(dir_okay=False), default=None,
+              help="VSL-SP: a Python file of your predicates (@predicate from vslsp.grounding), grounded with far at "
+                   "every observed step and learned into the action models, rules and goals. It runs as Python with "
+                   "your rights, like a pytest conftest.py.")
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object on stdout.")
 def experiment(name: str | None, list_them: bool, trials: int, seed: int, workers: int, backend: str,
                address: str | None, faults: bool, planner: str | None, skills_dir: str | None, method: str | None,
-               out: str | None, as_json: bool) -> None:
+               predicates_file: str | None, out: str | None, as_json: bool) -> None:
     """Run experiment NAME (see --list) and write a report folder.
 
     Exit 0 when every trial succeeded, 1 when a trial failed or the run was interrupted, 2 for
@@ -60,7 +64,8 @@ def experiment(name: str | None, list_them: bool, trials: int, seed: int, worker
         raise InputError("name an experiment (vslsp experiment --list shows them)")
     if address is not None and backend != "ray":
         raise InputError("--address applies to --backend ray")
-    task = get_task(name, faults=faults, planner=planner, skills=skills_dir, method=method)
+    task = get_task(name, faults=faults, planner=planner, skills=skills_dir, method=method,
+                    predicates=str(Path(predicates_file).resolve()) if predicates_file else None)
     folder = Path(out) if out else Path("out") / "experiments" / name
     prepare_output_folder(folder)
     data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend,

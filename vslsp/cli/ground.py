@@ -1,4 +1,5 @@
-"""``vslsp ground PRE POST``: the moved object, the landmark and (far b) before and after."""
+"""``vslsp ground PRE POST``: the moved object, the landmark, (far b) before and after, and with
+``--predicates FILE.py`` every ground atom of the user's predicates (docs/grounding.md)."""
 
 from __future__ import annotations
 
@@ -6,23 +7,57 @@ import json
 
 import click
 
+from vslsp.errors import VslspError
 
-@click.command()
+
+class _JsonErrors(click.Command):
+    """Under ``--json``, a usage error (an unknown option, a bad --robot-side) prints its JSON too."""
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        wants_json = "--json" in args
+        try:
+            return super().parse_args(ctx, args)
+        except click.UsageError as error:
+            if wants_json:
+                click.echo(json.dumps({"error": error.format_message(), "exit_code": 2}))
+            raise
+
+
+@click.command(cls=_JsonErrors)
 @click.argument("pre", type=click.Path(dir_okay=False))
 @click.argument("post", type=click.Path(dir_okay=False))
 @click.option("--robot-side", type=click.Choice(["bottom", "top", "left", "right"]), default="bottom",
               show_default=True, help="The image edge the robot is beyond (bottom: the robot's own view).")
-@click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
+@click.option("--predicates", "predicates_file", type=click.Path(dir_okay=False), default=None,
+              help="A Python file of predicates (@predicate from vslsp.grounding) to ground for every object and "
+                   "ordered pair, before and after. The file runs as Python with your rights, like a pytest "
+                   "conftest.py: use only files you trust.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout ({\"error\": ...} on failure).")
 @click.option("--overlay", type=click.Path(dir_okay=False), default=None,
               help="Write a PNG with the line, the object before and after, and the labels.")
-def ground(pre: str, post: str, robot_side: str, as_json: bool, overlay: str | None) -> None:
-    """Ground one demonstrated operation from its PRE- and POST-action images (PNG/JPEG)."""
-    from vslsp.vision.image import read_image, write_image
-    from vslsp.vsl.grounding import ground as ground_pair
-    from vslsp.vsl.overlay import draw_grounding
+def ground(pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool,
+           overlay: str | None) -> None:
+    """Ground one demonstrated operation from its PRE- and POST-action images (PNG/JPEG; at least 32 and
+    at most 8192 pixels a side, at most 40 megapixels)."""
+    try:
+        _ground(pre, post, robot_side, predicates_file, as_json, overlay)
+    except VslspError as error:
+        if as_json:
+            click.echo(json.dumps({"error": str(error), "exit_code": error.exit_code}))
+        raise
 
-    pre_image, post_image = read_image(pre), read_image(post)
-    grounding = ground_pair(pre_image, post_image, robot_side=robot_side)
+
+def _ground(pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool,
+            overlay: str | None) -> None:
+    from vslsp.grounding import draw_grounding, load_predicates, with_builtins
+    from vslsp.grounding import ground as ground_pair
+    from vslsp.vision.image import check_image_output, read_image, write_image
+
+    if overlay:
+        check_image_output(overlay)
+    predicates = with_builtins(load_predicates(predicates_file)) if predicates_file else None
+    pre_image, post_image = read_image(pre, f"pre-action image {pre}"), read_image(post, f"post-action image {post}")
+    grounding = ground_pair(pre_image, post_image, robot_side=robot_side, predicates=predicates)
     if overlay:
         write_image(overlay, draw_grounding(pre_image, post_image, grounding))
     if as_json:
@@ -34,5 +69,9 @@ def ground(pre: str, post: str, robot_side: str, as_json: bool, overlay: str | N
         f"({grounding.post[0]:.0f}, {grounding.post[1]:.0f}) px, {far[grounding.far_pre]} -> "
         f"{far[grounding.far_post]}, action: {grounding.action or 'none'}"
     )
+    atoms = grounding.to_dict().get("atoms")
+    if atoms:
+        click.echo(f"pre:  {' '.join(atoms['pre']) or '(none true)'}")
+        click.echo(f"post: {' '.join(atoms['post']) or '(none true)'}")
     if overlay:
         click.echo(f"overlay: {overlay}")

@@ -12,8 +12,8 @@ Everything here is a pure function of recorded data (:class:`Step`), never of th
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import Iterable, Mapping, Sequence
 
 from vslsp.errors import InputError
 from vslsp.symbolic.formula import (
@@ -24,8 +24,8 @@ from vslsp.symbolic.formula import (
     conjunction,
     forall,
     formula_from_list,
-    holds,
     formula_to_list,
+    holds,
     literal,
 )
 from vslsp.symbolic.model import Action, Domain, Predicate, Problem
@@ -59,16 +59,20 @@ class Step:
                 "after": {o: dict(v) for o, v in self.after.items()}}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Step":
+    def from_dict(cls, data: dict) -> Step:
         return cls(data["action"], data["obj"], data["before"], data["after"])
 
 
 def learn_domain(steps: Iterable[Step], name: str = "vsl-sp") -> Domain:
-    """Lifted action schemas over ``?b - block`` learned from executions (Table 3).
+    """Lifted action schemas over ``?b - block`` learned from executions (Table 3), over every
+    grounded predicate (``far`` and the user's).
 
-    Preconditions: the acted object's literals before, intersected over the executions of the
-    action. Effects: the literals that changed, intersected likewise. An execution in which the
-    acted object did not change failed and is no evidence; steps without an action are skipped.
+    Effects: the acted object's literals that changed, intersected over the executions of the
+    action. Preconditions: its literals before, intersected likewise, of the predicates that some
+    action changes (fluents): a predicate no skill ever changes is static here, and successful
+    executions alone give no evidence that a skill needs it, so it stays out of the models (it
+    still is declared, and goals and rules may speak of it). An execution in which the acted
+    object did not change failed and is no evidence; steps without an action are skipped.
     """
     steps = list(steps)
     predicates = sorted({p for s in steps for side in (s.before, s.after) for values in side.values() for p in values})
@@ -86,15 +90,17 @@ def learn_domain(steps: Iterable[Step], name: str = "vsl-sp") -> Domain:
     if not preconditions:
         raise InputError("no action to learn from: no step names an action whose object changed "
                          "(check the grounding of the demonstrations)")
+    fluents = {p for effect in effects.values() for p, _ in effect}
     actions = []
     for action_name in preconditions:  # in the order first seen
         if not effects[action_name]:
             raise InputError(f"{action_name}: its executions changed different predicates, so no effect is common "
                              "to all of them; check the grounding")
+        needed = sorted((p, v) for p, v in preconditions[action_name] if p in fluents)
         actions.append(Action(
             action_name,
             (("?b", BLOCK),),
-            conjunction(literal(p, ("?b",), v) for p, v in sorted(preconditions[action_name])),
+            conjunction(literal(p, ("?b",), v) for p, v in needed),
             tuple(literal(p, ("?b",), v) for p, v in sorted(effects[action_name])),
         ))
     return Domain(name, ((BLOCK, None),), tuple(Predicate(p, (("?b", BLOCK),)) for p in predicates), tuple(actions))
@@ -125,7 +131,7 @@ class Rule:
                 "context": [list(c) for c in self.context], "sources": [list(s) for s in self.sources]}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Rule":
+    def from_dict(cls, data: dict) -> Rule:
         return cls(data["obj"], tuple((p, bool(v)) for p, v in data["effect"]),
                    tuple((o, p, bool(v)) for o, p, v in data["context"]), tuple((i, j) for i, j in data["sources"]))
 
@@ -139,7 +145,7 @@ class Task:
     constraints: tuple[Constraint, ...] = ()
     rules: tuple[Rule, ...] = ()
 
-    def without_order(self) -> "Task":
+    def without_order(self) -> Task:
         """The same goal with no ordering: the planner is free to choose the sequence."""
         return replace(self, constraints=())
 
@@ -152,21 +158,36 @@ class Task:
                 "rules": [r.to_dict() for r in self.rules]}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Task":
+    def from_dict(cls, data: dict) -> Task:
         return cls(formula_from_list(data["goal"]),  # type: ignore[arg-type]
                    tuple(formula_from_list(c) for c in data.get("constraints", ())),  # type: ignore[misc]
                    tuple(Rule.from_dict(r) for r in data.get("rules", ())))
 
 
-def extract_rules(demonstrations: Sequence[Sequence[Step]]) -> list[Rule]:
-    """One rule per demonstrated step that changed its object: r_i^j with its full context."""
+def changed_by(domain: Domain) -> dict[str, set[str]]:
+    """Action name -> the predicates its learned effects change."""
+    return {action.name: {atom.predicate for effect in action.effects for atom in atoms_of(effect)}
+            for action in domain.actions}
+
+
+def extract_rules(demonstrations: Sequence[Sequence[Step]], models: Domain | None = None) -> list[Rule]:
+    """One rule per demonstrated step that changed its object: r_i^j with its full context.
+
+    With the robot's action ``models``, a rule's effect keeps what the demonstrated action's
+    model changes: a predicate the tutor's pull happened to change too (an object pulled across
+    the image's middle) but the skill does not is no part of what was taught.
+    """
+    kept = changed_by(models) if models is not None else None
     rules = []
     for i, demonstration in enumerate(demonstrations, start=1):
         j = 0
         for step in demonstration:
-            if step.action is None or not step.changed():
+            if step.action is None:
                 continue
-            changed = step.changed()
+            changed = {p: v for p, v in step.changed().items()
+                       if kept is None or p in kept.get(step.action, {p})}
+            if not changed:
+                continue
             j += 1
             context = tuple(sorted((o, p, bool(v)) for o, values in step.before.items() if o != step.obj
                                    for p, v in values.items()))
@@ -177,12 +198,20 @@ def extract_rules(demonstrations: Sequence[Sequence[Step]]) -> list[Rule]:
 
 
 def generalise(rules: Sequence[Rule]) -> list[Rule]:
-    """Merge rules with the same effect: contexts that disagree are dropped, and the colour is
-    lifted to ``"?"`` when several colours share the effect (unless another rule demands the
-    opposite literal of one object, which a rule for every block would contradict)."""
+    """Merge rules whose effects share literals: the merged effect is what they all share (with
+    ``far`` alone: rules with the same effect), contexts that disagree are dropped, and the
+    colour is lifted to ``"?"`` when several colours share the effect (unless another rule
+    demands the opposite literal of one object, which a rule for every block would contradict)."""
     groups: dict[tuple, list[Rule]] = {}
-    for rule in rules:
-        groups.setdefault(rule.effect, []).append(rule)
+    for rule in rules:  # a rule joins the first group whose effect shares a literal with its own
+        effect = next((e for e in groups if set(e) & set(rule.effect)), None)
+        if effect is None:
+            groups[rule.effect] = [rule]
+        elif set(rule.effect) >= set(effect):
+            groups[effect].append(rule)
+        else:
+            members = [*groups.pop(effect), rule]
+            groups.setdefault(tuple(sorted(set(effect) & set(rule.effect))), []).extend(members)
     opposite = {(p, not v) for effect in groups for p, v in effect}
     merged = []
     for effect, group in groups.items():
@@ -192,22 +221,26 @@ def generalise(rules: Sequence[Rule]) -> list[Rule]:
         if len(colours) > 1 and not opposite & set(effect):
             merged.append(Rule("?", effect, tuple(sorted(c for c in context if c[0] not in colours)), sources))
         else:
-            merged.extend(Rule(c, effect, tuple(sorted(context)), tuple(s for r in group if r.obj == c for s in r.sources))
-                          for c in colours)
+            merged.extend(Rule(c, effect, tuple(sorted(context)),
+                               tuple(s for r in group if r.obj == c for s in r.sources)) for c in colours)
     return merged
 
 
-def learn_task(demonstrations: Sequence[Sequence[Step]], ordered: bool | None = None) -> Task:
-    """The goal (and order) that ``demonstrations`` teach.
+def learn_task(demonstrations: Sequence[Sequence[Step]], ordered: bool | None = None,
+               models: Domain | None = None) -> Task:
+    """The goal (and order) that ``demonstrations`` teach, over every grounded predicate.
 
     ``ordered=None`` follows the paper: one demonstration teaches a sequence (the colours stay,
     the order becomes ``sometime-before`` constraints); several demonstrations teach a rule
     (disagreeing contexts dropped, colours lifted: "no block is far"). ``ordered`` forces either.
+    ``models``: the robot's learned action models; a demonstrated step's effect keeps what its
+    action's model changes (see :func:`extract_rules`). Rules whose effects share literals are
+    merged with the literals they all share, as their contexts are.
     """
     demonstrations = [list(d) for d in demonstrations]
     if not demonstrations:
         raise InputError("no demonstration given")
-    rules = extract_rules(demonstrations)
+    rules = extract_rules(demonstrations, models)
     if ordered is None:
         ordered = len(demonstrations) == 1
     if ordered:
@@ -291,5 +324,6 @@ def make_problem(domain: Domain, task: Task, state: Literals, name: str = "vsl-s
     # An ordering whose later literal already holds in this scene is done with: the order can only
     # speak of what is still to be done (this is what lets the robot replan halfway through).
     universe, now = problem.universe(), frozenset(init)
-    pending = tuple(c for c in task.constraints if not (isinstance(c, SometimeBefore) and holds(c.formula, now, universe)))
+    pending = tuple(c for c in task.constraints
+                    if not (isinstance(c, SometimeBefore) and holds(c.formula, now, universe)))
     return replace(problem, constraints=pending)

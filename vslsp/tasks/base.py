@@ -50,6 +50,7 @@ class Option(str, enum.Enum):
     PLANNER = "planner"  # the unified-planning oneshot planner
     SKILLS = "skills"  # the skill-library folder
     METHOD = "method"  # VSL-3D's match-finding method
+    PREDICATES = "predicates"  # a Python file of the user's predicates (vslsp.grounding)
 
 
 @dataclass

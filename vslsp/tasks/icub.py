@@ -33,7 +33,7 @@ class IcubExperiment(Task):
     """An iCub experiment: options ``faults``, ``planner`` and ``skills`` (the library folder)."""
 
     system = System.VSL_SP
-    options = frozenset({Option.FAULTS, Option.PLANNER, Option.SKILLS})
+    options = frozenset({Option.FAULTS, Option.PLANNER, Option.SKILLS, Option.PREDICATES})
     keep_first = True  # a trial takes tens of seconds: the first one's artefacts travel back instead of a re-run
 
     def check(self) -> None:
@@ -42,6 +42,7 @@ class IcubExperiment(Task):
         from vslsp.skills.library import SKILL_NAMES, SkillLibrary
 
         SkillLibrary.load(self.library_path).require(SKILL_NAMES, self.library_path)
+        self.predicates()  # a predicates file that does not load is reported before any work
 
     @property
     def library_path(self) -> Path:
@@ -50,13 +51,21 @@ class IcubExperiment(Task):
         skills = self.option(Option.SKILLS)
         return Path(skills) if skills else default_library_path()
 
+    def predicates(self) -> tuple:
+        """The user's predicates (``--predicates FILE.py``), loaded from the file; () without one."""
+        from vslsp.grounding import load_predicates
+
+        path = self.option(Option.PREDICATES)
+        return tuple(load_predicates(path)) if path else ()
+
     def run_trial(self, seed: int, keep: bool = False, on_stage=None, gui: bool = False) -> TrialResult:
         from vslsp.experiments import run_trial
         from vslsp.skills.library import SkillLibrary
 
         trial = run_trial(self.name, seed, SkillLibrary.load(self.library_path),
                           faults=bool(self.option(Option.FAULTS, False)),
-                          planner=self.option(Option.PLANNER, DEFAULT_PLANNER), gui=gui, on_stage=on_stage)
+                          planner=self.option(Option.PLANNER, DEFAULT_PLANNER), gui=gui, on_stage=on_stage,
+                          predicates=self.predicates())
         record = trial.to_dict()
         operations = [{"operation": i, **step.to_dict()} for i, step in enumerate(trial.steps, start=1)]
         details = {k: v for k, v in record.items() if k not in ("experiment", "seed", "success", "error", "time_s")}
@@ -108,7 +117,7 @@ class PullInOrder(IcubExperiment):
 
 
 def _write_artefacts(folder: Path, trial) -> dict:
-    from vslsp.vsl.overlay import draw_grounding
+    from vslsp.grounding import draw_grounding
     from vslsp.vision.image import write_image
 
     files: dict = {"images": []}

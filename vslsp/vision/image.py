@@ -7,6 +7,7 @@ and turns a wrong input into an :class:`~vslsp.errors.InputError` that says what
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import cv2
@@ -17,6 +18,20 @@ from vslsp.errors import InputError
 # Perception runs on images whose longer side is at most this many pixels: enough for
 # tabletop objects tens of pixels wide, and it keeps a grounding within milliseconds.
 WORKING_SIZE = 320
+# Input images: at least MIN_SIDE and at most MAX_SIDE pixels a side, at most MAX_PIXELS in all,
+# and at most MAX_ASPECT times wider than high (or the reverse): a camera's picture.
+MIN_SIDE, MAX_SIDE, MAX_PIXELS, MAX_ASPECT = 32, 8192, 40_000_000, 8.0
+IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")
+SIZE_LIMITS = (f"at least {MIN_SIDE} and at most {MAX_SIDE} pixels a side, at most {MAX_PIXELS // 1_000_000} "
+               f"megapixels and at most {MAX_ASPECT:.0f}:1 between the sides")
+
+
+def check_size(width: int, height: int, what: str = "image") -> None:
+    """An InputError when a ``width`` x ``height`` image is outside the limits perception takes."""
+    if (min(width, height) < MIN_SIDE or max(width, height) > MAX_SIDE or width * height > MAX_PIXELS
+            or max(width, height) > MAX_ASPECT * min(width, height)):
+        raise InputError(f"{what} is {width}x{height} pixels; perception takes images of {SIZE_LIMITS} "
+                         "(resize it, e.g. to 640x480)")
 
 
 def as_rgb(image: np.ndarray, what: str = "image") -> np.ndarray:
@@ -28,25 +43,74 @@ def as_rgb(image: np.ndarray, what: str = "image") -> np.ndarray:
     if image.dtype != np.uint8:
         raise InputError(f"{what} must be uint8 (0-255), got {image.dtype}; convert it with "
                          "(image * 255).astype(np.uint8) if it holds floats in 0..1")
-    if min(image.shape[:2]) < 32:
-        raise InputError(f"{what} is {image.shape[1]}x{image.shape[0]} pixels; use at least 32x32")
+    check_size(image.shape[1], image.shape[0], what)
     return np.ascontiguousarray(image)
 
 
-def read_image(path: str | Path) -> np.ndarray:
-    """Read a PNG/JPEG file as RGB (H, W, 3) uint8; an unreadable file is an InputError."""
+def header_size(path: str | Path) -> tuple[int, int] | None:
+    """(width, height) from a PNG or JPEG file's header without decoding it; None when the file
+    is neither (or its header is cut short)."""
+    with open(path, "rb") as file:
+        head = file.read(26)
+        if head[:8] == b"\x89PNG\r\n\x1a\n" and len(head) >= 24:
+            return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+        if head[:2] != b"\xff\xd8":
+            return None
+        file.seek(2)
+        while True:  # JPEG: walk the segments to the frame header (SOF0-SOF15 but DHT, JPG, DAC)
+            marker = file.read(4)
+            if len(marker) < 4 or marker[0] != 0xFF:
+                return None
+            kind, length = marker[1], int.from_bytes(marker[2:4], "big")
+            if 0xC0 <= kind <= 0xCF and kind not in (0xC4, 0xC8, 0xCC):
+                frame = file.read(5)
+                return (int.from_bytes(frame[3:5], "big"), int.from_bytes(frame[1:3], "big")) if len(frame) == 5 \
+                    else None
+            file.seek(length - 2, 1)
+
+
+def read_image(path: str | Path, what: str | None = None) -> np.ndarray:
+    """Read a PNG/JPEG file as RGB (H, W, 3) uint8; an unreadable file, or one whose size is
+    outside the limits (:data:`SIZE_LIMITS`, checked on the header before decoding), is an
+    InputError."""
     path = Path(path)
+    what = what or f"image {path}"
     if not path.is_file():
         raise InputError(f"cannot read image {path}: no such file")
+    size = header_size(path)
+    if size is not None:
+        check_size(*size, what)
     image = cv2.imread(str(path), cv2.IMREAD_COLOR)
     if image is None:
         raise InputError(f"cannot read image {path}: not an image file OpenCV can decode (use PNG or JPEG)")
+    check_size(image.shape[1], image.shape[0], what)
     return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
 
 
+def check_image_output(path: str | Path) -> Path:
+    """Check, before any work, that an image can be written at ``path``: a PNG or JPEG name in
+    a folder that exists and is writable. Returns the path."""
+    path = Path(path)
+    if path.suffix.lower() not in IMAGE_EXTENSIONS:
+        raise InputError(f"cannot write image {path}: give a file name ending in .png (or .jpg)")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputError(f"cannot write image {path}: the folder {folder} does not exist; create it first")
+    if path.is_dir():
+        raise InputError(f"cannot write image {path}: it is a folder; give a file name ending in .png")
+    if not os.access(folder, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise InputError(f"cannot write image {path}: no permission to write there; choose another path")
+    return path
+
+
 def write_image(path: str | Path, image: np.ndarray) -> None:
-    """Write an RGB (H, W, 3) uint8 image (PNG by the file's extension)."""
-    if not cv2.imwrite(str(path), cv2.cvtColor(image, cv2.COLOR_RGB2BGR)):
+    """Write an RGB (H, W, 3) uint8 image (PNG or JPEG by the file's extension)."""
+    check_image_output(path)
+    try:
+        written = cv2.imwrite(str(path), cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
+    except cv2.error as error:  # OpenCV 5 raises where 4 returned False
+        raise InputError(f"cannot write image {path}: {str(error).strip().splitlines()[-1]}") from None
+    if not written:
         raise InputError(f"cannot write image {path}: check the folder exists and the extension (.png)")
 
 
@@ -93,5 +157,5 @@ def channel_min(image: np.ndarray) -> np.ndarray:
 
 def colour_distance(image: np.ndarray, colour: np.ndarray) -> np.ndarray:
     """Largest per-channel difference (H, W) uint8 between an image (H, W, 3) and one colour (3,)."""
-    a, b, c = (cv2.absdiff(channel, float(value)) for channel, value in zip(cv2.split(image), colour))
+    a, b, c = (cv2.absdiff(channel, float(value)) for channel, value in zip(cv2.split(image), colour, strict=True))
     return cv2.max(cv2.max(a, b), c)

@@ -28,16 +28,22 @@ def check_robot_side(robot_side: str) -> str:
     return robot_side
 
 
-def far_of(point: tuple[float, float], line: Line, robot_side: str = "bottom") -> bool:
-    """(far b) for an object at ``point`` (x, y) px: it lies on the other side of ``line``
-    from the robot, which is beyond the image's ``robot_side`` edge."""
-    towards_robot = float(np.dot(line.normal, ROBOT_SIDES[check_robot_side(robot_side)]))
-    if abs(towards_robot) < _MIN_CROSSING:
+def towards_robot(line: Line, robot_side: str = "bottom") -> float:
+    """The cosine between the line's normal and the direction towards the robot (beyond the
+    image's ``robot_side`` edge); an InputError when the line runs towards the robot."""
+    cosine = float(np.dot(line.normal, ROBOT_SIDES[check_robot_side(robot_side)]))
+    if abs(cosine) < _MIN_CROSSING:
         raise InputError(
             f"the landmark line (at {line.angle:.0f} deg in the image) runs towards the robot "
             f"(robot side {robot_side!r}), so near and far are undefined; check --robot-side"
         )
-    return line.signed_distance(point) * towards_robot < 0.0
+    return cosine
+
+
+def far_of(point: tuple[float, float], line: Line, robot_side: str = "bottom") -> bool:
+    """(far b) for an object at ``point`` (x, y) px: it lies on the other side of ``line``
+    from the robot, which is beyond the image's ``robot_side`` edge."""
+    return line.signed_distance(point) * towards_robot(line, robot_side) < 0.0
 
 
 def identify_action(far_pre: bool, far_post: bool) -> str | None:

@@ -3,8 +3,8 @@
 import pytest
 
 from vslsp.errors import InputError
+from vslsp.grounding.spatial import far_of, identify_action
 from vslsp.vision.landmark import Line
-from vslsp.vsl.spatial import far_of, identify_action
 
 HORIZONTAL = Line((0.0, 240.0), (640.0, 240.0))
 VERTICAL = Line((320.0, 0.0), (320.0, 480.0))

@@ -7,8 +7,8 @@ import pytest
 
 import vslsp
 from vslsp.errors import InputError
-from vslsp.vision.synthetic import Square, tabletop_image
-from vslsp.vsl.grounding import Grounding, ground, ground_scene
+from vslsp.grounding.operation import Grounding, ground, ground_scene
+from vslsp.grounding.synthetic import Square, tabletop_image
 
 LINE = ((0, 300), (640, 260))  # far is above it in the image (the robot is at the bottom)
 STILL = Square("blue", (500, 420), angle=20)

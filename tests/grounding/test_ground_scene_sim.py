@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from vslsp.grounding.operation import ground_scene
 from vslsp.sim import COLOURS, CubeSpec, LandmarkSpec, SceneSpec, World
 from vslsp.sim.scene import WORKSPACE_X, WORKSPACE_Y
-from vslsp.vsl.grounding import ground_scene
 
 WORLDS, STATES = 3, 17  # 51 scenes
 # The execution watches through the head camera at 320x240; each scene is also seen by one
@@ -55,13 +55,13 @@ def test_every_cube_of_a_scene_is_found_with_its_colour_and_far():
                 k = 1 + (w * STATES + state) % 5
                 shown = [str(c) for c in rng.choice(colours, size=k, replace=False)]
                 targets = {c.name: (c.x, c.y, c.yaw) for c in world.spec.cubes}
-                for name, (x, y) in zip(shown, _arrangement(rng, landmark, k)):
+                for name, (x, y) in zip(shown, _arrangement(rng, landmark, k), strict=True):
                     targets[name] = (float(x), float(y), float(rng.uniform(-0.8, 0.8)))
                 _arrange(world, targets)
                 truth = sorted((name, world.is_far(name)) for name in shown)
                 for camera, width, height in (("head", 320, 240), VIEWS[state % len(VIEWS)]):
                     scene = ground_scene(world.observe(camera, width, height).rgb)
-                    seen = sorted((obj.name, far) for obj, far in zip(scene.objects, scene.far))
+                    seen = sorted((obj.name, far) for obj, far in zip(scene.objects, scene.far, strict=True))
                     if seen != truth:
                         failures.append((w, state, camera, width, truth, seen))
                 scenes += 1

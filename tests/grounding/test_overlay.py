@@ -2,9 +2,9 @@
 
 import numpy as np
 
-from vslsp.vision.synthetic import Square, tabletop_image
-from vslsp.vsl.grounding import ground
-from vslsp.vsl.overlay import draw_grounding
+from vslsp.grounding.operation import ground
+from vslsp.grounding.overlay import draw_grounding
+from vslsp.grounding.synthetic import Square, tabletop_image
 
 LINE_RGB = np.array([0, 200, 255])
 

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
+from vslsp.grounding.operation import ground
 from vslsp.sim import COLOURS, CubeSpec, LandmarkSpec, SceneSpec, World
 from vslsp.sim.scene import WORKSPACE_X, WORKSPACE_Y
-from vslsp.vsl.grounding import ground
 
 WORLDS, MOVES = 12, 10  # x 2 cameras = 240 pairs
 MARGIN = 0.035  # cubes stay this far (m) from the line: a cube 5 cm wide is not "on" it
@@ -39,7 +39,7 @@ def _random_scene(rng) -> SceneSpec:
     for _ in colours:
         places.append(_place(rng, landmark, places, bool(rng.random() < 0.5)))
     cubes = tuple(CubeSpec(str(c), str(c), float(x), float(y), float(rng.uniform(-0.5, 0.5)))
-                  for c, (x, y) in zip(colours, places))
+                  for c, (x, y) in zip(colours, places, strict=True))
     return SceneSpec(cubes=cubes, landmark=landmark)
 
 

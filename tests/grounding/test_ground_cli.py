@@ -1,0 +1,148 @@
+"""``vslsp ground PRE POST``: JSON on stdout, the overlay PNG, user predicates, exit code 2 for
+bad input (with an {"error": ...} object under --json), checked before any work."""
+
+import json
+import subprocess
+import sys
+import textwrap
+
+import cv2
+import numpy as np
+import pytest
+
+from vslsp.grounding.synthetic import Square, tabletop_image
+from vslsp.vision.image import read_image, write_image
+
+
+def _vslsp(*args):
+    return subprocess.run([sys.executable, "-m", "vslsp", *map(str, args)], capture_output=True, text=True,
+                          timeout=60)
+
+
+@pytest.fixture(scope="module")
+def images(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("ground")
+    still = Square("blue", (500, 420))
+    write_image(folder / "pre.png", tabletop_image([Square("purple", (200, 150)), still]))
+    write_image(folder / "post.png", tabletop_image([Square("purple", (220, 410)), still]))
+    write_image(folder / "small.png", tabletop_image([still], size=(320, 240)))
+    write_image(folder / "both.png", tabletop_image([Square("purple", (220, 410)), Square("blue", (480, 130))]))
+    (folder / "notes.png").write_text("not an image")
+    cv2.imwrite(str(folder / "wide.png"), np.full((40, 20000, 3), 200, np.uint8))
+    cv2.imwrite(str(folder / "huge.jpg"), np.full((8000, 6000, 3), 200, np.uint8))
+    (folder / "preds.py").write_text(textwrap.dedent("""
+        from vslsp.grounding import predicate, register
+        from vslsp.grounding.relations import LEFT_OF
+
+        register(LEFT_OF)
+
+        @predicate("right-half")
+        def right_half(obj, scene):
+            return obj.x > scene.width / 2
+    """))
+    (folder / "raises.py").write_text(textwrap.dedent("""
+        from vslsp.grounding import predicate
+
+        @predicate("broken")
+        def broken(obj, scene):
+            return obj.colour == "red"
+    """))
+    (folder / "not_bool.py").write_text(textwrap.dedent("""
+        from vslsp.grounding import predicate
+
+        @predicate("distance", arity=2)
+        def distance(a, b, scene):
+            return abs(a.x - b.x)
+    """))
+    (folder / "syntax.py").write_text("from vslsp.grounding import predicate\n\ndef oops(:\n")
+    (folder / "empty.py").write_text("x = 1\n")
+    (folder / "far_again.py").write_text(textwrap.dedent("""
+        from vslsp.grounding import predicate
+
+        @predicate("far")
+        def mine(obj, scene):
+            return obj.y < 100
+    """))
+    return folder
+
+
+def test_json_output_and_overlay(images):
+    result = _vslsp("ground", images / "pre.png", images / "post.png", "--json", "--overlay", images / "o.png")
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert data["object"]["name"] == "purple" and data["action"] == "pull"
+    assert data["far"] == {"pre": True, "post": False}
+    assert read_image(images / "o.png").shape == (480, 1280, 3)
+
+
+def test_text_output_and_robot_side(images):
+    result = _vslsp("ground", images / "pre.png", images / "post.png", "--robot-side", "top")
+    assert result.returncode == 0 and "purple" in result.stdout and "action: push" in result.stdout
+
+
+@pytest.mark.parametrize("pre, post, message", [
+    ("pre.png", "pre.png", "nothing moved"),
+    ("pre.png", "small.png", "differ in size"),
+    ("pre.png", "missing.png", "cannot read image"),
+    ("notes.png", "post.png", "not an image file"),
+    ("pre.png", "both.png", "more than one object moved (purple left"),
+])
+def test_bad_input_exits_2_with_a_message_and_no_traceback(images, pre, post, message):
+    result = _vslsp("ground", images / pre, images / post, "--json")
+    assert result.returncode == 2
+    assert message in result.stderr and "Traceback" not in result.stderr
+    assert message in json.loads(result.stdout)["error"]
+
+
+def test_predicates_file_adds_the_true_atoms_before_and_after(images):
+    result = _vslsp("ground", images / "pre.png", images / "post.png", "--predicates", images / "preds.py", "--json")
+    assert result.returncode == 0, result.stderr
+    atoms = json.loads(result.stdout)["atoms"]
+    # purple (200, 150) -> (220, 410) crosses the line; blue stays at (500, 420): the right half.
+    assert atoms["pre"] == ["(far purple)", "(left-of purple blue)", "(right-half blue)"]
+    assert atoms["post"] == ["(left-of purple blue)", "(right-half blue)"]
+    text = _vslsp("ground", images / "pre.png", images / "post.png", "--predicates", images / "preds.py")
+    assert "post: (left-of purple blue) (right-half blue)" in text.stdout
+
+
+@pytest.mark.parametrize("args, message", [
+    (("wide.png", "post.png"), "is 20000x40 pixels; perception takes images of at least 32 and at most 8192"),
+    (("pre.png", "huge.jpg"), "is 6000x8000 pixels"),
+    (("pre.png", "post.png", "--overlay", "x.txt"), "give a file name ending in .png"),
+    (("pre.png", "post.png", "--overlay", "noext"), "give a file name ending in .png"),
+    (("pre.png", "post.png", "--overlay", "nowhere/o.png"), "does not exist"),
+    (("pre.png", "post.png", "--predicates", "raises.py"),
+     "predicate broken raised AttributeError: 'SceneObject' object has no attribute 'colour' while grounding"),
+    (("pre.png", "post.png", "--predicates", "not_bool.py"), "predicate distance returned float"),
+    (("pre.png", "post.png", "--predicates", "syntax.py"), "syntax.py, line 3: SyntaxError"),
+    (("pre.png", "post.png", "--predicates", "empty.py"), "registers no predicate"),
+    (("pre.png", "post.png", "--predicates", "far_again.py"), "predicate far is defined twice"),
+    (("pre.png", "post.png", "--predicates", "missing.py"), "no such file"),
+    (("pre.png", "post.png", "--predicates", "notes.png"), "must be a Python file"),
+])
+def test_bad_sizes_overlays_and_predicates_exit_2_before_any_work(images, args, message):
+    paths = [images / a if a.endswith((".png", ".jpg", ".py")) and "/" not in a else a for a in args]
+    paths = [images / a if a == "nowhere/o.png" else a for a in paths]
+    result = _vslsp("ground", *paths, "--json")
+    assert result.returncode == 2, result.stderr
+    assert message in result.stderr and "Traceback" not in result.stderr
+    assert message in json.loads(result.stdout)["error"]
+    assert not (images / "x.txt").exists() and not (images / "noext").exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--robot-side", "under"), "Invalid value for '--robot-side'"),
+    (("--colour", "red"), "No such option '--colour'"),
+])
+def test_usage_errors_under_json_print_json(images, args, message):
+    result = _vslsp("ground", images / "pre.png", images / "post.png", "--json", *args)
+    assert result.returncode == 2 and message in result.stderr
+    assert message in json.loads(result.stdout)["error"]
+
+
+def test_experiment_predicates_are_checked_before_any_work(images):
+    result = _vslsp("experiment", "keep-all-near", "--predicates", images / "syntax.py", "--json")
+    assert result.returncode == 2 and "syntax.py, line 3: SyntaxError" in result.stderr
+    result = _vslsp("experiment", "house-roof", "--predicates", images / "preds.py")
+    assert result.returncode == 2 and "--predicates applies to simple-vsl-task, keep-all-near, pull-in-order" \
+        in result.stderr

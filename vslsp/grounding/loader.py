@@ -1,0 +1,81 @@
+"""Loading a user's predicates file (``--predicates FILE.py``).
+
+The file is Python and runs with the user's rights, like a pytest ``conftest.py``: every
+function it decorates with :func:`~vslsp.grounding.predicate` (or passes to
+:func:`~vslsp.grounding.register`) is a predicate to ground, alongside the built-in ``far``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import sys
+import traceback
+from collections.abc import Sequence
+from pathlib import Path
+
+from vslsp.errors import InputError
+from vslsp.grounding.predicates import Predicate, collecting
+from vslsp.grounding.relations import BUILTINS
+
+MAX_FILE_BYTES = 1_000_000
+
+
+def load_predicates(path: str | Path) -> tuple[Predicate, ...]:
+    """The predicates a Python file registers (in order), after the built-ins it may not redefine.
+
+    A file that is missing, not ``.py``, raises while loading or registers nothing is an
+    InputError naming the file (and the line where loading failed).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"cannot read predicates file {path}: no such file")
+    if path.suffix != ".py":
+        raise InputError(f"predicates file {path} must be a Python file ending in .py")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise InputError(f"predicates file {path} is over {MAX_FILE_BYTES // 1000} kB; keep predicates in a small file")
+    digest = hashlib.sha1(str(path.resolve()).encode()).hexdigest()[:12]
+    module_name = f"vslsp_user_predicates_{digest}"
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    if spec is None or spec.loader is None:
+        raise InputError(f"cannot load predicates file {path} as Python")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module
+    with collecting() as registry:
+        try:
+            spec.loader.exec_module(module)
+        except InputError as error:
+            sys.modules.pop(module_name, None)
+            raise InputError(f"predicates file {path}: {error}") from None
+        except Exception as error:  # the user's code
+            sys.modules.pop(module_name, None)
+            raise InputError(f"cannot load predicates file {path}{_line(error, path)}: "
+                             f"{type(error).__name__}: {error}") from None
+    predicates = registry.predicates()
+    if not predicates:
+        raise InputError(f"predicates file {path} registers no predicate; decorate functions with "
+                         "@predicate(\"name\") from vslsp.grounding")
+    return tuple(p for p in with_builtins(predicates) if p not in BUILTINS)
+
+
+def check_unique(predicates: Sequence[Predicate]) -> tuple[Predicate, ...]:
+    """The predicates, checked to have distinct names."""
+    seen: dict[str, Predicate] = {}
+    for made in predicates:
+        if made.name in seen and seen[made.name] is not made:
+            raise InputError(f"predicate {made.name} is defined twice (the built-in {made.name} is always grounded); "
+                             "give yours another name")
+        seen[made.name] = made
+    return tuple(seen.values())
+
+
+def _line(error: Exception, path: Path) -> str:
+    if isinstance(error, SyntaxError) and error.lineno:
+        return f", line {error.lineno}"
+    frames = [f for f in traceback.extract_tb(error.__traceback__) if Path(f.filename) == path]
+    return f", line {frames[-1].lineno}" if frames else ""
+
+
+def with_builtins(predicates: Sequence[Predicate] = ()) -> tuple[Predicate, ...]:
+    """The built-in predicates followed by ``predicates`` (names checked to be distinct)."""
+    return check_unique(tuple(BUILTINS) + tuple(p for p in predicates if p not in BUILTINS))

@@ -1,0 +1,306 @@
+"""User predicates: Python functions over what perception found, grounded into PDDL atoms.
+
+Paper, VSL-SP "Implementation": "a simple (boolean) spatial reasoning [...] utilizes the detected
+pose of the object and the detected borderline and then decides that the object is far or
+near"; "Conclusion": "to extract more sophisticated constraints, qualitative spatial reasoning
+languages such as Region Connection Calculus can be employed". Here that reasoning is the
+user's: a predicate is a function registered with :func:`predicate`::
+
+    @predicate("right-half")                 # unary: (obj, scene) -> bool
+    def right_half(obj, scene):
+        return obj.x > scene.width / 2
+
+    @predicate("left-of", arity=2)           # binary: (a, b, scene) -> bool
+    def left_of(a, b, scene):
+        return a.x < b.x
+
+:func:`ground_atoms` evaluates predicates on a :class:`Scene` for every object (every ordered
+pair of distinct objects for binary ones) and returns the ground atoms with their values.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import inspect
+import math
+import re
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vslsp.errors import InputError
+from vslsp.grounding.spatial import ROBOT_SIDES, check_robot_side, towards_robot
+from vslsp.vision.landmark import Line
+from vslsp.vision.objects import DetectedObject
+
+_NAME = re.compile(r"^[a-z][a-z0-9_-]*$")
+
+
+@dataclass(frozen=True)
+class Box:
+    """An axis-aligned footprint in the image: x0 <= x <= x1, y0 <= y <= y1 (px)."""
+
+    x0: float
+    y0: float
+    x1: float
+    y1: float
+
+    @property
+    def area(self) -> float:
+        return max(0.0, self.x1 - self.x0) * max(0.0, self.y1 - self.y0)
+
+    def overlap(self, other: Box) -> float:
+        """Area (px²) the two boxes share."""
+        w = min(self.x1, other.x1) - max(self.x0, other.x0)
+        h = min(self.y1, other.y1) - max(self.y0, other.y0)
+        return max(0.0, w) * max(0.0, h)
+
+    def gap(self, other: Box) -> float:
+        """Distance (px) between the boxes; 0 when they touch or overlap."""
+        dx = max(0.0, other.x0 - self.x1, self.x0 - other.x1)
+        dy = max(0.0, other.y0 - self.y1, self.y0 - other.y1)
+        return math.hypot(dx, dy)
+
+    def contains(self, other: Box) -> bool:
+        """Whether ``other`` lies wholly within this box (RCC: a tangential or non-tangential part)."""
+        return self.x0 <= other.x0 and self.y0 <= other.y0 and other.x1 <= self.x1 and other.y1 <= self.y1
+
+
+@dataclass(frozen=True)
+class SceneObject:
+    """An object as a predicate sees it: its symbol ``name``, pixel centre (``x``, ``y``), its
+    ``footprint`` (the bounding box of its pixels), ``area`` (px²) and ``orientation`` (deg)."""
+
+    name: str
+    x: float
+    y: float
+    footprint: Box
+    area: float = 0.0
+    orientation: float = 0.0
+
+
+@dataclass(frozen=True)
+class Landmark:
+    """The landmark line as a predicate sees it, oriented by where the robot is."""
+
+    line: Line
+    robot_side: str = "bottom"
+    _plane: tuple[float, float, float] = field(init=False, repr=False, compare=False, default=(0.0, 0.0, 0.0))
+
+    def __post_init__(self) -> None:
+        # signed_distance = a x + b y + c: the line's normal turned to the far side (plain floats: fast).
+        sign = -float(np.sign(towards_robot(self.line, self.robot_side)))
+        nx, ny = (float(v) * sign for v in self.line.normal)
+        object.__setattr__(self, "_plane", (nx, ny, -(nx * self.line.p1[0] + ny * self.line.p1[1])))
+
+    def signed_distance(self, x: float, y: float) -> float:
+        """Distance (px) of the image point (x, y) from the line, positive on its far side (away
+        from the robot)."""
+        a, b, c = self._plane
+        return a * x + b * y + c
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One observation as predicates see it: the image's ``width`` and ``height`` (px), the
+    ``objects`` by symbol, the ``landmark`` (None when none is in view) and the image edge the
+    robot is beyond (``robot_side``)."""
+
+    width: int
+    height: int
+    objects: Mapping[str, SceneObject]
+    landmark: Landmark | None = None
+    robot_side: str = "bottom"
+
+    @property
+    def towards_robot(self) -> tuple[float, float]:
+        """Unit direction (x, y) in the image pointing towards the robot."""
+        return ROBOT_SIDES[self.robot_side]
+
+    @property
+    def robot_left(self) -> tuple[float, float]:
+        """Unit direction (x, y) in the image pointing to the robot's left."""
+        dx, dy = self.towards_robot  # the robot faces (-dx, -dy); its left is that turned by -90°
+        return (-dy, dx)
+
+
+def symbol_names(objects: Sequence[DetectedObject]) -> list[str]:
+    """The objects' symbols, made unique in order with a suffix: red, red_2, ..."""
+    names: list[str] = []
+    for obj in objects:
+        name, k = obj.name, 1
+        while name in names:
+            k += 1
+            name = f"{obj.name}_{k}"
+        names.append(name)
+    return names
+
+
+def scene_of(objects: Sequence[DetectedObject], size: tuple[int, int], line: Line | None,
+             robot_side: str = "bottom") -> Scene:
+    """The :class:`Scene` of perceived ``objects`` in an image of ``size`` (W, H) px."""
+    check_robot_side(robot_side)
+    members = {}
+    for name, obj in zip(symbol_names(objects), objects, strict=True):
+        x, y, w, h = obj.box
+        members[name] = SceneObject(name, float(obj.centroid[0]), float(obj.centroid[1]),
+                                    Box(float(x), float(y), float(x + w), float(y + h)), obj.area, obj.orientation)
+    landmark = Landmark(line, robot_side) if line is not None else None
+    return Scene(int(size[0]), int(size[1]), members, landmark, robot_side)
+
+
+@dataclass(frozen=True, eq=False)
+class Predicate:
+    """A named predicate of ``arity`` 1 or 2 and the function that decides it.
+
+    Call it like its function: ``p(obj, scene)`` or ``p(a, b, scene)``.
+    """
+
+    name: str
+    arity: int
+    function: Callable[..., bool] = field(compare=False)
+
+    def __call__(self, *args: object) -> bool:
+        return self.function(*args)
+
+    @property
+    def signature(self) -> str:
+        """Its PDDL declaration: ``(left-of ?a ?b)``."""
+        return f"({self.name} {' '.join(('?a', '?b')[:self.arity])})" if self.arity == 2 else f"({self.name} ?b)"
+
+    def evaluate(self, args: Sequence[SceneObject], scene: Scene) -> bool:
+        """The value for ``args`` (``arity`` objects); a raise or a non-bool is an InputError."""
+        try:
+            value = self.function(*args, scene)
+        except Exception as error:  # the user's code: any error is theirs to fix
+            raise InputError(f"predicate {self.name} raised {type(error).__name__}: {error} while grounding "
+                             f"{self._atom(args)}; fix its function {_where(self.function)}") from error
+        if value is True or value is False:
+            return value
+        if not isinstance(value, np.bool_):
+            raise InputError(f"predicate {self.name} returned {type(value).__name__} {value!r} for {self._atom(args)}, "
+                             f"not a bool; make its function {_where(self.function)} return True or False")
+        return bool(value)
+
+    def _atom(self, args: Sequence[SceneObject]) -> str:
+        return f"({self.name} {' '.join(a.name for a in args)})"
+
+
+def _where(function: Callable) -> str:
+    code = getattr(function, "__code__", None)
+    name = getattr(function, "__qualname__", repr(function))
+    return f"{name} ({code.co_filename}:{code.co_firstlineno})" if code is not None else name
+
+
+class Registry:
+    """Predicates by name, in the order registered."""
+
+    def __init__(self) -> None:
+        self._predicates: dict[str, Predicate] = {}
+
+    def add(self, predicate: Predicate) -> Predicate:
+        known = self._predicates.get(predicate.name)
+        if known is not None and _identity(known.function) != _identity(predicate.function):
+            raise InputError(f"predicate {predicate.name} is defined twice ({_where(known.function)} and "
+                             f"{_where(predicate.function)}); give each predicate its own name")
+        self._predicates[predicate.name] = predicate
+        return predicate
+
+    def predicates(self) -> tuple[Predicate, ...]:
+        return tuple(self._predicates.values())
+
+    def clear(self) -> None:
+        self._predicates.clear()
+
+
+def _identity(function: Callable) -> tuple[str, str]:
+    return getattr(function, "__module__", ""), getattr(function, "__qualname__", repr(function))
+
+
+_ACTIVE: list[Registry] = [Registry()]  # a stack: the top one receives new predicates
+
+
+def predicate(name: str, arity: int = 1, *, register: bool = True) -> Callable[[Callable[..., bool]], Predicate]:
+    """Decorator: make ``function`` the predicate ``name`` of ``arity`` 1 (``(obj, scene)``) or 2
+    (``(a, b, scene)``) and register it (unless ``register`` is False)."""
+    if not isinstance(name, str) or not _NAME.match(name):
+        raise InputError(f"predicate name {name!r} is not a PDDL name: use lower-case letters, digits, '-' and '_', "
+                         "starting with a letter (e.g. 'left-of')")
+    if arity not in (1, 2):
+        raise InputError(f"predicate {name}: arity {arity!r} is not supported; use 1 (obj, scene) or 2 (a, b, scene)")
+
+    def wrap(function: Callable[..., bool]) -> Predicate:
+        if not callable(function):
+            raise InputError(f"predicate {name}: @predicate decorates a function, got {type(function).__name__}")
+        try:
+            inspect.signature(function).bind(*range(arity + 1))
+        except TypeError:
+            wanted = "(obj, scene)" if arity == 1 else "(a, b, scene)"
+            raise InputError(f"predicate {name}: its function {_where(function)} must take {wanted}") from None
+        except ValueError:  # a builtin without a signature: called as it is
+            pass
+        made = Predicate(name, arity, function)
+        return _ACTIVE[-1].add(made) if register else made
+
+    return wrap
+
+
+def register(*predicates: Predicate) -> None:
+    """Register ready predicates (e.g. from :mod:`vslsp.grounding.relations`) to be grounded."""
+    for made in predicates:
+        _ACTIVE[-1].add(made)
+
+
+def registered() -> tuple[Predicate, ...]:
+    """The predicates registered so far (in the active registry), in order."""
+    return _ACTIVE[-1].predicates()
+
+
+@contextlib.contextmanager
+def collecting() -> Iterator[Registry]:
+    """A fresh registry receives the predicates registered inside the ``with`` block."""
+    _ACTIVE.append(Registry())
+    try:
+        yield _ACTIVE[-1]
+    finally:
+        _ACTIVE.pop()
+
+
+Atom = tuple[str, tuple[str, ...]]  # (predicate, (object, ...))
+
+
+def ground_atoms(scene: Scene, predicates: Sequence[Predicate]) -> dict[Atom, bool]:
+    """Every ground atom of ``predicates`` over the scene's objects (ordered pairs of distinct
+    objects for binary ones), with its value."""
+    objects = list(scene.objects.values())
+    values: dict[Atom, bool] = {}
+    for made in predicates:
+        if made.arity == 1:
+            for obj in objects:
+                values[(made.name, (obj.name,))] = made.evaluate((obj,), scene)
+        else:
+            for a in objects:
+                for b in objects:
+                    if a is not b:
+                        values[(made.name, (a.name, b.name))] = made.evaluate((a, b), scene)
+    return values
+
+
+def atom_text(atom: Atom) -> str:
+    """PDDL syntax of an atom: ``(left-of red green)``."""
+    return f"({atom[0]} {' '.join(atom[1])})"
+
+
+def true_atoms(values: Mapping[Atom, bool]) -> list[str]:
+    """The true atoms in PDDL syntax, sorted."""
+    return sorted(atom_text(atom) for atom, value in values.items() if value)
+
+
+def unary_literals(values: Mapping[Atom, bool]) -> dict[str, dict[str, bool]]:
+    """The unary atoms as ``{object: {predicate: value}}`` (what action models are learned from)."""
+    literals: dict[str, dict[str, bool]] = {}
+    for (name, args), value in values.items():
+        if len(args) == 1:
+            literals.setdefault(args[0], {})[name] = value
+    return literals
