@@ -5,12 +5,6 @@ import pytest
 
 from vslsp.execution import execute_step, perceive
 from vslsp.sim import SceneSpec, World
-from vslsp.skills import SkillLibrary, default_library_path
-
-
-@pytest.fixture(scope="module")
-def library():
-    return SkillLibrary.load(default_library_path())
 
 
 def test_the_robot_sees_every_cube_where_it_is_and_on_which_side():

@@ -6,14 +6,8 @@ import pytest
 
 from vslsp.cli import main
 from vslsp.experiments import ORDERED_COLOURS, run_trial
-from vslsp.skills import SkillLibrary, default_library_path
 
 pytestmark = pytest.mark.slow
-
-
-@pytest.fixture(scope="module")
-def library():
-    return SkillLibrary.load(default_library_path())
 
 
 def test_simple_vsl_task_reproduces_the_demonstrated_sides_in_a_reshuffled_scene(library):

@@ -7,15 +7,9 @@ import pytest
 
 from vslsp.pipeline import execute_task, explore_skill, learn_models
 from vslsp.sim import SceneSpec, World
-from vslsp.skills import SkillLibrary, default_library_path
 from vslsp.symbolic import Atom, Not, Step, Task, learn_task, read_domain
 
 REPO = Path(__file__).resolve().parents[2]
-
-
-@pytest.fixture(scope="module")
-def library():
-    return SkillLibrary.load(default_library_path())
 
 
 @pytest.fixture(scope="module")

@@ -13,11 +13,6 @@ from vslsp.skills import SKILL_NAMES, Skill, SkillLibrary, default_library_path
 from vslsp.skills.library import from_object_frame
 
 
-@pytest.fixture(scope="module")
-def library():
-    return SkillLibrary.load(default_library_path())
-
-
 @pytest.fixture
 def copy(tmp_path):
     """A copy of the shipped library folder to damage."""
