@@ -88,7 +88,7 @@ class IcubExperiment(Task):
         trial = shown.artefacts
         files = _write_artefacts(folder, trial)
         if trial.task is not None:
-            files["rules"] = list(trial.task.rules)
+            files["rules"] = [str(rule) for rule in trial.task.rules]
         return files
 
 
