@@ -117,3 +117,13 @@ def test_the_report_of_a_run_is_byte_equal_for_the_same_seeds_on_one_or_two_work
 def test_a_run_reports_partial_when_not_every_seed_finished():
     run = Run([], [4, 5])
     assert run.partial
+
+
+@pytest.mark.parametrize("args", [["experiment", "tidy-the-kitchen", "--json"],
+                                  ["experiment", "house-roof", "--seed", "-1", "--json"],
+                                  ["experiment", "house-roof", "--faults", "--json"]])
+def test_json_is_printed_for_bad_input_too(args, capsys):
+    with pytest.raises(SystemExit) as done:
+        main(args)
+    out = json.loads(capsys.readouterr().out)
+    assert done.value.code == 2 and out["exit_code"] == 2 and out["error"]

@@ -8,6 +8,7 @@ add one entry to ``COMMANDS``: name -> "module:attribute" of a ``click.Command``
 from __future__ import annotations
 
 import importlib
+import json
 import sys
 
 import click
@@ -53,18 +54,31 @@ def app() -> None:
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Entry point: runs the CLI, turning user errors into a message and an exit code."""
+    """Entry point: runs the CLI, turning user errors into a message and an exit code.
+
+    Under ``--json`` a failure also prints its JSON on stdout, ``{"error": ..., "exit_code": ...}``,
+    so that a script reading stdout always gets one object.
+    """
+    args = list(sys.argv[1:] if argv is None else argv)
+    wants_json = "--json" in args
     try:
-        app.main(args=argv, prog_name="vslsp", standalone_mode=False)
+        app.main(args=args, prog_name="vslsp", standalone_mode=False)
     except VslspError as error:
-        click.echo(f"error: {error}", err=True)
-        sys.exit(error.exit_code)
+        _fail(str(error), error.exit_code, wants_json)
     except click.exceptions.Abort:
-        click.echo("aborted", err=True)
-        sys.exit(130)
+        _fail("aborted", 130, wants_json)
     except click.exceptions.Exit as done:
         sys.exit(done.exit_code)
     except click.ClickException as error:
+        if wants_json:
+            click.echo(json.dumps({"error": error.format_message(), "exit_code": 2}))
         error.show()
         sys.exit(2)
     sys.exit(0)
+
+
+def _fail(message: str, code: int, wants_json: bool) -> None:
+    if wants_json:
+        click.echo(json.dumps({"error": message, "exit_code": code}))
+    click.echo(f"error: {message}" if code != 130 else message, err=True)
+    sys.exit(code)

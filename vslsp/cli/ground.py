@@ -7,23 +7,9 @@ import json
 
 import click
 
-from vslsp.errors import VslspError
 
 
-class _JsonErrors(click.Command):
-    """Under ``--json``, a usage error (an unknown option, a bad --robot-side) prints its JSON too."""
-
-    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
-        wants_json = "--json" in args
-        try:
-            return super().parse_args(ctx, args)
-        except click.UsageError as error:
-            if wants_json:
-                click.echo(json.dumps({"error": error.format_message(), "exit_code": 2}))
-            raise
-
-
-@click.command(cls=_JsonErrors)
+@click.command()
 @click.argument("pre", type=click.Path(dir_okay=False))
 @click.argument("post", type=click.Path(dir_okay=False))
 @click.option("--robot-side", type=click.Choice(["bottom", "top", "left", "right"]), default="bottom",
@@ -39,12 +25,7 @@ def ground(pre: str, post: str, robot_side: str, predicates_file: str | None, as
            overlay: str | None) -> None:
     """Ground one demonstrated operation from its PRE- and POST-action images (PNG/JPEG; at least 32 and
     at most 8192 pixels a side, at most 40 megapixels)."""
-    try:
-        _ground(pre, post, robot_side, predicates_file, as_json, overlay)
-    except VslspError as error:
-        if as_json:
-            click.echo(json.dumps({"error": str(error), "exit_code": error.exit_code}))
-        raise
+    _ground(pre, post, robot_side, predicates_file, as_json, overlay)  # errors: vslsp.cli.main (JSON too)
 
 
 def _ground(pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool,
