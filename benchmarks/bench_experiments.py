@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from vslsp.experiments import EXPERIMENTS, run_trials
+from vslsp.loop.experiments import EXPERIMENTS, run_trials
 from vslsp.sim import SceneSpec, World
 from vslsp.skills import SkillLibrary, default_library_path
 from vslsp.skills.execute import execute_skill

@@ -5,15 +5,15 @@ from __future__ import annotations
 import numpy as np
 
 from vslsp.errors import UnreachableError
+from vslsp.sim import World
+from vslsp.sim.robot import READY_POSITION, HandTrajectory
 from vslsp.skills.library import Skill, from_object_frame, resample
 from vslsp.skills.teach import hand_yaw
-from vslsp.sim.robot import READY_POSITION, HandTrajectory
-
 
 BEYOND = 0.06  # a push or pull aims to leave the object this far (m) past the line
 
 
-def execute_skill(world, skill: Skill, object_xy: np.ndarray, normal: np.ndarray,
+def execute_skill(world: World, skill: Skill, object_xy: np.ndarray, normal: np.ndarray,
                   line_distance: float | None = None) -> HandTrajectory:
     """Run ``skill`` on the object seen at ``object_xy`` (table, m), the line's ``normal`` (2,).
 

@@ -7,7 +7,7 @@
 - ``pull-in-order``: the ordered set <orange, green, yellow>, reproduced with VSL from a single
   demonstration and with VSL-SP through ``sometime-before`` constraints.
 
-The trials themselves are :func:`vslsp.experiments.run_trial`. The report shows, for one
+The trials themselves are :func:`vslsp.loop.experiments.run_trial`. The report shows, for one
 trial, every observed pre/post pair with its grounding drawn (and the raw images beside, to
 feed to ``vslsp ground``), the learned ``domain.pddl``, the first ``problem.pddl`` and plan,
 and a figure of the executed hand trajectories.
@@ -59,7 +59,7 @@ class IcubExperiment(Task):
         return tuple(load_predicates(path)) if path else ()
 
     def run_trial(self, seed: int, keep: bool = False, on_stage=None, gui: bool = False) -> TrialResult:
-        from vslsp.experiments import run_trial
+        from vslsp.loop.experiments import run_trial
         from vslsp.skills.library import SkillLibrary
 
         trial = run_trial(self.name, seed, SkillLibrary.load(self.library_path),

@@ -16,11 +16,13 @@ from typing import Callable
 
 import numpy as np
 
-from vslsp.demonstration import ObservedStep
 from vslsp.errors import TaskFailed
-from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
 from vslsp.grounding import Predicate, unary_literals, with_builtins
 from vslsp.grounding.operation import Grounding, ground
+from vslsp.loop.monitor import StepResult, execute_step
+from vslsp.loop.perception import PerceivedState, perceive
+from vslsp.loop.watching import ObservedStep
+from vslsp.sim import World
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, PlanResult, Step, Task, learn_domain, make_problem, solve
 
@@ -55,7 +57,7 @@ class Exploration:
     images: tuple[tuple[np.ndarray, np.ndarray], ...] = field(repr=False)
 
 
-def explore_skill(world, library: SkillLibrary, action: str, obj: str | None = None,
+def explore_skill(world: World, library: SkillLibrary, action: str, obj: str | None = None,
                   predicates: Sequence[Predicate] | None = None) -> Exploration:
     """The robot executes ``action`` on a cube and watches: VSL grounds the pre/post pair.
 
@@ -112,7 +114,7 @@ class Execution:
         }
 
 
-def execute_task(world, library: SkillLibrary, domain: Domain, task: Task, *, planner: str = "fast-downward",
+def execute_task(world: World, library: SkillLibrary, domain: Domain, task: Task, *, planner: str = "fast-downward",
                  faults: dict[int, str] | None = None, max_replans: int = MAX_REPLANS,
                  on_step: Callable[[StepResult, PerceivedState], None] | None = None,
                  predicates: Sequence[Predicate] | None = None) -> Execution:

@@ -13,8 +13,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vslsp.errors import TaskFailed
-from vslsp.execution import PerceivedState, perceive
 from vslsp.grounding.operation import Grounding, ground
+from vslsp.loop.perception import PerceivedState, perceive
+from vslsp.sim import World
 
 TUTOR_BEYOND = 0.055  # the tutor puts a cube this far (m) on the other side of the line
 
@@ -39,7 +40,7 @@ class ObservedStep:
         return {"grounding": self.grounding.to_dict(), "before": self.before.far(), "after": self.after.far()}
 
 
-def tutor_operation(world, colour: str, action: str) -> None:
+def tutor_operation(world: World, colour: str, action: str) -> None:
     """The tutor pushes (``push``) or pulls (``pull``) the cube of ``colour`` by hand, straight across
     the line to 5.5 cm beyond it."""
     cube = next((c for c in world.spec.cubes if c.colour == colour), None)
@@ -53,7 +54,7 @@ def tutor_operation(world, colour: str, action: str) -> None:
     world.tutor.relocate(cube.name, float(target[0]), float(target[1]))
 
 
-def watch_demonstration(world, operations: list[tuple[str, str]]) -> list[ObservedStep]:
+def watch_demonstration(world: World, operations: list[tuple[str, str]]) -> list[ObservedStep]:
     """The tutor performs ``operations`` [(colour, action), ...]; the robot watches and grounds."""
     steps = []
     state = perceive(world)

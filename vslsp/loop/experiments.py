@@ -21,11 +21,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vslsp.demonstration import tutor_operation
 from vslsp.errors import InputError, TaskFailed, VslspError
-from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
 from vslsp.grounding.operation import ground
-from vslsp.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
+from vslsp.loop.monitor import Action, Fault, StepResult, execute_step
+from vslsp.loop.perception import PerceivedState, perceive
+from vslsp.loop.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
+from vslsp.loop.watching import tutor_operation
 from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, Task, learn_task
@@ -34,7 +35,7 @@ from vslsp.vsl.demonstration import DemonstrationRecorder
 
 EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order")
 ORDERED_COLOURS = ("orange", "green", "yellow")
-FAULTS = ("nudge", "skip")
+FAULTS = tuple(fault.value for fault in Fault)  # drawn by value: the same seed, the same fault
 # With user predicates the robot tries each skill this many times (different cubes and places):
 # an effect or a precondition must hold in every execution, so a predicate that one execution
 # changed by chance (a cube pushed across the image's middle) stays out of the models.
@@ -127,7 +128,7 @@ def _model_lines(action) -> list[str]:
 
 # --- watching the tutor ----------------------------------------------------------------------
 
-def _watch(world, trial: Trial, operations: list[tuple[str, str]], title: str,
+def _watch(world: World, trial: Trial, operations: list[tuple[str, str]], title: str,
            recorder: DemonstrationRecorder | None = None) -> list:
     """The tutor performs ``operations``; the robot grounds each pre/post pair into a Step."""
     steps = []
@@ -144,7 +145,7 @@ def _watch(world, trial: Trial, operations: list[tuple[str, str]], title: str,
     return steps
 
 
-def _tutor_task(spec: SceneSpec, rng: np.random.Generator, world) -> list[tuple[str, str]]:
+def _tutor_task(spec: SceneSpec, rng: np.random.Generator, world: World) -> list[tuple[str, str]]:
     """The tutor's sequence in a scene: every cube across the line, in a random order."""
     order = rng.permutation(len(spec.cubes))
     return [(spec.cubes[i].colour, "pull" if world.is_far(spec.cubes[i].name) else "push") for i in order]
@@ -172,7 +173,7 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
 
 # --- VSL reproduction (Algorithm 1, part II) ----------------------------------------------------
 
-def _reproduce_vsl(world, trial: Trial, library: SkillLibrary, demonstration, faults: dict[int, str]) -> list[str]:
+def _reproduce_vsl(world: World, trial: Trial, library: SkillLibrary, demonstration, faults: dict[int, str]) -> list[str]:
     """Reproduce a recorded demonstration by match finding: for each operation, find the
     demonstrated object in the current scene (SIFT + RANSAC, adaptive frame) and bring it to
     the demonstrated side of the line. A last look checks every object against its final
@@ -188,7 +189,7 @@ def _reproduce_vsl(world, trial: Trial, library: SkillLibrary, demonstration, fa
     return acted
 
 
-def _bring(world, trial: Trial, library: SkillLibrary, op, faults: dict[int, str], acted: list[str]) -> None:
+def _bring(world: World, trial: Trial, library: SkillLibrary, op, faults: dict[int, str], acted: list[str]) -> None:
     """Bring the object of operation ``op`` to its demonstrated side (up to 3 attempts)."""
     for _ in range(3):
         state = perceive(world)
@@ -200,7 +201,7 @@ def _bring(world, trial: Trial, library: SkillLibrary, op, faults: dict[int, str
         name = name[0]
         if state.objects[name].far == target:
             return
-        action = "push" if target else "pull"
+        action = (Action.PUSH if target else Action.PULL).value
         result, _ = execute_step(world, library, action, name, state, faults.get(len(trial.steps)))
         trial.steps.append(result)
         if result.ok:

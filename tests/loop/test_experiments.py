@@ -5,7 +5,7 @@ import json
 import pytest
 
 from vslsp.cli import main
-from vslsp.experiments import ORDERED_COLOURS, run_trial
+from vslsp.loop.experiments import ORDERED_COLOURS, run_trial
 
 pytestmark = pytest.mark.slow
 

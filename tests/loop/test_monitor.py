@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from vslsp.execution import execute_step, perceive
+from vslsp.loop.monitor import execute_step
+from vslsp.loop.perception import perceive
 from vslsp.sim import SceneSpec, World
 
 

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from vslsp.pipeline import execute_task, explore_skill, learn_models
+from vslsp.loop.pipeline import execute_task, explore_skill, learn_models
 from vslsp.sim import SceneSpec, World
 from vslsp.symbolic import Atom, Not, Step, Task, learn_task, read_domain
 

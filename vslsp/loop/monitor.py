@@ -1,0 +1,104 @@
+"""The execution monitor: run one plan step with its skill, observe again, check the effect.
+
+Paper section "Results" of VSL-SP: each plan step is executed by a learned skill; after
+every step the robot observes again, grounds ``far`` for every object and checks the
+expected effect of the action (push: the object ends far, pull: near). A missing effect is a
+failed step, which the planner answers by replanning from what is now seen. For testing that
+loop, :class:`Fault` injects execution faults the way a person would disturb the robot.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vslsp.errors import TaskFailed, UnreachableError
+from vslsp.loop.perception import PerceivedState, perceive
+from vslsp.sim import World
+from vslsp.sim.robot import HandTrajectory
+from vslsp.skills.execute import execute_skill
+from vslsp.skills.library import SkillLibrary
+
+
+class Action(str, enum.Enum):
+    """The skills of VSL-SP and their expected effect on ``(far ?b)``."""
+
+    PUSH = "push"
+    PULL = "pull"
+
+    @property
+    def makes_far(self) -> bool:
+        return self is Action.PUSH
+
+
+class Fault(str, enum.Enum):
+    """Execution faults for testing replanning: the tutor puts the cube back where it was after
+    the action (``NUDGE``), or the step is not executed (``SKIP``)."""
+
+    NUDGE = "nudge"
+    SKIP = "skip"
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """One executed plan step: what was done, what was expected and seen, the hand's path."""
+
+    action: str
+    obj: str
+    expected_far: bool
+    observed_far: bool | None
+    ok: bool
+    error: str | None
+    trajectory: HandTrajectory | None = field(default=None, repr=False)
+
+    def to_dict(self) -> dict:
+        return {"action": self.action, "object": self.obj, "expected_far": self.expected_far,
+                "observed_far": self.observed_far, "ok": self.ok, "error": self.error}
+
+
+EXPECTED_FAR = {action.value: action.makes_far for action in Action}
+
+
+def execute_step(world: World, library: SkillLibrary, action: str, obj: str, state: PerceivedState,
+                 fault: Fault | str | None = None) -> tuple[StepResult, PerceivedState]:
+    """Run ``action`` on ``obj`` as perceived in ``state``; observe again and check the effect.
+
+    ``fault`` injects an execution fault for testing replanning (:class:`Fault`).
+    """
+    if action not in EXPECTED_FAR:
+        raise TaskFailed(f"no skill for action {action!r}; the robot knows {sorted(EXPECTED_FAR)}")
+    if obj not in state.objects:
+        raise TaskFailed(f"the plan acts on {obj!r} but the robot does not see it (it sees {sorted(state.objects)})")
+    target = state.objects[obj]
+    trajectory, error = None, None
+    fault = Fault(fault) if fault is not None else None
+    if fault is not Fault.SKIP:
+        before = _truth_pose(world, obj)
+        try:
+            trajectory = execute_skill(world, library[action], np.array(target.table_xy), state.normal,
+                                       state.line_distance(obj))
+        except UnreachableError as unreachable:
+            error = str(unreachable)
+        if fault is Fault.NUDGE and before is not None:
+            world.tutor.relocate(*before)
+    new_state = perceive(world)
+    observed = new_state.objects.get(obj)
+    observed_far = observed.far if observed is not None else None
+    ok = error is None and observed_far == EXPECTED_FAR[action]
+    if error is None and not ok:
+        error = (f"expected (far {obj}) to be {EXPECTED_FAR[action]} after {action}, observed "
+                 f"{'nothing' if observed is None else observed_far}")
+    return StepResult(action, obj, EXPECTED_FAR[action], observed_far, ok, error, trajectory), new_state
+
+
+def _truth_pose(world: World, colour: str) -> tuple[str, float, float, float] | None:
+    """For fault injection only (the tutor's hand, not the robot's perception)."""
+    for cube in world.spec.cubes:
+        if cube.colour == colour:
+            x, y, yaw = world.cube_pose(cube.name)
+            return cube.name, x, y, yaw
+    return None
+
+
