@@ -193,12 +193,12 @@ def _bring(world: World, trial: Trial, library: SkillLibrary, op, faults: dict[i
     """Bring the object of operation ``op`` to its demonstrated side (up to 3 attempts)."""
     for _ in range(3):
         state = perceive(world)
-        name = _find_object(state, op)
+        found = _find_object(state, op)
         target = op.grounding.far_post
-        if name is None:
+        if found is None:
             raise TaskFailed(f"VSL finds no {op.symbol} object in the scene")
-        trial.details.setdefault("matched_by", []).append(name[1])
-        name = name[0]
+        name, how = found
+        trial.details.setdefault("matched_by", []).append(how)
         if state.objects[name].far == target:
             return
         action = (Action.PUSH if target else Action.PULL).value
@@ -260,7 +260,8 @@ def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
 
 def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
     _explore(trial, rng, library)
-    demonstrations, pulled = [], set()
+    demonstrations: list = []
+    pulled: set[str] = set()
     for i in range(3):
         colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=3, replace=False))
         far = tuple(bool(v) for v in rng.random(3) < 0.5)
@@ -283,6 +284,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
         far = (True,) + far[1:]
     with World(scene_for(trial.seed + 1_000_003, colours, far), gui=trial.gui) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
+        assert trial.domain is not None and trial.task is not None  # learned above
         run = execute_task(world, library, trial.domain, trial.task, planner=planner, faults=faults,
                            predicates=trial.predicates)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
@@ -314,6 +316,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
                 if not world.is_far(cube.name) and cube.colour not in became_near:
                     became_near.append(cube.colour)
 
+        assert trial.domain is not None and trial.task is not None  # learned above
         run = execute_task(world, library, trial.domain, trial.task, planner=planner, faults=faults,
                            on_step=watch_truth, predicates=trial.predicates)
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}

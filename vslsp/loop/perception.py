@@ -58,7 +58,7 @@ def perceive(world: World, camera: str = "head") -> PerceivedState:
         far = grounding.far_by_name()[name]
         # The centroid of the visible faces lies about half-way up the cube.
         xy = view.pixel_to_table(*obj.centroid, z=TABLE_Z + CUBE_SIZE / 2)
-        objects[name] = PerceivedObject(name, tuple(obj.centroid), xy, far)
+        objects[name] = PerceivedObject(name, (float(obj.centroid[0]), float(obj.centroid[1])), xy, far)
     line = grounding.landmark
     ends = np.array([view.pixel_to_table(*line.p1), view.pixel_to_table(*line.p2)])
     direction = ends[1] - ends[0]

@@ -25,20 +25,24 @@ def execute_skill(world: World, skill: Skill, object_xy: np.ndarray, normal: np.
     """
     travel = None if line_distance is None else abs(line_distance) + BEYOND
     object_xy, normal = np.asarray(object_xy, dtype=float), np.asarray(normal, dtype=float)
-    error = None
+    robot = world.robot
+    if robot is None:
+        raise UnreachableError("this world was built without the robot (World(..., robot=False))")
+    error: UnreachableError | None = None
     for start in reach_starts(skill, object_xy, normal):
         # The DMP generalises to any start: where the reach from the ready pose would bulge out
         # of the arm's reach, the hand first goes straight to a start nearer the object.
         lead = resample(np.array([READY_POSITION, start]))[:-1]
         path = np.vstack([lead, skill.hand_path(start, object_xy, normal, travel)])
         try:
-            trajectory = world.robot.move_hand(path, yaw=hand_yaw(normal), record=True)
+            trajectory = robot.move_hand(path, yaw=hand_yaw(normal), record=True)
             break
         except UnreachableError as unreachable:  # raised before the arm moves
             error = error or unreachable
     else:
-        raise error
-    world.robot.park()
+        raise error or UnreachableError("no start of the reach is within the arm's reach")
+    assert trajectory is not None  # move_hand(record=True) returns the executed path
+    robot.park()
     world.settle()
     return trajectory
 

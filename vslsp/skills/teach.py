@@ -69,6 +69,8 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
     cube = spec.cubes[0]
     normal = spec.landmark.normal
     with World(spec) as world:
+        robot = world.robot
+        assert robot is not None  # World(spec) builds the iCub
         xy = np.array(world.cube_pose(cube.name)[:2])
         contact = np.array([*(TUTOR_CONTACT[skill] + rng.normal(0, 0.003, 2)), CONTACT_HEIGHT[skill]])
         start = READY_POSITION + rng.uniform([-0.03, -0.03, -0.01], [0.03, 0.03, 0.03])
@@ -78,11 +80,11 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
         length = TUTOR_MOVE[skill] * rng.uniform(*TUTOR_MOVE_SPREAD[skill])
         end = from_object_frame((contact + [length, 0, 0])[None], xy, normal)[0]
         yaw = hand_yaw(normal)
-        world.robot.move_hand(start[None, :], yaw=yaw)
+        robot.move_hand(start[None, :], yaw=yaw)
         reach = world.tutor.kinesthetic(via, duration=float(rng.uniform(1.6, 2.2)), seed=seed, yaw=yaw)
         move = world.tutor.kinesthetic(np.vstack([via[-1], end]), duration=float(rng.uniform(0.9, 1.2)),
                                        seed=seed + 1, yaw=yaw, tremor=0.0)
-        world.robot.park()
+        robot.park()
         world.settle()
         crossed = world.is_far(cube.name) == (skill == "push")
         travel = float(np.dot(np.array(world.cube_pose(cube.name)[:2]) - xy, normal))
@@ -103,7 +105,7 @@ def learn_skill(skill: str, demonstrations: list[Demonstration], n_basis: int = 
     dmp = DMP(3, n_basis=n_basis).fit(reaches)
     goal = np.mean([y[-1] for _, y in reaches], axis=0)
     move = np.mean([y[-1] - y[0] for _, y in (d.move for d in good)], axis=0)
-    meta = {"demonstrations_recorded": len(demonstrations), "demonstrations_used": len(good)}
+    meta: dict[str, object] = {"demonstrations_recorded": len(demonstrations), "demonstrations_used": len(good)}
     lengths = np.array([abs(y[-1, 0] - y[0, 0]) for _, y in (d.move for d in demonstrations)])
     travels = np.array([abs(d.travel) for d in demonstrations])
     if len(demonstrations) >= 3 and np.ptp(lengths) > 0.02 and np.all(np.isfinite(travels)):

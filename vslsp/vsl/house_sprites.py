@@ -8,6 +8,7 @@ Images whose truth is known exactly, without a simulator: the house-roof task
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import cv2
@@ -43,7 +44,7 @@ def roof(image: np.ndarray, bottom_left: tuple[int, int], fill: tuple[int, int, 
     cv2.polylines(image, [triangle], True, tiles, 2)
 
 
-def houses_world(bodies: list[tuple[int, int]], roofs_on: list[int], loose_roofs: list[tuple[int, int]] = (),
+def houses_world(bodies: list[tuple[int, int]], roofs_on: list[int], loose_roofs: Sequence[tuple[int, int]] = (),
                  size: tuple[int, int] = (480, 360), seed: int = 0) -> np.ndarray:
     """The house-and-roof world (H, W, 3) uint8 RGB on a lightly textured board: house bodies
     with their top-left corners at ``bodies``, a roof on top of the bodies indexed by
