@@ -7,8 +7,8 @@ rises and falls back (zero velocity at both ends), like a hand going over the ta
 import numpy as np
 import pytest
 import torch
-from conftest import reach, rmse
 
+from tests.dmp.conftest import reach, rmse
 from vslsp.dmp import DMP, Rollout
 
 
@@ -230,3 +230,23 @@ def test_reproduction_and_goal_error_at_least_as_good_as_movement_primitives(dem
         their_ends.append(theirs.open_loop()[1][-1])
     our_ends = ours.rollout(y[0], goals).y[:, -1]
     assert np.linalg.norm(our_ends - goals, axis=1).max() <= np.linalg.norm(np.array(their_ends) - goals, axis=1).max()
+
+
+# -- devices -----------------------------------------------------------------------------------
+def test_coupled_rollouts_run_on_the_cpu_by_default_without_cuda(dmp):
+    if not torch.cuda.is_available():
+        assert dmp.device == torch.device("cpu")
+
+
+@pytest.mark.skipif(not torch.cuda.is_available(), reason="no CUDA device")
+def test_cuda_coupled_rollouts_equal_cpu_rollouts(dmp, demo):
+    _, y = demo
+    starts = y[0] + np.random.default_rng(5).normal(0, 0.1, (16, 3))
+    on_gpu = DMP.from_arrays(dmp.to_arrays())
+    on_gpu.device = torch.device("cuda")
+
+    def no_force(t, y_now, z):
+        return torch.zeros_like(y_now)
+
+    stepped = on_gpu.rollout(starts, y[-1], coupling_force=no_force).y
+    assert stepped == pytest.approx(dmp.rollout(starts, y[-1]).y, abs=1e-9)

@@ -337,12 +337,13 @@ class DMP:
             dmp.fit_rmse, dmp.n_demos = float(meta["fit_rmse"]), int(meta["n_demos"])
             return dmp
         except (KeyError, ValueError, TypeError, json.JSONDecodeError, InputError) as error:
-            raise InputError(f"{source} is not a usable vslsp DMP ({error}); re-create it with `vslsp teach`") \
+            raise InputError(f"{source} is not a vslsp DMP ({error}); re-create it with `vslsp teach`") \
                 from error
 
     def save(self, path: str | Path) -> None:
         """Write an ``.npz`` file (no pickle)."""
-        np.savez(Path(path), **self.to_arrays())
+        arrays = self.to_arrays()
+        np.savez(Path(path), meta=arrays["meta"], weights=arrays["weights"])
 
     @classmethod
     def load(cls, path: str | Path) -> DMP:
