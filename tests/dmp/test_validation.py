@@ -136,3 +136,10 @@ def test_a_foreign_or_old_npz_is_an_input_error_that_says_what_to_do(dmp, tmp_pa
 def test_a_missing_file_is_an_input_error(tmp_path):
     with pytest.raises(InputError, match="no DMP file .*missing.npz.*vslsp teach"):
         DMP.load(tmp_path / "missing.npz")
+
+
+def test_a_tuple_of_two_demonstrations_is_not_mistaken_for_one():
+    other = (T, Y + 1.0)
+    assert DMP(3).fit(((T, Y), other)).n_demos == 2
+    ragged = (np.linspace(0, 1, 30), np.column_stack([np.linspace(0, 1, 30)] * 3))
+    assert DMP(3).fit(((T, Y), ragged)).n_demos == 2

@@ -194,7 +194,8 @@ class DMP:
             Start and goal; a single one broadcasts over the batch.
         tau : float or array, shape (B,), optional
             Each movement's duration (s; default: the demonstrations'). The forcing term
-            vanishes at τ: from then on the hand is within ``5e-5 (‖g − y0‖ + s A)`` of the goal.
+            vanishes at τ and its response has come to rest: from then on the hand is within
+            P(1) ‖g − y0‖ = 5e-5 ‖g − y0‖ of the goal (the free spring's remainder).
         dt : float, optional
             Sample period (s; default: the demonstrations').
         duration : float, optional

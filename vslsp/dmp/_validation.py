@@ -32,6 +32,14 @@ def _as_array(value: Any, what: str) -> np.ndarray:
         raise InputError(f"{what} is not an array of numbers ({error})") from error
 
 
+def _looks_like(value: Any, ndim: int) -> bool:
+    """Whether ``value`` is a numeric array of ``ndim`` dimensions (a time base or a path, not a demonstration)."""
+    try:
+        return np.asarray(value, dtype=np.float64).ndim == ndim
+    except (TypeError, ValueError):  # a (t, y) pair, ragged
+        return False
+
+
 def check_demonstrations(demos: Any, n_dims: int) -> list[tuple[np.ndarray, np.ndarray]]:
     """The demonstrations as ``[(t - t[0] (T,), y (T, D)), ...]``, or an InputError saying which is bad.
 
@@ -45,8 +53,7 @@ def check_demonstrations(demos: Any, n_dims: int) -> list[tuple[np.ndarray, np.n
     if isinstance(demos, np.ndarray):
         raise InputError("fit takes a list of demonstrations [(t, y), ...], not an array; "
                          "pass [(t, y)] for a single demonstration")
-    if isinstance(demos, tuple) and len(demos) == 2 and all(np.ndim(part) >= 1 for part in demos) \
-            and np.ndim(demos[0]) == 1 and np.ndim(demos[1]) == 2:
+    if isinstance(demos, tuple) and len(demos) == 2 and _looks_like(demos[0], 1) and _looks_like(demos[1], 2):
         raise InputError("fit takes a list of demonstrations [(t, y), ...], got a single (t, y) pair; "
                          "pass [(t, y)] for one demonstration")
     if not isinstance(demos, Sequence) or isinstance(demos, str):
