@@ -11,7 +11,8 @@ demonstration:
   theirs τ), for the demonstration's goal and for ``--goals`` new goals 10 mm (sd) away
   (target <= 0.01 mm everywhere);
 - peak error after τ: the largest distance from the goal over [τ, 2 τ] in rollouts of 2 τ,
-  same goals (target <= 0.1 mm);
+  same goals (target <= 0.1 mm; theirs is not meant to run past τ, its default rollout ends
+  there, but a hand that stops on time must not be thrown off the goal either);
 - generalisation: from each of the shape's other 6 starts to their goals, RMSE against those
   demonstrations.
 
@@ -20,7 +21,8 @@ opened by 0.001, 0.1 and 1 mm; the largest excursion of a rollout to a goal 10 m
 relative to the drawing's extent plus 10 mm, and the RMSE of g = y0 against the closed
 drawing. Throughput: ``--pairs`` goals for one demonstration, our one batched call (best of 3)
 against a loop of theirs (once; target >= 300x). Skills: the first recorded push and pull
-reach (m), 50 basis functions, the same measures. ``--figure`` draws a few shapes as in the
+reach (tutor, converted to mm), 50 basis functions, the same measures with 15 new goals
+30 mm (sd) away. ``--figure`` draws a few shapes as in the
 paper: demonstrations grey, reproduction red, rollouts to the other starts and to new goals
 dashed.
 
