@@ -22,6 +22,9 @@ def shipped_folder(kind: str) -> Path:
     if kind not in MARKERS:
         raise ValueError(f"no shipped data {kind!r}; there are {sorted(MARKERS)}")
     marker = MARKERS[kind]
+    source = Path(__file__).resolve().parents[2] / kind  # a source checkout: <repo>/vslsp/data
+    if (source / marker).is_file():  # the checkout's own data (one of several worktrees on PYTHONPATH)
+        return source
     try:
         resource = importlib.resources.files(f"{__name__}.{kind}") / marker
         if resource.is_file():
@@ -29,9 +32,6 @@ def shipped_folder(kind: str) -> Path:
                 return Path(path).parent
     except ModuleNotFoundError:
         pass
-    source = Path(__file__).resolve().parents[2] / kind  # a source checkout: <repo>/vslsp/data
-    if (source / marker).is_file():
-        return source
     raise FileNotFoundError(f"the shipped {kind} folder is missing from this installation of vslsp "
                             f"(no {marker} in the package data nor in {source}); reinstall vslsp")
 
