@@ -96,6 +96,23 @@ class Slow(Task):
         return TrialResult(self.name, seed, True)
 
 
+class WaitsForCtrlC(Task):
+    """For the command line: seed 0 finishes at once (marker '0.done'), the others take a minute.
+    The marker folder comes from the environment (the command passes no task options)."""
+
+    name = "ray-test-waits"
+    system = System.VSL
+    paper_section = "test"
+
+    def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
+        folder = Path(os.environ["VSLSP_TEST_MARKERS"])
+        if seed:
+            (folder / f"{seed}.started").write_text("")
+            time.sleep(60.0)
+        (folder / f"{seed}.done").write_text("")
+        return TrialResult(self.name, seed, True)
+
+
 @pytest.fixture(scope="module")
 def cluster():
     """A local Ray cluster of 2 CPUs for this module; the backend runs on it (the process is connected)."""
@@ -220,3 +237,36 @@ def test_cli_starts_a_local_ray_instance_for_the_run(tmp_path):
     data = json.loads(done.stdout)
     assert data["trials"] == 2 and [r["seed"] for r in data["results"]] == [3, 4]
     assert json.loads((tmp_path / "report.json").read_text())["trials"] == 2
+
+
+@pytest.mark.slow
+def test_ctrl_c_on_the_command_line_cancels_and_writes_the_partial_report(tmp_path):
+    markers, out = tmp_path / "markers", tmp_path / "report"
+    markers.mkdir()
+    # A real Ctrl-C: SIGINT to the command's process group. The command restores Python's
+    # KeyboardInterrupt handler (a shell that starts jobs in the background has it ignored).
+    program = ("import signal, sys\nsignal.signal(signal.SIGINT, signal.default_int_handler)\n"
+               "from vslsp.tasks import register\nimport test_ray_backend\nregister(test_ray_backend.WaitsForCtrlC)\n"
+               "from vslsp.cli import main\nmain(sys.argv[1:])")
+    env = {**os.environ, "VSLSP_TEST_MARKERS": str(markers),
+           "PYTHONPATH": os.pathsep.join([str(HERE), str(ROOT)] + [os.environ.get("PYTHONPATH", "")])}
+    command = subprocess.Popen([sys.executable, "-c", program, "experiment", "ray-test-waits", "--trials", "4",
+                                "--workers", "2", "--backend", "ray", "--out", str(out)], env=env,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 300
+        while not (markers / "0.done").exists() and command.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert (markers / "0.done").exists()
+        time.sleep(1.0)  # the result reaches the driver
+        os.killpg(command.pid, signal.SIGINT)
+        stdout, stderr = command.communicate(timeout=60)
+    finally:
+        if command.poll() is None:
+            os.killpg(command.pid, signal.SIGKILL)
+    assert command.returncode == 1, stderr
+    assert "SIGINT: stopping now" in stderr
+    report = json.loads((out / "report.json").read_text())
+    assert report["partial"] and report["interrupted"] == "SIGINT" and report["trials_requested"] == 4
+    assert [r["seed"] for r in report["results"]] == [0]
+    assert (markers / "1.started").exists() and not list(markers.glob("[123].done"))
