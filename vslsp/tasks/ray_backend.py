@@ -86,13 +86,14 @@ def run_on_ray(task: Task, seeds: Sequence[int], keep: set[int], workers: int, a
     call ``finished(result)`` once per seed as the results come back (in any order).
 
     ``keep``: the seeds whose trials keep their artefacts. ``address``: see :func:`check_ray`;
-    None starts a local Ray instance with ``workers`` CPUs for the run (shut down at the end),
-    unless this process is already connected to Ray, whose connection is then used and left open.
+    None starts a local Ray instance with ``workers`` CPUs for the run (shut down at the end; a
+    cluster's connection is closed at the end), unless this process is already connected to Ray
+    (``ray.init`` called by the caller), whose connection is then used and left open.
     Raises :class:`InputError` when Ray is missing or the cluster cannot be reached; re-raises an
     interrupt after cancelling the outstanding trials.
     """
     ray = check_ray(address)
-    started = _connect(ray, address, workers)
+    connected = _connect(ray, address, workers)
     pending: dict[Any, int] = {}
     try:
         task_ref = ray.put(task)  # once: the workers fetch it from the object store
@@ -110,29 +111,33 @@ def run_on_ray(task: Task, seeds: Sequence[int], keep: set[int], workers: int, a
         _cancel(ray, list(pending))
         raise
     finally:
-        if started:
-            ray.shutdown()
+        if connected:
+            ray.shutdown()  # stops a local instance started here; leaves a cluster running
 
 
 def _trial(task: Task, seed: int, keep: bool) -> TrialResult:
     """One trial in a Ray worker (the task arrives from the object store)."""
-    from vslsp.sim.quiet import quiet  # noqa: F401  (workers import the simulator quietly)
-
     return run_one(task, seed, keep)
 
 
 def _connect(ray: ModuleType, address: str | None, workers: int) -> bool:
-    """Connect to the cluster at ``address`` or start a local instance; True when started here."""
+    """Connect to the cluster at ``address`` or start a local instance; True when connected here
+    (False: this process was connected already)."""
     if ray.is_initialized():
         return False
     quiet = {"log_to_driver": False, "logging_level": logging.ERROR}
     if address is None:
-        ray.init(address="local", num_cpus=workers, _node_ip_address="127.0.0.1", include_dashboard=False, **quiet)
+        try:
+            ray.init(address="local", num_cpus=workers, _node_ip_address="127.0.0.1", include_dashboard=False,
+                     **quiet)
+        except BaseException:  # Ctrl-C while it starts: leave nothing running
+            ray.shutdown()
+            raise
         return True
     _probe(ray, address)
     try:
         ray.init(address=address, **quiet)
-    except (ConnectionError, TimeoutError, RuntimeError, ValueError) as error:
+    except (ConnectionError, TimeoutError, RuntimeError, ValueError, ray.exceptions.RayError) as error:
         reason = (str(error).strip().splitlines() or [type(error).__name__])[0]
         raise InputError(f"cannot connect to the Ray cluster at --address {address}: {reason}; start its head with "
                          "`ray start --head --port 6379` (and workers with `ray start --address HEAD:6379`), "
