@@ -227,6 +227,9 @@ def test_house_roof_on_the_cluster_equals_local(cluster, tmp_path):
     on_ray = [{k: v for k, v in r.items() if k not in ("time_s", "reproduction_ms")} for r in data["results"]]
     assert on_ray == records(local.results)
     assert (tmp_path / "report.md").exists()
+    # the command disconnected from the cluster at the end and left it running
+    assert records(run_trials(Draw(), [1, 2], workers=2, backend="ray").results) == records(
+        run_trials(Draw(), [1, 2]).results)
 
 
 @pytest.mark.slow
@@ -270,3 +273,4 @@ def test_ctrl_c_on_the_command_line_cancels_and_writes_the_partial_report(tmp_pa
     assert report["partial"] and report["interrupted"] == "SIGINT" and report["trials_requested"] == 4
     assert [r["seed"] for r in report["results"]] == [0]
     assert (markers / "1.started").exists() and not list(markers.glob("[123].done"))
+

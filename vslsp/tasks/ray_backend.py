@@ -138,7 +138,7 @@ def _connect(ray: ModuleType, address: str | None, workers: int) -> bool:
     try:
         ray.init(address=address, **quiet)
     except (ConnectionError, TimeoutError, RuntimeError, ValueError, ray.exceptions.RayError) as error:
-        reason = (str(error).strip().splitlines() or [type(error).__name__])[0]
+        reason = " ".join(str(error).split())[:400] or type(error).__name__
         raise InputError(f"cannot connect to the Ray cluster at --address {address}: {reason}; start its head with "
                          "`ray start --head --port 6379` (and workers with `ray start --address HEAD:6379`), "
                          "or leave --address out for a local Ray instance") from None
