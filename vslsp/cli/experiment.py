@@ -64,6 +64,10 @@ def experiment(name: str | None, list_them: bool, trials: int, seed: int, worker
         raise InputError("name an experiment (vslsp experiment --list shows them)")
     if address is not None and backend != "ray":
         raise InputError("--address applies to --backend ray")
+    if backend == "ray":  # Ray installed and the address well formed, before any work
+        from vslsp.tasks.ray_backend import check_ray
+
+        check_ray(address)
     task = get_task(name, faults=faults, planner=planner, skills=skills_dir, method=method,
                     predicates=str(Path(predicates_file).resolve()) if predicates_file else None)
     folder = Path(out) if out else Path("out") / "experiments" / name

@@ -9,7 +9,8 @@ Public API: :class:`Task` (subclass it), :func:`register` (class decorator), :cl
 from vslsp.tasks.base import Option, System, Task, TrialResult
 from vslsp.tasks.registry import get_task, list_tasks, register, task_class
 from vslsp.tasks.report import summary, write_report
-from vslsp.tasks.runner import Run, run_one, run_trials
+from vslsp.tasks.runner import Run, run_trials
+from vslsp.tasks.trial import run_one
 
 __all__ = ["Option", "Run", "System", "Task", "TrialResult", "get_task", "list_tasks", "register", "run_one",
            "run_trials", "summary", "task_class", "write_report"]

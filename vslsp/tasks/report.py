@@ -18,7 +18,8 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.tasks.base import Task, TrialResult
-from vslsp.tasks.runner import Run, run_one
+from vslsp.tasks.runner import Run
+from vslsp.tasks.trial import run_one
 
 
 def summary(task: Task, run: Run, folder: Path | None = None) -> dict:

@@ -14,8 +14,8 @@ processes (pybullet and torch do not survive a fork); ``ray`` runs each trial as
 from __future__ import annotations
 
 import multiprocessing
+import os
 import signal
-import traceback
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -24,13 +24,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from vslsp.errors import InputError
-from vslsp.tasks.base import Task, TrialResult, timed
+from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.trial import Interrupted, run_one
+
+__all__ = ["BACKENDS", "Interrupted", "Run", "check_counts", "run_one", "run_trials"]
 
 BACKENDS = ("local", "ray")
-
-
-class Interrupted(Exception):
-    """Ctrl-C or SIGTERM during a run."""
 
 
 @dataclass
@@ -45,17 +44,6 @@ class Run:
     @property
     def partial(self) -> bool:
         return len(self.results) < len(self.seeds)
-
-
-def run_one(task: Task, seed: int, keep: bool = False) -> TrialResult:
-    """One trial; anything it raises becomes a failed trial that says what went wrong."""
-    try:
-        result = timed(task, seed, keep)
-    except Exception as error:  # noqa: BLE001  (a trial that raises is recorded, never lost)
-        where = traceback.extract_tb(error.__traceback__)[-1]
-        return TrialResult(task.name, seed, False,
-                           f"{type(error).__name__}: {error} (at {where.filename.split('/')[-1]}:{where.lineno})")
-    return result if keep else result.without_artefacts()
 
 
 def check_counts(trials: int, workers: int) -> None:
@@ -134,6 +122,9 @@ def _worker_init() -> None:
 
 
 def _new_pool(workers: int) -> ProcessPoolExecutor:
+    # One thread per worker for torch/OpenMP: the workers already share the cores (spawned
+    # children take the environment as it is when they start).
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
     return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
                                initializer=_worker_init)
 
