@@ -5,7 +5,7 @@ import pytest
 
 from conftest import PDDL
 from vslsp.errors import InputError, TaskFailed
-from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, read_pddl, solve, validate
+from vslsp.symbolic import Always, check_planner, Atom, Not, PlanResult, SometimeBefore, read_pddl, solve, validate
 
 DEMONSTRATED = ["pull orange", "pull green", "pull yellow"]
 
@@ -62,8 +62,11 @@ def test_unsolvable_problems_raise_no_plan(pull_in_order):
 
 
 def test_unknown_planner_is_an_input_error(pull_in_order):
-    with pytest.raises(InputError, match="unknown planner 'nope'; installed: fast-downward"):
+    with pytest.raises(InputError, match="unknown planner 'nope'; available: fast-downward, fast-downward-lama"):
         solve(*pull_in_order, planner="nope")
+    with pytest.raises(InputError, match="unknown planner 'nope'"):
+        check_planner("nope")
+    check_planner("fast-downward-lama")
 
 
 def test_plan_result_forms():

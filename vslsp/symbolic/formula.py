@@ -4,7 +4,7 @@ Paper: "Generalization of Learned Skills as Symbolic Action Models" and "Impleme
 one predicate, ``(far ?b)``, describes push and pull; goals such as "no block is far" and the
 demonstrated order, which PDDL 3.0 writes as trajectory constraints. The operator the paper
 calls "somewhere-after" is PDDL 3.0's ``(sometime-before p q)``: p may only hold after q has
-held (see DESIGN.md).
+held.
 
 Formulas are small frozen values. Terms are strings: ``"?b"`` is a variable, anything else an
 object. A state is a ``frozenset`` of ground :class:`Atom`. Every formula prints as PDDL
@@ -100,7 +100,18 @@ class Exists(_Connectives):
         return f"(exists ({_typed(self.variables)}) {self.body.to_pddl()})"
 
 
-Formula = Union[Atom, Not, And, Or, Imply, Forall, Exists]
+@dataclass(frozen=True)
+class Equals(_Connectives):
+    """``(= ?a ?b)``: two terms name the same object (PDDL's ``:equality``)."""
+
+    left: str
+    right: str
+
+    def to_pddl(self) -> str:
+        return f"(= {self.left} {self.right})"
+
+
+Formula = Union[Atom, Not, And, Or, Imply, Forall, Exists, Equals]
 
 
 # --- PDDL 3.0 trajectory constraints -------------------------------------------------------
@@ -206,6 +217,8 @@ def substitute(formula: Formula, binding: Mapping[str, str]) -> Formula:
     """Replace variables by objects: ``substitute(far("?b"), {"?b": "red"}) == far("red")``."""
     if isinstance(formula, Atom):
         return Atom(formula.predicate, tuple(binding.get(a, a) for a in formula.args))
+    if isinstance(formula, Equals):
+        return Equals(binding.get(formula.left, formula.left), binding.get(formula.right, formula.right))
     if isinstance(formula, (Forall, Exists)):
         inner = {k: v for k, v in binding.items() if k not in dict(formula.variables)}
         return type(formula)(formula.variables, substitute(formula.body, inner))
@@ -229,6 +242,8 @@ def holds(formula: Formula, state: State, universe: Universe) -> bool:
     """
     if isinstance(formula, Atom):
         return formula in state
+    if isinstance(formula, Equals):
+        return formula.left == formula.right
     if isinstance(formula, Not):
         return not holds(formula.arg, state, universe)
     if isinstance(formula, And):
@@ -238,7 +253,7 @@ def holds(formula: Formula, state: State, universe: Universe) -> bool:
     if isinstance(formula, Imply):
         return not holds(formula.condition, state, universe) or holds(formula.consequence, state, universe)
     test: Callable = all if isinstance(formula, Forall) else any
-    return test(holds(substitute(formula.body, binding), state, universe) for binding in _bindings(formula.variables, universe))
+    return test(holds(substitute(formula.body, binding), state, universe) for binding in bindings(formula.variables, universe))
 
 
 def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
@@ -247,21 +262,21 @@ def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
     Planners get a plain goal this way: Fast Downward turns a quantified goal into one derived
     atom, which leaves its heuristics blind on long plans.
     """
-    if isinstance(formula, Atom):
+    if isinstance(formula, (Atom, Equals)):
         return formula
     if isinstance(formula, (Forall, Exists)):
-        parts = tuple(expand_quantifiers(substitute(formula.body, b), universe) for b in _bindings(formula.variables, universe))
+        parts = tuple(expand_quantifiers(substitute(formula.body, b), universe) for b in bindings(formula.variables, universe))
         return And(parts) if isinstance(formula, Forall) else Or(parts)
     return _map_connective(formula, lambda part: expand_quantifiers(part, universe))
 
 
-def _bindings(variables: tuple[tuple[str, str], ...], universe: Universe) -> Iterable[dict[str, str]]:
+def bindings(variables: tuple[tuple[str, str], ...], universe: Universe) -> Iterable[dict[str, str]]:
     if not variables:
         yield {}
         return
     (name, type_), rest = variables[0], variables[1:]
     for obj in universe.get(type_, ()):
-        for binding in _bindings(rest, universe):
+        for binding in bindings(rest, universe):
             yield {name: obj, **binding}
 
 
@@ -269,6 +284,8 @@ def atoms_of(formula: Formula | Constraint) -> Iterable[Atom]:
     """Every atom written in a formula or constraint (variables left as they are)."""
     if isinstance(formula, Atom):
         yield formula
+    elif isinstance(formula, Equals):
+        return
     elif isinstance(formula, Not):
         yield from atoms_of(formula.arg)
     elif isinstance(formula, (And, Or)):
@@ -299,6 +316,8 @@ def formula_to_list(formula: Formula | Constraint) -> list:
     """``(forall (?b - block) (not (far ?b)))`` -> ``["forall", [["?b", "block"]], ["not", ["far", "?b"]]]``."""
     if isinstance(formula, Atom):
         return [formula.predicate, *formula.args]
+    if isinstance(formula, Equals):
+        return ["=", formula.left, formula.right]
     if isinstance(formula, Not):
         return ["not", formula_to_list(formula.arg)]
     if isinstance(formula, (And, Or)):
@@ -327,6 +346,8 @@ def formula_from_list(data: list) -> Formula | Constraint:
     if head in ("forall", "exists"):
         variables = tuple((str(n), str(t)) for n, t in rest[0])
         return (Forall if head == "forall" else Exists)(variables, formula_from_list(rest[1]))  # type: ignore[arg-type]
+    if head == "=" and len(rest) == 2 and all(isinstance(a, str) for a in rest):
+        return Equals(rest[0], rest[1])
     if head in _CONSTRAINTS:
         return _CONSTRAINTS[head](*(formula_from_list(a) for a in rest))  # type: ignore[arg-type]
     if not all(isinstance(a, str) for a in rest):

@@ -3,14 +3,25 @@
 unified-planning's reader reports problems in several shapes (pyparsing exceptions, Python
 ``SyntaxError`` with "line: L, col C" in the text, its own exceptions without a place). This
 module checks what a reader cannot explain well (unbalanced parentheses, the paper's
-non-PDDL ``somewhere-after``) before parsing, and rewrites the reader's errors after.
+non-PDDL ``somewhere-after``, unsupported constructs, type cycles) before parsing, rewrites
+what the reader cannot take (preferences, ``at end``) and the reader's errors after.
 """
 
 from __future__ import annotations
 
 import re
+import warnings
 
 from vslsp.errors import InputError
+
+
+class PddlWarning(UserWarning):
+    """Something in a PDDL file vslsp reads differently from the letter of PDDL, or ignores."""
+
+
+def warn(message: str) -> None:
+    """Issue a :class:`PddlWarning` (the CLI prints them as ``warning: ...``)."""
+    warnings.warn(message, PddlWarning, stacklevel=3)
 
 PDDL3_OPERATORS = ("always", "sometime", "within", "at-most-once", "sometime-after", "sometime-before",
                    "always-within", "hold-during", "hold-after", "at end")
@@ -39,14 +50,23 @@ def check_text(text: str, name: str) -> None:
         line, column = _position(text, match.start(1))
         raise InputError(f"{name}:{line}:{column}: {_NOT_PDDL[match.group(1).lower()]}. "
                          f"The PDDL 3.0 operators are: {', '.join(PDDL3_OPERATORS)}")
-    for match in re.finditer(r"\(\s*(at\s+end|within|always-within|hold-during|hold-after)\b", code, re.IGNORECASE):
+    for match in re.finditer(r"\(\s*(within|always-within|hold-during|hold-after)\b", code, re.IGNORECASE):
         if re.search(r"\(\s*problem\b", code, re.IGNORECASE):
             line, column = _position(text, match.start(1))
-            operator = " ".join(match.group(1).lower().split())
-            hint = "put the formula in the (:goal ...), which means the same" if operator == "at end" else \
-                "timed constraints need a temporal planner"
-            raise InputError(f"{name}:{line}:{column}: ({operator} ...) is not supported here ({hint}); vslsp plans "
-                             f"with always, sometime, at-most-once, sometime-before and sometime-after")
+            raise InputError(f"{name}:{line}:{column}: ({match.group(1).lower()} ...) is not supported (timed "
+                             "constraints need a temporal planner); vslsp plans with always, sometime, at-most-once, "
+                             "sometime-before, sometime-after and at end")
+    for match in re.finditer(r"\(\s*(either|:derived|:functions|:durative-action)\b", code, re.IGNORECASE):
+        word = match.group(1).lower()
+        if word == ":functions" and re.match(r"\(\s*:functions\s*\(\s*total-cost\s*\)(\s*-\s*number)?\s*\)",
+                                             code[match.start():], re.IGNORECASE):
+            continue  # action costs: read, and ignored by the planners vslsp uses
+        line, column = _position(text, match.start(1))
+        what = {"either": "(either ...) types", ":derived": "derived predicates (:derived ...)",
+                ":functions": "numeric functions other than (total-cost)",
+                ":durative-action": "durative actions"}[word]
+        raise InputError(f"{name}:{line}:{column}: {what} are not supported; vslsp reads STRIPS with types, "
+                         "negation, equality, quantifiers, conditional effects, constants and PDDL 3.0 constraints")
     opened: list[int] = []
     for index, char in enumerate(code):
         if char == "(":
@@ -73,12 +93,105 @@ def check_text(text: str, name: str) -> None:
 
 
 def check_domain_name(problem_text: str, domain_name: str, name: str) -> None:
-    """Raise InputError when the problem's ``(:domain NAME)`` is not the domain read with it."""
+    """Warn when the problem's ``(:domain NAME)`` is not the domain read with it (VAL and Fast Downward accept it)."""
     match = re.search(r"\(\s*:domain\s+([^\s()]+)", _code(problem_text), re.IGNORECASE)
     if match and match.group(1).lower() != domain_name.lower():
         line, column = _position(problem_text, match.start(1))
-        raise InputError(f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
-                         f"defines {domain_name!r}; give the matching domain file or fix (:domain ...)")
+        warn(f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
+             f"defines {domain_name!r}; read with it all the same")
+
+
+def check_types(text: str, name: str) -> None:
+    """Raise InputError, with the place, when the ``(:types ...)`` of a domain form a cycle."""
+    code = _code(text)
+    section = re.search(r"\(\s*:types\b([^()]*)\)", code, re.IGNORECASE)
+    if not section:
+        return
+    parents: dict[str, tuple[str, int]] = {}
+    pending: list[tuple[str, int]] = []
+    tokens = list(re.finditer(r"[^\s]+", section.group(1)))
+    index = 0
+    while index < len(tokens):
+        word = tokens[index].group(0).lower()
+        if word == "-" and index + 1 < len(tokens):
+            parent = tokens[index + 1].group(0).lower()
+            for child, at in pending:
+                parents[child] = (parent, at)
+            pending, index = [], index + 2
+            continue
+        pending.append((word, section.start(1) + tokens[index].start()))
+        index += 1
+    for start in parents:
+        seen, current = [start], start
+        while current in parents:
+            current = parents[current][0]
+            if current == start:
+                line, column = _position(text, parents[start][1])
+                raise InputError(f"{name}:{line}:{column}: the types form a cycle ({' - '.join([*seen, start])}); "
+                                 "a type cannot be its own ancestor")
+            if current in seen:
+                break
+            seen.append(current)
+
+
+def preferences_removed(text: str, name: str) -> str:
+    """``text`` with every ``(preference ...)`` replaced by ``(and)`` (and a ``:metric`` that weighs them
+    removed), positions kept; warns once. vslsp plans for the hard goal and constraints."""
+    code = _code(text)
+    found = [m.start() for m in re.finditer(r"\(\s*preference\b", code, re.IGNORECASE)]
+    if not found:
+        return text
+    spans = [(start, _closing(code, start)) for start in found]
+    metric = re.search(r"\(\s*:metric\b", code, re.IGNORECASE)
+    if metric and "is-violated" in code[metric.start():_closing(code, metric.start())].lower():
+        spans.append((metric.start(), _closing(code, metric.start())))
+    out = list(text)
+    for start, end in spans:
+        if out[start] != "(":  # inside a preference removed already
+            continue
+        blank = [c if c == "\n" else " " for c in text[start:end + 1]]
+        blank[0:5] = list("(and)") if len(blank) >= 5 else blank[0:5]
+        out[start:end + 1] = blank
+    line, column = _position(text, found[0])
+    warn(f"{name}:{line}:{column}: {len(found)} preference{'s' if len(found) != 1 else ''} ignored: vslsp plans for "
+         "the hard goal and constraints only (soft goals and their :metric are left out)")
+    return "".join(out)
+
+
+def _closing(code: str, start: int) -> int:
+    """The index of the ``)`` closing the ``(`` at ``start``."""
+    depth = 0
+    for index in range(start, len(code)):
+        depth += {"(": 1, ")": -1}.get(code[index], 0)
+        if depth == 0:
+            return index
+    return len(code) - 1
+
+
+def at_end_as_sometime_after(text: str) -> str:
+    """``(at end φ)`` in ``:constraints`` written as ``(sometime-after (and) φ)``: the same meaning, which
+    unified-planning's reader takes (it has no ``at end``)."""
+    return re.sub(r"\(\s*at\s+end\b", "(sometime-after (and)", text, flags=re.IGNORECASE)
+
+
+def check_constraints_form(text: str, name: str) -> None:
+    """Warn when ``(:constraints c1 c2 ...)`` lists constraints without ``(and ...)``."""
+    code = _code(text)
+    match = re.search(r"\(\s*:constraints\b", code, re.IGNORECASE)
+    if not match:
+        return
+    body = code[match.end():_closing(code, match.start())]
+    depth, tops = 0, 0
+    for char in body:
+        if char == "(":
+            tops += depth == 0
+            depth += 1
+        elif char == ")":
+            depth -= 1
+    if tops > 1:
+        line, column = _position(text, match.start())
+        warn(f"{name}:{line}:{column}: (:constraints ...) lists {tops} constraints without (and ...); read as their "
+             "conjunction (VAL drops such constraints)")
 
 
 _ORDER = {
