@@ -27,8 +27,11 @@ from vslsp.symbolic.pddl_errors import (
     check_domain_name,
     check_text,
     check_types,
+    either_widened,
     located_error,
     preferences_removed,
+    sections_in_order,
+    types_declared_once,
     warn,
 )
 from vslsp.symbolic.up_model import domain_from_up, environment, problem_from_up
@@ -100,6 +103,9 @@ def _read(domain_text: str, problem_text: str | None, domain_name: str,
           problem_name: str | None) -> tuple[Domain, Problem | None]:
     check_text(domain_text, domain_name)
     check_types(domain_text, domain_name)
+    domain_text = either_widened(sections_in_order(preferences_removed(domain_text, domain_name), domain_name),
+                                 domain_name)
+    domain_text = types_declared_once(domain_text)
     domain = domain_from_up(_parse(domain_text, None, domain_name, None))
     if problem_text is None or problem_name is None:
         return domain, None
