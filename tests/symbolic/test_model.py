@@ -2,8 +2,8 @@
 models are the same objects."""
 
 import pytest
-
 from conftest import PDDL
+
 from vslsp.errors import InputError
 from vslsp.symbolic import (
     Action,

@@ -4,10 +4,20 @@ malformed input reported as FILE:LINE:COL."""
 import re
 
 import pytest
-
 from conftest import PDDL
+
 from vslsp.errors import InputError
-from vslsp.symbolic import Forall, PddlWarning, SometimeBefore, learn_domain, learn_task, make_problem, read_pddl, save, solve
+from vslsp.symbolic import (
+    Forall,
+    PddlWarning,
+    SometimeBefore,
+    learn_domain,
+    learn_task,
+    make_problem,
+    read_pddl,
+    save,
+    solve,
+)
 
 EXPERIMENTS = ("simple-push-pull", "keep-all-near", "pull-in-order")
 
@@ -29,7 +39,8 @@ def test_learned_model_writes_reads_back_and_plans(tmp_path, skill_executions, p
     domain_text, problem_text = domain.to_pddl(), problem.to_pddl()
     assert "(:requirements :strips :typing :negative-preconditions :constraints)" in domain_text
     assert "(:constraints (and\n    (sometime-before (not (far green)) (not (far orange)))\n" in problem_text
-    read_domain, read_problem = read_pddl(save(domain_text, tmp_path / "d.pddl"), save(problem_text, tmp_path / "p.pddl"))
+    domain_file, problem_file = save(domain_text, tmp_path / "d.pddl"), save(problem_text, tmp_path / "p.pddl")
+    read_domain, read_problem = read_pddl(domain_file, problem_file)
     assert read_domain == domain and read_problem == problem
     assert solve(read_domain, read_problem).lines() == ["pull orange", "pull green", "pull yellow"]
 

@@ -6,8 +6,8 @@ import subprocess
 import sys
 
 import pytest
-
 from conftest import PDDL
+
 from vslsp.cli import main
 
 DOMAIN = PDDL / "domain.pddl"

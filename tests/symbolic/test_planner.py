@@ -2,10 +2,10 @@
 compiled PDDL 3.0 constraints, dropped on request, unsolvable problems reported as no plan."""
 
 import pytest
-
 from conftest import PDDL
+
 from vslsp.errors import InputError, TaskFailed
-from vslsp.symbolic import Always, check_planner, Atom, Not, PlanResult, SometimeBefore, read_pddl, solve, validate
+from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, check_planner, read_pddl, solve, validate
 
 DEMONSTRATED = ["pull orange", "pull green", "pull yellow"]
 
@@ -30,7 +30,7 @@ def test_order_reversed_in_the_problem_is_followed(pull_in_order, order):
         return Not(Atom("far", (c,)))
 
     reordered = problem.without_constraints()
-    for earlier, later in zip(order, order[1:]):
+    for earlier, later in zip(order, order[1:], strict=False):
         reordered = reordered.with_constraint(SometimeBefore(near(later), near(earlier)))
     assert solve(domain, reordered).lines() == [f"pull {c}" for c in order]
 

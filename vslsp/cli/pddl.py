@@ -11,8 +11,9 @@ import json
 import sys
 import traceback
 import warnings
+from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any, Iterator
+from typing import Any
 
 import click
 

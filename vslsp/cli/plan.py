@@ -38,7 +38,8 @@ def writable_file(path: str) -> Path:
 @click.option("--compilation", type=click.Choice(["lifted", "ground"]), default=None,
               help="How PDDL 3.0 constraints are compiled away: lifted (default with Fast Downward: monitors in the "
                    "action schemas) or ground (unified-planning's TrajectoryConstraintsRemover).")
-@click.option("--timeout", type=click.FloatRange(min=0.1), default=None, help="Give up after this many seconds (exit 1).")
+@click.option("--timeout", type=click.FloatRange(min=0.1), default=None,
+              help="Give up after this many seconds (exit 1).")
 @click.option("--out", type=click.Path(dir_okay=False), default=None,
               help="Also write the plan there, one (action arg ...) per line (the PLAN of vslsp validate).")
 @click.option("--json", "as_json", is_flag=True,

@@ -39,7 +39,8 @@ from vslsp.symbolic.validate import Validation, parse_plan, read_plan, validate
 __all__ = [
     "Action", "Always", "And", "AtEnd", "AtMostOnce", "Atom", "Compilation", "Domain", "Equals", "Exists", "Forall",
     "Imply", "InternalError", "Not", "Or", "PddlWarning", "PlanResult", "Predicate", "Problem", "Rule", "Sometime",
-    "SometimeAfter", "SometimeBefore", "Step", "Task", "Validation", "When", "check_planner", "extract_rules", "forall", "generalise", "holds", "learn_domain", "learn_task", "make_problem",
+    "SometimeAfter", "SometimeBefore", "Step", "Task", "Validation", "When", "check_planner", "extract_rules",
+    "forall", "generalise", "holds", "learn_domain", "learn_task", "make_problem",
     "parse_pddl", "parse_plan", "read_domain", "read_pddl", "read_plan", "read_problem", "save", "solve",
     "solve_timed", "sometime_before", "validate",
 ]

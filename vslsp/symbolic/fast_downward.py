@@ -65,7 +65,9 @@ def driver() -> Path:
 
 def run(domain_text: str, problem_text: str, options: list[str], timeout: float | None = None,
         translate_only: bool = False) -> Run:
-    """Run the driver on the two texts in a fresh folder; ``options``: ``["--search", "..."]`` or ``["--alias", "..."]``.
+    """Run the driver on the two texts in a fresh folder.
+
+    ``options``: ``["--search", "..."]`` or ``["--alias", "..."]``.
 
     ``translate_only``: stop after the translator (to time it).
     """

@@ -13,8 +13,9 @@ object. A state is a ``frozenset`` of ground :class:`Atom`. Every formula prints
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from typing import Callable, ClassVar, Iterable, Mapping, Union
+from typing import ClassVar
 
 from vslsp.errors import InputError
 
@@ -26,13 +27,13 @@ Universe = Mapping[str, tuple[str, ...]]
 class _Connectives:
     """``~f``, ``f & g`` and ``f | g`` build formulas, for authoring in a notebook."""
 
-    def __invert__(self) -> "Not":
+    def __invert__(self) -> Not:
         return Not(self)  # type: ignore[arg-type]
 
-    def __and__(self, other: "Formula") -> "And":
+    def __and__(self, other: Formula) -> And:
         return And((self, other))  # type: ignore[arg-type]
 
-    def __or__(self, other: "Formula") -> "Or":
+    def __or__(self, other: Formula) -> Or:
         return Or((self, other))  # type: ignore[arg-type]
 
 
@@ -49,7 +50,7 @@ class Atom(_Connectives):
 
 @dataclass(frozen=True)
 class Not(_Connectives):
-    arg: "Formula"
+    arg: Formula
 
     def to_pddl(self) -> str:
         return f"(not {self.arg.to_pddl()})"
@@ -57,7 +58,7 @@ class Not(_Connectives):
 
 @dataclass(frozen=True)
 class And(_Connectives):
-    args: tuple["Formula", ...]
+    args: tuple[Formula, ...]
 
     def to_pddl(self) -> str:
         return "(and " + " ".join(a.to_pddl() for a in self.args) + ")" if self.args else "(and)"
@@ -65,7 +66,7 @@ class And(_Connectives):
 
 @dataclass(frozen=True)
 class Or(_Connectives):
-    args: tuple["Formula", ...]
+    args: tuple[Formula, ...]
 
     def to_pddl(self) -> str:
         return "(or " + " ".join(a.to_pddl() for a in self.args) + ")"
@@ -73,8 +74,8 @@ class Or(_Connectives):
 
 @dataclass(frozen=True)
 class Imply(_Connectives):
-    condition: "Formula"
-    consequence: "Formula"
+    condition: Formula
+    consequence: Formula
 
     def to_pddl(self) -> str:
         return f"(imply {self.condition.to_pddl()} {self.consequence.to_pddl()})"
@@ -85,7 +86,7 @@ class Forall(_Connectives):
     """``(forall (?b - block) body)``; ``variables`` are ``(("?b", "block"), ...)``."""
 
     variables: tuple[tuple[str, str], ...]
-    body: "Formula"
+    body: Formula
 
     def to_pddl(self) -> str:
         return f"(forall ({_typed(self.variables)}) {self.body.to_pddl()})"
@@ -94,7 +95,7 @@ class Forall(_Connectives):
 @dataclass(frozen=True)
 class Exists(_Connectives):
     variables: tuple[tuple[str, str], ...]
-    body: "Formula"
+    body: Formula
 
     def to_pddl(self) -> str:
         return f"(exists ({_typed(self.variables)}) {self.body.to_pddl()})"
@@ -111,7 +112,7 @@ class Equals(_Connectives):
         return f"(= {self.left} {self.right})"
 
 
-Formula = Union[Atom, Not, And, Or, Imply, Forall, Exists, Equals]
+Formula = Atom | Not | And | Or | Imply | Forall | Exists | Equals
 
 
 # --- PDDL 3.0 trajectory constraints -------------------------------------------------------
@@ -175,7 +176,7 @@ class SometimeAfter(_Trajectory):
     keyword: ClassVar[str] = "sometime-after"
 
 
-Constraint = Union[Always, Sometime, AtMostOnce, AtEnd, SometimeBefore, SometimeAfter]
+Constraint = Always | Sometime | AtMostOnce | AtEnd | SometimeBefore | SometimeAfter
 CONSTRAINT_KEYWORDS = ("always", "sometime", "at-most-once", "sometime-before", "sometime-after", "at end")
 
 
@@ -186,7 +187,7 @@ def sometime_before(later: Formula, earlier: Formula) -> SometimeBefore:
 
 def forall(variables: tuple[str, str] | Iterable[tuple[str, str]], body: Formula) -> Forall:
     """``forall(("?b", "block"), ~far("?b"))`` or with several ``(variable, type)`` pairs."""
-    variables = tuple(variables)
+    variables = tuple(variables)  # type: ignore[arg-type]
     if variables and isinstance(variables[0], str):
         variables = (variables,)  # type: ignore[assignment]
     return Forall(tuple(tuple(v) for v in variables), body)  # type: ignore[misc]
@@ -201,7 +202,7 @@ def conjunction(formulas: Iterable[Formula]) -> Formula:
     return unique[0] if len(unique) == 1 else And(unique)
 
 
-def literal(predicate: str, args: tuple[str, ...], value: bool) -> Formula:
+def literal(predicate: str, args: tuple[str, ...], value: bool) -> Atom | Not:
     """``(predicate args)`` when ``value`` else ``(not (predicate args))``."""
     atom = Atom(predicate, tuple(args))
     return atom if value else Not(atom)
@@ -253,7 +254,8 @@ def holds(formula: Formula, state: State, universe: Universe) -> bool:
     if isinstance(formula, Imply):
         return not holds(formula.condition, state, universe) or holds(formula.consequence, state, universe)
     test: Callable = all if isinstance(formula, Forall) else any
-    return test(holds(substitute(formula.body, binding), state, universe) for binding in bindings(formula.variables, universe))
+    return test(holds(substitute(formula.body, binding), state, universe)
+                for binding in bindings(formula.variables, universe))
 
 
 def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
@@ -265,7 +267,8 @@ def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
     if isinstance(formula, (Atom, Equals)):
         return formula
     if isinstance(formula, (Forall, Exists)):
-        parts = tuple(expand_quantifiers(substitute(formula.body, b), universe) for b in bindings(formula.variables, universe))
+        parts = tuple(expand_quantifiers(substitute(formula.body, b), universe)
+                      for b in bindings(formula.variables, universe))
         return And(parts) if isinstance(formula, Forall) else Or(parts)
     return _map_connective(formula, lambda part: expand_quantifiers(part, universe))
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import itertools
 import re
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from vslsp.symbolic.formula import (
     Always,
@@ -50,6 +50,7 @@ from vslsp.symbolic.formula import (
     Sometime,
     SometimeAfter,
     SometimeBefore,
+    Universe,
     atoms_of,
     conjunction,
     constraint_formulas,
@@ -81,70 +82,92 @@ def compile_lifted(domain: Domain, problem: Problem) -> tuple[Domain, Problem]:
     per_action: dict[str, list[Effect]] = {a.name: [] for a in domain.actions}
 
     for index, (constraint, variables, rows) in enumerate(_templates(problem, fresh), start=1):
-        names = tuple(v for v, _ in variables)
-        monitor, relation = Atom(f"{PREFIX}c{index}", names), Atom(f"{PREFIX}t{index}", names)
-        if variables:
-            predicates.append(Predicate(relation.predicate, variables))
-            new_init.update(Atom(relation.predicate, row) for row in rows)
-
-        def add(condition_of, atom: Atom, value: bool = True) -> None:
-            """For every action: ``when condition_of(action) -> atom`` (or ``not atom``), for every row."""
-            for action in domain.actions:
-                condition = condition_of(action)
-                if condition == FALSE:
-                    continue
-                effect = (atom if value else Not(atom),)
-                if not variables:
-                    per_action[action.name].append(When(condition, effect))
-                    continue
-                for disjunct in _disjuncts(_and(relation, condition)):
-                    per_action[action.name].append(_bound(disjunct, effect, variables, action, domain))
-
-        def initially(formula: Formula) -> None:
-            """``monitor`` true initially for the rows where ``formula`` holds in s_0."""
-            for row in rows:
-                if holds(substitute(formula, dict(zip(names, row))), init, universe):
-                    new_init.add(Atom(monitor.predicate, row))
-
-        def goal(formula: Formula) -> None:
-            """``formula`` in the goal for every row (written out: the planner's heuristics see each part)."""
-            goals.extend(substitute(formula, dict(zip(names, row))) for row in rows)
-
-        if not isinstance(constraint, (AtEnd, Always)):
-            predicates.append(Predicate(monitor.predicate, variables))
-        if isinstance(constraint, AtEnd):
-            goal(constraint.formula)
-        elif isinstance(constraint, Always):
-            phi = constraint.formula
-            add(lambda a, phi=phi: becomes(Not(phi), a), VIOLATED)  # type: ignore[misc]
-        elif isinstance(constraint, Sometime):
-            phi = constraint.formula
-            goal(monitor)
-            initially(phi)
-            add(lambda a, phi=phi: becomes(phi, a), monitor)  # type: ignore[misc]
-        elif isinstance(constraint, AtMostOnce):
-            phi = constraint.formula
-            initially(phi)
-            add(lambda a, phi=phi, m=monitor: _and(becomes(phi, a), m), VIOLATED)  # type: ignore[misc]
-            add(lambda a, phi=phi: becomes(phi, a), monitor)  # type: ignore[misc]
-        elif isinstance(constraint, SometimeBefore):
-            p, q = constraint.formula, constraint.before
-            initially(q)
-            add(lambda a, p=p, m=monitor: _and(becomes(p, a), Not(m)), VIOLATED)  # type: ignore[misc]
-            add(lambda a, q=q: becomes(q, a), monitor)  # type: ignore[misc]
-        else:
-            assert isinstance(constraint, SometimeAfter)
-            p, q = constraint.formula, constraint.after
-            goal(monitor)
-            initially(Imply(p, q))
-            add(lambda a, p=p, q=q: _and(regress(p, a), _not(regress(q, a))) if _touches(a, p, q) else FALSE,
-                monitor, value=False)
-            add(lambda a, q=q: regress(q, a) if _touches(a, q) else FALSE, monitor)  # type: ignore[misc]
+        _monitor(_Target(domain, init, universe, predicates, goals, new_init, per_action), index, constraint,
+                 variables, rows)
 
     actions = tuple(replace(a, precondition=conjunction([a.precondition, Not(VIOLATED)]) if a.precondition != TRUE
                             else Not(VIOLATED), effects=(*a.effects, *per_action[a.name])) for a in domain.actions)
     compiled = replace(domain, predicates=(*domain.predicates, *predicates), actions=actions)
     return compiled, replace(problem, domain=compiled, init=init | new_init, goal=conjunction(goals), constraints=())
+
+
+@dataclass
+class _Target:
+    """What the monitors of the constraints add to: predicates, goal parts, initial atoms, effects per action."""
+
+    domain: Domain
+    init: frozenset
+    universe: Universe
+    predicates: list[Predicate]
+    goals: list[Formula]
+    new_init: set[Atom]
+    per_action: dict[str, list[Effect]]
+
+
+def _monitor(target: _Target, index: int, constraint: Constraint, variables: tuple[tuple[str, str], ...],
+             rows: list[tuple[str, ...]]) -> None:
+    """The monitor of one constraint (or one shape of constraints, ``variables`` over ``rows``)."""
+    domain, init, universe = target.domain, target.init, target.universe
+    predicates, goals, new_init, per_action = target.predicates, target.goals, target.new_init, target.per_action
+    names = tuple(v for v, _ in variables)
+    monitor, relation = Atom(f"{PREFIX}c{index}", names), Atom(f"{PREFIX}t{index}", names)
+    if variables:
+        predicates.append(Predicate(relation.predicate, variables))
+        new_init.update(Atom(relation.predicate, row) for row in rows)
+
+    def add(condition_of, atom: Atom, value: bool = True) -> None:
+        """For every action: ``when condition_of(action) -> atom`` (or ``not atom``), for every row."""
+        for action in domain.actions:
+            condition = condition_of(action)
+            if condition == FALSE:
+                continue
+            effect = (atom if value else Not(atom),)
+            if not variables:
+                per_action[action.name].append(When(condition, effect))
+                continue
+            for disjunct in _disjuncts(_and(relation, condition)):
+                per_action[action.name].append(_bound(disjunct, effect, variables, action, domain))
+
+    def initially(formula: Formula) -> None:
+        """``monitor`` true initially for the rows where ``formula`` holds in s_0."""
+        for row in rows:
+            if holds(substitute(formula, dict(zip(names, row, strict=False))), init, universe):
+                new_init.add(Atom(monitor.predicate, row))
+
+    def goal(formula: Formula) -> None:
+        """``formula`` in the goal for every row (written out: the planner's heuristics see each part)."""
+        goals.extend(substitute(formula, dict(zip(names, row, strict=False))) for row in rows)
+
+    if not isinstance(constraint, (AtEnd, Always)):
+        predicates.append(Predicate(monitor.predicate, variables))
+    if isinstance(constraint, AtEnd):
+        goal(constraint.formula)
+    elif isinstance(constraint, Always):
+        phi = constraint.formula
+        add(lambda a, phi=phi: becomes(Not(phi), a), VIOLATED)  # type: ignore[misc]
+    elif isinstance(constraint, Sometime):
+        phi = constraint.formula
+        goal(monitor)
+        initially(phi)
+        add(lambda a, phi=phi: becomes(phi, a), monitor)  # type: ignore[misc]
+    elif isinstance(constraint, AtMostOnce):
+        phi = constraint.formula
+        initially(phi)
+        add(lambda a, phi=phi, m=monitor: _and(becomes(phi, a), m), VIOLATED)  # type: ignore[misc]
+        add(lambda a, phi=phi: becomes(phi, a), monitor)  # type: ignore[misc]
+    elif isinstance(constraint, SometimeBefore):
+        p, q = constraint.formula, constraint.before
+        initially(q)
+        add(lambda a, p=p, m=monitor: _and(becomes(p, a), Not(m)), VIOLATED)  # type: ignore[misc]
+        add(lambda a, q=q: becomes(q, a), monitor)  # type: ignore[misc]
+    else:
+        assert isinstance(constraint, SometimeAfter)
+        p, q = constraint.formula, constraint.after
+        goal(monitor)
+        initially(Imply(p, q))
+        add(lambda a, p=p, q=q: _and(regress(p, a), _not(regress(q, a))) if _touches(a, p, q) else FALSE,
+            monitor, value=False)
+        add(lambda a, q=q: regress(q, a) if _touches(a, q) else FALSE, monitor)  # type: ignore[misc]
 
 
 def _templates(problem: Problem, fresh) -> list[tuple[Constraint, tuple[tuple[str, str], ...], list[tuple[str, ...]]]]:
@@ -158,27 +181,8 @@ def _templates(problem: Problem, fresh) -> list[tuple[Constraint, tuple[tuple[st
         constraint = _renamed(constraint, fresh)
         objects: dict[str, str] = {}  # object -> its placeholder's type
 
-        def lift(formula: Formula) -> Formula:
-            if isinstance(formula, Atom):
-                for position, arg in enumerate(formula.args):
-                    if not arg.startswith("?") and arg not in objects:
-                        objects[arg] = signatures[formula.predicate][position]
-                return formula
-            if isinstance(formula, Equals):
-                for arg in (formula.left, formula.right):
-                    if not arg.startswith("?") and arg not in objects:
-                        objects[arg] = types.get(arg, "object")
-                return formula
-            if isinstance(formula, Not):
-                return Not(lift(formula.arg))
-            if isinstance(formula, (And, Or)):
-                return type(formula)(tuple(lift(a) for a in formula.args))
-            if isinstance(formula, Imply):
-                return Imply(lift(formula.condition), lift(formula.consequence))
-            return type(formula)(formula.variables, lift(formula.body))  # type: ignore[union-attr]
-
         for part in constraint_formulas(constraint):
-            lift(part)
+            _collect_objects(part, objects, signatures, types)
         placeholders = {o: f"?{PREFIX}o{i}" for i, o in enumerate(objects)}
         lifted = type(constraint)(*(substitute(f, placeholders) for f in constraint_formulas(constraint)))  # type: ignore[arg-type]
         key = (_canonical(lifted), tuple(objects.values()))
@@ -187,7 +191,7 @@ def _templates(problem: Problem, fresh) -> list[tuple[Constraint, tuple[tuple[st
             groups[key] = (lifted, variables, [])  # type: ignore[assignment]
             originals[key] = constraint
         groups[key][2].append(tuple(objects))
-    templates = []
+    templates: list[tuple[Constraint, tuple[tuple[str, str], ...], list[tuple[str, ...]]]] = []
     for key, (lifted, variables, rows) in groups.items():
         if len(rows) == 1:
             templates.append((originals[key], (), [()]))
@@ -242,6 +246,29 @@ def _bound(condition: Formula, effect: tuple[Formula, ...], variables: tuple[tup
     condition = _and(*(p for p in (condition.args if isinstance(condition, And) else (condition,))
                        if not (isinstance(p, Equals) and p.left == p.right)))
     return When(condition, effect, tuple((v, t) for v, t in variables if v in free))
+
+
+def _collect_objects(formula: Formula, objects: dict[str, str], signatures: dict[str, list[str]],
+                     types: dict[str, str]) -> None:
+    """Add to ``objects`` (object -> the type of its place) the objects ``formula`` names, in order."""
+    if isinstance(formula, Atom):
+        for position, arg in enumerate(formula.args):
+            if not arg.startswith("?") and arg not in objects:
+                objects[arg] = signatures[formula.predicate][position]
+    elif isinstance(formula, Equals):
+        for arg in (formula.left, formula.right):
+            if not arg.startswith("?") and arg not in objects:
+                objects[arg] = types.get(arg, "object")
+    elif isinstance(formula, Not):
+        _collect_objects(formula.arg, objects, signatures, types)
+    elif isinstance(formula, (And, Or)):
+        for part in formula.args:
+            _collect_objects(part, objects, signatures, types)
+    elif isinstance(formula, Imply):
+        _collect_objects(formula.condition, objects, signatures, types)
+        _collect_objects(formula.consequence, objects, signatures, types)
+    else:
+        _collect_objects(formula.body, objects, signatures, types)
 
 
 def _canonical(constraint: Constraint) -> str:
@@ -325,7 +352,7 @@ def _writers(atom: Atom, action: Action) -> tuple[list[Formula], list[Formula]]:
             written = literal_ if positive else literal_.arg  # type: ignore[union-attr]
             if written.predicate != atom.predicate:  # type: ignore[union-attr]
                 continue
-            match = _and(*(_equal(t, u) for t, u in zip(atom.args, written.args)), condition)  # type: ignore[union-attr]
+            match = _and(*(_equal(t, u) for t, u in zip(atom.args, written.args, strict=False)), condition)  # type: ignore[union-attr]
             if variables and match != FALSE:
                 match = Exists(variables, match)
             (adds if positive else deletes).append(match)

@@ -20,8 +20,8 @@ preconditions may use equality (:class:`~vslsp.symbolic.formula.Equals`) and dom
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
-from typing import Iterable, Union
 
 from vslsp.errors import InputError
 from vslsp.symbolic.formula import (
@@ -76,7 +76,7 @@ class When:
                 [formula_to_list(e) for e in self.effects]]
 
 
-Effect = Union[Atom, Not, When]
+Effect = Atom | Not | When
 
 
 def _effect_from_list(data: list) -> Effect:
@@ -114,7 +114,7 @@ class Action:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Action":
+    def from_dict(cls, data: dict) -> Action:
         return cls(
             name=data["name"],
             parameters=tuple((n, t) for n, t in data["parameters"]),
@@ -141,18 +141,18 @@ class Domain:
     constants: tuple[tuple[str, str], ...] = ()
 
     # --- authoring ---
-    def with_type(self, name: str, parent: str | None = None) -> "Domain":
+    def with_type(self, name: str, parent: str | None = None) -> Domain:
         return replace(self, types=_put(self.types, (name, parent), key=lambda t: t[0]))
 
-    def with_predicate(self, predicate: Predicate) -> "Domain":
+    def with_predicate(self, predicate: Predicate) -> Domain:
         self._check_types(p for _, p in predicate.parameters)
         return replace(self, predicates=_put(self.predicates, predicate, key=lambda p: p.name))
 
-    def with_constant(self, name: str, type_: str) -> "Domain":
+    def with_constant(self, name: str, type_: str) -> Domain:
         self._check_types([type_])
         return replace(self, constants=_put(self.constants, (name, type_), key=lambda c: c[0]))
 
-    def with_action(self, action: Action) -> "Domain":
+    def with_action(self, action: Action) -> Domain:
         self._check_types(t for _, t in action.parameters)
         known = {p.name: len(p.parameters) for p in self.predicates}
         conditions = [action.precondition, *(e.condition for e in action.effects if isinstance(e, When))]
@@ -162,7 +162,7 @@ class Domain:
                                  f"({', '.join(sorted(known)) or 'none declared'}); add it with with_predicate")
         return replace(self, actions=_put(self.actions, action, key=lambda a: a.name))
 
-    def without_action(self, name: str) -> "Domain":
+    def without_action(self, name: str) -> Domain:
         return replace(self, actions=tuple(a for a in self.actions if a.name != name))
 
     # --- queries ---
@@ -227,11 +227,12 @@ class Domain:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Domain":
+    def from_dict(cls, data: dict) -> Domain:
         return cls(
             name=data["name"],
             types=tuple((n, p) for n, p in data["types"]),
-            predicates=tuple(Predicate(p["name"], tuple((n, t) for n, t in p["parameters"])) for p in data["predicates"]),
+            predicates=tuple(Predicate(p["name"], tuple((n, t) for n, t in p["parameters"]))
+                             for p in data["predicates"]),
             actions=tuple(Action.from_dict(a) for a in data["actions"]),
             constants=tuple((n, t) for n, t in data.get("constants", ())),
         )
@@ -255,28 +256,28 @@ class Problem:
     constraints: tuple[Constraint, ...] = ()
 
     # --- authoring ---
-    def with_objects(self, type_: str, *names: str) -> "Problem":
+    def with_objects(self, type_: str, *names: str) -> Problem:
         self.domain._check_types([type_])
         objects = self.objects
         for name in names:
             objects = _put(objects, (name, type_), key=lambda o: o[0])
         return replace(self, objects=objects)
 
-    def with_init(self, *atoms: Atom) -> "Problem":
+    def with_init(self, *atoms: Atom) -> Problem:
         return replace(self, init=self.init | frozenset(self._checked(a) for a in atoms))
 
-    def without_init(self, *atoms: Atom) -> "Problem":
+    def without_init(self, *atoms: Atom) -> Problem:
         return replace(self, init=self.init - frozenset(atoms))
 
-    def with_goal(self, goal: Formula) -> "Problem":
+    def with_goal(self, goal: Formula) -> Problem:
         self._checked(goal)
         return replace(self, goal=goal)
 
-    def with_constraint(self, constraint: Constraint) -> "Problem":
+    def with_constraint(self, constraint: Constraint) -> Problem:
         self._checked(constraint)
         return replace(self, constraints=(*self.constraints, constraint))
 
-    def without_constraints(self) -> "Problem":
+    def without_constraints(self) -> Problem:
         """The same problem with no trajectory constraints: the planner chooses the order."""
         return replace(self, constraints=())
 
@@ -316,7 +317,7 @@ class Problem:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Problem":
+    def from_dict(cls, data: dict) -> Problem:
         return cls(
             name=data["name"],
             domain=Domain.from_dict(data["domain"]),
@@ -375,7 +376,7 @@ def ground_effects(action: Action, args: tuple[str, ...], state: frozenset = fro
 
     Conditional effects are read in ``state``; universal ones range over ``universe``.
     """
-    binding = dict(zip((p for p, _ in action.parameters), args))
+    binding = dict(zip((p for p, _ in action.parameters), args, strict=False))
     added, deleted = set(), set()
     for effect in action.effects:
         if not isinstance(effect, When):

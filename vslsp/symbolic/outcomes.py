@@ -7,12 +7,12 @@ Paper: "Implementation" (planning with PDDL 3.0 constraints). Exit codes of the 
 
 from __future__ import annotations
 
-from enum import Enum
+from enum import StrEnum
 
 from vslsp.errors import VslspError
 
 
-class Compilation(str, Enum):
+class Compilation(StrEnum):
     """How a problem's trajectory constraints reached the planner."""
 
     NONE = "none"  # the problem has no trajectory constraints

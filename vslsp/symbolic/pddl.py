@@ -15,9 +15,10 @@ import re
 import signal
 import threading
 import warnings
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.symbolic.model import Domain, Problem

@@ -161,10 +161,10 @@ def sections_in_order(text: str, name: str) -> str:
             for k, _, _ in sections]
     if rank == sorted(rank):
         return text
-    ordered = [s for _, s in sorted(zip(rank, sections), key=lambda pair: pair[0])]
+    ordered = [s for _, s in sorted(zip(rank, sections, strict=False), key=lambda pair: pair[0])]
     body = "\n".join(text[start:close + 1] for _, start, close in ordered)
     first = sections[0][1]
-    moved = next(k for (k, _, _), r, sorted_r in zip(sections, rank, sorted(rank)) if r != sorted_r)
+    moved = next(k for (k, _, _), r, sorted_r in zip(sections, rank, sorted(rank), strict=False) if r != sorted_r)
     warn(f"{name}: the domain's sections were read in the order {', '.join(_SECTION_ORDER)} ({moved} moved); "
          "places in later messages refer to that order")
     return text[:first] + body + text[sections[-1][2] + 1:]
@@ -201,7 +201,7 @@ def types_declared_once(text: str) -> str:
     if not section:
         return text
     words = section.group(1).lower().split()
-    first_parent_use = {}
+    first_parent_use: dict[str, int] = {}
     for index, word in enumerate(words[:-1]):
         if word == "-":
             first_parent_use.setdefault(words[index + 1], index + 1)

@@ -21,8 +21,8 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from vslsp.errors import InputError, TaskFailed, VslspError
-from vslsp.symbolic import fast_downward
 from vslsp.symbolic.fast_downward import Outcome
+from vslsp.symbolic.fast_downward import run as run_fast_downward
 from vslsp.symbolic.formula import expand_quantifiers
 from vslsp.symbolic.lifted import compile_lifted, objects_named
 from vslsp.symbolic.model import Domain, Problem
@@ -70,7 +70,7 @@ class PlanResult:
                 "compilation": self.compilation.value}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "PlanResult":
+    def from_dict(cls, data: dict) -> PlanResult:
         steps = tuple((line.split()[0], tuple(line.split()[1:])) for line in data["plan"])
         return cls(steps, data["planner"], float(data["time_s"]), Compilation(data.get("compilation", "none")))
 
@@ -127,7 +127,8 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
         raise
     except Exception as error:  # a failure inside unified-planning or the planner: not "no plan"
         stage = getattr(error, "vslsp_stage", "planning")
-        raise InternalError(f"{stage} failed inside ({type(error).__name__}: {str(error).splitlines()[0] if str(error) else ''}); "
+        first = str(error).splitlines()[0] if str(error) else ""
+        raise InternalError(f"{stage} failed inside ({type(error).__name__}: {first}); "
                             "run with --debug for the traceback") from error
 
 
@@ -146,7 +147,7 @@ def _solve_directly(domain: Domain, problem: Problem, planner: str,
     compiled = time.perf_counter()
     domain_text, problem_text = planner_texts(compiled_domain, compiled_problem)
     built = time.perf_counter()
-    run = fast_downward.run(domain_text, problem_text, DIRECT[planner], timeout)
+    run = run_fast_downward(domain_text, problem_text, DIRECT[planner], timeout)
     solved = time.perf_counter()
     if run.outcome is not Outcome.SOLVED:
         reasons = {
@@ -223,13 +224,15 @@ def _solve_up(domain: Domain, problem: Problem, planner: str, compilation: Compi
         except UPException as error:
             raise TaskFailed(f"no plan: {planner} failed: {error}") from None
     solved = time.perf_counter()
-    if result.status not in (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY):
+    solved_statuses = (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY)
+    if result.status not in solved_statuses:
         raise TaskFailed(f"no plan: {_reason(result, timeout)}")
     steps = []
     for instance in result.plan.actions:
         for map_back in reversed(map_backs):
             instance = map_back(instance)
-        steps.append((instance.action.name.lower(), tuple(str(p.object().name).lower() for p in instance.actual_parameters)))
+        args = tuple(str(p.object().name).lower() for p in instance.actual_parameters)
+        steps.append((instance.action.name.lower(), args))
     times = PlanningTimes(built - start, compiled_at - built, solved - compiled_at)
     return PlanResult(tuple(steps), planner, solved - start, used), times
 

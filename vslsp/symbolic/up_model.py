@@ -114,7 +114,7 @@ def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False) 
         if isinstance(formula, Imply):
             return em.Implies(node(formula.condition, scope), node(formula.consequence, scope))
         variables = [Variable(v.lstrip("?"), user_type(t), env) for v, t in formula.variables]
-        inner = {**scope, **{v: em.VariableExp(var) for (v, _), var in zip(formula.variables, variables)}}
+        inner = {**scope, **{v: em.VariableExp(var) for (v, _), var in zip(formula.variables, variables, strict=False)}}
         body = node(formula.body, inner)
         return em.Forall(body, *variables) if isinstance(formula, Forall) else em.Exists(body, *variables)
 
@@ -130,7 +130,8 @@ def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False) 
                 up_action.add_effect(node(atom, scope), value)  # type: ignore[arg-type]
                 continue
             variables = [Variable(v.lstrip("?"), user_type(t), env) for v, t in effect.variables]
-            inner = {**scope, **{v: em.VariableExp(var) for (v, _), var in zip(effect.variables, variables)}}
+            bound = zip(effect.variables, variables, strict=True)
+            inner = {**scope, **{v: em.VariableExp(var) for (v, _), var in bound}}
             condition = node(effect.condition, inner)
             for literal_ in effect.effects:
                 atom, value = (literal_.arg, False) if isinstance(literal_, Not) else (literal_, True)

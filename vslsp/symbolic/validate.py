@@ -15,9 +15,9 @@ its PDDL 3.0 semantics:
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Sequence, Union
 
 from vslsp.errors import InputError
 from vslsp.symbolic.formula import (
@@ -35,7 +35,7 @@ from vslsp.symbolic.formula import (
 from vslsp.symbolic.model import Domain, Problem, ground_effects
 
 PlanStep = tuple[str, tuple[str, ...]]
-PlanLike = Iterable[Union[PlanStep, str]]
+PlanLike = Iterable[PlanStep | str]
 
 
 @dataclass(frozen=True)
@@ -49,7 +49,7 @@ class Validation:
         return {"valid": self.valid, "reason": self.reason}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Validation":
+    def from_dict(cls, data: dict) -> Validation:
         return cls(bool(data["valid"]), str(data["reason"]))
 
 
@@ -69,7 +69,7 @@ def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validati
         wrong = _wrong_arguments(domain, action.parameters, args, types)
         if wrong:
             return Validation(False, f"{label}: {wrong}")
-        precondition = substitute(action.precondition, dict(zip((p for p, _ in action.parameters), args)))
+        precondition = substitute(action.precondition, dict(zip((p for p, _ in action.parameters), args, strict=False)))
         if not holds(precondition, state, universe):
             return Validation(False, f"{label}: precondition {precondition.to_pddl()} does not hold")
         added, deleted = ground_effects(action, args, state, universe)
@@ -134,14 +134,15 @@ def _broken(constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequ
     q = truth(constraint.after)
     for i, p_i in enumerate(p):
         if p_i and not any(q[i:]):
-            return f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} never holds then or later"
+            return (f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} "
+                    "never holds then or later")
     return None
 
 
 def _wrong_arguments(domain: Domain, parameters, args: tuple[str, ...], types: dict[str, str]) -> str | None:
     if len(args) != len(parameters):
         return f"takes {len(parameters)} argument(s), {len(args)} given"
-    for (parameter, type_), arg in zip(parameters, args):
+    for (parameter, type_), arg in zip(parameters, args, strict=False):
         if arg not in types:
             return f"{arg!r} is not an object of the problem"
         if types[arg] not in domain.subtypes(type_):
