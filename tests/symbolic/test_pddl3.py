@@ -202,5 +202,5 @@ def test_a_file_over_the_size_budget_is_refused_up_front(tmp_path):
 
     big = tmp_path / "big.pddl"
     big.write_text(LIGHTS + ";" * (MAX_PDDL_BYTES + 1))
-    with pytest.raises(InputError, match=r"big.pddl: the PDDL file has 2.0 MB; vslsp reads at most 2 MB"):
+    with pytest.raises(InputError, match=r"big.pddl: the PDDL file has 1.0 MB; vslsp reads at most 1 MB"):
         read_pddl(big)

@@ -85,7 +85,7 @@ def run(domain_text: str, problem_text: str, options: list[str], timeout: float 
         process = subprocess.Popen(command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                    start_new_session=True)
         try:
-            log, _ = process.communicate(timeout=timeout + 10 if timeout else None)
+            log, _ = process.communicate(timeout=timeout)  # wall-clock (the driver limits CPU time)
         except subprocess.TimeoutExpired:
             os.killpg(process.pid, signal.SIGKILL)
             log, _ = process.communicate()

@@ -38,9 +38,9 @@ from vslsp.symbolic.pddl_errors import (
 from vslsp.symbolic.up_model import domain_from_up, environment, problem_from_up
 
 #: The largest PDDL file read (unified-planning's reader slows down more than linearly with size).
-MAX_PDDL_BYTES = 2_000_000
+MAX_PDDL_BYTES = 1_000_000
 #: The longest a domain + problem may take to parse (seconds; enforced in the main thread).
-PARSE_BUDGET_S = 120.0
+PARSE_BUDGET_S = 60.0
 
 
 def read_pddl(domain_path: str | Path, problem_path: str | Path | None = None) -> tuple[Domain, Problem | None]:
