@@ -86,3 +86,10 @@ def test_a_missing_parenthesis_is_placed_in_what_was_typed():
     assert "error: the '(' at column 1 of what you typed is never closed: a ')' is missing\n  (on a b\n  ^\n" in out
     out = run("type block\npredicate (far ?b - block)\nobjects a - block\ninit (far a))\n")
     assert "error: unexpected ')' at column 8 of what you typed:\n  (far a))\n         ^" in out
+
+
+def test_a_domain_with_constants_is_edited_in_the_shell():
+    folder = PDDL.parent / "tests" / "data" / "pddl3" / "ipc2006" / "tpp-preferences-qualitative"
+    out = run(f"load {folder / 'domain.pddl'} {folder / 'instance-1.pddl'}\n"
+              "goal (forall (?g - goods) (stored ?g level1))\n")
+    assert "(vslsp) goal (forall (?g - goods) (stored ?g level1))\n" in out, out

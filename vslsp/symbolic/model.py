@@ -206,7 +206,9 @@ class Domain:
 
     def to_pddl(self) -> str:
         """The domain file."""
-        types = " ".join(f"{name} - {parent}" if parent else name for name, parent in self.types)
+        roots = [name for name, parent in self.types if not parent]
+        types = " ".join([*([" ".join(roots) + " - object"] if roots else []),
+                          *(f"{name} - {parent}" for name, parent in self.types if parent)])
         lines = [f"(define (domain {self.name})", f"  (:requirements {' '.join(self.requirements())})"]
         if self.types:
             lines.append(f"  (:types {types})")

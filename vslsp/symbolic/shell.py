@@ -30,13 +30,11 @@ HISTORY = Path.home() / ".vslsp_history"
 def _domain_text(domain: Domain, extra_action: str = "", extra_predicate: str = "") -> str:
     """Scratch PDDL of ``domain`` (plus one more action or predicate) for the reader to check a
     fragment in context."""
-    types = " ".join(f"{n} - {p}" if p else n for n, p in domain.types)
-    predicates = " ".join(_predicate_text(p) for p in domain.predicates)
-    actions = "".join(f"(:action {a.name} :parameters ({_typed(a.parameters)}) "
-                      f":precondition {a.precondition.to_pddl()} "
-                      f":effect (and {' '.join(e.to_pddl() for e in a.effects)}))\n" for a in domain.actions)
-    return (f"(define (domain {domain.name}) (:requirements :strips :typing :negative-preconditions :constraints)\n"
-            f"(:types {types}) (:predicates {predicates} {extra_predicate})\n{actions}{extra_action})")
+    text = re.sub(r"\(:requirements[^)]*\)", "(:requirements :strips :typing :adl :constraints)", domain.to_pddl(),
+                  count=1)
+    if extra_predicate:
+        text = text.replace("(:predicates", f"(:predicates {extra_predicate}", 1)
+    return text.rstrip()[:-1] + f"\n{extra_action})\n"
 
 
 def _predicate_text(predicate) -> str:
