@@ -204,3 +204,15 @@ def test_a_file_over_the_size_budget_is_refused_up_front(tmp_path):
     big.write_text(LIGHTS + ";" * (MAX_PDDL_BYTES + 1))
     with pytest.raises(InputError, match=r"big.pddl: the PDDL file has 1.0 MB; vslsp reads at most 1 MB"):
         read_pddl(big)
+
+
+def test_undeclared_requirements_are_warned_and_counts_read_well(lights):
+    text = LIGHTS.replace(":negative-preconditions :equality ", "")
+    with pytest.warns(PddlWarning, match=r"the domain uses :negative-preconditions, :equality without declaring them"):
+        parse_pddl(text, ROOMS)
+    domain, problem = lights
+    verdict = validate(domain, problem.with_goal(Atom("on", ("hall",))).with_constraint(CONSTRAINTS["sometime"]),
+                       ["switch-on porch", "switch-on hall"])
+    assert verdict.reason == "the plan reaches the goal in 2 steps and keeps its constraint"
+    assert validate(domain, problem.with_goal(Atom("on", ("hall",))), ["switch-on hall"]).reason == \
+        "the plan reaches the goal in 1 step"

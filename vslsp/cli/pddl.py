@@ -36,8 +36,8 @@ def pddl_edge(as_json: bool, debug: bool, failure: dict[str, Any] | None = None)
                 collected.extend(str(w.message) for w in caught if issubclass(w.category, PddlWarning))
                 for message in collected:
                     click.echo(f"warning: {message}", err=True)
-    except (VslspError, Exception) as error:
-        if isinstance(error, click.exceptions.Exit) or isinstance(error, click.ClickException):
+    except Exception as error:
+        if isinstance(error, (click.exceptions.Exit, click.ClickException)):
             raise
         if not isinstance(error, VslspError):  # a bug or a failure we did not foresee: not the user's input
             wrapped = InternalError(f"internal error ({type(error).__name__}: {error}); run with --debug for the "
