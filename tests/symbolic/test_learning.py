@@ -2,8 +2,8 @@
 Action Models", Table 3, and the iCub experiments' rules r_i^j)."""
 
 import pytest
-
 from conftest import PDDL, demonstration, scene, step
+
 from vslsp.errors import InputError
 from vslsp.symbolic import (
     Atom,
@@ -84,7 +84,8 @@ def test_order_is_kept_only_where_demonstrations_agree():
     task = learn_task([demonstration(start, ("pull", "a"), ("pull", "b"), ("pull", "c")),
                        demonstration(start, ("pull", "b"), ("pull", "a"), ("pull", "c"))], ordered=True)
     # a/b disagree; both come before c.
-    assert {(str(c.formula.arg.args[0]), str(c.before.arg.args[0])) for c in task.constraints} == {("c", "a"), ("c", "b")}
+    pairs = {(str(c.formula.arg.args[0]), str(c.before.arg.args[0])) for c in task.constraints}
+    assert pairs == {("c", "a"), ("c", "b")}
 
 
 def test_ordered_false_lifts_a_single_demonstration(pull_in_order_demonstration):

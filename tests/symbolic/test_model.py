@@ -2,8 +2,8 @@
 models are the same objects."""
 
 import pytest
-
 from conftest import PDDL
+
 from vslsp.errors import InputError
 from vslsp.symbolic import (
     Action,
@@ -47,7 +47,7 @@ def test_edit_plan_and_validate_in_a_notebook():
     problem = problem.with_objects("block", "blue").with_init(far("blue")).without_init(far("red"))
     assert solve(domain, problem).lines() == ["pull blue"]
     assert not validate(domain, problem, ["pull red"]).valid
-    assert "(:objects\n   red green blue - block" in problem.to_pddl()
+    assert "(:objects red green blue - block)" in problem.to_pddl()
 
 
 def test_unknown_names_are_input_errors():

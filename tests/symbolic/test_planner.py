@@ -2,10 +2,10 @@
 compiled PDDL 3.0 constraints, dropped on request, unsolvable problems reported as no plan."""
 
 import pytest
-
 from conftest import PDDL
+
 from vslsp.errors import InputError, TaskFailed
-from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, read_pddl, solve, validate
+from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, check_planner, read_pddl, solve, validate
 
 DEMONSTRATED = ["pull orange", "pull green", "pull yellow"]
 
@@ -30,7 +30,7 @@ def test_order_reversed_in_the_problem_is_followed(pull_in_order, order):
         return Not(Atom("far", (c,)))
 
     reordered = problem.without_constraints()
-    for earlier, later in zip(order, order[1:]):
+    for earlier, later in zip(order, order[1:], strict=False):
         reordered = reordered.with_constraint(SometimeBefore(near(later), near(earlier)))
     assert solve(domain, reordered).lines() == [f"pull {c}" for c in order]
 
@@ -62,8 +62,11 @@ def test_unsolvable_problems_raise_no_plan(pull_in_order):
 
 
 def test_unknown_planner_is_an_input_error(pull_in_order):
-    with pytest.raises(InputError, match="unknown planner 'nope'; installed: fast-downward"):
+    with pytest.raises(InputError, match="unknown planner 'nope'; available: fast-downward, fast-downward-lama"):
         solve(*pull_in_order, planner="nope")
+    with pytest.raises(InputError, match="unknown planner 'nope'"):
+        check_planner("nope")
+    check_planner("fast-downward-lama")
 
 
 def test_plan_result_forms():

@@ -4,6 +4,7 @@ checked by the PDDL reader as they come, then planned, validated, saved and load
 import io
 
 from conftest import PDDL
+
 from vslsp.symbolic import read_pddl
 from vslsp.symbolic.shell import Shell
 
@@ -46,6 +47,12 @@ def test_a_scripted_session_builds_plans_and_validates(tmp_path):
     assert "invalid: constraint (sometime-before (not (far green)) (not (far orange))) is broken" in out
     assert "valid: the plan reaches the goal in 3 steps\n" in out  # once the order is dropped
     assert "error: unknown command 'fly'" in out
+    # each command says what it changed
+    for said in ("type block", "predicate (far ?b - block)", "action push added; actions: push",
+                 "true initially: (far orange) (far green) (far yellow)",
+                 "constraint (sometime-before (not (far green)) (not (far orange))); 1 constraint",
+                 "dropped 2 constraints"):
+        assert f"(vslsp) {said}\n" in out, said
     # What was saved is the shipped pull-in-order experiment.
     saved_domain, saved_problem = read_pddl(tmp_path / "domain.pddl", tmp_path / "problem.pddl")
     shipped_domain, shipped_problem = read_pddl(PDDL / "domain.pddl", PDDL / "pull-in-order.pddl")
@@ -56,7 +63,7 @@ def test_a_scripted_session_builds_plans_and_validates(tmp_path):
 
 def test_load_and_complete_names():
     out = run(f"load {PDDL / 'domain.pddl'} {PDDL / 'keep-all-near.pddl'}\nplan\n")
-    assert "loaded domain vsl-sp and problem keep-all-near" in out and "3 step(s)" in out
+    assert "loaded domain vsl-sp and problem keep-all-near" in out and "3 steps" in out
     shell = Shell(*read_pddl(PDDL / "domain.pddl", PDDL / "keep-all-near.pddl"))
     assert shell.completedefault("(f", "init (f", 5, 7) == ["far", "forall"]
     assert "pull" in shell.completedefault("pu", "validate (pu", 10, 12)
@@ -72,3 +79,17 @@ def test_vslsp_shell_is_the_pddl_shell_at_the_top_level(tmp_path):
                           timeout=120)
     assert done.returncode == 0, done.stderr
     assert "pull orange" in done.stdout and done.stdout.index("pull orange") < done.stdout.index("pull yellow")
+
+
+def test_a_missing_parenthesis_is_placed_in_what_was_typed():
+    out = run("type block\npredicate (on ?a - block ?b - block)\nobjects a b - block\ngoal (on a b\n")
+    assert "error: the '(' at column 1 of what you typed is never closed: a ')' is missing\n  (on a b\n  ^\n" in out
+    out = run("type block\npredicate (far ?b - block)\nobjects a - block\ninit (far a))\n")
+    assert "error: unexpected ')' at column 8 of what you typed:\n  (far a))\n         ^" in out
+
+
+def test_a_domain_with_constants_is_edited_in_the_shell():
+    folder = PDDL.parent / "tests" / "data" / "pddl3" / "ipc2006" / "tpp-preferences-qualitative"
+    out = run(f"load {folder / 'domain.pddl'} {folder / 'instance-1.pddl'}\n"
+              "goal (forall (?g - goods) (stored ?g level1))\n")
+    assert "(vslsp) goal (forall (?g - goods) (stored ?g level1))\n" in out, out

@@ -2,8 +2,8 @@
 trajectory constraint with its semantics."""
 
 import pytest
-
 from conftest import PDDL
+
 from vslsp.errors import InputError
 from vslsp.symbolic import (
     Always,

@@ -4,7 +4,7 @@ Paper: "Generalization of Learned Skills as Symbolic Action Models" and "Impleme
 one predicate, ``(far ?b)``, describes push and pull; goals such as "no block is far" and the
 demonstrated order, which PDDL 3.0 writes as trajectory constraints. The operator the paper
 calls "somewhere-after" is PDDL 3.0's ``(sometime-before p q)``: p may only hold after q has
-held (the PDDL 3.0 semantics of ``sometime-before``).
+held.
 
 Formulas are small frozen values. Terms are strings: ``"?b"`` is a variable, anything else an
 object. A state is a ``frozenset`` of ground :class:`Atom`. Every formula prints as PDDL
@@ -13,8 +13,9 @@ object. A state is a ``frozenset`` of ground :class:`Atom`. Every formula prints
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from typing import Callable, ClassVar, Iterable, Mapping, Union
+from typing import ClassVar
 
 from vslsp.errors import InputError
 
@@ -26,13 +27,13 @@ Universe = Mapping[str, tuple[str, ...]]
 class _Connectives:
     """``~f``, ``f & g`` and ``f | g`` build formulas, for authoring in a notebook."""
 
-    def __invert__(self) -> "Not":
+    def __invert__(self) -> Not:
         return Not(self)  # type: ignore[arg-type]
 
-    def __and__(self, other: "Formula") -> "And":
+    def __and__(self, other: Formula) -> And:
         return And((self, other))  # type: ignore[arg-type]
 
-    def __or__(self, other: "Formula") -> "Or":
+    def __or__(self, other: Formula) -> Or:
         return Or((self, other))  # type: ignore[arg-type]
 
 
@@ -49,7 +50,7 @@ class Atom(_Connectives):
 
 @dataclass(frozen=True)
 class Not(_Connectives):
-    arg: "Formula"
+    arg: Formula
 
     def to_pddl(self) -> str:
         return f"(not {self.arg.to_pddl()})"
@@ -57,7 +58,7 @@ class Not(_Connectives):
 
 @dataclass(frozen=True)
 class And(_Connectives):
-    args: tuple["Formula", ...]
+    args: tuple[Formula, ...]
 
     def to_pddl(self) -> str:
         return "(and " + " ".join(a.to_pddl() for a in self.args) + ")" if self.args else "(and)"
@@ -65,7 +66,7 @@ class And(_Connectives):
 
 @dataclass(frozen=True)
 class Or(_Connectives):
-    args: tuple["Formula", ...]
+    args: tuple[Formula, ...]
 
     def to_pddl(self) -> str:
         return "(or " + " ".join(a.to_pddl() for a in self.args) + ")"
@@ -73,8 +74,8 @@ class Or(_Connectives):
 
 @dataclass(frozen=True)
 class Imply(_Connectives):
-    condition: "Formula"
-    consequence: "Formula"
+    condition: Formula
+    consequence: Formula
 
     def to_pddl(self) -> str:
         return f"(imply {self.condition.to_pddl()} {self.consequence.to_pddl()})"
@@ -85,7 +86,7 @@ class Forall(_Connectives):
     """``(forall (?b - block) body)``; ``variables`` are ``(("?b", "block"), ...)``."""
 
     variables: tuple[tuple[str, str], ...]
-    body: "Formula"
+    body: Formula
 
     def to_pddl(self) -> str:
         return f"(forall ({_typed(self.variables)}) {self.body.to_pddl()})"
@@ -94,13 +95,24 @@ class Forall(_Connectives):
 @dataclass(frozen=True)
 class Exists(_Connectives):
     variables: tuple[tuple[str, str], ...]
-    body: "Formula"
+    body: Formula
 
     def to_pddl(self) -> str:
         return f"(exists ({_typed(self.variables)}) {self.body.to_pddl()})"
 
 
-Formula = Union[Atom, Not, And, Or, Imply, Forall, Exists]
+@dataclass(frozen=True)
+class Equals(_Connectives):
+    """``(= ?a ?b)``: two terms name the same object (PDDL's ``:equality``)."""
+
+    left: str
+    right: str
+
+    def to_pddl(self) -> str:
+        return f"(= {self.left} {self.right})"
+
+
+Formula = Atom | Not | And | Or | Imply | Forall | Exists | Equals
 
 
 # --- PDDL 3.0 trajectory constraints -------------------------------------------------------
@@ -164,7 +176,7 @@ class SometimeAfter(_Trajectory):
     keyword: ClassVar[str] = "sometime-after"
 
 
-Constraint = Union[Always, Sometime, AtMostOnce, AtEnd, SometimeBefore, SometimeAfter]
+Constraint = Always | Sometime | AtMostOnce | AtEnd | SometimeBefore | SometimeAfter
 CONSTRAINT_KEYWORDS = ("always", "sometime", "at-most-once", "sometime-before", "sometime-after", "at end")
 
 
@@ -175,7 +187,7 @@ def sometime_before(later: Formula, earlier: Formula) -> SometimeBefore:
 
 def forall(variables: tuple[str, str] | Iterable[tuple[str, str]], body: Formula) -> Forall:
     """``forall(("?b", "block"), ~far("?b"))`` or with several ``(variable, type)`` pairs."""
-    variables = tuple(variables)
+    variables = tuple(variables)  # type: ignore[arg-type]
     if variables and isinstance(variables[0], str):
         variables = (variables,)  # type: ignore[assignment]
     return Forall(tuple(tuple(v) for v in variables), body)  # type: ignore[misc]
@@ -190,7 +202,7 @@ def conjunction(formulas: Iterable[Formula]) -> Formula:
     return unique[0] if len(unique) == 1 else And(unique)
 
 
-def literal(predicate: str, args: tuple[str, ...], value: bool) -> Formula:
+def literal(predicate: str, args: tuple[str, ...], value: bool) -> Atom | Not:
     """``(predicate args)`` when ``value`` else ``(not (predicate args))``."""
     atom = Atom(predicate, tuple(args))
     return atom if value else Not(atom)
@@ -206,6 +218,8 @@ def substitute(formula: Formula, binding: Mapping[str, str]) -> Formula:
     """Replace variables by objects: ``substitute(far("?b"), {"?b": "red"}) == far("red")``."""
     if isinstance(formula, Atom):
         return Atom(formula.predicate, tuple(binding.get(a, a) for a in formula.args))
+    if isinstance(formula, Equals):
+        return Equals(binding.get(formula.left, formula.left), binding.get(formula.right, formula.right))
     if isinstance(formula, (Forall, Exists)):
         inner = {k: v for k, v in binding.items() if k not in dict(formula.variables)}
         return type(formula)(formula.variables, substitute(formula.body, inner))
@@ -229,6 +243,8 @@ def holds(formula: Formula, state: State, universe: Universe) -> bool:
     """
     if isinstance(formula, Atom):
         return formula in state
+    if isinstance(formula, Equals):
+        return formula.left == formula.right
     if isinstance(formula, Not):
         return not holds(formula.arg, state, universe)
     if isinstance(formula, And):
@@ -238,7 +254,8 @@ def holds(formula: Formula, state: State, universe: Universe) -> bool:
     if isinstance(formula, Imply):
         return not holds(formula.condition, state, universe) or holds(formula.consequence, state, universe)
     test: Callable = all if isinstance(formula, Forall) else any
-    return test(holds(substitute(formula.body, binding), state, universe) for binding in _bindings(formula.variables, universe))
+    return test(holds(substitute(formula.body, binding), state, universe)
+                for binding in bindings(formula.variables, universe))
 
 
 def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
@@ -247,21 +264,22 @@ def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
     Planners get a plain goal this way: Fast Downward turns a quantified goal into one derived
     atom, which leaves its heuristics blind on long plans.
     """
-    if isinstance(formula, Atom):
+    if isinstance(formula, (Atom, Equals)):
         return formula
     if isinstance(formula, (Forall, Exists)):
-        parts = tuple(expand_quantifiers(substitute(formula.body, b), universe) for b in _bindings(formula.variables, universe))
+        parts = tuple(expand_quantifiers(substitute(formula.body, b), universe)
+                      for b in bindings(formula.variables, universe))
         return And(parts) if isinstance(formula, Forall) else Or(parts)
     return _map_connective(formula, lambda part: expand_quantifiers(part, universe))
 
 
-def _bindings(variables: tuple[tuple[str, str], ...], universe: Universe) -> Iterable[dict[str, str]]:
+def bindings(variables: tuple[tuple[str, str], ...], universe: Universe) -> Iterable[dict[str, str]]:
     if not variables:
         yield {}
         return
     (name, type_), rest = variables[0], variables[1:]
     for obj in universe.get(type_, ()):
-        for binding in _bindings(rest, universe):
+        for binding in bindings(rest, universe):
             yield {name: obj, **binding}
 
 
@@ -269,6 +287,8 @@ def atoms_of(formula: Formula | Constraint) -> Iterable[Atom]:
     """Every atom written in a formula or constraint (variables left as they are)."""
     if isinstance(formula, Atom):
         yield formula
+    elif isinstance(formula, Equals):
+        return
     elif isinstance(formula, Not):
         yield from atoms_of(formula.arg)
     elif isinstance(formula, (And, Or)):
@@ -299,6 +319,8 @@ def formula_to_list(formula: Formula | Constraint) -> list:
     """``(forall (?b - block) (not (far ?b)))`` -> ``["forall", [["?b", "block"]], ["not", ["far", "?b"]]]``."""
     if isinstance(formula, Atom):
         return [formula.predicate, *formula.args]
+    if isinstance(formula, Equals):
+        return ["=", formula.left, formula.right]
     if isinstance(formula, Not):
         return ["not", formula_to_list(formula.arg)]
     if isinstance(formula, (And, Or)):
@@ -327,6 +349,8 @@ def formula_from_list(data: list) -> Formula | Constraint:
     if head in ("forall", "exists"):
         variables = tuple((str(n), str(t)) for n, t in rest[0])
         return (Forall if head == "forall" else Exists)(variables, formula_from_list(rest[1]))  # type: ignore[arg-type]
+    if head == "=" and len(rest) == 2 and all(isinstance(a, str) for a in rest):
+        return Equals(rest[0], rest[1])
     if head in _CONSTRAINTS:
         return _CONSTRAINTS[head](*(formula_from_list(a) for a in rest))  # type: ignore[arg-type]
     if not all(isinstance(a, str) for a in rest):

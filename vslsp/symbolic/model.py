@@ -12,13 +12,16 @@ method returns an edited copy, so a notebook can build a domain step by step::
                .with_init(far("red")).with_goal(forall(("?b", "block"), ~far("?b"))))
     print(problem.to_pddl())
 
-Writing and reading PDDL goes through unified-planning (``vslsp.symbolic.pddl``).
+A model prints itself as PDDL (``to_pddl``, as every formula does); reading files is
+:mod:`vslsp.symbolic.pddl`, which imports this module and never the other way round.
+Actions have literal effects and conditional ones (:class:`When`, optionally universal),
+preconditions may use equality (:class:`~vslsp.symbolic.formula.Equals`) and domain constants.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
-from typing import Iterable
 
 from vslsp.errors import InputError
 from vslsp.symbolic.formula import (
@@ -29,8 +32,11 @@ from vslsp.symbolic.formula import (
     Not,
     Universe,
     atoms_of,
+    bindings,
     formula_from_list,
     formula_to_list,
+    holds,
+    substitute,
 )
 
 
@@ -48,62 +54,115 @@ class Predicate:
 
 
 @dataclass(frozen=True)
-class Action:
-    """A lifted action schema: typed parameters, a precondition and literal effects.
+class When:
+    """A conditional effect ``(when condition (and literal ...))``, universal over ``variables`` if any:
+    ``(forall (?x - t) (when condition ...))``. The condition is read in the state before the action."""
 
-    ``effects`` are atoms (made true) and ``Not(atom)`` (made false), over the parameters.
+    condition: Formula
+    effects: tuple[Formula, ...]  # Atom or Not(Atom)
+    variables: tuple[tuple[str, str], ...] = ()
+
+    def to_pddl(self) -> str:
+        literals = " ".join(e.to_pddl() for e in self.effects)
+        body = literals if len(self.effects) == 1 else f"(and {literals})"
+        if self.condition != And(()):
+            body = f"(when {self.condition.to_pddl()} {body})"
+        if self.variables:
+            body = f"(forall ({_typed(self.variables)}) {body})"
+        return body
+
+    def to_list(self) -> list:
+        return ["when", [list(v) for v in self.variables], formula_to_list(self.condition),
+                [formula_to_list(e) for e in self.effects]]
+
+
+Effect = Atom | Not | When
+
+
+def _effect_from_list(data: list) -> Effect:
+    if data and data[0] == "when":
+        return When(formula_from_list(data[2]), tuple(formula_from_list(e) for e in data[3]),  # type: ignore[arg-type, misc]
+                    tuple((str(n), str(t)) for n, t in data[1]))
+    return formula_from_list(data)  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class Action:
+    """A lifted action schema: typed parameters, a precondition and effects.
+
+    ``effects`` are atoms (made true), ``Not(atom)`` (made false) and :class:`When` (conditional).
     """
 
     name: str
     parameters: tuple[tuple[str, str], ...]
     precondition: Formula = And(())
-    effects: tuple[Formula, ...] = ()
+    effects: tuple[Effect, ...] = ()
+
+    def to_pddl(self) -> str:
+        lines = [f"  (:action {self.name}", f"    :parameters ({_typed(self.parameters)})"]
+        if self.precondition != And(()):
+            lines.append(f"    :precondition {self.precondition.to_pddl()}")
+        lines.append(f"    :effect (and {' '.join(e.to_pddl() for e in self.effects)})".replace("(and )", "(and)"))
+        return "\n".join(lines) + ")"
 
     def to_dict(self) -> dict:
         return {
             "name": self.name,
             "parameters": [list(p) for p in self.parameters],
             "precondition": formula_to_list(self.precondition),
-            "effects": [formula_to_list(e) for e in self.effects],
+            "effects": [e.to_list() if isinstance(e, When) else formula_to_list(e) for e in self.effects],
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Action":
+    def from_dict(cls, data: dict) -> Action:
         return cls(
             name=data["name"],
             parameters=tuple((n, t) for n, t in data["parameters"]),
             precondition=formula_from_list(data["precondition"]),  # type: ignore[arg-type]
-            effects=tuple(formula_from_list(e) for e in data["effects"]),  # type: ignore[misc]
+            effects=tuple(_effect_from_list(e) for e in data["effects"]),
         )
+
+    def effect_atoms(self) -> Iterable[Atom]:
+        """The atoms the effects write (lifted)."""
+        for effect in self.effects:
+            for literal_ in (effect.effects if isinstance(effect, When) else (effect,)):
+                yield literal_.arg if isinstance(literal_, Not) else literal_  # type: ignore[misc]
 
 
 @dataclass(frozen=True)
 class Domain:
-    """Types (``{name: parent or None}`` as pairs), predicates and action schemas."""
+    """Types (``{name: parent or None}`` as pairs), predicates, action schemas and constants
+    (objects every problem of the domain has, ``((name, type), ...)``)."""
 
     name: str
     types: tuple[tuple[str, str | None], ...] = ()
     predicates: tuple[Predicate, ...] = ()
     actions: tuple[Action, ...] = ()
+    constants: tuple[tuple[str, str], ...] = ()
 
     # --- authoring ---
-    def with_type(self, name: str, parent: str | None = None) -> "Domain":
+    def with_type(self, name: str, parent: str | None = None) -> Domain:
         return replace(self, types=_put(self.types, (name, parent), key=lambda t: t[0]))
 
-    def with_predicate(self, predicate: Predicate) -> "Domain":
+    def with_predicate(self, predicate: Predicate) -> Domain:
         self._check_types(p for _, p in predicate.parameters)
         return replace(self, predicates=_put(self.predicates, predicate, key=lambda p: p.name))
 
-    def with_action(self, action: Action) -> "Domain":
+    def with_constant(self, name: str, type_: str) -> Domain:
+        self._check_types([type_])
+        return replace(self, constants=_put(self.constants, (name, type_), key=lambda c: c[0]))
+
+    def with_action(self, action: Action) -> Domain:
         self._check_types(t for _, t in action.parameters)
         known = {p.name: len(p.parameters) for p in self.predicates}
-        for atom in (*atoms_of(action.precondition), *(a for e in action.effects for a in atoms_of(e))):
+        conditions = [action.precondition, *(e.condition for e in action.effects if isinstance(e, When))]
+        for atom in (*(a for c in conditions for a in atoms_of(c)), *action.effect_atoms()):
             if known.get(atom.predicate) != len(atom.args):
                 raise InputError(f"action {action.name}: {atom.to_pddl()} does not match a declared predicate "
                                  f"({', '.join(sorted(known)) or 'none declared'}); add it with with_predicate")
         return replace(self, actions=_put(self.actions, action, key=lambda a: a.name))
 
-    def without_action(self, name: str) -> "Domain":
+    def without_action(self, name: str) -> Domain:
         return replace(self, actions=tuple(a for a in self.actions if a.name != name))
 
     # --- queries ---
@@ -130,11 +189,35 @@ class Domain:
                 return found
             found |= more
 
-    def to_pddl(self) -> str:
-        """The domain file (written by unified-planning's PDDLWriter)."""
-        from vslsp.symbolic.pddl import write_domain
+    def requirements(self) -> tuple[str, ...]:
+        """The PDDL requirements the domain needs (``:constraints`` always: problems may order it)."""
+        needed = [":strips", ":typing"]
+        conditions = [a.precondition for a in self.actions] + [
+            e.condition for a in self.actions for e in a.effects if isinstance(e, When)]
+        text = " ".join(c.to_pddl() for c in conditions)
+        for word, requirement in (("(not ", ":negative-preconditions"), ("(or ", ":disjunctive-preconditions"),
+                                  ("(imply ", ":disjunctive-preconditions"), ("(= ", ":equality"),
+                                  ("(exists ", ":existential-preconditions"), ("(forall ", ":universal-preconditions")):
+            if word in text and requirement not in needed:
+                needed.append(requirement)
+        if any(isinstance(e, When) for a in self.actions for e in a.effects):
+            needed.append(":conditional-effects")
+        return (*needed, ":constraints")
 
-        return write_domain(self)
+    def to_pddl(self) -> str:
+        """The domain file."""
+        roots = [name for name, parent in self.types if not parent]
+        types = " ".join([*([" ".join(roots) + " - object"] if roots else []),
+                          *(f"{name} - {parent}" for name, parent in self.types if parent)])
+        lines = [f"(define (domain {self.name})", f"  (:requirements {' '.join(self.requirements())})"]
+        if self.types:
+            lines.append(f"  (:types {types})")
+        if self.constants:
+            lines.append(f"  (:constants {_typed(self.constants, bare=True)})")
+        lines.append("  (:predicates")
+        lines.extend(f"    ({p.name}{' ' if p.parameters else ''}{_typed(p.parameters)})" for p in self.predicates)
+        lines[-1] += ")"
+        return "\n".join(lines) + "\n" + "".join(f"\n{a.to_pddl()}\n" for a in self.actions) + ")\n"
 
     def to_dict(self) -> dict:
         return {
@@ -142,15 +225,18 @@ class Domain:
             "types": [list(t) for t in self.types],
             "predicates": [{"name": p.name, "parameters": [list(q) for q in p.parameters]} for p in self.predicates],
             "actions": [a.to_dict() for a in self.actions],
+            "constants": [list(c) for c in self.constants],
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Domain":
+    def from_dict(cls, data: dict) -> Domain:
         return cls(
             name=data["name"],
             types=tuple((n, p) for n, p in data["types"]),
-            predicates=tuple(Predicate(p["name"], tuple((n, t) for n, t in p["parameters"])) for p in data["predicates"]),
+            predicates=tuple(Predicate(p["name"], tuple((n, t) for n, t in p["parameters"]))
+                             for p in data["predicates"]),
             actions=tuple(Action.from_dict(a) for a in data["actions"]),
+            constants=tuple((n, t) for n, t in data.get("constants", ())),
         )
 
     def _check_types(self, types: Iterable[str]) -> None:
@@ -172,43 +258,55 @@ class Problem:
     constraints: tuple[Constraint, ...] = ()
 
     # --- authoring ---
-    def with_objects(self, type_: str, *names: str) -> "Problem":
+    def with_objects(self, type_: str, *names: str) -> Problem:
         self.domain._check_types([type_])
         objects = self.objects
         for name in names:
             objects = _put(objects, (name, type_), key=lambda o: o[0])
         return replace(self, objects=objects)
 
-    def with_init(self, *atoms: Atom) -> "Problem":
+    def with_init(self, *atoms: Atom) -> Problem:
         return replace(self, init=self.init | frozenset(self._checked(a) for a in atoms))
 
-    def without_init(self, *atoms: Atom) -> "Problem":
+    def without_init(self, *atoms: Atom) -> Problem:
         return replace(self, init=self.init - frozenset(atoms))
 
-    def with_goal(self, goal: Formula) -> "Problem":
+    def with_goal(self, goal: Formula) -> Problem:
         self._checked(goal)
         return replace(self, goal=goal)
 
-    def with_constraint(self, constraint: Constraint) -> "Problem":
+    def with_constraint(self, constraint: Constraint) -> Problem:
         self._checked(constraint)
         return replace(self, constraints=(*self.constraints, constraint))
 
-    def without_constraints(self) -> "Problem":
+    def without_constraints(self) -> Problem:
         """The same problem with no trajectory constraints: the planner chooses the order."""
         return replace(self, constraints=())
 
     # --- queries ---
+    def all_objects(self) -> tuple[tuple[str, str], ...]:
+        """The domain's constants and the problem's objects, ``((name, type), ...)``."""
+        return (*self.domain.constants, *(o for o in self.objects if o not in self.domain.constants))
+
     def universe(self) -> Universe:
-        """The objects of each type, subtypes included."""
+        """The objects of each type (constants and subtypes included)."""
         types = {name for name, _ in self.domain.types} | {"object"}
-        return {t: tuple(o for o, ot in self.objects if ot in self.domain.subtypes(t) or t == "object")
-                for t in types}
+        below = {t: self.domain.subtypes(t) for t in types}
+        everything = self.all_objects()
+        return {t: tuple(o for o, ot in everything if t == "object" or ot in below[t]) for t in types}
 
     def to_pddl(self) -> str:
-        """The problem file with ``:constraints`` (written by unified-planning's PDDLWriter)."""
-        from vslsp.symbolic.pddl import write_problem
-
-        return write_problem(self)
+        """The problem file, each goal part and each trajectory constraint on a line of its own."""
+        lines = [f"(define (problem {self.name})", f"  (:domain {self.domain.name})"]
+        if self.objects:
+            lines.append(f"  (:objects {_typed(self.objects, bare=True)})")
+        lines.append("  (:init")
+        lines.extend(f"    {a.to_pddl()}" for a in sorted(self.init, key=lambda a: (a.predicate, a.args)))
+        lines[-1] += ")"
+        lines.extend(_section(":goal", [self.goal]))
+        if self.constraints:
+            lines.extend(_section(":constraints", [c.to_pddl() for c in self.constraints]))
+        return "\n".join(lines) + ")\n"
 
     def to_dict(self) -> dict:
         return {
@@ -221,7 +319,7 @@ class Problem:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Problem":
+    def from_dict(cls, data: dict) -> Problem:
         return cls(
             name=data["name"],
             domain=Domain.from_dict(data["domain"]),
@@ -234,7 +332,7 @@ class Problem:
     def _checked(self, formula):
         """Raise InputError when ``formula`` names an undeclared predicate or object."""
         arity = {p.name: len(p.parameters) for p in self.domain.predicates}
-        objects = {o for o, _ in self.objects}
+        objects = {o for o, _ in self.all_objects()}
         for atom in atoms_of(formula):
             if arity.get(atom.predicate) != len(atom.args):
                 raise InputError(f"{atom.to_pddl()} does not match a predicate of domain {self.domain.name} "
@@ -255,13 +353,42 @@ def _put(items: tuple, item, key) -> tuple:
     return (*items, item)
 
 
-def ground_effects(action: Action, args: tuple[str, ...]) -> tuple[frozenset, frozenset]:
-    """(atoms added, atoms deleted) by ``action`` applied to objects ``args``."""
-    from vslsp.symbolic.formula import substitute
+def _typed(parameters: tuple[tuple[str, str], ...], bare: bool = False) -> str:
+    """``?b - block ?c - block`` (``bare``: names without ``?`` such as objects, grouped by type)."""
+    if not bare:
+        return " ".join(f"{name} - {type_}" for name, type_ in parameters)
+    groups: dict[str, list[str]] = {}
+    for name, type_ in parameters:
+        groups.setdefault(type_, []).append(name)
+    return " ".join(f"{' '.join(names)} - {type_}" for type_, names in groups.items())
 
-    binding = dict(zip((p for p, _ in action.parameters), args))
+
+def _section(keyword: str, items: list) -> list[str]:
+    """``(:goal (and A B))`` laid out with A and B on lines of their own."""
+    parts = [p for item in items for p in (item.args if isinstance(item, And) else (item,))]
+    texts = [p if isinstance(p, str) else p.to_pddl() for p in parts]
+    if len(texts) == 1:
+        return [f"  ({keyword} {texts[0]})"]
+    return [f"  ({keyword} (and", *(f"    {t}" for t in texts), "  ))"]
+
+
+def ground_effects(action: Action, args: tuple[str, ...], state: frozenset = frozenset(),
+                   universe: Universe | None = None) -> tuple[frozenset, frozenset]:
+    """(atoms added, atoms deleted) by ``action`` applied to objects ``args`` in ``state``.
+
+    Conditional effects are read in ``state``; universal ones range over ``universe``.
+    """
+    binding = dict(zip((p for p, _ in action.parameters), args, strict=False))
     added, deleted = set(), set()
     for effect in action.effects:
-        ground = substitute(effect, binding)
-        (deleted.add(ground.arg) if isinstance(ground, Not) else added.add(ground))
-    return frozenset(added), frozenset(deleted)
+        if not isinstance(effect, When):
+            ground = substitute(effect, binding)
+            (deleted.add(ground.arg) if isinstance(ground, Not) else added.add(ground))
+            continue
+        for extra in bindings(effect.variables, universe or {}):
+            local = {**binding, **extra}
+            if holds(substitute(effect.condition, local), state, universe or {}):
+                for literal_ in effect.effects:
+                    ground = substitute(literal_, local)
+                    (deleted.add(ground.arg) if isinstance(ground, Not) else added.add(ground))
+    return frozenset(added), frozenset(deleted - added)

@@ -3,14 +3,25 @@
 unified-planning's reader reports problems in several shapes (pyparsing exceptions, Python
 ``SyntaxError`` with "line: L, col C" in the text, its own exceptions without a place). This
 module checks what a reader cannot explain well (unbalanced parentheses, the paper's
-non-PDDL ``somewhere-after``) before parsing, and rewrites the reader's errors after.
+non-PDDL ``somewhere-after``, unsupported constructs, type cycles) before parsing, rewrites
+what the reader cannot take (preferences, ``at end``) and the reader's errors after.
 """
 
 from __future__ import annotations
 
 import re
+import warnings
 
 from vslsp.errors import InputError
+
+
+class PddlWarning(UserWarning):
+    """Something in a PDDL file vslsp reads differently from the letter of PDDL, or ignores."""
+
+
+def warn(message: str) -> None:
+    """Issue a :class:`PddlWarning` (the CLI prints them as ``warning: ...``)."""
+    warnings.warn(message, PddlWarning, stacklevel=3)
 
 PDDL3_OPERATORS = ("always", "sometime", "within", "at-most-once", "sometime-after", "sometime-before",
                    "always-within", "hold-during", "hold-after", "at end")
@@ -39,14 +50,25 @@ def check_text(text: str, name: str) -> None:
         line, column = _position(text, match.start(1))
         raise InputError(f"{name}:{line}:{column}: {_NOT_PDDL[match.group(1).lower()]}. "
                          f"The PDDL 3.0 operators are: {', '.join(PDDL3_OPERATORS)}")
-    for match in re.finditer(r"\(\s*(at\s+end|within|always-within|hold-during|hold-after)\b", code, re.IGNORECASE):
+    for match in re.finditer(r"\(\s*(within|always-within|hold-during|hold-after)\b", code, re.IGNORECASE):
         if re.search(r"\(\s*problem\b", code, re.IGNORECASE):
             line, column = _position(text, match.start(1))
-            operator = " ".join(match.group(1).lower().split())
-            hint = "put the formula in the (:goal ...), which means the same" if operator == "at end" else \
-                "timed constraints need a temporal planner"
-            raise InputError(f"{name}:{line}:{column}: ({operator} ...) is not supported here ({hint}); vslsp plans "
-                             f"with always, sometime, at-most-once, sometime-before and sometime-after")
+            raise InputError(f"{name}:{line}:{column}: ({match.group(1).lower()} ...) is not supported (timed "
+                             "constraints need a temporal planner); vslsp plans with always, sometime, at-most-once, "
+                             "sometime-before, sometime-after and at end")
+    for match in re.finditer(r"\(\s*(either|:derived|:functions|:durative-action)\b", code, re.IGNORECASE):
+        word = match.group(1).lower()
+        if word == "either" and _in_section(code, match.start(), (":predicates",)):
+            continue  # a predicate's parameter: widened to the types' common ancestor (either_widened)
+        if word == ":functions" and re.match(r"\(\s*:functions\s*\(\s*total-cost\s*\)(\s*-\s*number)?\s*\)",
+                                             code[match.start():], re.IGNORECASE):
+            continue  # action costs: read, and ignored by the planners vslsp uses
+        line, column = _position(text, match.start(1))
+        what = {"either": "(either ...) types", ":derived": "derived predicates (:derived ...)",
+                ":functions": "numeric functions other than (total-cost)",
+                ":durative-action": "durative actions"}[word]
+        raise InputError(f"{name}:{line}:{column}: {what} are not supported; vslsp reads STRIPS with types, "
+                         "negation, equality, quantifiers, conditional effects, constants and PDDL 3.0 constraints")
     opened: list[int] = []
     for index, char in enumerate(code):
         if char == "(":
@@ -73,12 +95,212 @@ def check_text(text: str, name: str) -> None:
 
 
 def check_domain_name(problem_text: str, domain_name: str, name: str) -> None:
-    """Raise InputError when the problem's ``(:domain NAME)`` is not the domain read with it."""
+    """Warn when the problem's ``(:domain NAME)`` is not the domain read with it (VAL and Fast Downward accept it)."""
     match = re.search(r"\(\s*:domain\s+([^\s()]+)", _code(problem_text), re.IGNORECASE)
     if match and match.group(1).lower() != domain_name.lower():
         line, column = _position(problem_text, match.start(1))
-        raise InputError(f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
-                         f"defines {domain_name!r}; give the matching domain file or fix (:domain ...)")
+        warn(f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
+             f"defines {domain_name!r}; read with it all the same")
+
+
+def _in_section(code: str, index: int, sections: tuple[str, ...]) -> bool:
+    """Whether ``index`` lies inside a top-level ``(:section ...)`` of one of ``sections``."""
+    for match in re.finditer(r"\(\s*(:[\w-]+)", code):
+        if match.start() > index:
+            return False
+        if match.group(1).lower() in sections and _closing(code, match.start()) > index:
+            return True
+    return False
+
+
+def either_widened(text: str, name: str) -> str:
+    """``(either a b)`` as a predicate's parameter type replaced by the nearest common ancestor of a and b
+    (positions kept as far as the text allows): a predicate's typing only says which atoms are well
+    formed, and the atoms come from the files, so widening it changes no plan. Warns once."""
+    code = _code(text)
+    parents = {child: parent for child, (parent, _) in _type_parents(code).items()}
+
+    def ancestors(type_: str) -> list[str]:
+        chain = [type_]
+        while chain[-1] in parents and parents[chain[-1]] not in chain:
+            chain.append(parents[chain[-1]])
+        return [*chain, "object"]
+
+    found = list(re.finditer(r"\(\s*either\s+([^()]*)\)", code, re.IGNORECASE))
+    for match in reversed(found):
+        chains = [ancestors(t.lower()) for t in match.group(1).split()]
+        common = next((t for t in chains[0] if all(t in c for c in chains[1:])), "object")
+        text = text[:match.start()] + common.ljust(match.end() - match.start()) + text[match.end():]
+    if found:
+        line, column = _position(text, found[0].start())
+        warn(f"{name}:{line}:{column}: (either ...) in a predicate's parameters read as the types' common ancestor")
+    return text
+
+
+_SECTION_ORDER = (":requirements", ":types", ":constants", ":predicates", ":functions", ":constraints")
+
+
+def sections_in_order(text: str, name: str) -> str:
+    """The domain with ``:types``, ``:constants``, ``:predicates`` ... moved into the order unified-planning's
+    reader requires (PDDL does not; VAL and Fast Downward accept any). Warns when something moved."""
+    code = _code(text)
+    define = re.search(r"\(\s*define\b", code, re.IGNORECASE)
+    if not define:
+        return text
+    end = _closing(code, define.start())
+    sections, index = [], define.end()
+    while True:
+        start = code.find("(", index, end)
+        if start < 0:
+            break
+        close = _closing(code, start)
+        keyword = re.match(r"\(\s*([:\w-]+)", code[start:])
+        sections.append((keyword.group(1).lower() if keyword else "", start, close))
+        index = close + 1
+    rank = [-1 if not k.startswith(":") else _SECTION_ORDER.index(k) if k in _SECTION_ORDER else len(_SECTION_ORDER)
+            for k, _, _ in sections]
+    if rank == sorted(rank):
+        return text
+    ordered = [s for _, s in sorted(zip(rank, sections, strict=False), key=lambda pair: pair[0])]
+    body = "\n".join(text[start:close + 1] for _, start, close in ordered)
+    first = sections[0][1]
+    moved = next(k for (k, _, _), r, sorted_r in zip(sections, rank, sorted(rank), strict=False) if r != sorted_r)
+    warn(f"{name}: the domain's sections were read in the order {', '.join(_SECTION_ORDER)} ({moved} moved); "
+         "places in later messages refer to that order")
+    return text[:first] + body + text[sections[-1][2] + 1:]
+
+
+def _type_parents(code: str) -> dict[str, tuple[str, int]]:
+    """``{child: (parent, index of the child in code)}`` from the ``(:types ...)`` section."""
+    section = re.search(r"\(\s*:types\b([^()]*)\)", code, re.IGNORECASE)
+    parents: dict[str, tuple[str, int]] = {}
+    if not section:
+        return parents
+    pending: list[tuple[str, int]] = []
+    tokens = list(re.finditer(r"[^\s]+", section.group(1)))
+    index = 0
+    while index < len(tokens):
+        word = tokens[index].group(0).lower()
+        if word == "-" and index + 1 < len(tokens):
+            parent = tokens[index + 1].group(0).lower()
+            for child, at in pending:
+                parents[child] = (parent, at)
+            pending, index = [], index + 2
+            continue
+        pending.append((word, section.start(1) + tokens[index].start()))
+        index += 1
+    return parents
+
+
+def types_declared_once(text: str) -> str:
+    """The ``(:types ...)`` section rewritten one declaration per type when a type is declared after it
+    served as a parent (``a - area  area - surface``: PDDL allows it, unified-planning's reader does not)."""
+    code = _code(text)
+    section = re.search(r"\(\s*:types\b([^()]*)\)", code, re.IGNORECASE)
+    parents = _type_parents(code)
+    if not section:
+        return text
+    words = section.group(1).lower().split()
+    first_parent_use: dict[str, int] = {}
+    for index, word in enumerate(words[:-1]):
+        if word == "-":
+            first_parent_use.setdefault(words[index + 1], index + 1)
+    child_at = {w: i for i, w in enumerate(words) if w != "-" and (i == 0 or words[i - 1] != "-")}
+    if not any(child_at.get(p, -1) > at for p, at in first_parent_use.items()):
+        return text
+    names = [w for w in words if w not in ("-", "object")]
+    body = " ".join(f"{n} - {parents[n][0]}" if n in parents else n for n in dict.fromkeys(names))
+    return text[:section.start(1)] + " " + body + text[section.end(1):]
+
+
+def check_types(text: str, name: str) -> None:
+    """Raise InputError, with the place, when the ``(:types ...)`` of a domain form a cycle."""
+    parents = _type_parents(_code(text))
+    if not parents:
+        return
+    for start in parents:
+        seen, current = [start], start
+        while current in parents:
+            current = parents[current][0]
+            if current == start:
+                line, column = _position(text, parents[start][1])
+                raise InputError(f"{name}:{line}:{column}: the types form a cycle ({' - '.join([*seen, start])}); "
+                                 "a type cannot be its own ancestor")
+            if current in seen:
+                break
+            seen.append(current)
+
+
+def preferences_removed(text: str, name: str) -> str:
+    """``text`` with every ``(preference ...)`` replaced by ``(and)`` (and a ``:metric`` that weighs them
+    removed), positions kept; warns once. vslsp plans for the hard goal and constraints."""
+    code = _code(text)
+    found = [m.start() for m in re.finditer(r"\(\s*preference\b", code, re.IGNORECASE)]
+    if not found:
+        return text
+    spans = [(start, _closing(code, start)) for start in found]
+    metric = re.search(r"\(\s*:metric\b", code, re.IGNORECASE)
+    out = list(text)
+    section = re.search(r"\(\s*:constraints\b", code, re.IGNORECASE)
+    inside = (section.start(), _closing(code, section.start())) if section else (-1, -1)
+    for start, end in spans:
+        if out[start] != "(":  # inside a preference removed already
+            continue
+        blank = [c if c == "\n" else " " for c in text[start:end + 1]]
+        if not inside[0] < start < inside[1]:
+            blank[0:5] = list("(and)")  # a goal or precondition part: true
+        out[start:end + 1] = blank
+    if metric and "is-violated" in code[metric.start():_closing(code, metric.start())].lower():
+        end = _closing(code, metric.start())
+        out[metric.start():end + 1] = [c if c == "\n" else " " for c in text[metric.start():end + 1]]
+    if section:  # emptied (and ...) and (forall (...) ...) go, and the section if nothing is left
+        empty = re.compile(r"\(\s*(?:and|forall\s*\([^()]*\))\s*\)|\(\s*:constraints\s*\)", re.IGNORECASE)
+        while True:
+            joined = "".join(out)
+            match = empty.search(joined, inside[0], inside[1] + 1)
+            if not match:
+                break
+            out[match.start():match.end()] = [c if c == "\n" else " " for c in joined[match.start():match.end()]]
+    line, column = _position(text, found[0])
+    warn(f"{name}:{line}:{column}: {len(found)} preference{'s' if len(found) != 1 else ''} ignored: vslsp plans for "
+         "the hard goal and constraints only (soft goals and their :metric are left out)")
+    return "".join(out)
+
+
+def _closing(code: str, start: int) -> int:
+    """The index of the ``)`` closing the ``(`` at ``start``."""
+    depth = 0
+    for index in range(start, len(code)):
+        depth += {"(": 1, ")": -1}.get(code[index], 0)
+        if depth == 0:
+            return index
+    return len(code) - 1
+
+
+def at_end_as_sometime_after(text: str) -> str:
+    """``(at end φ)`` in ``:constraints`` written as ``(sometime-after (and) φ)``: the same meaning, which
+    unified-planning's reader takes (it has no ``at end``)."""
+    return re.sub(r"\(\s*at\s+end\b", "(sometime-after (and)", text, flags=re.IGNORECASE)
+
+
+def check_constraints_form(text: str, name: str) -> None:
+    """Warn when ``(:constraints c1 c2 ...)`` lists constraints without ``(and ...)``."""
+    code = _code(text)
+    match = re.search(r"\(\s*:constraints\b", code, re.IGNORECASE)
+    if not match:
+        return
+    body = code[match.end():_closing(code, match.start())]
+    depth, tops = 0, 0
+    for char in body:
+        if char == "(":
+            tops += depth == 0
+            depth += 1
+        elif char == ")":
+            depth -= 1
+    if tops > 1:
+        line, column = _position(text, match.start())
+        warn(f"{name}:{line}:{column}: (:constraints ...) lists {tops} constraints without (and ...); read as their "
+             "conjunction (VAL drops such constraints)")
 
 
 _ORDER = {

@@ -2,22 +2,33 @@
 
 Paper: "Implementation" and the iCub experiments (VSL-SP hands the learned domain and the
 problem, with its PDDL 3.0 ordering constraints, to an off-the-shelf planner). Fast Downward
-has no trajectory constraints, so unified-planning's TrajectoryConstraintsRemover (shipped,
-not registered in 1.3.0's factory) compiles them into monitoring atoms on a grounded
-problem first; the plan is mapped back to the lifted actions.
+has no trajectory constraints: :mod:`vslsp.symbolic.lifted` compiles them into the lifted
+action schemas (Fast Downward grounds them itself). A planner without conditional effects
+(e.g. ``fast-downward-opt``), or ``compilation="ground"``, gets unified-planning's
+TrajectoryConstraintsRemover on the grounded problem instead, its plan mapped back. This is
+the only module that imports unified-planning's engines.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 import threading
 import time
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
-from vslsp.errors import InputError, TaskFailed
+from vslsp.errors import InputError, TaskFailed, VslspError
+from vslsp.symbolic.fast_downward import Outcome
+from vslsp.symbolic.fast_downward import run as run_fast_downward
+from vslsp.symbolic.formula import expand_quantifiers
+from vslsp.symbolic.lifted import compile_lifted, objects_named
 from vslsp.symbolic.model import Domain, Problem
+from vslsp.symbolic.outcomes import Compilation, InternalError
+from vslsp.symbolic.up_model import environment, to_up
+from vslsp.symbolic.validate import initially_broken
 
 DEFAULT_PLANNER = "fast-downward"
 #: vslsp's planner names that are a unified-planning engine with set parameters; any other
@@ -30,6 +41,11 @@ PLANNERS: dict[str, tuple[str, dict]] = {
                                         "let(hff,ff(),lazy_greedy([hff],preferred=[hff]))"}),
     "fast-downward-lama": ("fast-downward", {"fast_downward_alias": "lama-first"}),
 }
+#: The same two, as options of Fast Downward's driver run directly (vslsp.symbolic.fast_downward).
+DIRECT: dict[str, list[str]] = {
+    "fast-downward": ["--search", PLANNERS["fast-downward"][1]["fast_downward_search_config"]],
+    "fast-downward-lama": ["--alias", "lama-first"],
+}
 
 
 @dataclass(frozen=True)
@@ -39,6 +55,7 @@ class PlanResult:
     steps: tuple[tuple[str, tuple[str, ...]], ...]
     planner: str
     time_s: float
+    compilation: Compilation = Compilation.NONE
 
     def lines(self) -> list[str]:
         """``["pull orange", ...]``: one string per step, as in ``vslsp plan --json``."""
@@ -49,12 +66,13 @@ class PlanResult:
         return "".join(f"({line})\n" for line in self.lines())
 
     def to_dict(self) -> dict:
-        return {"plan": self.lines(), "planner": self.planner, "time_s": self.time_s}
+        return {"plan": self.lines(), "planner": self.planner, "time_s": self.time_s,
+                "compilation": self.compilation.value}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "PlanResult":
+    def from_dict(cls, data: dict) -> PlanResult:
         steps = tuple((line.split()[0], tuple(line.split()[1:])) for line in data["plan"])
-        return cls(steps, data["planner"], float(data["time_s"]))
+        return cls(steps, data["planner"], float(data["time_s"]), Compilation(data.get("compilation", "none")))
 
 
 @dataclass(frozen=True)
@@ -66,78 +84,178 @@ class PlanningTimes:
     solve_s: float
 
 
-def solve(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER) -> PlanResult:
+def planners() -> list[str]:
+    """The planner names :func:`solve` takes: vslsp's own, then unified-planning's installed oneshot planners."""
+    return list(PLANNERS) + [name for name in _oneshot_planners(environment()) if name not in PLANNERS]
+
+
+def check_planner(name: str) -> None:
+    """Raise InputError (listing the available planners) unless ``name`` is one :func:`solve` takes."""
+    if name in PLANNERS:
+        return
+    available = planners()
+    if name not in available:
+        raise InputError(f"unknown planner {name!r}; available: {', '.join(available)}")
+
+
+def solve(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER, compilation: Compilation | None = None,
+          timeout: float | None = None) -> PlanResult:
     """Plan for ``problem`` in ``domain`` with a unified-planning oneshot planner.
 
-    Raises TaskFailed("no plan: ...") when the planner proves or reports no plan, InputError
-    for an unknown planner or one that cannot take the problem.
+    Raises TaskFailed("no plan: ...") when the planner proves or reports no plan (or runs out
+    of ``timeout`` seconds), InputError for an unknown planner or one that cannot take the
+    problem, :class:`~vslsp.symbolic.outcomes.InternalError` when a planner or compiler fails
+    inside. ``compilation``: force LIFTED or GROUND (default: lifted where the planner has
+    conditional effects).
     """
-    return solve_timed(domain, problem, planner)[0]
+    return solve_timed(domain, problem, planner, compilation, timeout)[0]
 
 
-def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER) -> tuple[PlanResult, PlanningTimes]:
+def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER,
+                compilation: Compilation | None = None,
+                timeout: float | None = None) -> tuple[PlanResult, PlanningTimes]:
     """:func:`solve`, with the time of each phase."""
-    from unified_planning.engines import CompilationKind, PlanGenerationResultStatus
-    from unified_planning.engines.compilers.trajectory_constraints_remover import TrajectoryConstraintsRemover
-    from unified_planning.exceptions import UPException, UPProblemDefinitionError
-    from unified_planning.shortcuts import Compiler, OneshotPlanner
-
-    from vslsp.symbolic.pddl import environment, to_up
-    from vslsp.symbolic.validate import initially_broken
-
-    env = environment()
-    available = list(PLANNERS) + [name for name in _oneshot_planners(env) if name not in PLANNERS]
-    if planner not in available:
-        raise InputError(f"unknown planner {planner!r}; installed: {', '.join(available)}")
-    engine_name, params = PLANNERS.get(planner, (planner, {}))
+    check_planner(planner)
     if problem.domain.name != domain.name:
         raise InputError(f"problem {problem.name} is for domain {problem.domain.name}, not {domain.name}")
     broken = initially_broken(problem)
     if broken:
         raise TaskFailed(f"no plan: {broken}")
+    try:
+        return _solve(domain, problem, planner, compilation, timeout)
+    except VslspError:
+        raise
+    except Exception as error:  # a failure inside unified-planning or the planner: not "no plan"
+        stage = getattr(error, "vslsp_stage", "planning")
+        first = str(error).splitlines()[0] if str(error) else ""
+        raise InternalError(f"{stage} failed inside ({type(error).__name__}: {first}); "
+                            "run with --debug for the traceback") from error
 
+
+def _solve(domain: Domain, problem: Problem, planner: str, compilation: Compilation | None,
+           timeout: float | None) -> tuple[PlanResult, PlanningTimes]:
+    if planner in DIRECT and compilation is not Compilation.GROUND:
+        return _solve_directly(domain, problem, planner, timeout)
+    return _solve_up(domain, problem, planner, compilation, timeout)
+
+
+def _solve_directly(domain: Domain, problem: Problem, planner: str,
+                    timeout: float | None) -> tuple[PlanResult, PlanningTimes]:
+    """Lifted compilation, our PDDL text, Fast Downward's driver: nothing grounded in Python."""
     start = time.perf_counter()
-    up_problem = to_up(domain, problem, expand=True)
+    compiled_domain, compiled_problem = compile_lifted(domain, problem)
+    compiled = time.perf_counter()
+    domain_text, problem_text = planner_texts(compiled_domain, compiled_problem)
     built = time.perf_counter()
-    map_backs = []
-    if up_problem.trajectory_constraints:
-        try:
-            compiled = TrajectoryConstraintsRemover().compile(up_problem, CompilationKind.TRAJECTORY_CONSTRAINTS_REMOVING)
-        except UPProblemDefinitionError as error:
-            raise TaskFailed(f"no plan: {str(error).replace('PROBLEM NOT SOLVABLE: ', '')}") from None
-        up_problem = compiled.problem
-        map_backs.append(compiled.map_back_action_instance)
-    if env.expression_manager.And(up_problem.goals).simplify().is_false():
-        raise TaskFailed(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
+    run = run_fast_downward(domain_text, problem_text, DIRECT[planner], timeout)
+    solved = time.perf_counter()
+    if run.outcome is not Outcome.SOLVED:
+        reasons = {
+            Outcome.UNSOLVABLE: "the goal cannot be reached from the initial state under the constraints "
+                                "(proved by Fast Downward)",
+            Outcome.UNSOLVED: "Fast Downward's search gave up without a plan (it is incomplete)",
+            Outcome.TIMEOUT: f"the planner ran out of time{f' ({timeout:g} s)' if timeout else ''}",
+            Outcome.MEMOUT: "the planner ran out of memory",
+        }
+        if run.outcome is Outcome.ERROR:
+            error = RuntimeError("Fast Downward failed:\n" + run.log)
+            error.vslsp_stage = "Fast Downward"  # type: ignore[attr-defined]
+            raise error
+        raise TaskFailed(f"no plan: {reasons[run.outcome]}")
+    used = Compilation.LIFTED if problem.constraints else Compilation.NONE
+    times = PlanningTimes(built - compiled, compiled - start, solved - built)
+    return PlanResult(run.steps, planner, solved - start, used), times
+
+
+def planner_texts(domain: Domain, problem: Problem) -> tuple[str, str]:
+    """The domain and problem text for a planner without PDDL 3.0 (quantified goals written out, no
+    ``:constraints`` requirement)."""
+    goal = expand_quantifiers(problem.goal, problem.universe())
+    named = objects_named(domain)  # the compiled schemas name objects: Fast Downward wants them as constants
+    domain = replace(domain, constants=(*domain.constants, *(o for o in problem.objects if o[0] in named)))
+    problem = replace(problem, domain=domain, goal=goal, objects=tuple(o for o in problem.objects if o[0] not in named))
+    domain_text = re.sub(r"(\(:requirements[^)]*?) :constraints\)", r"\1)", domain.to_pddl(), count=1)
+    return domain_text, problem.to_pddl()
+
+
+def _solve_up(domain: Domain, problem: Problem, planner: str, compilation: Compilation | None,
+              timeout: float | None) -> tuple[PlanResult, PlanningTimes]:
+    """Through a unified-planning engine (any installed planner; the ground compilation)."""
+    from unified_planning.engines import CompilationKind, PlanGenerationResultStatus
+    from unified_planning.exceptions import UPException
+    from unified_planning.shortcuts import OneshotPlanner
+
+    engine_name, params = PLANNERS.get(planner, (planner, {}))
+    start = time.perf_counter()
     with OneshotPlanner(name=engine_name, params=params) as engine:
+        conditional = engine.supported_kind().has_conditional_effects()
+        used = Compilation.NONE if not problem.constraints else \
+            compilation or (Compilation.LIFTED if conditional else Compilation.GROUND)
+        map_backs = []
+        if used is Compilation.LIFTED:
+            compiled_domain, compiled_problem = compile_lifted(domain, problem)
+            up_problem = to_up(compiled_domain, compiled_problem, expand=True)
+            built = time.perf_counter()
+        else:
+            up_problem = to_up(domain, problem, expand=True)
+            built = time.perf_counter()
+            if used is Compilation.GROUND:
+                up_problem, back = _ground_compilation(up_problem, problem)
+                map_backs.append(back)
         kind = up_problem.kind  # computed afresh on each access: once is enough
         if not engine.supports(kind) and kind.has_conditional_effects():
-            # Optimal Fast Downward (LM-cut) has no conditional effects; the constraint monitors have some.
+            from unified_planning.shortcuts import Compiler
+
             with Compiler(problem_kind=kind, compilation_kind=CompilationKind.CONDITIONAL_EFFECTS_REMOVING) as remover:
-                compiled = remover.compile(up_problem, CompilationKind.CONDITIONAL_EFFECTS_REMOVING)
-            up_problem = compiled.problem
-            map_backs.append(compiled.map_back_action_instance)
+                result = remover.compile(up_problem, CompilationKind.CONDITIONAL_EFFECTS_REMOVING)
+            up_problem = result.problem
+            map_backs.append(result.map_back_action_instance)
             kind = up_problem.kind
         if not engine.supports(kind):
             raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); "
                              f"try {DEFAULT_PLANNER}")
+        if _false_goal(up_problem):
+            raise TaskFailed(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
         engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
         compiled_at = time.perf_counter()
         try:
             with _private_directory():
-                result = engine.solve(up_problem)
+                result = engine.solve(up_problem, timeout=timeout)
         except UPException as error:
             raise TaskFailed(f"no plan: {planner} failed: {error}") from None
     solved = time.perf_counter()
-    if result.status not in (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY):
-        raise TaskFailed(f"no plan: {_reason(result)}")
+    solved_statuses = (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY)
+    if result.status not in solved_statuses:
+        raise TaskFailed(f"no plan: {_reason(result, timeout)}")
     steps = []
     for instance in result.plan.actions:
         for map_back in reversed(map_backs):
             instance = map_back(instance)
-        steps.append((instance.action.name.lower(), tuple(str(p.object().name).lower() for p in instance.actual_parameters)))
+        args = tuple(str(p.object().name).lower() for p in instance.actual_parameters)
+        steps.append((instance.action.name.lower(), args))
     times = PlanningTimes(built - start, compiled_at - built, solved - compiled_at)
-    return PlanResult(tuple(steps), planner, solved - start), times
+    return PlanResult(tuple(steps), planner, solved - start, used), times
+
+
+def _false_goal(up_problem: Any) -> bool:
+    """Whether the goal simplifies to false (a compiled constraint that can never be kept)."""
+    return bool(environment().expression_manager.And(up_problem.goals).simplify().is_false())
+
+
+def _ground_compilation(up_problem: Any, problem: Problem) -> tuple[Any, Any]:
+    """unified-planning's TrajectoryConstraintsRemover (it grounds the problem in Python first)."""
+    from unified_planning.engines import CompilationKind
+    from unified_planning.engines.compilers.trajectory_constraints_remover import TrajectoryConstraintsRemover
+    from unified_planning.exceptions import UPProblemDefinitionError
+
+    try:
+        compiled = TrajectoryConstraintsRemover().compile(up_problem, CompilationKind.TRAJECTORY_CONSTRAINTS_REMOVING)
+    except UPProblemDefinitionError as error:
+        raise TaskFailed(f"no plan: {str(error).replace('PROBLEM NOT SOLVABLE: ', '')}") from None
+    except Exception as error:  # unified-planning 1.3.0's grounder: "list.remove(x)" on some static preconditions
+        error.vslsp_stage = "the ground constraint compilation (unified-planning's grounder)"  # type: ignore[attr-defined]
+        raise
+    return compiled.problem, compiled.map_back_action_instance
 
 
 _CWD_LOCK = threading.Lock()  # the working directory is the process's: one planner at a time per process
@@ -157,7 +275,7 @@ def _private_directory():
             os.chdir(previous)
 
 
-def _reason(result) -> str:
+def _reason(result: Any, timeout: float | None) -> str:
     from unified_planning.engines import PlanGenerationResultStatus as Status
 
     reasons = {
@@ -165,14 +283,14 @@ def _reason(result) -> str:
                                   f"(proved by {result.engine_name})",
         Status.UNSOLVABLE_INCOMPLETELY: f"{result.engine_name} explored every reachable state and found none "
                                         "that reaches the goal under the constraints",
-        Status.TIMEOUT: "the planner ran out of time",
+        Status.TIMEOUT: f"the planner ran out of time{f' ({timeout:g} s)' if timeout else ''}",
         Status.MEMOUT: "the planner ran out of memory",
         Status.UNSUPPORTED_PROBLEM: "the planner does not support this problem",
     }
     return reasons.get(result.status, f"the planner stopped with status {result.status.name}")
 
 
-def _oneshot_planners(env) -> list[str]:
+def _oneshot_planners(env: Any) -> list[str]:
     from unified_planning.engines.mixins import OneshotPlannerMixin
 
     names = []

@@ -17,11 +17,11 @@ import shlex
 from dataclasses import replace
 from pathlib import Path
 
-from vslsp.errors import VslspError
+from vslsp.errors import InputError, VslspError
 from vslsp.symbolic.formula import Formula, atoms_of
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl import parse_pddl, read_pddl, save
-from vslsp.symbolic.planner import solve
+from vslsp.symbolic.planner import DEFAULT_PLANNER, solve
 from vslsp.symbolic.validate import parse_plan, validate
 
 HISTORY = Path.home() / ".vslsp_history"
@@ -30,13 +30,11 @@ HISTORY = Path.home() / ".vslsp_history"
 def _domain_text(domain: Domain, extra_action: str = "", extra_predicate: str = "") -> str:
     """Scratch PDDL of ``domain`` (plus one more action or predicate) for the reader to check a
     fragment in context."""
-    types = " ".join(f"{n} - {p}" if p else n for n, p in domain.types)
-    predicates = " ".join(_predicate_text(p) for p in domain.predicates)
-    actions = "".join(f"(:action {a.name} :parameters ({_typed(a.parameters)}) "
-                      f":precondition {a.precondition.to_pddl()} "
-                      f":effect (and {' '.join(e.to_pddl() for e in a.effects)}))\n" for a in domain.actions)
-    return (f"(define (domain {domain.name}) (:requirements :strips :typing :negative-preconditions :constraints)\n"
-            f"(:types {types}) (:predicates {predicates} {extra_predicate})\n{actions}{extra_action})")
+    text = re.sub(r"\(:requirements[^)]*\)", "(:requirements :strips :typing :adl :constraints)", domain.to_pddl(),
+                  count=1)
+    if extra_predicate:
+        text = text.replace("(:predicates", f"(:predicates {extra_predicate}", 1)
+    return text.rstrip()[:-1] + f"\n{extra_action})\n"
 
 
 def _predicate_text(predicate) -> str:
@@ -57,6 +55,22 @@ def _problem_text(problem: Problem, goal: str | None = None, constraints: list[s
             f"(:init {init}) (:goal {goal}) {section})")
 
 
+def _balanced(typed: str) -> None:
+    """Raise InputError, placed in what the user typed, when its parentheses do not balance."""
+    opened: list[int] = []
+    for index, char in enumerate(typed):
+        if char == "(":
+            opened.append(index)
+        elif char == ")":
+            if not opened:
+                raise InputError(f"unexpected ')' at column {index + 1} of what you typed:\n  {typed}\n  "
+                                 f"{' ' * index}^")
+            opened.pop()
+    if opened:
+        raise InputError(f"the '(' at column {opened[-1] + 1} of what you typed is never closed: a ')' is missing"
+                         f"\n  {typed}\n  {' ' * opened[-1]}^")
+
+
 class Shell(cmd.Cmd):
     """``vslsp pddl shell``: type ``help`` for the commands."""
 
@@ -75,6 +89,7 @@ class Shell(cmd.Cmd):
 
     def onecmd(self, line: str) -> bool:
         try:
+            _balanced(line.partition(" ")[2])
             return super().onecmd(line)
         except VslspError as error:
             # Places in the scratch text the reader saw mean nothing to the person typing.
@@ -86,9 +101,8 @@ class Shell(cmd.Cmd):
     def emptyline(self) -> bool:
         return False
 
-    def default(self, line: str) -> bool:
+    def default(self, line: str) -> None:
         self.say(f"error: unknown command {line.split()[0]!r}; type help")
-        return False
 
     def completedefault(self, text, line, begidx, endidx):
         names = ([p.name for p in self.domain.predicates] + [a.name for a in self.domain.actions]
@@ -114,6 +128,7 @@ class Shell(cmd.Cmd):
     def do_domain(self, arg: str) -> None:
         """domain NAME: name the domain (a fresh one when nothing is in it yet)."""
         self._set(domain=replace(self.domain, name=arg.strip() or self.domain.name))
+        self.say(f"domain {self.domain.name}")
 
     def do_type(self, arg: str) -> None:
         """type NAME [- PARENT]: declare a type, e.g. type block."""
@@ -122,28 +137,38 @@ class Shell(cmd.Cmd):
             self.say("usage: type NAME [- PARENT]")
             return
         self._set(domain=self.domain.with_type(words[0], words[2] if len(words) > 2 else None))
+        self.say(f"type {words[0]}" + (f" - {words[2]}" if len(words) > 2 else ""))
 
     def do_predicate(self, arg: str) -> None:
         """predicate (NAME ?x - TYPE ...): declare a predicate, e.g. predicate (far ?b - block)."""
         text = arg.strip() if arg.strip().startswith("(") else f"({arg.strip()})"
         domain, _ = parse_pddl(_domain_text(self.domain, extra_predicate=text))
         self._set(domain=self.domain.with_predicate(domain.predicates[-1]))
+        self.say(f"predicate {_predicate_text(domain.predicates[-1])}")
 
     def do_action(self, arg: str) -> None:
         """action NAME :parameters (...) :precondition F :effect F -- as in a domain file, without (:action )."""
         name = arg.split()[0] if arg.split() else ""
         domain, _ = parse_pddl(_domain_text(self.domain.without_action(name), f"(:action {arg})"))
+        replaced = any(a.name == name for a in self.domain.actions)
         self._set(domain=self.domain.with_action(domain.action(name)))
+        self.say(f"action {name} {'replaced' if replaced else 'added'}; actions: "
+                 f"{', '.join(a.name for a in self.domain.actions)}")
 
     def do_drop(self, arg: str) -> None:
         """drop action NAME | drop constraints | drop init ATOM: remove something."""
         kind, _, rest = arg.partition(" ")
         if kind == "action":
             self._set(domain=self.domain.without_action(rest.strip()))
+            self.say(f"dropped action {rest.strip()}")
         elif kind == "constraints":
+            count = len(self.problem.constraints)
             self._set(problem=self.problem.without_constraints())
+            self.say(f"dropped {count} constraint{'' if count == 1 else 's'}")
         elif kind == "init":
-            self._set(problem=self.problem.without_init(*atoms_of(self._parse_formula(f"(and {rest})"))))
+            atoms = list(atoms_of(self._parse_formula(f"(and {rest})")))
+            self._set(problem=self.problem.without_init(*atoms))
+            self.say("no longer true initially: " + " ".join(a.to_pddl() for a in atoms))
         else:
             self.say("usage: drop action NAME | drop constraints | drop init ATOM ...")
 
@@ -151,6 +176,7 @@ class Shell(cmd.Cmd):
     def do_problem(self, arg: str) -> None:
         """problem NAME: name the problem."""
         self._set(problem=replace(self.problem, name=arg.strip() or self.problem.name))
+        self.say(f"problem {self.problem.name}")
 
     def do_objects(self, arg: str) -> None:
         """objects NAME ... - TYPE: add objects, e.g. objects red green blue - block."""
@@ -159,20 +185,28 @@ class Shell(cmd.Cmd):
             self.say("usage: objects NAME ... - TYPE")
             return
         self._set(problem=self.problem.with_objects(type_.strip(), *names.split()))
+        self.say(f"objects {' '.join(names.split())} - {type_.strip()}; {len(self.problem.objects)} in all")
 
     def do_init(self, arg: str) -> None:
         """init ATOM ...: make atoms true initially, e.g. init (far red) (far green)."""
         formula = self._parse_formula(f"(and {arg})")
-        self._set(problem=self.problem.with_init(*atoms_of(formula)))
+        atoms = list(atoms_of(formula))
+        self._set(problem=self.problem.with_init(*atoms))
+        self.say("true initially: " + " ".join(a.to_pddl() for a in atoms))
 
     def do_goal(self, arg: str) -> None:
         """goal FORMULA: the goal, e.g. goal (forall (?b - block) (not (far ?b)))."""
         self._set(problem=self._reparse(_problem_text(self.problem, goal=arg.strip())))
+        self.say(f"goal {self.problem.goal.to_pddl()}")
 
     def do_constraint(self, arg: str) -> None:
-        """constraint C: add a PDDL 3.0 constraint, e.g. constraint (sometime-before (not (far green)) (not (far red)))."""
+        """constraint C: add a PDDL 3.0 constraint,
+        e.g. constraint (sometime-before (not (far green)) (not (far red)))."""
         parts = [c.to_pddl() for c in self.problem.constraints] + [arg.strip()]
         self._set(problem=self._reparse(_problem_text(self.problem, constraints=parts)))
+        count = len(self.problem.constraints)
+        self.say(f"constraint {self.problem.constraints[-1].to_pddl() if count else arg.strip()}; "
+                 f"{count} constraint{'' if count == 1 else 's'}")
 
     def _parse_formula(self, text: str) -> Formula:
         return self._reparse(_problem_text(self.problem, goal=text)).goal
@@ -187,11 +221,12 @@ class Shell(cmd.Cmd):
 
     def do_plan(self, arg: str) -> None:
         """plan [PLANNER]: plan for the problem (fast-downward by default)."""
-        result = solve(self.domain, self.problem, *(arg.split()[:1]))
+        result = solve(self.domain, self.problem, planner=(arg.split() or [DEFAULT_PLANNER])[0])
         self.last_plan = list(result.steps)
         for number, line in enumerate(result.lines(), start=1):
             self.say(f"{number}. {line}")
-        self.say(f"{len(result.steps)} step(s), {result.planner}, {result.time_s:.2f} s")
+        steps = len(result.steps)
+        self.say(f"{steps} step{'' if steps == 1 else 's'}, {result.planner}, {result.time_s:.2f} s")
 
     def do_validate(self, arg: str) -> None:
         """validate [(action arg ...) ...]: check the given steps, or the last plan."""

@@ -15,9 +15,9 @@ its PDDL 3.0 semantics:
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Sequence, Union
 
 from vslsp.errors import InputError
 from vslsp.symbolic.formula import (
@@ -35,7 +35,7 @@ from vslsp.symbolic.formula import (
 from vslsp.symbolic.model import Domain, Problem, ground_effects
 
 PlanStep = tuple[str, tuple[str, ...]]
-PlanLike = Iterable[Union[PlanStep, str]]
+PlanLike = Iterable[PlanStep | str]
 
 
 @dataclass(frozen=True)
@@ -49,7 +49,7 @@ class Validation:
         return {"valid": self.valid, "reason": self.reason}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Validation":
+    def from_dict(cls, data: dict) -> Validation:
         return cls(bool(data["valid"]), str(data["reason"]))
 
 
@@ -57,7 +57,7 @@ def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validati
     """Simulate ``plan_steps`` (``("pull", ("green",))``, ``"pull green"`` or ``"(pull green)"``)."""
     steps = [_as_step(step) for step in getattr(plan_steps, "steps", plan_steps)]
     universe = problem.universe()
-    types = dict(problem.objects)
+    types = dict(problem.all_objects())
     state = frozenset(problem.init)
     trajectory = [state]
     for number, (name, args) in enumerate(steps, start=1):
@@ -69,10 +69,10 @@ def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validati
         wrong = _wrong_arguments(domain, action.parameters, args, types)
         if wrong:
             return Validation(False, f"{label}: {wrong}")
-        precondition = substitute(action.precondition, dict(zip((p for p, _ in action.parameters), args)))
+        precondition = substitute(action.precondition, dict(zip((p for p, _ in action.parameters), args, strict=False)))
         if not holds(precondition, state, universe):
             return Validation(False, f"{label}: precondition {precondition.to_pddl()} does not hold")
-        added, deleted = ground_effects(action, args)
+        added, deleted = ground_effects(action, args, state, universe)
         state = (state - deleted) | added
         trajectory.append(state)
     if not holds(problem.goal, state, universe):
@@ -81,8 +81,14 @@ def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validati
         broken = _broken(constraint, trajectory, steps, universe)
         if broken:
             return Validation(False, f"constraint {constraint.to_pddl()} is broken: {broken}")
-    kept = f" and keeps all {len(problem.constraints)} constraints" if problem.constraints else ""
-    return Validation(True, f"the plan reaches the goal in {len(steps)} steps{kept}")
+    count = len(problem.constraints)
+    kept = (" and keeps its constraint" if count == 1 else f" and keeps all {count} constraints") if count else ""
+    return Validation(True, f"the plan reaches the goal in {plural(len(steps), 'step')}{kept}")
+
+
+def plural(count: int, noun: str) -> str:
+    """``1 step``, ``2 steps``."""
+    return f"{count} {noun}{'' if count == 1 else 's'}"
 
 
 def initially_broken(problem: Problem) -> str | None:
@@ -128,14 +134,15 @@ def _broken(constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequ
     q = truth(constraint.after)
     for i, p_i in enumerate(p):
         if p_i and not any(q[i:]):
-            return f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} never holds then or later"
+            return (f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} "
+                    "never holds then or later")
     return None
 
 
 def _wrong_arguments(domain: Domain, parameters, args: tuple[str, ...], types: dict[str, str]) -> str | None:
     if len(args) != len(parameters):
         return f"takes {len(parameters)} argument(s), {len(args)} given"
-    for (parameter, type_), arg in zip(parameters, args):
+    for (parameter, type_), arg in zip(parameters, args, strict=False):
         if arg not in types:
             return f"{arg!r} is not an object of the problem"
         if types[arg] not in domain.subtypes(type_):
@@ -153,16 +160,19 @@ def _as_step(step: PlanStep | str) -> PlanStep:
     return name.lower(), tuple(a.lower() for a in args)
 
 
-_PLAN_LINE = re.compile(r"^\s*\(\s*([\w-]+)((?:\s+[\w-]+)*)\s*\)\s*$")
+#: ``(pull green)``; ``0: (pull green)`` and ``0.000: (pull green) [1]`` (VAL, IPC); ``1. pull green`` (vslsp plan).
+_PLAN_LINE = re.compile(r"^\s*(?:\d+(?:\.\d+)?\s*:\s*)?\(\s*([\w-]+)((?:\s+[\w-]+)*)\s*\)\s*(?:\[[\d.]+\])?\s*$"
+                        r"|^\s*\d+\.\s+([\w-]+)((?:\s+[\w-]+)*)\s*$")
 
 
 def parse_plan(text: str, domain: Domain, problem: Problem, name: str = "<plan>") -> list[PlanStep]:
-    """Steps from a PLAN text, one ``(action arg ...)`` per line (``;`` comments, blank lines allowed).
+    """Steps from a PLAN text, one step per line (``;`` comments, blank lines allowed): ``(pull green)``,
+    as VAL and IPC planners write it (``0: (pull green)``), or as ``vslsp plan`` prints it (``1. pull green``).
 
     A line that is not a step, names an unknown action or object, or has the wrong number or
     types of arguments raises InputError ``NAME:LINE:COL: what``.
     """
-    steps, types = [], dict(problem.objects)
+    steps, types = [], dict(problem.all_objects())
     for number, line in enumerate(text.splitlines(), start=1):
         code = line.split(";", 1)[0]
         if not code.strip():
@@ -170,9 +180,11 @@ def parse_plan(text: str, domain: Domain, problem: Problem, name: str = "<plan>"
         match = _PLAN_LINE.match(code.lower())
         if not match:
             column = len(code) - len(code.lstrip()) + 1
-            raise InputError(f"{name}:{number}:{column}: expected one step like (pull green), got {code.strip()!r}")
-        action_name, args = match.group(1), tuple(match.group(2).split())
-        column = match.start(1) + 1
+            raise InputError(f"{name}:{number}:{column}: expected one step like (pull green) or 1. pull green, "
+                             f"got {code.strip()!r}")
+        group = 1 if match.group(1) else 3
+        action_name, args = match.group(group), tuple(match.group(group + 1).split())
+        column = match.start(group) + 1
         try:
             action = domain.action(action_name)
         except InputError as error:
@@ -185,9 +197,16 @@ def parse_plan(text: str, domain: Domain, problem: Problem, name: str = "<plan>"
 
 
 def read_plan(path: str | Path, domain: Domain, problem: Problem) -> list[PlanStep]:
-    """:func:`parse_plan` on a file."""
+    """:func:`parse_plan` on a file (UTF-8)."""
+    path = Path(path)
     try:
-        text = Path(path).read_text()
+        data = path.read_bytes()
     except OSError as error:
         raise InputError(f"{path}: cannot read the plan ({error.strerror})") from None
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        line = data.count(b"\n", 0, error.start) + 1
+        raise InputError(f"{path}:{line}: the plan is not UTF-8 text (byte 0x{data[error.start]:02x}); "
+                         "save it as UTF-8 (plain ASCII is fine)") from None
     return parse_plan(text, domain, problem, str(path))
