@@ -127,3 +127,10 @@ def test_json_is_printed_for_bad_input_too(args, capsys):
         main(args)
     out = json.loads(capsys.readouterr().out)
     assert done.value.code == 2 and out["exit_code"] == 2 and out["error"]
+
+
+def test_an_unknown_planner_is_refused_before_any_trial(tmp_path, capsys):
+    with pytest.raises(SystemExit) as done:
+        main(["experiment", "pull-in-order", "--planner", "magic", "--json", "--out", str(tmp_path)])
+    out = json.loads(capsys.readouterr().out)
+    assert done.value.code == 2 and "magic" in out["error"] and not (tmp_path / "report.json").exists()

@@ -64,7 +64,7 @@ def main(argv: list[str] | None = None) -> None:
     try:
         app.main(args=args, prog_name="vslsp", standalone_mode=False)
     except VslspError as error:
-        _fail(str(error), error.exit_code, wants_json)
+        _fail(str(error), error.exit_code, wants_json and not getattr(error, "json_printed", False))
     except click.exceptions.Abort:
         _fail("aborted", 130, wants_json)
     except click.exceptions.Exit as done:

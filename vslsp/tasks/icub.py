@@ -41,6 +41,9 @@ class IcubExperiment(Task):
         skill, is reported before any work); the planner exists."""
         from vslsp.skills.library import SKILL_NAMES, SkillLibrary
 
+        from vslsp.symbolic import check_planner
+
+        check_planner(self.option(Option.PLANNER, DEFAULT_PLANNER))
         SkillLibrary.load(self.library_path).require(SKILL_NAMES, self.library_path)
         self.predicates()  # a predicates file that does not load is reported before any work
 
