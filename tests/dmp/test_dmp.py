@@ -7,8 +7,8 @@ rises and falls back (zero velocity at both ends), like a hand going over the ta
 import numpy as np
 import pytest
 import torch
+from helpers.dmp import reach, rmse
 
-from tests.dmp.conftest import reach, rmse
 from vslsp.dmp import DMP, Rollout
 
 

@@ -6,8 +6,8 @@ a drawn loop (A = 0) keeps its size for any goal, and nearly closed loops behave
 
 import numpy as np
 import pytest
+from helpers.dmp import loop, rmse
 
-from tests.dmp.conftest import loop, rmse
 from vslsp.dmp import DMP
 
 

@@ -2,7 +2,7 @@
 Action Models", Table 3, and the iCub experiments' rules r_i^j)."""
 
 import pytest
-from conftest import PDDL, demonstration, scene, step
+from helpers.symbolic import PDDL, demonstration, scene, step
 
 from vslsp.errors import InputError
 from vslsp.symbolic import (

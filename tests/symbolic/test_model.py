@@ -2,7 +2,7 @@
 models are the same objects."""
 
 import pytest
-from conftest import PDDL
+from helpers.symbolic import PDDL
 
 from vslsp.errors import InputError
 from vslsp.symbolic import (

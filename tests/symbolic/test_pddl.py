@@ -4,7 +4,7 @@ malformed input reported as FILE:LINE:COL."""
 import re
 
 import pytest
-from conftest import PDDL
+from helpers.symbolic import PDDL
 
 from vslsp.errors import InputError
 from vslsp.symbolic import (

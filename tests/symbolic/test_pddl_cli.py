@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 import pytest
-from conftest import PDDL
+from helpers.symbolic import PDDL
 
 from vslsp.cli import main
 

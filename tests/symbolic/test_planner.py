@@ -2,7 +2,7 @@
 compiled PDDL 3.0 constraints, dropped on request, unsolvable problems reported as no plan."""
 
 import pytest
-from conftest import PDDL
+from helpers.symbolic import PDDL
 
 from vslsp.errors import InputError, TaskFailed
 from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, check_planner, read_pddl, solve, validate

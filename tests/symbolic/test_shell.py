@@ -3,7 +3,7 @@ checked by the PDDL reader as they come, then planned, validated, saved and load
 
 import io
 
-from conftest import PDDL
+from helpers.symbolic import PDDL
 
 from vslsp.symbolic import read_pddl
 from vslsp.symbolic.shell import Shell
