@@ -3,7 +3,7 @@ written as the grounding stage records them (object -> {"far": bool} before and 
 
 from pathlib import Path
 
-from vslsp.symbolic import Step
+from vslsp.symbolic import Atom, Step
 
 PDDL = Path(__file__).resolve().parents[2] / "pddl"
 
@@ -28,3 +28,8 @@ def demonstration(start: dict, *operations: tuple[str, str]) -> list[Step]:
         steps.append(step(action, obj, state, **{obj: action == "push"}))
         state = {o: dict(v) for o, v in steps[-1].after.items()}
     return steps
+
+
+def far(obj: str) -> Atom:
+    """The ground atom ``(far obj)``."""
+    return Atom("far", (obj,))

@@ -37,3 +37,13 @@ def skill_executions() -> list[Step]:
         step("push", "yellow", scene(yellow=True)),  # already far: the push changed nothing
         step(None, "red", scene(red=False)),
     ]
+
+
+@pytest.fixture(scope="module")
+def pull_in_order():
+    """The shipped domain and the pull-in-order problem, read once per module."""
+    from helpers.symbolic import PDDL
+
+    from vslsp.symbolic import read_pddl
+
+    return read_pddl(PDDL / "domain.pddl", PDDL / "pull-in-order.pddl")

@@ -1,12 +1,9 @@
 """Formulas and PDDL 3.0 constraints: printing, JSON, substitution and truth in a state."""
 
-from vslsp.symbolic import Atom, Forall, Not, SometimeBefore, forall, holds
+from helpers.symbolic import far
+
+from vslsp.symbolic import Forall, Not, SometimeBefore, forall, holds
 from vslsp.symbolic.formula import Exists, Imply, formula_from_list, formula_to_list, substitute
-
-
-def far(obj: str) -> Atom:
-    return Atom("far", (obj,))
-
 
 UNIVERSE = {"block": ("red", "green")}
 

@@ -2,11 +2,10 @@
 Action Models", Table 3, and the iCub experiments' rules r_i^j)."""
 
 import pytest
-from helpers.symbolic import PDDL, demonstration, scene, step
+from helpers.symbolic import PDDL, demonstration, far, scene, step
 
 from vslsp.errors import InputError
 from vslsp.symbolic import (
-    Atom,
     Forall,
     Not,
     SometimeBefore,
@@ -18,10 +17,6 @@ from vslsp.symbolic import (
     solve,
     validate,
 )
-
-
-def far(obj: str) -> Atom:
-    return Atom("far", (obj,))
 
 
 def test_table_3_is_learned_from_observed_executions(skill_executions):

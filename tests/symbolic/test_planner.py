@@ -2,17 +2,11 @@
 compiled PDDL 3.0 constraints, dropped on request, unsolvable problems reported as no plan."""
 
 import pytest
-from helpers.symbolic import PDDL
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, check_planner, read_pddl, solve, validate
+from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, check_planner, solve, validate
 
 DEMONSTRATED = ["pull orange", "pull green", "pull yellow"]
-
-
-@pytest.fixture(scope="module")
-def pull_in_order():
-    return read_pddl(PDDL / "domain.pddl", PDDL / "pull-in-order.pddl")
 
 
 def test_plan_respects_the_demonstrated_order(pull_in_order):

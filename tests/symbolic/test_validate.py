@@ -2,14 +2,13 @@
 trajectory constraint with its semantics."""
 
 import pytest
-from helpers.symbolic import PDDL
+from helpers.symbolic import PDDL, far
 
 from vslsp.errors import InputError
 from vslsp.symbolic import (
     Always,
     AtEnd,
     AtMostOnce,
-    Atom,
     Not,
     Sometime,
     SometimeAfter,
@@ -18,15 +17,6 @@ from vslsp.symbolic import (
     read_pddl,
     validate,
 )
-
-
-def far(c: str) -> Atom:
-    return Atom("far", (c,))
-
-
-@pytest.fixture(scope="module")
-def pull_in_order():
-    return read_pddl(PDDL / "domain.pddl", PDDL / "pull-in-order.pddl")
 
 
 def test_demonstrated_order_is_valid(pull_in_order):
