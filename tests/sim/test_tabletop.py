@@ -126,7 +126,8 @@ def test_a_tile_picked_and_placed_with_a_turn_lands_on_target():
         assert np.allclose(world.pose("B")[:2], (0.62, 0.0), atol=1e-3)  # the neighbour stays
         assert result.hand_path.ndim == 2 and result.hand_path.shape[1] == 4 and len(result.hand_path) > 50
         assert result.duration_s > 1.0
-        json.dumps(result.to_dict())
+        record = json.loads(json.dumps(result.to_dict()))  # the record survives JSON
+        assert record["ok"] and record["held"] == "A" and len(record["hand_path"]) == len(result.hand_path)
 
 
 def test_pick_and_place_turns_the_item_the_long_way_round_when_asked():
