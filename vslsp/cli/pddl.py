@@ -49,7 +49,7 @@ def pddl_edge(as_json: bool, debug: bool, failure: dict[str, Any] | None = None)
         if as_json:
             click.echo(json.dumps({**(failure or {}), "error": str(error), "exit_code": error.exit_code,
                                    "warnings": collected}))
-            error.json_printed = True  # type: ignore[attr-defined]  (vslsp.cli.main prints no second object)
+            error.json_printed = True  # type: ignore[attr-defined]
         raise error from None
 
 

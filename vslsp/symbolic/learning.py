@@ -28,7 +28,7 @@ from vslsp.symbolic.formula import (
     holds,
     literal,
 )
-from vslsp.symbolic.model import Action, Domain, Predicate, Problem
+from vslsp.symbolic.model import Action, Domain, Predicate, Problem, When
 
 BLOCK = "block"
 Literals = Mapping[str, Mapping[str, bool]]  # object -> {predicate: value}
@@ -166,7 +166,9 @@ class Task:
 
 def changed_by(domain: Domain) -> dict[str, set[str]]:
     """Action name -> the predicates its learned effects change."""
-    return {action.name: {atom.predicate for effect in action.effects for atom in atoms_of(effect)}
+    return {action.name: {atom.predicate for effect in action.effects
+                          for literal in (effect.effects if isinstance(effect, When) else (effect,))
+                          for atom in atoms_of(literal)}
             for action in domain.actions}
 
 
