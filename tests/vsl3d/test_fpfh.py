@@ -33,7 +33,8 @@ def test_fpfh_is_invariant_under_a_rigid_transform(duck_view):
     points, sensor = duck_view
     rotation, shift = _rotation(1), np.array([0.3, -0.2, 0.1])
     moved, moved_sensor = points @ rotation.T + shift, rotation @ sensor + shift
-    features = compute_fpfh(points, estimate_normals(points, 0.006, sensor), 0.012)
+    normals = estimate_normals(points, 0.006, sensor)
+    features = compute_fpfh(points, normals, 0.012)
     moved_features = compute_fpfh(moved, estimate_normals(moved, 0.006, moved_sensor), 0.012)
     assert features.shape == (len(points), 3 * BINS)
     sums = features.reshape(-1, 3, BINS).sum(axis=2)
@@ -42,7 +43,15 @@ def test_fpfh_is_invariant_under_a_rigid_transform(duck_view):
     np.testing.assert_allclose(sums[described], 100.0)
     difference = np.abs(features - moved_features).sum(axis=1)
     assert np.median(difference) < 1e-6  # bins may flip only for features on a bin edge
-    assert np.mean(difference < 1e-3) > 0.97
+    # A normal seen edge-on (at a grazing angle to the sensor) has no defined side: the last
+    # rounding bit of the motion may flip it, and with it the FPFH of every point within two
+    # radii (SPFH of the point, then FPFH of its neighbours). Elsewhere the descriptor holds.
+    view = sensor - points
+    grazing = np.abs(np.sum(normals.normals * view, axis=1)) < 0.05 * np.linalg.norm(view, axis=1)
+    near_grazing = np.linalg.norm(points[:, None] - points[grazing][None], axis=2).min(axis=1, initial=np.inf)
+    defined = near_grazing > 2 * 0.012
+    assert defined.mean() > 0.5
+    assert np.mean(difference[defined] < 1e-3) > 0.99
 
 
 def test_fpfh_tells_a_plane_from_a_sphere_and_an_edge():
