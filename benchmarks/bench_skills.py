@@ -20,9 +20,9 @@ import time
 import numpy as np
 from rich.progress import Progress
 
-from vslsp.loop.watching import tutor_operation
 from vslsp.loop.monitor import execute_step
 from vslsp.loop.perception import perceive
+from vslsp.loop.watching import tutor_operation
 from vslsp.sim import SceneSpec, World
 from vslsp.skills import SkillLibrary, default_library_path
 

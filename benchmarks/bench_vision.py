@@ -22,12 +22,12 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.grounding.operation import Grounding, ground, ground_scene
 from vslsp.sim import SceneSpec, World
 from vslsp.sim.scene import TABLE_Z, WORKSPACE_X, WORKSPACE_Y
 from vslsp.vision.features import sift
 from vslsp.vision.matching import find_best_match
 from vslsp.vsl.house_sprites import BODY_SIZE, houses_world
-from vslsp.grounding.operation import Grounding, ground, ground_scene
 
 SIZES = ((640, 480), (1280, 960))
 CAMERAS = ("head", "overhead")

@@ -28,9 +28,10 @@ import argparse
 import json
 import time
 
+from vslsp.vsl.tasks import FRAMES, run_trials, summary
+
 from vslsp.vision.features import extract_features
 from vslsp.vsl.house_world import HouseWorld
-from vslsp.vsl.tasks import FRAMES, run_trials, summary
 
 OPERATION_TARGET = 0.99
 

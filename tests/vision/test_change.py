@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
-from vslsp.vision.change import detect_change
 from vslsp.grounding.synthetic import Square, tabletop_image
+from vslsp.vision.change import detect_change
 
 STILL = Square("blue", (480, 400), angle=20)
 

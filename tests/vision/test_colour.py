@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from vslsp.grounding.synthetic import PAINTS
 from vslsp.sim import COLOURS
 from vslsp.vision.colour import COLOUR_NAMES, GENERIC, colour_name
-from vslsp.grounding.synthetic import PAINTS
 
 
 @pytest.mark.parametrize("name", COLOUR_NAMES)

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
-from vslsp.vision.image import as_rgb, header_size, read_image, table_colour, write_image
 from vslsp.grounding.synthetic import TABLE_RGB, Square, tabletop_image
+from vslsp.vision.image import as_rgb, header_size, read_image, table_colour, write_image
 
 
 @pytest.mark.parametrize("bad, message", [

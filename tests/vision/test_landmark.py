@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
-from vslsp.vision.landmark import find_landmark
 from vslsp.grounding.synthetic import Square, tabletop_image
+from vslsp.vision.landmark import find_landmark
 
 
 def _distance_to(line, point):

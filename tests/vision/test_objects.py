@@ -4,8 +4,8 @@ orientation; not the landmark, not the table, not what only touches the image bo
 import numpy as np
 import pytest
 
-from vslsp.vision.objects import detect_objects
 from vslsp.grounding.synthetic import Square, tabletop_image
+from vslsp.vision.objects import detect_objects
 
 
 def test_objects_are_found_left_to_right_with_colour_and_centroid():

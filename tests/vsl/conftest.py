@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from vslsp.sim.tabletop import TabletopWorld
-from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.tasks.tabletop import REPRODUCTION_SEED, make_task
+from vslsp.vsl import tabletop_scenes as scenes
 
 
 @pytest.fixture

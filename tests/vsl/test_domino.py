@@ -6,8 +6,8 @@ import json
 
 import pytest
 
-from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.tasks import Run, get_task, write_report
+from vslsp.vsl import tabletop_scenes as scenes
 
 pytestmark = pytest.mark.slow
 

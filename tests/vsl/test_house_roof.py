@@ -10,11 +10,11 @@ import pytest
 
 from vslsp.cli import main
 from vslsp.errors import InputError
-from vslsp.vsl.house_sprites import body_sprite, houses_world, paste, roof_sprite
-from vslsp.vsl.house_roof import PIXEL_SIZE, demonstrate, reproduce
 from vslsp.geometry.poses import compose, relative, wrap
-from vslsp.vsl.house_world import BELOW, TOP, HouseWorld
 from vslsp.tasks import get_task
+from vslsp.vsl.house_roof import PIXEL_SIZE, demonstrate, reproduce
+from vslsp.vsl.house_sprites import body_sprite, houses_world, paste, roof_sprite
+from vslsp.vsl.house_world import BELOW, TOP, HouseWorld
 
 # Trials whose new world makes the fixed small frame go wrong (found by running the trials;
 # about three in four do): ops 1 and 2 land on free bodies, op 3 below an occupied one.

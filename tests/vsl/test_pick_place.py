@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
+from vslsp.geometry.poses import wrap
 from vslsp.sim.tabletop import Placement, TabletopWorld
 from vslsp.vision.features import Features, extract_features
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.geometry.poses import wrap
 from vslsp.vsl.pick_place import PickPlaceRecorder, TableView, apply, changed_region, object_candidates
 from vslsp.vsl.reproduction import correction, identify, identify_moved, plan_operation
 

@@ -8,7 +8,6 @@ import json
 import click
 
 
-
 @click.command()
 @click.argument("pre", type=click.Path(dir_okay=False))
 @click.argument("post", type=click.Path(dir_okay=False))

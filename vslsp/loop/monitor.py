@@ -22,7 +22,7 @@ from vslsp.skills.execute import execute_skill
 from vslsp.skills.library import SkillLibrary
 
 
-class Action(str, enum.Enum):
+class Action(enum.StrEnum):
     """The skills of VSL-SP and their expected effect on ``(far ?b)``."""
 
     PUSH = "push"
@@ -33,7 +33,7 @@ class Action(str, enum.Enum):
         return self is Action.PUSH
 
 
-class Fault(str, enum.Enum):
+class Fault(enum.StrEnum):
     """Execution faults for testing replanning: the tutor puts the cube back where it was after
     the action (``NUDGE``), or the step is not executed (``SKIP``)."""
 

@@ -10,9 +10,8 @@ did not cross the line, the cube was knocked back) makes the robot replan from w
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 

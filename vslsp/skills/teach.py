@@ -15,9 +15,9 @@ import numpy as np
 
 from vslsp.dmp import DMP
 from vslsp.errors import InputError
-from vslsp.skills.library import Skill, from_object_frame, to_object_frame
-from vslsp.sim import TABLE_Z, CubeSpec, LandmarkSpec, SceneSpec, World
+from vslsp.sim import TABLE_Z, LandmarkSpec, SceneSpec, World
 from vslsp.sim.robot import HAND_YAW, READY_POSITION
+from vslsp.skills.library import Skill, from_object_frame, to_object_frame
 
 PALM_HEIGHT = TABLE_Z + 0.019  # hand frame height that keeps the palm ~6 mm above the table
 # Where the tutor puts the hand, in the object frame (n away from the robot, t along the line):

@@ -32,10 +32,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, ClassVar
 
-from vslsp.errors import InputError
 
-
-class System(str, enum.Enum):
+class System(enum.StrEnum):
     """The three systems of the paper."""
 
     VSL = "VSL"
@@ -43,7 +41,7 @@ class System(str, enum.Enum):
     VSL_SP = "VSL-SP"
 
 
-class Option(str, enum.Enum):
+class Option(enum.StrEnum):
     """Options of ``vslsp experiment`` that only some tasks take."""
 
     FAULTS = "faults"  # inject execution faults (a cube nudged back, a step skipped)

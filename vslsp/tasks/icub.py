@@ -22,7 +22,6 @@ from typing import Any
 
 import numpy as np
 
-from vslsp.errors import InputError
 from vslsp.tasks.base import Option, System, Task, TrialResult
 from vslsp.tasks.registry import register
 
@@ -40,7 +39,6 @@ class IcubExperiment(Task):
         """The skill library loads and has push and pull (a missing or corrupt one, or a missing
         skill, is reported before any work); the planner exists."""
         from vslsp.skills.library import SKILL_NAMES, SkillLibrary
-
         from vslsp.symbolic import check_planner
 
         check_planner(self.option(Option.PLANNER, DEFAULT_PLANNER))

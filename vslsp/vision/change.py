@@ -20,7 +20,7 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
-from vslsp.vision.image import as_rgb, colour_distance, channel_max
+from vslsp.vision.image import as_rgb, channel_max
 from vslsp.vision.objects import DetectedObject, Segmentation, describe, segment
 
 CHANGE_THRESHOLD = 40  # grey levels between the (smoothed, gain-corrected) images

@@ -15,8 +15,8 @@ The winning transform is refined on its inliers and decomposed as α T = T R_θ 
 from __future__ import annotations
 
 import enum
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import cv2
 import numpy as np
@@ -66,7 +66,7 @@ class Match:
                 "ambiguous": self.ambiguous, "candidates": self.candidates}
 
 
-class FrameMode(str, enum.Enum):
+class FrameMode(enum.StrEnum):
     """How the pre-place frame is chosen: grown until one place stands out (the paper's
     adaptive frame) or a fixed small one (the baseline it is compared with)."""
 

@@ -19,11 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.grounding.operation import Grounding, ground
+from vslsp.grounding.spatial import check_robot_side
 from vslsp.vision.features import Features, object_features
 from vslsp.vision.image import as_rgb, read_image, write_image
 from vslsp.vision.landmark import Line, find_landmark
-from vslsp.grounding.operation import Grounding, ground
-from vslsp.grounding.spatial import check_robot_side
 
 FORMAT = "vslsp-demonstration/1"
 

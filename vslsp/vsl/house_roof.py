@@ -35,14 +35,21 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.geometry.poses import Pose2, compose, relative, wrap
+from vslsp.geometry.trajectory import PickPlaceTrajectory, TrajectoryParameters, pick_and_place
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
 from vslsp.vision.matching import MARGIN, MIN_SCORE, FrameMode, Match, NoMatch, find_best_match, frame_sizes
 from vslsp.vsl.demonstration import Demonstration, DemonstrationRecorder
-from vslsp.vsl.house_world import (ANGLE_TOLERANCE, DEMONSTRATED, POSITION_TOLERANCE, SLOTS, WORLD_SIZE, HouseWorld,
-                                   Pose2, compose, pose_dict,
-                                   relative, wrap)
-from vslsp.geometry.trajectory import PickPlaceTrajectory, TrajectoryParameters, pick_and_place
+from vslsp.vsl.house_world import (
+    ANGLE_TOLERANCE,
+    DEMONSTRATED,
+    POSITION_TOLERANCE,
+    SLOTS,
+    WORLD_SIZE,
+    HouseWorld,
+    pose_dict,
+)
 
 PIXEL_SIZE = 0.001  # m per px: the board is 96 x 72 cm
 REST = (480.0, 800.0, 0.15)  # the hand's rest point: px beyond the bottom edge (robot side), m high

@@ -16,7 +16,7 @@ from functools import lru_cache
 import cv2
 import numpy as np
 
-from vslsp.geometry.poses import Pose2, compose, relative, wrap
+from vslsp.geometry.poses import Pose2, relative, wrap
 from vslsp.vsl.house_sprites import board, body_sprite, covers, paste, roof_sprite
 
 WORLD_SIZE = (960, 720)  # (W, H) px

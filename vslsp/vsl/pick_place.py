@@ -28,10 +28,10 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
-from vslsp.vision.features import Features, extract_features
-from vslsp.vision.matching import SCALE_RANGE
-from vslsp.vision.image import channel_max
 from vslsp.geometry.poses import wrap
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.image import channel_max
+from vslsp.vision.matching import SCALE_RANGE
 
 PLACE_FRAME = 2.0  # the pre-place frame's side, in sizes of the biggest object (the paper: two to three)
 CHANGE_THRESHOLD = 40  # grey levels: a pixel changed between two observations

@@ -28,13 +28,20 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from vslsp.geometry.poses import wrap
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
 from vslsp.vision.matching import Match, NoMatch, find_best_match, frame_sizes
 from vslsp.vision.transform import decompose
-from vslsp.geometry.poses import wrap
-from vslsp.vsl.pick_place import (CHANGE_THRESHOLD, PickPlaceDemonstration, RecordedOperation, TableCamera, apply,
-                                  object_candidates, table_rotation)
+from vslsp.vsl.pick_place import (
+    CHANGE_THRESHOLD,
+    PickPlaceDemonstration,
+    RecordedOperation,
+    TableCamera,
+    apply,
+    object_candidates,
+    table_rotation,
+)
 
 # The pre-place frame grows (×1.5 a step) while the match is ambiguous up to this multiple of
 # its first side: beyond, a frame sees mostly the rest of the scene, which the new world does

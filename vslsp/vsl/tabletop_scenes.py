@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from vslsp.geometry.poses import compose, relative  # noqa: F401  (poses (x, y, yaw) in the table frame)
 from vslsp.sim.tabletop import Item, Placement
 from vslsp.vsl import textures
-from vslsp.geometry.poses import compose, relative  # noqa: F401  (poses (x, y, yaw) in the table frame)
 
 SCATTER_X = (0.33, 0.54)  # where objects lie at random: in reach, in view, clear of the goal areas
 SCATTER_Y = (-0.28, 0.28)

@@ -28,19 +28,26 @@ and :data:`ANGLE_TOLERANCE` (and the stack level within :data:`LEVEL_TOLERANCE`)
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import Callable, Iterator
 
 import numpy as np
 
-from vslsp.sim.tabletop import Item, Placement, PickPlaceResult, TabletopWorld
+from vslsp.geometry.poses import wrap
+from vslsp.sim.tabletop import Item, PickPlaceResult, Placement, TabletopWorld
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import Match, NoMatch
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.geometry.poses import wrap
 from vslsp.vsl.pick_place import PickPlaceDemonstration, PickPlaceRecorder, TableView
-from vslsp.vsl.reproduction import (PlannedOperation, correction, identify, identify_moved, match_object, match_place,
-                                   plan_operation)
+from vslsp.vsl.reproduction import (
+    PlannedOperation,
+    correction,
+    identify,
+    identify_moved,
+    match_object,
+    match_place,
+    plan_operation,
+)
 
 POSITION_TOLERANCE = 0.015  # m
 ANGLE_TOLERANCE = np.radians(12.0)
