@@ -40,7 +40,9 @@ WORKSPACE_X = (0.36, 0.72)  # where objects may lie: well inside the sensor's vi
 WORKSPACE_Y = (-0.24, 0.24)
 TRAY_POSITION = (0.56, 0.16)
 TRAY_SCALE = 0.4  # pybullet's traybox is 60 cm wide; this makes a 24 cm box
-BOX_SIZE = (0.10, 0.10, 0.06)  # the stacking experiment's landmark boxes (m)
+# The stacking experiment's landmark boxes (x, y, z extents, m): shaped unlike each other so that
+# the cloud tells them apart; a box looks the same turned by its symmetry (a half or quarter turn).
+BOXES = {"box1": (0.14, 0.09, 0.04), "box2": (0.09, 0.09, 0.08)}
 BOX_COLOUR = (0.25, 0.45, 0.75, 1.0)
 BOX_MASS = 0.5
 CLEARANCE = 0.14  # m between the centres of two objects (and an object and the tray's rim)
@@ -173,12 +175,12 @@ class CloudScene(PhysicsClient):
 
     # -- physics (robot=True) --------------------------------------------------------------
     def add_box(self, name: str, x: float, y: float, yaw: float) -> None:
-        """A landmark box :data:`BOX_SIZE` named ``name`` (a movable body: the tutor repositions
-        it) resting on the table at (x, y) turned by ``yaw`` (rad)."""
-        if name in self.bodies:
-            raise InputError(f"two bodies are named {name!r}")
+        """The landmark box ``name`` of :data:`BOXES` (a movable body: the tutor repositions it)
+        resting on the table at (x, y) turned by ``yaw`` (rad)."""
+        if name not in BOXES or name in self.bodies:
+            raise InputError(f"unknown or repeated box {name!r}; use each of {', '.join(BOXES)} at most once")
         c = self.client
-        half = [v / 2.0 for v in BOX_SIZE]
+        half = [v / 2.0 for v in BOXES[name]]
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
         visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=BOX_COLOUR, physicsClientId=c)
         body = pb.createMultiBody(BOX_MASS, shape, visual, [x, y, half[2] + 0.0005],

@@ -86,5 +86,5 @@ def pick_and_place(world, grasp: Grasp, motion: np.ndarray, movable: list[int]) 
     place, theta_place = place_for(grasp, motion)
     theta_pick, theta_place = wrist_branch(np.array([*grasp.point[:2], grasp.theta]),
                                            np.array([*place[:2], theta_place]))
-    each = float(np.clip(grasp.width / 2.0 + FINGER_ROOM, 0.005, FINGER_OPEN))
+    each = FINGER_OPEN  # a single view underestimates the width across it: open fully
     return execute_between(world, grasp.point, place, theta_pick, theta_place, each, movable)
