@@ -47,6 +47,9 @@ BOX_COLOUR = (0.25, 0.45, 0.75, 1.0)
 BOX_MASS = 0.5
 CLEARANCE = 0.14  # m between the centres of two objects (and an object and the tray's rim)
 FRICTION = 1.0  # lateral friction of the table, the objects and the tray (pybullet multiplies two)
+# Torsional friction of the objects (Bullet multiplies it with the finger pads' 0.1): an object
+# held by its upper part does not pivot about the closing axis as a pendulum (the table has none).
+SPINNING_FRICTION = 1.0
 
 
 @dataclass(frozen=True)
@@ -153,7 +156,7 @@ class CloudScene(PhysicsClient):
                 self.bodies[name] = pb.loadURDF(model.urdf, [x, y, 0.2], globalScaling=model.scale,
                                                 physicsClientId=c)
             if robot:
-                pb.changeDynamics(self.bodies[name], -1, lateralFriction=FRICTION, spinningFriction=0.001,
+                pb.changeDynamics(self.bodies[name], -1, lateralFriction=FRICTION, spinningFriction=SPINNING_FRICTION,
                                   physicsClientId=c)
             self.tutor_move(name, self.resting_pose(name, x, y, yaw))
         self.boxes: dict[str, int] = {}
@@ -185,7 +188,7 @@ class CloudScene(PhysicsClient):
         visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=BOX_COLOUR, physicsClientId=c)
         body = pb.createMultiBody(BOX_MASS, shape, visual, [x, y, half[2] + 0.0005],
                                   pb.getQuaternionFromEuler([0.0, 0.0, yaw]), physicsClientId=c)
-        pb.changeDynamics(body, -1, lateralFriction=FRICTION, spinningFriction=0.001, physicsClientId=c)
+        pb.changeDynamics(body, -1, lateralFriction=FRICTION, spinningFriction=SPINNING_FRICTION, physicsClientId=c)
         self.bodies[name] = body
         self.boxes[name] = body
 

@@ -4,10 +4,10 @@ section "Methodology", grasping: the grasp point and the approach come from the 
 section "VSL-3D": the object is moved by the demonstrated motion applied to the match).
 
 - The grasp (:func:`plan_grasp`) comes from the matched pre-action observation's points in the
-  new world, never from the simulator: the fingertips close :data:`GRASP_DEPTH` below the
-  highest point (at least :data:`TIP_CLEARANCE` above the lowest), about the middle of the
-  points' bounding box at that height, along the box's narrower side (principal axes in the
-  table plane); an object wider than the gripper opens is "ungraspable".
+  new world, never from the simulator: the fingertips close at half the object's seen height
+  (else :data:`GRASP_DEPTH` below the top, where it is narrower), about the middle
+  of the bounding box of the points above them, along the box's narrower side (principal axes
+  in the table plane); an object wider than the gripper opens is "ungraspable".
 - The place (:func:`place_for`): the grasp point moved by T_j M_j^-1 (the demonstrated motion
   T_j after undoing the match M_j), the hand turned by that motion's yaw; the held object comes
   down from just above the height the cloud shows until it touches what is below (the arm's
@@ -29,7 +29,9 @@ GRASP_DEPTH = 0.03  # m below the object's top where the fingertips close
 TIP_CLEARANCE = 0.006  # m the fingertips stay above the object's lowest seen point
 PLACE_CLEARANCE = 0.008  # m above the demonstrated height where the guarded descent starts
 FINGER_ROOM = 0.008  # m each finger opens beyond the object's side
-BAND = 0.015  # m of points above the fingertips that the grasp's box is measured on
+BAND = 0.015  # m below the fingertips that the grasp's box also measures (the pads' reach)
+GRIP_HEIGHTS = (0.5,)  # fractions of the object's seen height where a grip is tried first
+MIN_GRIP = 0.015  # m of the object above the fingertips at the least
 
 
 @dataclass(frozen=True)
@@ -55,22 +57,28 @@ def plan_grasp(points: np.ndarray) -> Grasp:
         raise TaskFailed(f"ungraspable: the object's cloud has only {len(points)} points")
     top = float(np.percentile(points[:, 2], 99.5))
     bottom = max(0.0, float(np.percentile(points[:, 2], 0.5)))
-    tip = max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE)
-    band = points[points[:, 2] >= min(tip, top - 0.005) - BAND / 2][:, :2]
-    centre = band.mean(axis=0)
-    _, vectors = np.linalg.eigh(np.cov((band - centre).T))
-    extents = []
-    for axis in vectors.T:  # minor axis first
-        along = (band - centre) @ axis
-        extents.append((float(along.max() - along.min()), axis, float(along.max() + along.min()) / 2.0))
     widest = 2.0 * (FINGER_OPEN - FINGER_ROOM)
-    for width, axis, middle in extents:
-        if width <= widest:
-            other = next(e for e in extents if e[1] is not axis)
-            middle_point = centre + middle * axis + other[2] * other[1]
-            return Grasp(np.array([*middle_point, tip]), float(np.arctan2(axis[1], axis[0])), width, top)
-    raise TaskFailed(f"ungraspable: the object is {min(e[0] for e in extents) * 100:.1f} cm wide at its "
-                     f"narrowest side, the gripper opens {widest * 100:.1f} cm")
+    narrowest = np.inf
+    # Lowest first: a grip near the middle holds a tall object without letting it pivot.
+    for tip in sorted({float(np.clip(bottom + f * (top - bottom), bottom + TIP_CLEARANCE, top - MIN_GRIP))
+                       for f in GRIP_HEIGHTS} | {max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE)}):
+        above = points[points[:, 2] >= tip - BAND / 2][:, :2]  # all that passes between the fingers
+        if len(above) < 10:
+            continue
+        centre = above.mean(axis=0)
+        _, vectors = np.linalg.eigh(np.cov((above - centre).T))
+        extents = []
+        for axis in vectors.T:  # minor axis first
+            along = (above - centre) @ axis
+            extents.append((float(along.max() - along.min()), axis, float(along.max() + along.min()) / 2.0))
+        narrowest = min(narrowest, extents[0][0])
+        for index, (width, axis, middle) in enumerate(extents):
+            if width <= widest:
+                _, other, other_middle = extents[1 - index]
+                middle_point = centre + middle * axis + other_middle * other
+                return Grasp(np.array([*middle_point, tip]), float(np.arctan2(axis[1], axis[0])), width, top)
+    raise TaskFailed(f"ungraspable: the object is {narrowest * 100:.1f} cm wide at its narrowest side, "
+                     f"the gripper opens {widest * 100:.1f} cm")
 
 
 def place_for(grasp: Grasp, motion: np.ndarray) -> tuple[np.ndarray, float]:

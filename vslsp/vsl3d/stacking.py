@@ -46,7 +46,8 @@ class StackResult:
     landmark_fitness: float | None = None
     picked: str | None = None
     final_error_mm: float | None = None
-    final_error_deg: float | None = None
+    final_error_deg: float | None = None  # the turn about the vertical
+    final_rotation_deg: float | None = None  # the whole rotation (reported, not judged)
     error: str | None = None
 
     @property
@@ -59,7 +60,7 @@ class StackResult:
         execution = self.execution or {"executed_by": "robot", "attempts": 0, "grasp_outcome": [],
                                        "match_fitness": None, "grasp": None, "diagnosis": self.error}
         data = {k: getattr(self, k) for k in ("index", "moved", "box", "demonstration", "landmark_fitness",
-                                              "picked", "final_error_mm", "final_error_deg", "error")}
+                                              "picked", "final_error_mm", "final_error_deg", "final_rotation_deg", "error")}
         return {**data, **execution, "tolerance_mm": TOLERANCE_M * 1000, "tolerance_deg": TOLERANCE_DEG,
                 "success": self.success}
 
@@ -80,18 +81,18 @@ def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
 
 
 def relative_error(scene: CloudScene, name: str, box: str, goal_object: np.ndarray, goal_box: np.ndarray
-                   ) -> tuple[float, float]:
-    """The object's pose on its box against the demonstrated one, up to the box's symmetry."""
+                   ) -> tuple[float, float, float]:
+    """The object's pose on its box against the demonstrated one, up to the box's symmetry
+    (:func:`~vslsp.vsl3d.table_cleaning.pose_error`'s mm, turn and rotation)."""
     lower, upper = scene.bounds(name)
-    best = (np.inf, np.inf)
+    errors = []
     for k in range(BOX_SYMMETRY[box]):
         turn = np.eye(4)
         angle = 2.0 * np.pi * k / BOX_SYMMETRY[box]
         turn[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
         goal = scene.pose(box) @ turn @ np.linalg.inv(goal_box) @ goal_object
-        error = pose_error(goal, scene.pose(name), (lower + upper) / 2.0)
-        best = min(best, error)
-    return best
+        errors.append(pose_error(goal, scene.pose(name), (lower + upper) / 2.0))
+    return min(errors, key=lambda e: e[0] / (TOLERANCE_M * 1000) + e[1] / TOLERANCE_DEG)
 
 
 def run_stacking(seed: int = 0, method: str = "prerejective_ransac", absent: tuple[str, ...] = ()
@@ -169,7 +170,7 @@ def run_stacking(seed: int = 0, method: str = "prerejective_ransac", absent: tup
 def judge(scene: CloudScene, index: int, name: str, box: str, summary: dict, record: Reproduction,
           goal: tuple[np.ndarray, np.ndarray], fitness: float | None) -> StackResult:
     picked = next((a.held for a in reversed(record.attempts) if a.held is not None), None)
-    errors: tuple[float | None, float | None] = (None, None)
+    errors: tuple[float | None, float | None, float | None] = (None, None, None)
     if record.attempts and name in scene.bodies and box in scene.bodies:
         errors = relative_error(scene, name, box, *goal)
     return StackResult(index, name, box, summary, record.to_dict(), None if fitness is None else round(fitness, 4),

@@ -11,7 +11,8 @@ its motion T_j (4x4). Reproduction (part II): in the reshuffled world the robot 
 recorded pre-action observation (pose M_j), grasps the object where its matched cloud says, and
 puts it down at T_j M_j^-1 (:mod:`vslsp.vsl3d.reproduce`). The simulator's ground truth then says
 how close each object came to its demonstrated pose: within :data:`TOLERANCE_M` at its centre
-and :data:`TOLERANCE_DEG` of turn (a grasped object does not land as exactly as a pose reset).
+and :data:`TOLERANCE_DEG` of turn about the vertical (a grasped object does not land as exactly
+as a pose reset; the whole rotation, which includes how a released object settles, is reported).
 Perception and grasping never read the ground truth.
 """
 
@@ -51,7 +52,8 @@ class OperationResult:
     execution: dict | None = None  # executed_by, attempts, grasp_outcome, match_fitness, grasp, diagnosis
     picked: str | None = None  # what the fingers held (truth)
     final_error_mm: float | None = None
-    final_error_deg: float | None = None
+    final_error_deg: float | None = None  # the turn about the vertical
+    final_rotation_deg: float | None = None  # the whole rotation (reported, not judged)
     error: str | None = None
 
     def to_dict(self) -> dict:
@@ -83,10 +85,15 @@ class TableCleaningResult:
                 "operations": [op.to_dict() for op in self.operations]}
 
 
-def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[float, float]:
-    """How far ``pose`` (4, 4) is from ``goal`` (4, 4): mm at the object's ``centre`` (3,) and deg."""
-    offset, turn = transform_error(goal @ np.linalg.inv(pose), np.eye(4), centre)
-    return round(offset * 1000, 3), round(turn, 3)
+def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[float, float, float]:
+    """How far ``pose`` (4, 4) is from ``goal`` (4, 4): mm at the object's ``centre`` (3,), the
+    turn about the vertical (deg: the nearest rotation about z to the relative rotation) and the
+    whole relative rotation's angle (deg; it includes how the object came to rest, which a
+    released object decides itself: a teddy may settle leaning back less than the tutor stood it)."""
+    offset, angle = transform_error(goal @ np.linalg.inv(pose), np.eye(4), centre)
+    relative = goal[:3, :3] @ pose[:3, :3].T
+    turn = abs(np.degrees(np.arctan2(relative[1, 0] - relative[0, 1], relative[0, 0] + relative[1, 1])))
+    return round(offset * 1000, 3), round(float(turn), 3), round(angle, 3)
 
 
 def demonstrate(scene: CloudScene, layout: dict, rng: np.random.Generator, method: str, seed: int
@@ -120,7 +127,7 @@ def judge(scene: CloudScene, index: int, name: str, summary: dict, record: Repro
           goal: np.ndarray) -> OperationResult:
     """The operation's result from the robot's record and the truth."""
     picked = next((a.held for a in reversed(record.attempts) if a.held is not None), None)
-    errors: tuple[float | None, float | None] = (None, None)
+    errors: tuple[float | None, float | None, float | None] = (None, None, None)
     if record.attempts:
         lower, upper = scene.bounds(name)
         errors = pose_error(goal, scene.pose(name), (lower + upper) / 2.0)
