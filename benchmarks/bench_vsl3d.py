@@ -35,9 +35,15 @@ from vslsp.vsl3d.alignment import FEATURE_VOXEL
 from vslsp.vsl3d.cloud import DepthCamera, Frame, voxel_downsample
 from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree, brute_force_knn
-from vslsp.vsl3d.normals import estimate_normals
-from vslsp.vsl3d.registration import feature_neighbours, icp, prerejective_ransac, transform_error, transform_points
 from vslsp.vsl3d.matching import find_best_match
+from vslsp.vsl3d.normals import estimate_normals
+from vslsp.vsl3d.registration import (
+    feature_neighbours,
+    icp,
+    prerejective_ransac,
+    transform_error,
+    transform_points,
+)
 from vslsp.vsl3d.vsl import VOXEL, WorldCloud, get_object
 
 WORKSPACE = Frame((0.25, -0.40, 0.006), (0.90, 0.40, 0.40))
@@ -117,7 +123,8 @@ def accuracy(trials: int, method: str, max_yaw_deg: float) -> None:
             f"motion {outcome['motion'][0] * 1000:.2f} mm {outcome['motion'][1]:.2f} deg; "
             + (f"match {outcome['match'][0] * 1000:.2f} mm {outcome['match'][1]:.2f} deg"
                if "match" in outcome else f"match failed: {outcome.get('match_error')}"))
-        print(f"  trial {seed:3d} {outcome['object']:5s} tray={outcome['tray']!s:5s} tilted={outcome['tilted']!s:5s} {status}")
+        print(f"  trial {seed:3d} {outcome['object']:5s} tray={outcome['tray']!s:5s} "
+              f"tilted={outcome['tilted']!s:5s} {status}")
     for key, label in (("motion", "getObject 6-DoF motion"), ("match", "findBestMatch pose")):
         errors = np.array([r[key] for r in results if key in r])
         ok = [key in r and r[key][0] < TOLERANCE_M and r[key][1] < TOLERANCE_DEG
@@ -237,8 +244,8 @@ def speed() -> None:
     query_tensor = o3d.core.Tensor(queries)
     for k in (1, 10):
         reference, _ = brute_force_knn(cloud, queries, k)
-        t_ours, (distance, _) = _timed(lambda: tree.query(queries, k))
-        t_o3d, (_, o3d_d2) = _timed(lambda: nns.knn_search(query_tensor, k))
+        t_ours, (distance, _) = _timed(lambda k=k: tree.query(queries, k))
+        t_o3d, (_, o3d_d2) = _timed(lambda k=k: nns.knn_search(query_tensor, k))
         errors = [np.abs(d - reference).max() for d in (distance, np.sqrt(o3d_d2.numpy()))]
         table.add(f"KNN k={k}, 5000 queries", t_ours, t_o3d, f"max error {errors[0]:.1e} m",
                   f"max error {errors[1]:.1e} m")

@@ -293,7 +293,7 @@ def random_layout(names: list[str], seed: int, tray: bool = True) -> dict[str, t
     for name in names:
         for _ in range(1000):
             x, y = rng.uniform(*WORKSPACE_X), rng.uniform(*WORKSPACE_Y)
-            if all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance)):
+            if all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance, strict=True)):
                 break
         else:
             raise InputError(f"cannot place {len(names)} objects {CLEARANCE} m apart in the workspace")

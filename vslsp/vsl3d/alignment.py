@@ -20,7 +20,13 @@ from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.normals import estimate_normals
 from vslsp.vsl3d.registration import (
-    Registration, evaluate, icp, icp_batch, prerejective_ransac, sac_ia, transform_points,
+    Registration,
+    evaluate,
+    icp,
+    icp_batch,
+    prerejective_ransac,
+    sac_ia,
+    transform_points,
 )
 
 FEATURE_VOXEL = 0.005

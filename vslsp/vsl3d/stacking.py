@@ -59,8 +59,8 @@ class StackResult:
     def to_dict(self) -> dict:
         execution = self.execution or {"executed_by": "robot", "attempts": 0, "grasp_outcome": [],
                                        "match_fitness": None, "grasp": None, "diagnosis": self.error}
-        data = {k: getattr(self, k) for k in ("index", "moved", "box", "demonstration", "landmark_fitness",
-                                              "picked", "final_error_mm", "final_error_deg", "final_rotation_deg", "error")}
+        data = {k: getattr(self, k) for k in ("index", "moved", "box", "demonstration", "landmark_fitness", "picked",
+                                              "final_error_mm", "final_error_deg", "final_rotation_deg", "error")}
         return {**data, **execution, "tolerance_mm": TOLERANCE_M * 1000, "tolerance_deg": TOLERANCE_DEG,
                 "success": self.success}
 
@@ -139,7 +139,7 @@ def run_stacking(seed: int = 0, method: str = "prerejective_ransac", absent: tup
     matched, cloud = [], None
     with CloudScene(objects, tray=False, robot=True, boxes=boxes) as scene:
         movable = list(scene.bodies.values())
-        for index, ((name, box), demo) in enumerate(zip(OPERATIONS, demonstrated)):
+        for index, ((name, box), demo) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
             if isinstance(demo, str):
                 results.append(StackResult(index, name, box, None, error=demo))
                 continue

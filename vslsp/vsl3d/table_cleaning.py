@@ -19,6 +19,7 @@ Perception and grasping never read the ground truth.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 
@@ -135,7 +136,7 @@ def judge(scene: CloudScene, index: int, name: str, summary: dict, record: Repro
 
 
 def run_table_cleaning(seed: int = 0, method: str = "prerejective_ransac"
-                       ) -> tuple[TableCleaningResult, dict[str, np.ndarray | list[np.ndarray]]]:
+                       ) -> tuple[TableCleaningResult, dict[str, Any]]:
     """Demonstrate the table cleaning in a seeded random scene, reshuffle, reproduce with the
     robot. Returns the outcome and the report's pictures: ``demonstration`` (per operation the
     pre|post RGB (H, 2W, 3) with the found object's frame), ``matched`` (the reproduction's RGB
@@ -155,7 +156,7 @@ def run_table_cleaning(seed: int = 0, method: str = "prerejective_ransac"
     results, matched, cloud = [], [], None
     with CloudScene(reshuffled, robot=True) as scene:
         movable = list(scene.bodies.values())
-        for index, ((name, _, _), (moved, failure)) in enumerate(zip(OPERATIONS, demonstrated)):
+        for index, ((name, _, _), (moved, failure)) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
             if moved is None:
                 results.append(OperationResult(index, name, None, error=failure))
                 continue
