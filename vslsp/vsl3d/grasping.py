@@ -49,9 +49,10 @@ class Grasp:
                 "width_m": round(self.width, 4), "top_m": round(self.top, 4)}
 
 
-def plan_grasp(points: np.ndarray) -> Grasp:
-    """The grasp of an object seen as ``points`` (N, 3) (the matched observation in the world).
-    Raises :class:`TaskFailed` ("ungraspable") when both sides are wider than the gripper."""
+def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
+    """The grasp of an object seen as ``points`` (N, 3) (the matched observation in the world),
+    the fingertips ``higher`` m above the first choice (a retry grips elsewhere). Raises
+    :class:`TaskFailed` ("ungraspable") when both sides are wider than the gripper."""
     points = np.asarray(points, dtype=float)
     if len(points) < 10:
         raise TaskFailed(f"ungraspable: the object's cloud has only {len(points)} points")
@@ -60,8 +61,9 @@ def plan_grasp(points: np.ndarray) -> Grasp:
     widest = 2.0 * (FINGER_OPEN - FINGER_ROOM)
     narrowest = np.inf
     # Lowest first: a grip near the middle holds a tall object without letting it pivot.
-    for tip in sorted({float(np.clip(bottom + f * (top - bottom), bottom + TIP_CLEARANCE, top - MIN_GRIP))
-                       for f in GRIP_HEIGHTS} | {max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE)}):
+    for tip in sorted({float(np.clip(bottom + f * (top - bottom) + higher, bottom + TIP_CLEARANCE, top - MIN_GRIP))
+                       for f in GRIP_HEIGHTS} | {min(max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE) + higher,
+                                                     top - MIN_GRIP)}):
         above = points[points[:, 2] >= tip - BAND / 2][:, :2]  # all that passes between the fingers
         if len(above) < 10:
             continue

@@ -6,7 +6,7 @@ plans the grasp from the matched cloud (:mod:`vslsp.vsl3d.grasping`), asks the c
 motion that takes the object to its goal (T_j M_j^-1 for the table cleaning, K_j T_j M_j^-1
 relative to a landmark for the stacking), and has the Panda pick and place it. A grasp that
 fails or an object that slips is seen in the next capture, which starts a second and last
-attempt; an unreachable or ungraspable object is reported as such. Every failure is a
+attempt (gripping a little higher); an unreachable or ungraspable object is reported as such. Every failure is a
 diagnosis in the record, never an exception.
 """
 
@@ -27,6 +27,7 @@ from vslsp.vsl3d.vsl import CloudObservation, WorldCloud
 WORKSPACE = Frame((0.25, -0.40, 0.006), (0.90, 0.40, 0.40))  # the world: above the table top
 MIN_WORLD_POINTS = 200  # fewer points above the table: the capture shows no object
 RETRIED = ("grasp failed", "object slipped")
+RETRY_HIGHER = 0.012  # m: the retry grips this much higher (a round body squeezes out of a low grip)
 
 
 def world_of(image: RGBDImage) -> WorldCloud:
@@ -81,7 +82,7 @@ def reproduce(scene: CloudScene, observation: CloudObservation, motion_for: Call
     """Find ``observation`` in ``scene``'s capture and move the object there by
     ``motion_for(match, world)`` (4, 4) with the robot, retrying once after a failed grasp."""
     record = Reproduction()
-    for _ in range(2):
+    for retry in range(2):
         scene.park()
         image = scene.capture()
         world = world_of(image)
@@ -90,7 +91,7 @@ def reproduce(scene: CloudScene, observation: CloudObservation, motion_for: Call
         try:
             check_world(world)
             attempt.match = find_best_match(world, observation, method=method, seed=seed)
-            attempt.grasp = plan_grasp(attempt.match.points)
+            attempt.grasp = plan_grasp(attempt.match.points, higher=RETRY_HIGHER * retry)
             motion = motion_for(attempt.match, world)
         except VslspError as error:
             attempt.error = record.diagnosis = str(error)
