@@ -50,6 +50,7 @@ FRICTION = 1.0  # lateral friction of the table, the objects and the tray (pybul
 # Torsional friction of the objects (Bullet multiplies it with the finger pads' 0.1): an object
 # held by its upper part does not pivot about the closing axis as a pendulum (the table has none).
 SPINNING_FRICTION = 1.0
+REST_STEPS = 24  # steps (0.1 s) an object must stay still to count as settled
 
 
 @dataclass(frozen=True)
@@ -197,14 +198,19 @@ class CloudScene(PhysicsClient):
         for _ in range(n):
             pb.stepSimulation(physicsClientId=self.client)
 
-    def settle(self, max_steps: int = 480) -> None:
-        """Step until every object is at rest (or ``max_steps``); a no-op in a static world."""
+    def settle(self, max_steps: int = 960) -> None:
+        """Step until every object has been at rest for :data:`REST_STEPS` steps (below 1 mm/s
+        and 0.01 rad/s: a rocking teddy creeps otherwise) or ``max_steps``; a no-op in a static
+        world."""
         if self.panda is None:
             return
-        for k in range(max_steps):
+        quiet_steps = 0
+        for _ in range(max_steps):
             self.step()
-            if k >= 5 and all(np.linalg.norm(pb.getBaseVelocity(b, physicsClientId=self.client)[0]) < 1e-3
-                              for b in self.bodies.values()):
+            velocities = [pb.getBaseVelocity(b, physicsClientId=self.client) for b in self.bodies.values()]
+            still = all(np.linalg.norm(v) < 1e-3 and np.linalg.norm(w) < 1e-2 for v, w in velocities)
+            quiet_steps = quiet_steps + 1 if still else 0
+            if quiet_steps >= REST_STEPS:
                 break
 
     def park(self) -> None:
