@@ -19,6 +19,9 @@ normals (against the true face normals of a cube in the scene), normals + FPFH (
 nearest-feature correspondences that are true), RANSAC-based global registration and
 point-to-plane ICP (against the known motion). Each row prints both times and their ratio.
 
+VSL-3D runs each stage on one thread; Open3D uses OpenMP threads: ``OMP_NUM_THREADS=1`` compares
+core for core (on the shared 2-core machine Open3D's threads gain or lose with the load).
+
 Run: .venv/bin/python benchmarks/bench_vsl3d.py [--trials 20] [--method prerejective_ransac]
 """
 
