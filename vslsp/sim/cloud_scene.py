@@ -6,7 +6,10 @@ Objects are meshes from ``pybullet_data`` (a duck, a teddy bear, a mug, random b
 on a table whose top is the plane z = 0; a tray (the box) stands in it as a static landmark.
 The tutor puts an object at a given 6-DoF pose (it holds the object there: no physics step
 runs, so a tilted object stays tilted); :meth:`CloudScene.resting_pose` gives the pose at
-which an object with a given yaw and tilt touches the table. Ground-truth poses are for tests
+which an object with a given yaw and tilt touches the table. With ``robot=True`` the world is
+physical: gravity acts, objects settle after the tutor lets go (:meth:`CloudScene.settle`), and
+the Franka Panda of the tabletop world (:class:`vslsp.sim.panda.Panda`, base at the origin on
+the table's near edge, parked out of the sensor's view) picks and places them. Ground-truth poses are for tests
 and benchmarks only: VSL-3D sees nothing but the depth image.
 
 Frame: x away from the sensor over the table, y to the left, z up, metres.
@@ -22,6 +25,8 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.sim.camera import Camera
 from vslsp.sim.client import PhysicsClient
+from vslsp.sim.panda import PARK, Panda
+from vslsp.sim.pick_place import TIME_STEP
 from vslsp.sim.quiet import quiet
 
 with quiet():
@@ -35,7 +40,17 @@ WORKSPACE_X = (0.36, 0.72)  # where objects may lie: well inside the sensor's vi
 WORKSPACE_Y = (-0.24, 0.24)
 TRAY_POSITION = (0.56, 0.16)
 TRAY_SCALE = 0.4  # pybullet's traybox is 60 cm wide; this makes a 24 cm box
+# The stacking experiment's landmark boxes (x, y, z extents, m): shaped unlike each other so that
+# the cloud tells them apart; a box looks the same turned by its symmetry (a half or quarter turn).
+BOXES = {"box1": (0.14, 0.09, 0.04), "box2": (0.09, 0.09, 0.08)}
+BOX_COLOUR = (0.25, 0.45, 0.75, 1.0)
+BOX_MASS = 0.5
 CLEARANCE = 0.14  # m between the centres of two objects (and an object and the tray's rim)
+FRICTION = 1.0  # lateral friction of the table, the objects and the tray (pybullet multiplies two)
+# Torsional friction of the objects (Bullet multiplies it with the finger pads' 0.1): an object
+# held by its upper part does not pivot about the closing axis as a pendulum (the table has none).
+SPINNING_FRICTION = 1.0
+REST_STEPS = 24  # steps (0.1 s) an object must stay still to count as settled
 
 
 @dataclass(frozen=True)
@@ -106,7 +121,8 @@ class CloudScene(PhysicsClient):
     second copy, e.g. ``"duck#2"``). Close it (or use ``with``) when done."""
 
     def __init__(self, objects: dict[str, tuple[float, float, float]], *, tray: bool = True,
-                 camera: Camera = SENSOR, noise: bool = False, seed: int = 0) -> None:
+                 camera: Camera = SENSOR, noise: bool = False, seed: int = 0, robot: bool = False,
+                 boxes: dict[str, tuple[float, float, float]] | None = None) -> None:
         for name in objects:
             if name.split("#")[0] not in OBJECTS:
                 raise InputError(f"unknown object {name!r}; use one of {', '.join(OBJECTS)}")
@@ -121,6 +137,13 @@ class CloudScene(PhysicsClient):
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, physicsClientId=c)
         visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR, physicsClientId=c)
         self.table = pb.createMultiBody(0, shape, visual, [*TABLE_CENTRE, -TABLE_HALF[2]], physicsClientId=c)
+        self.panda: Panda | None = None
+        if robot:
+            pb.setGravity(0, 0, -9.81, physicsClientId=c)
+            pb.setTimeStep(TIME_STEP, physicsClientId=c)
+            pb.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
+            pb.changeDynamics(self.table, -1, lateralFriction=FRICTION, physicsClientId=c)
+            self.panda = Panda(c)
         self.tray = None
         if tray:
             with quiet():
@@ -133,7 +156,15 @@ class CloudScene(PhysicsClient):
             with quiet():
                 self.bodies[name] = pb.loadURDF(model.urdf, [x, y, 0.2], globalScaling=model.scale,
                                                 physicsClientId=c)
+            if robot:
+                pb.changeDynamics(self.bodies[name], -1, lateralFriction=FRICTION, spinningFriction=SPINNING_FRICTION,
+                                  physicsClientId=c)
             self.tutor_move(name, self.resting_pose(name, x, y, yaw))
+        self.boxes: dict[str, int] = {}
+        for name, (x, y, yaw) in (boxes or {}).items():
+            self.add_box(name, x, y, yaw)
+        if robot:
+            self.settle()
 
     # -- the tutor -------------------------------------------------------------------------
     def tutor_move(self, name: str, pose: np.ndarray) -> None:
@@ -144,6 +175,48 @@ class CloudScene(PhysicsClient):
             raise InputError("a pose is a 4x4 rigid transform (orthonormal rotation)")
         quaternion = _quaternion(pose[:3, :3])
         pb.resetBasePositionAndOrientation(body, pose[:3, 3].tolist(), quaternion, physicsClientId=self.client)
+        pb.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0], physicsClientId=self.client)
+
+    # -- physics (robot=True) --------------------------------------------------------------
+    def add_box(self, name: str, x: float, y: float, yaw: float) -> None:
+        """The landmark box ``name`` of :data:`BOXES` (a movable body: the tutor repositions it)
+        resting on the table at (x, y) turned by ``yaw`` (rad)."""
+        if name not in BOXES or name in self.bodies:
+            raise InputError(f"unknown or repeated box {name!r}; use each of {', '.join(BOXES)} at most once")
+        c = self.client
+        half = [v / 2.0 for v in BOXES[name]]
+        shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
+        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=BOX_COLOUR, physicsClientId=c)
+        body = pb.createMultiBody(BOX_MASS, shape, visual, [x, y, half[2] + 0.0005],
+                                  pb.getQuaternionFromEuler([0.0, 0.0, yaw]), physicsClientId=c)
+        pb.changeDynamics(body, -1, lateralFriction=FRICTION, spinningFriction=SPINNING_FRICTION, physicsClientId=c)
+        self.bodies[name] = body
+        self.boxes[name] = body
+
+    def step(self, n: int = 1) -> None:
+        """Advance the physics by ``n`` steps of :data:`TIME_STEP`."""
+        for _ in range(n):
+            pb.stepSimulation(physicsClientId=self.client)
+
+    def settle(self, max_steps: int = 960) -> None:
+        """Step until every object has been at rest for :data:`REST_STEPS` steps (below 1 mm/s
+        and 0.01 rad/s: a rocking teddy creeps otherwise) or ``max_steps``; a no-op in a static
+        world."""
+        if self.panda is None:
+            return
+        quiet_steps = 0
+        for _ in range(max_steps):
+            self.step()
+            velocities = [pb.getBaseVelocity(b, physicsClientId=self.client) for b in self.bodies.values()]
+            still = all(np.linalg.norm(v) < 1e-3 and np.linalg.norm(w) < 1e-2 for v, w in velocities)
+            quiet_steps = quiet_steps + 1 if still else 0
+            if quiet_steps >= REST_STEPS:
+                break
+
+    def park(self) -> None:
+        """Park the arm out of the sensor's view (a no-op without a robot)."""
+        if self.panda is not None:
+            self.panda.reset(PARK)
 
     def resting_pose(self, name: str, x: float, y: float, yaw: float, roll: float = 0.0,
                      pitch: float = 0.0, support: float = 0.0) -> np.ndarray:
@@ -151,7 +224,8 @@ class CloudScene(PhysicsClient):
         by ``yaw`` (rad), has the middle of its box over (x, y) and touches the plane z = ``support``."""
         body = self._body(name)
         current = self.pose(name)
-        upright = OBJECTS[name.split("#")[0]].upright
+        model = OBJECTS.get(name.split("#")[0])
+        upright = model.upright if model is not None else (0.0, 0.0)  # a landmark box stands as built
         rotation = (_rotation(0.0, 0.0, yaw) @ _rotation(roll, pitch, 0.0) @ _rotation(*upright, 0.0))
         probe = np.eye(4)
         probe[:3, :3] = rotation
@@ -225,7 +299,7 @@ def random_layout(names: list[str], seed: int, tray: bool = True) -> dict[str, t
     for name in names:
         for _ in range(1000):
             x, y = rng.uniform(*WORKSPACE_X), rng.uniform(*WORKSPACE_Y)
-            if all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance)):
+            if all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance, strict=True)):
                 break
         else:
             raise InputError(f"cannot place {len(names)} objects {CLEARANCE} m apart in the workspace")

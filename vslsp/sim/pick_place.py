@@ -210,15 +210,28 @@ def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple
     pick, place = check_pose("pick", pick), check_pose("place", place)
     if grasp_width is not None and not (np.isfinite(grasp_width) and grasp_width > 0.0):
         raise InputError(f"grasp_width must be a positive width in metres, got {grasp_width!r}")
+    world.panda.reset(PARK)  # out of the depth probe's way
+    theta_pick, theta_place = wrist_branch(pick, place)
+    each = FINGER_OPEN if grasp_width is None else float(np.clip(grasp_width / 2.0 + 0.01, 0.005, FINGER_OPEN))
+    pick_point, place_point = key_points(world, pick, place, theta_pick, theta_place, each)
+    movable = [world.bodies[n] for n, item in world.specs.items() if item.movable]
+    return execute_between(world, pick_point, place_point, theta_pick, theta_place, each, movable)
+
+
+def execute_between(world, pick_point: np.ndarray, place_point: np.ndarray, theta_pick: float, theta_place: float,
+                    each: float, movable: list[int]) -> PickPlaceResult:
+    """The cycle rest -> pick -> place -> rest between the fingertips' key points (3,) each,
+    closing along ``theta_pick`` and opening along ``theta_place`` (rad), the fingers opened to
+    ``each`` m from the middle; the fingers close on one of the ``movable`` bodies. The key
+    points come from the caller's own sensing (:func:`key_points` for the depth probe; VSL-3D's
+    point clouds). ``world`` has ``panda``, ``bodies`` (name -> body), ``step`` and ``client``."""
     op = Operation(world)
     panda = op.panda
     panda.reset(REST)
     rest, theta_rest = panda.hand()
     panda.reset(PARK)
-    theta_pick, theta_place = wrist_branch(pick, place)
-    each = FINGER_OPEN if grasp_width is None else float(np.clip(grasp_width / 2.0 + 0.01, 0.005, FINGER_OPEN))
-    pick_point, place_point = key_points(world, pick, place, theta_pick, theta_place, each)
-    t, xyz, theta, (at_pick, at_place, at_home) = cycle(rest, pick_point, place_point, theta_pick, theta_place,
+    t, xyz, theta, (at_pick, at_place, at_home) = cycle(rest, np.asarray(pick_point, float),
+                                                        np.asarray(place_point, float), theta_pick, theta_place,
                                                         theta_rest)
     joints, position_error, angle_error = panda.plan(xyz, theta, REST)
     drop = DESCENT_SPEED * DESCENT_STEPS * TIME_STEP
@@ -227,7 +240,6 @@ def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple
     if max(position_error, descent_error) > IK_POSITION_TOLERANCE or angle_error > IK_ANGLE_TOLERANCE:
         return op.result("unreachable", None)
 
-    movable = [world.bodies[n] for n, item in world.specs.items() if item.movable]
     names = {body: name for name, body in world.bodies.items()}
     panda.fingers_to(each)
     op.follow(np.array([PARK, REST]), np.array([0.0, SWING_TIME]))

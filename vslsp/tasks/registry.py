@@ -16,7 +16,7 @@ from typing import TypeVar
 from vslsp.errors import InputError
 from vslsp.tasks.base import Task
 
-BUILTIN = ("vslsp.tasks.house_roof", "vslsp.tasks.tabletop", "vslsp.tasks.table_cleaning",
+BUILTIN = ("vslsp.tasks.house_roof", "vslsp.tasks.tabletop", "vslsp.tasks.table_cleaning", "vslsp.tasks.stacking",
            "vslsp.tasks.icub")
 
 _TASKS: dict[str, type[Task]] = {}

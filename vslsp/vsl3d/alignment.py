@@ -20,7 +20,13 @@ from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.normals import estimate_normals
 from vslsp.vsl3d.registration import (
-    Registration, evaluate, icp, icp_batch, prerejective_ransac, sac_ia, transform_points,
+    Registration,
+    evaluate,
+    icp,
+    icp_batch,
+    prerejective_ransac,
+    sac_ia,
+    transform_points,
 )
 
 FEATURE_VOXEL = 0.005
@@ -60,7 +66,8 @@ def _turned_starts(source: np.ndarray, target_centre: np.ndarray, turns: int) ->
 def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, target_viewpoint: np.ndarray,
           *, method: str = "prerejective_ransac", voxel: float = FEATURE_VOXEL, seed: int = 0,
           turns: int = 0, target_centre: np.ndarray | None = None,
-          seen_through: Callable[[np.ndarray], np.ndarray] | None = None) -> Registration:
+          seen_through: Callable[[np.ndarray], np.ndarray] | None = None,
+          min_fitness: float = MIN_FITNESS) -> Registration:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
     matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
 
@@ -71,7 +78,8 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
     points where the target's sensor saw free space; a pose's score is its fitness less three
     times the fraction of the source it puts there. The three best starts on the sparse clouds
     are refined on the full resolution and the best scoring pose wins. Raises
-    :class:`TaskFailed` when less than half of the source ends within 3 mm of the target."""
+    :class:`TaskFailed` when less than ``min_fitness`` (half) of the source ends within 3 mm of
+    the target."""
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     if len(source) < 10 or len(target) < 10:
@@ -113,9 +121,9 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
     best = max(refined, key=lambda r: (r.fitness - floating(r.transform, source), -r.rmse), default=None)
     if best is None:
         raise TaskFailed(f"{best_starts[0][1]} put the observation where the world has no points")
-    if best.fitness < MIN_FITNESS:
+    if best.fitness < min_fitness:
         raise TaskFailed(f"{best.method} fits only {best.fitness:.0%} of the observation within "
-                         f"{FINAL_DISTANCE * 1000:.0f} mm (needs {MIN_FITNESS:.0%}); the object is not "
+                         f"{FINAL_DISTANCE * 1000:.0f} mm (needs {min_fitness:.0%}); the object is not "
                          "in this world or too little of it is visible")
     return best
 

@@ -120,7 +120,8 @@ def pass_through(points: np.ndarray, frame: Frame) -> np.ndarray:
 
 def voxel_downsample(points: np.ndarray, leaf: float) -> np.ndarray:
     """Voxel-grid downsampling: one point per occupied cube ``[i, i+1) * leaf`` (m) of the grid
-    anchored at the world origin, the centroid of the points in it. Returns (M, 3), M <= N, ordered by voxel index (deterministic)."""
+    anchored at the world origin, the centroid of the points in it. Returns (M, 3), M <= N,
+    ordered by voxel index (deterministic)."""
     points = _as_cloud(points)
     if not leaf > 0.0:
         raise InputError(f"voxel leaf size must be > 0 m, got {leaf}")

@@ -93,5 +93,6 @@ def compute_fpfh(points: np.ndarray, normals: SurfaceNormals, radius: float,
                                             torch.from_numpy(weights), size=(n, n), check_invariants=False)
     fpfh = spfh + torch.sparse.mm(neighbourhood, torch.from_numpy(spfh)).numpy()
     sums = fpfh.reshape(n, 3, BINS).sum(axis=2, keepdims=True)
-    fpfh = (fpfh.reshape(n, 3, BINS) * np.where(sums > 0.0, 100.0 / np.maximum(sums, 1e-300), 0.0)).reshape(n, DIMENSION)
+    scale = np.where(sums > 0.0, 100.0 / np.maximum(sums, 1e-300), 0.0)
+    fpfh = (fpfh.reshape(n, 3, BINS) * scale).reshape(n, DIMENSION)
     return fpfh

@@ -37,6 +37,9 @@ CLUSTER_DISTANCE = 0.03
 MIN_CLUSTER_POINTS = 150  # smaller changed regions are noise (150 voxels of 2 mm: 6 cm^2)
 FRAME_MARGIN = 0.01
 TURNS = 12  # getObject also tries ICP from 12 turns about the vertical (objects rest on a table)
+# getObject registers two single views of the moved object, which share less of its surface than
+# a view and the same view moved (a box's wall or a new support hides a part): 40 % must fit.
+MOTION_MIN_FITNESS = 0.4
 
 
 @dataclass(frozen=True, eq=False)
@@ -201,7 +204,7 @@ def get_object(pre: WorldCloud, post: WorldCloud, *, threshold: float = CHANGE_T
     after = points[(labels == arriving[0]) & side]
     viewpoint = pre.camera.position
     registration = align(before, after, viewpoint, post.camera.position, method=method, seed=seed, turns=TURNS,
-                         seen_through=post.seen_through)
+                         seen_through=post.seen_through, min_fitness=MOTION_MIN_FITNESS)
     return MovedObject(CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
                        CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
                        registration)

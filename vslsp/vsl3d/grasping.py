@@ -1,0 +1,100 @@
+"""Grasping from the point cloud, and one pick-and-place of VSL-3D executed by the robot (paper,
+section "Methodology", grasping: the grasp point and the approach come from the observation,
+"the fingers stop closing when the measured torque is more than a pre-defined threshold";
+section "VSL-3D": the object is moved by the demonstrated motion applied to the match).
+
+- The grasp (:func:`plan_grasp`) comes from the matched pre-action observation's points in the
+  new world, never from the simulator: the fingertips close at half the object's seen height
+  (else :data:`GRASP_DEPTH` below the top, where it is narrower), about the middle
+  of the bounding box of the points above them, along the box's narrower side (principal axes
+  in the table plane); an object wider than the gripper opens is "ungraspable".
+- The place (:func:`place_for`): the grasp point moved by T_j M_j^-1 (the demonstrated motion
+  T_j after undoing the match M_j), the hand turned by that motion's yaw; the held object comes
+  down from just above the height the cloud shows until it touches what is below (the arm's
+  guarded descent), so it lands on the table, in the box or on another object.
+- :func:`pick_and_place` runs it on the Panda (:func:`vslsp.sim.pick_place.execute_between`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vslsp.errors import TaskFailed
+from vslsp.sim.panda import FINGER_OPEN
+from vslsp.sim.pick_place import PickPlaceResult, execute_between, wrist_branch
+
+GRASP_DEPTH = 0.03  # m below the object's top where the fingertips close
+TIP_CLEARANCE = 0.006  # m the fingertips stay above the object's lowest seen point
+PLACE_CLEARANCE = 0.008  # m above the demonstrated height where the guarded descent starts
+FINGER_ROOM = 0.008  # m each finger opens beyond the object's side
+BAND = 0.015  # m below the fingertips that the grasp's box also measures (the pads' reach)
+GRIP_HEIGHTS = (0.5,)  # fractions of the object's seen height where a grip is tried first
+MIN_GRIP = 0.015  # m of the object above the fingertips at the least
+
+
+@dataclass(frozen=True)
+class Grasp:
+    """Where the fingertips close: ``point`` (3,) m, the closing axis ``theta`` (rad from x) and
+    the object's ``width`` (m) across it; ``top`` is the highest point of the object's cloud."""
+
+    point: np.ndarray
+    theta: float
+    width: float
+    top: float
+
+    def to_dict(self) -> dict:
+        return {"point": np.round(self.point, 4).tolist(), "theta_deg": round(float(np.degrees(self.theta)), 2),
+                "width_m": round(self.width, 4), "top_m": round(self.top, 4)}
+
+
+def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
+    """The grasp of an object seen as ``points`` (N, 3) (the matched observation in the world),
+    the fingertips ``higher`` m above the first choice (a retry grips elsewhere). Raises
+    :class:`TaskFailed` ("ungraspable") when both sides are wider than the gripper."""
+    points = np.asarray(points, dtype=float)
+    if len(points) < 10:
+        raise TaskFailed(f"ungraspable: the object's cloud has only {len(points)} points")
+    top = float(np.percentile(points[:, 2], 99.5))
+    bottom = max(0.0, float(np.percentile(points[:, 2], 0.5)))
+    widest = 2.0 * (FINGER_OPEN - FINGER_ROOM)
+    narrowest = np.inf
+    # Lowest first: a grip near the middle holds a tall object without letting it pivot.
+    for tip in sorted({float(np.clip(bottom + f * (top - bottom) + higher, bottom + TIP_CLEARANCE, top - MIN_GRIP))
+                       for f in GRIP_HEIGHTS} | {min(max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE) + higher,
+                                                     top - MIN_GRIP)}):
+        above = points[points[:, 2] >= tip - BAND / 2][:, :2]  # all that passes between the fingers
+        if len(above) < 10:
+            continue
+        centre = above.mean(axis=0)
+        _, vectors = np.linalg.eigh(np.cov((above - centre).T))
+        extents = []
+        for axis in vectors.T:  # minor axis first
+            along = (above - centre) @ axis
+            extents.append((float(along.max() - along.min()), axis, float(along.max() + along.min()) / 2.0))
+        narrowest = min(narrowest, extents[0][0])
+        for index, (width, axis, middle) in enumerate(extents):
+            if width <= widest:
+                _, other, other_middle = extents[1 - index]
+                middle_point = centre + middle * axis + other_middle * other
+                return Grasp(np.array([*middle_point, tip]), float(np.arctan2(axis[1], axis[0])), width, top)
+    raise TaskFailed(f"ungraspable: the object is {narrowest * 100:.1f} cm wide at its narrowest side, "
+                     f"the gripper opens {widest * 100:.1f} cm")
+
+
+def place_for(grasp: Grasp, motion: np.ndarray) -> tuple[np.ndarray, float]:
+    """The fingertips' place point (3,) and closing-axis angle (rad) for the object grasped by
+    ``grasp`` moved by ``motion`` (4, 4) = T_j M_j^-1."""
+    point = motion[:3, :3] @ grasp.point + motion[:3, 3] + [0.0, 0.0, PLACE_CLEARANCE]
+    return point, grasp.theta + float(np.arctan2(motion[1, 0], motion[0, 0]))
+
+
+def pick_and_place(world, grasp: Grasp, motion: np.ndarray, movable: list[int]) -> PickPlaceResult:
+    """Execute ``grasp`` and its place under ``motion`` (4, 4) with ``world``'s Panda; the
+    fingers close on one of the ``movable`` bodies."""
+    place, theta_place = place_for(grasp, motion)
+    theta_pick, theta_place = wrist_branch(np.array([*grasp.point[:2], grasp.theta]),
+                                           np.array([*place[:2], theta_place]))
+    each = FINGER_OPEN  # a single view underestimates the width across it: open fully
+    return execute_between(world, grasp.point, place, theta_pick, theta_place, each, movable)

@@ -1,0 +1,73 @@
+"""Pictures of VSL-3D for the reports (paper, section "VSL-3D", the figures of the table
+cleaning: the RGB view with the observation's frame, the point cloud segmented into objects):
+the frame's cuboid and the grasp drawn on the RGB view, and a rendered oblique view of a cloud
+coloured by its Euclidean segments.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from vslsp.vsl3d.cloud import DepthCamera, Frame
+from vslsp.vsl3d.grasping import Grasp
+from vslsp.vsl3d.vsl import euclidean_clusters
+
+SEGMENT_GAP = 0.01  # points closer than this are one segment in the cloud picture
+PALETTE = np.array([[230, 25, 75], [60, 180, 75], [0, 130, 200], [245, 130, 48], [145, 30, 180],
+                    [70, 240, 240], [240, 50, 230], [210, 245, 60], [128, 128, 0], [0, 0, 128]], dtype=np.uint8)
+
+
+def draw_frame(rgb: np.ndarray, camera: DepthCamera, frame: Frame, colour: tuple[int, int, int]) -> np.ndarray:
+    """The RGB image (H, W, 3) with the frame's cuboid drawn on it."""
+    corners = np.array([[x, y, z] for x in (frame.lower[0], frame.upper[0]) for y in (frame.lower[1], frame.upper[1])
+                        for z in (frame.lower[2], frame.upper[2])])
+    uv, _ = camera.project(corners)
+    image = np.ascontiguousarray(rgb.copy())
+    for a in range(8):
+        for b in range(a + 1, 8):
+            if bin(a ^ b).count("1") == 1:  # corners differing in one coordinate share an edge
+                cv2.line(image, tuple(int(v) for v in uv[a]), tuple(int(v) for v in uv[b]), colour, 1, cv2.LINE_AA)
+    return image
+
+
+def draw_grasp(rgb: np.ndarray, camera: DepthCamera, grasp: Grasp, colour: tuple[int, int, int] = (255, 200, 0)
+               ) -> np.ndarray:
+    """The RGB image (H, W, 3) with the grasp drawn: the two fingertips across the object's
+    width along the closing axis, joined, and the grasp point."""
+    axis = np.array([np.cos(grasp.theta), np.sin(grasp.theta), 0.0])
+    half = grasp.width / 2.0 + 0.008
+    tips = np.array([grasp.point - half * axis, grasp.point + half * axis, grasp.point])
+    uv, _ = camera.project(tips)
+    image = np.ascontiguousarray(rgb.copy())
+    a, b, c = (tuple(int(v) for v in p) for p in uv)
+    cv2.line(image, a, b, colour, 2, cv2.LINE_AA)
+    for tip in (a, b):
+        cv2.circle(image, tip, 4, colour, -1, cv2.LINE_AA)
+    cv2.drawMarker(image, c, (255, 255, 255), cv2.MARKER_CROSS, 10, 1, cv2.LINE_AA)
+    return image
+
+
+def cloud_view(points: np.ndarray, size: tuple[int, int] = (480, 640), elevation_deg: float = 60.0) -> np.ndarray:
+    """An RGB picture (H, W, 3) of ``points`` (N, 3) seen obliquely from the robot's side
+    (elevation ``elevation_deg``), each Euclidean segment in its own colour, nearer points drawn
+    over farther ones."""
+    height, width = size
+    image = np.full((height, width, 3), 255, dtype=np.uint8)
+    if len(points) == 0:
+        return image
+    labels = euclidean_clusters(points, SEGMENT_GAP)
+    colours = PALETTE[labels % len(PALETTE)]
+    e = np.radians(elevation_deg)
+    centre = points.mean(axis=0)
+    p = points - centre
+    # View from -x (the robot's side) and above: image right is -y, image up mixes z and x.
+    u = -p[:, 1]
+    v = p[:, 2] * np.cos(e) + p[:, 0] * np.sin(e)
+    depth = p[:, 0] * np.cos(e) - p[:, 2] * np.sin(e)
+    scale = 0.9 * min(width / max(np.ptp(u), 1e-6), height / max(np.ptp(v), 1e-6))
+    cols = np.clip(((u - (u.max() + u.min()) / 2) * scale + width / 2).astype(int), 0, width - 2)
+    rows = np.clip((height / 2 - (v - (v.max() + v.min()) / 2) * scale).astype(int), 0, height - 2)
+    for k in np.argsort(-depth, kind="stable"):  # far first
+        image[rows[k]:rows[k] + 2, cols[k]:cols[k] + 2] = colours[k]
+    return image
