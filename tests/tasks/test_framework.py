@@ -19,7 +19,7 @@ from vslsp.errors import InputError
 from vslsp.tasks import Run, get_task, list_tasks, run_trials, write_report
 
 PAPER = ["house-roof", "alphabet-ordering", "animal-puzzle", "tower-of-hanoi", "animals-vs-machines", "domino",
-         "table-cleaning", "simple-vsl-task", "keep-all-near", "pull-in-order"]
+         "table-cleaning", "stacking", "simple-vsl-task", "keep-all-near", "pull-in-order"]
 HERE = Path(__file__).parent
 
 
