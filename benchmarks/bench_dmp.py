@@ -74,8 +74,9 @@ class Theirs:
         self.dmp = TheirDMP(y.shape[1], execution_time=self.tau, dt=self.dt, n_weights_per_dim=n_basis)
         self.dmp.imitate(t, y)
 
-    def rollout(self, start: np.ndarray, goal: np.ndarray, run: float, tau: float | None = None,
-                dt: float | None = None) -> np.ndarray:
+    def rollout(
+        self, start: np.ndarray, goal: np.ndarray, run: float, tau: float | None = None, dt: float | None = None
+    ) -> np.ndarray:
         """Positions (T, D) from ``start`` to ``goal`` for ``run`` times τ (default: the demonstration's τ, dt)."""
         tau, dt = tau or self.tau, dt or self.dt
         self.dmp.execution_time_, self.dmp.dt_ = tau, dt  # keeps the weights
@@ -95,24 +96,34 @@ def measure(t: np.ndarray, y: np.ndarray, others: list, goals: np.ndarray, n_bas
     reproduction = ours.rollout(y[0], y[-1], tau=tau, dt=dt, duration=tau).y[: len(y)]
     default = ours.rollout(y[0], targets, tau=tau, dt=dt, duration=RUN_OURS * tau).y[:, -1]
     long = ours.rollout(y[0], targets, tau=tau, dt=dt, duration=2 * tau).y[:, after:]
-    general = [rmse(ours.rollout(yo[0], yo[-1], tau=to[-1], dt=float(np.mean(np.diff(to))),
-                                 duration=to[-1]).y[: len(yo)], yo) for to, yo in others]
-    result["ours"] = {"fit_s": fit_s, "rmse": rmse(reproduction, y),
-                      "end": float(np.linalg.norm(default - targets, axis=1).max()),
-                      "after_tau": float(np.linalg.norm(long - targets[:, None], axis=2).max()),
-                      "general": float(np.mean(general)) if general else float("nan")}
+    general = [
+        rmse(ours.rollout(yo[0], yo[-1], tau=to[-1], dt=float(np.mean(np.diff(to))), duration=to[-1]).y[: len(yo)], yo)
+        for to, yo in others
+    ]
+    result["ours"] = {
+        "fit_s": fit_s,
+        "rmse": rmse(reproduction, y),
+        "end": float(np.linalg.norm(default - targets, axis=1).max()),
+        "after_tau": float(np.linalg.norm(long - targets[:, None], axis=2).max()),
+        "general": float(np.mean(general)) if general else float("nan"),
+    }
     start = time.perf_counter()
     theirs = Theirs(t, y, n_basis)
     fit_s = time.perf_counter() - start
     reproduction = theirs.rollout(y[0], y[-1], RUN_THEIRS)[: len(y)]
     default = np.array([theirs.rollout(y[0], g, RUN_THEIRS)[-1] for g in targets])
     peaks = [np.linalg.norm(theirs.rollout(y[0], g, 2.0)[after:] - g, axis=1).max() for g in targets]
-    general = [rmse(theirs.rollout(yo[0], yo[-1], RUN_THEIRS, to[-1], float(np.mean(np.diff(to))))[: len(yo)], yo)
-               for to, yo in others]
-    result["theirs"] = {"fit_s": fit_s, "rmse": rmse(reproduction, y),
-                        "end": float(np.linalg.norm(default - targets, axis=1).max()),
-                        "after_tau": float(np.max(peaks)),
-                        "general": float(np.mean(general)) if general else float("nan")}
+    general = [
+        rmse(theirs.rollout(yo[0], yo[-1], RUN_THEIRS, to[-1], float(np.mean(np.diff(to))))[: len(yo)], yo)
+        for to, yo in others
+    ]
+    result["theirs"] = {
+        "fit_s": fit_s,
+        "rmse": rmse(reproduction, y),
+        "end": float(np.linalg.norm(default - targets, axis=1).max()),
+        "after_tau": float(np.max(peaks)),
+        "general": float(np.mean(general)) if general else float("nan"),
+    }
     return result
 
 
@@ -135,12 +146,17 @@ def measure_closed(t: np.ndarray, y: np.ndarray, n_basis: int) -> dict:
         theirs = Theirs(tc, yc, n_basis)
         row = {}
         for name, path, same in [
-            ("ours", ours.rollout(yc[0], goal, tau=tau, dt=dt, duration=2 * tau).y,
-             ours.rollout(yc[0], yc[0], tau=tau, dt=dt, duration=tau).y[: len(yc)]),
+            (
+                "ours",
+                ours.rollout(yc[0], goal, tau=tau, dt=dt, duration=2 * tau).y,
+                ours.rollout(yc[0], yc[0], tau=tau, dt=dt, duration=tau).y[: len(yc)],
+            ),
             ("theirs", theirs.rollout(yc[0], goal, 2.0), theirs.rollout(yc[0], yc[0], RUN_THEIRS)[: len(yc)]),
         ]:
-            row[name] = {"excursion_ratio": float(np.linalg.norm(path - yc[0], axis=1).max() / size),
-                         "closed_rmse": rmse(same, yc - yc[-1] + yc[0]) if gap else rmse(same, yc)}
+            row[name] = {
+                "excursion_ratio": float(np.linalg.norm(path - yc[0], axis=1).max() / size),
+                "closed_rmse": rmse(same, yc - yc[-1] + yc[0]) if gap else rmse(same, yc),
+            }
         rows[str(gap)] = row
     return rows
 
@@ -191,8 +207,11 @@ def figure(path: str, shapes: list[str], n_basis: int) -> None:
         axis.plot(*dmp.rollout(y[0], y[-1], tau=t[-1]).y.T, "r-", lw=1.2, label="reproduction")
         starts = np.array([yo[0] for _, yo in demos[1:]])
         goals = y[-1] + rng.normal(0.0, 8.0, (len(starts), 2))
-        for k, drawn in enumerate(dmp.rollout(starts, np.vstack([np.tile(y[-1], (len(starts) // 2, 1)),
-                                                                 goals[len(starts) // 2:]]), tau=t[-1]).y):
+        for k, drawn in enumerate(
+            dmp.rollout(
+                starts, np.vstack([np.tile(y[-1], (len(starts) // 2, 1)), goals[len(starts) // 2 :]]), tau=t[-1]
+            ).y
+        ):
             axis.plot(drawn[:, 0], drawn[:, 1], "r--", lw=0.8, label="new starts and goals" if k == 0 else None)
         axis.set_title(name)
         axis.set_aspect("equal")
@@ -205,15 +224,34 @@ def figure(path: str, shapes: list[str], n_basis: int) -> None:
 
 def summary_table(per_shape: dict[str, list[dict]]) -> Table:
     out = Table(title="LASA per shape: mean over its 7 demonstrations (RMSE, generalisation) or max (errors), mm")
-    for column in ("shape", "RMSE ours", "theirs", "end err ours", "theirs", "after-tau ours", "theirs",
-                   "generalisation ours", "theirs"):
+    for column in (
+        "shape",
+        "RMSE ours",
+        "theirs",
+        "end err ours",
+        "theirs",
+        "after-tau ours",
+        "theirs",
+        "generalisation ours",
+        "theirs",
+    ):
         out.add_column(column, justify="left" if column == "shape" else "right")
     for name, rows in per_shape.items():
+
         def stat(who: str, key: str, reduce=np.mean, rows: list[dict] = rows) -> str:
             return f"{reduce([r[who][key] for r in rows]):.4g}"
-        out.add_row(name, stat("ours", "rmse"), stat("theirs", "rmse"), stat("ours", "end", np.max),
-                    stat("theirs", "end", np.max), stat("ours", "after_tau", np.max),
-                    stat("theirs", "after_tau", np.max), stat("ours", "general"), stat("theirs", "general"))
+
+        out.add_row(
+            name,
+            stat("ours", "rmse"),
+            stat("theirs", "rmse"),
+            stat("ours", "end", np.max),
+            stat("theirs", "end", np.max),
+            stat("ours", "after_tau", np.max),
+            stat("theirs", "after_tau", np.max),
+            stat("ours", "general"),
+            stat("theirs", "general"),
+        )
     return out
 
 
@@ -238,57 +276,80 @@ def main() -> None:
     for name in track(names, description="LASA", console=progress, transient=True):
         demos = lasa(name)
         per_shape[name] = [
-            measure(t, y, demos[:k] + demos[k + 1:], y[-1] + rng.normal(0.0, 10.0, (arguments.goals, 2)),
-                    arguments.basis)
+            measure(
+                t, y, demos[:k] + demos[k + 1 :], y[-1] + rng.normal(0.0, 10.0, (arguments.goals, 2)), arguments.basis
+            )
             for k, (t, y) in enumerate(demos)
         ]
         closed[name] = measure_closed(*demos[0], arguments.basis)
     rows = [r for shape in per_shape.values() for r in shape]
     console.print(summary_table(per_shape))
-    console.print(f"[bold]vslsp.dmp (ours) vs movement_primitives {movement_primitives.__version__} (theirs), "
-                  f"{len(rows)} LASA demonstrations of {len(names)} shapes, {arguments.basis} basis functions[/]")
+    console.print(
+        f"[bold]vslsp.dmp (ours) vs movement_primitives {movement_primitives.__version__} (theirs), "
+        f"{len(rows)} LASA demonstrations of {len(names)} shapes, {arguments.basis} basis functions[/]"
+    )
     better = np.mean([r["ours"]["rmse"] <= r["theirs"]["rmse"] for r in rows])
     for key, what in [("rmse", "reproduction RMSE"), ("general", "generalisation RMSE (other starts)")]:
         ours, theirs = ([r[who][key] for r in rows] for who in ("ours", "theirs"))
-        console.print(f"{what}: ours mean {np.mean(ours):.4f} mm, max {np.max(ours):.4f}; "
-                      f"theirs mean {np.mean(theirs):.4f} mm, max {np.max(theirs):.4f}")
-    console.print(f"ours <= theirs in reproduction RMSE on {better * 100:.1f} % of the demonstrations "
-                  f"(target >= 90 %: {verdict(better >= 0.9)})")
+        console.print(
+            f"{what}: ours mean {np.mean(ours):.4f} mm, max {np.max(ours):.4f}; "
+            f"theirs mean {np.mean(theirs):.4f} mm, max {np.max(theirs):.4f}"
+        )
+    console.print(
+        f"ours <= theirs in reproduction RMSE on {better * 100:.1f} % of the demonstrations "
+        f"(target >= 90 %: {verdict(better >= 0.9)})"
+    )
     for key, what, target in [("end", "end error (own and new goals)", 0.01), ("after_tau", "peak after tau", 0.1)]:
         ours, theirs = (np.max([r[who][key] for r in rows]) for who in ("ours", "theirs"))
-        console.print(f"{what}: max ours {ours:.2e} mm, theirs {theirs:.3g} mm "
-                      f"(target ours <= {target} mm: {verdict(ours <= target)})")
+        console.print(
+            f"{what}: max ours {ours:.2e} mm, theirs {theirs:.3g} mm "
+            f"(target ours <= {target} mm: {verdict(ours <= target)})"
+        )
     for gap in map(str, GAPS):
         ratio = {who: max(closed[n][gap][who]["excursion_ratio"] for n in closed) for who in ("ours", "theirs")}
         same = {who: max(closed[n][gap][who]["closed_rmse"] for n in closed) for who in ("ours", "theirs")}
-        console.print(f"drawn there and back, gap {gap} mm, goal 10 mm away: largest excursion / (extent + 10 mm) "
-                      f"ours {ratio['ours']:.2f}, theirs {ratio['theirs']:.2f}; g = y0 RMSE to the closed drawing "
-                      f"ours {same['ours']:.3f} mm, theirs {same['theirs']:.3f} mm")
+        console.print(
+            f"drawn there and back, gap {gap} mm, goal 10 mm away: largest excursion / (extent + 10 mm) "
+            f"ours {ratio['ours']:.2f}, theirs {ratio['theirs']:.2f}; g = y0 RMSE to the closed drawing "
+            f"ours {same['ours']:.3f} mm, theirs {same['theirs']:.3f} mm"
+        )
     blow_up = max(closed[n][g]["ours"]["excursion_ratio"] for n in closed for g in map(str, GAPS))
-    console.print(f"no blow-up on closed or nearly closed drawings (excursion <= 2 x (extent + distance)): "
-                  f"{verdict(blow_up <= 2.0)}")
+    console.print(
+        f"no blow-up on closed or nearly closed drawings (excursion <= 2 x (extent + distance)): "
+        f"{verdict(blow_up <= 2.0)}"
+    )
     speed = throughput(*lasa(names[0])[0], arguments.pairs, arguments.basis)
-    console.print(f"throughput, {names[0]} demonstration 0, {speed['pairs']} goals: "
-                  f"ours batched {speed['ours_s'] * 1e3:.1f} ms, theirs looped {speed['theirs_s']:.1f} s: "
-                  f"{speed['speedup']:,.0f}x "
-                  f"(target >= 300x: {verdict(speed['speedup'] >= 300)})")
+    console.print(
+        f"throughput, {names[0]} demonstration 0, {speed['pairs']} goals: "
+        f"ours batched {speed['ours_s'] * 1e3:.1f} ms, theirs looped {speed['theirs_s']:.1f} s: "
+        f"{speed['speedup']:,.0f}x "
+        f"(target >= 300x: {verdict(speed['speedup'] >= 300)})"
+    )
     skills = {}
     for label, (t, y) in skill_reaches().items():
         goals = y[-1] + rng.normal(0.0, 30.0, (arguments.goals * 5, 3))
         skills[label] = measure(t, y, [], goals, 50)
         r = skills[label]
-        console.print(f"{label} (tutor, mm, 50 basis functions): RMSE ours {r['ours']['rmse']:.3f}, "
-                      f"theirs {r['theirs']['rmse']:.3f}; end error ours {r['ours']['end']:.2e}, "
-                      f"theirs {r['theirs']['end']:.3f}; peak after tau ours {r['ours']['after_tau']:.2e}, "
-                      f"theirs {r['theirs']['after_tau']:.3f}")
+        console.print(
+            f"{label} (tutor, mm, 50 basis functions): RMSE ours {r['ours']['rmse']:.3f}, "
+            f"theirs {r['theirs']['rmse']:.3f}; end error ours {r['ours']['end']:.2e}, "
+            f"theirs {r['theirs']['end']:.3f}; peak after tau ours {r['ours']['after_tau']:.2e}, "
+            f"theirs {r['theirs']['after_tau']:.3f}"
+        )
     if arguments.figure:
-        figure(arguments.figure, [n for n in ("Angle", "GShape", "Leaf_1", "NShape", "Sshape", "Snake") if n in names]
-               or names[:4], arguments.basis)
+        figure(
+            arguments.figure,
+            [n for n in ("Angle", "GShape", "Leaf_1", "NShape", "Sshape", "Snake") if n in names] or names[:4],
+            arguments.basis,
+        )
         console.print(f"figure: {arguments.figure}")
     if arguments.json:
         with open(arguments.json, "w") as file:
-            json.dump({"basis": arguments.basis, "lasa": per_shape, "closed": closed, "throughput": speed,
-                       "skills": skills}, file, indent=1)
+            json.dump(
+                {"basis": arguments.basis, "lasa": per_shape, "closed": closed, "throughput": speed, "skills": skills},
+                file,
+                indent=1,
+            )
 
 
 if __name__ == "__main__":

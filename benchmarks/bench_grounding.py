@@ -106,10 +106,17 @@ def synthetic(rng: np.random.Generator) -> Pair:
         xy = (float(rng.uniform(50, 590)), float(rng.uniform(50, 430)))
         if all(np.hypot(xy[0] - p[0], xy[1] - p[1]) > 75 for p in places):
             places.append(xy)
-    squares = [Square(str(c), places[i], float(rng.uniform(40, 60)), float(rng.uniform(0, 90)))
-               for i, c in enumerate(colours)]
-    return synthetic_pair(squares, move=(int(rng.integers(k)), places[k]), line=line, size=size,
-                          noise=float(rng.uniform(0, 8)), seed=int(rng.integers(1 << 30)))
+    squares = [
+        Square(str(c), places[i], float(rng.uniform(40, 60)), float(rng.uniform(0, 90))) for i, c in enumerate(colours)
+    ]
+    return synthetic_pair(
+        squares,
+        move=(int(rng.integers(k)), places[k]),
+        line=line,
+        size=size,
+        noise=float(rng.uniform(0, 8)),
+        seed=int(rng.integers(1 << 30)),
+    )
 
 
 def rendered(rng: np.random.Generator, camera: str) -> Pair:
@@ -124,8 +131,10 @@ def rendered(rng: np.random.Generator, camera: str) -> Pair:
         xy = np.array([rng.uniform(*WORKSPACE_X), rng.uniform(*WORKSPACE_Y)])
         if all(np.linalg.norm(xy - p) > 0.075 for p in places):
             places.append(xy)
-    cubes = tuple(CubeSpec(c, c, float(p[0]), float(p[1]), float(rng.uniform(-0.8, 0.8)))
-                  for c, p in zip(colours, places, strict=False))
+    cubes = tuple(
+        CubeSpec(c, c, float(p[0]), float(p[1]), float(rng.uniform(-0.8, 0.8)))
+        for c, p in zip(colours, places, strict=False)
+    )
     move = (colours[int(rng.integers(k))], (float(places[k][0]), float(places[k][1])))
     return rendered_pair(SceneSpec(cubes=cubes, landmark=landmark), move, camera=camera)
 
@@ -215,9 +224,11 @@ def cost(runs: int) -> bool:
             base.append(_command(plain))
             extended.append(_command(with_predicates))
     base_ms, ext_ms = 1000 * min(base), 1000 * min(extended)
-    print(f"vslsp ground, 10 objects 640x480 (min of {runs}): {base_ms:.1f} ms without predicates, {ext_ms:.1f} ms "
-          f"with 6 unary + 3 binary predicates (60 unary + 270 binary atoms per image): +{ext_ms - base_ms:.1f} ms, "
-          f"ratio {ext_ms / base_ms:.2f} (target: < {TARGET_ADDED_MS:.0f} ms added)")
+    print(
+        f"vslsp ground, 10 objects 640x480 (min of {runs}): {base_ms:.1f} ms without predicates, {ext_ms:.1f} ms "
+        f"with 6 unary + 3 binary predicates (60 unary + 270 binary atoms per image): +{ext_ms - base_ms:.1f} ms, "
+        f"ratio {ext_ms / base_ms:.2f} (target: < {TARGET_ADDED_MS:.0f} ms added)"
+    )
     return ext_ms - base_ms < TARGET_ADDED_MS
 
 

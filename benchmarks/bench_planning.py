@@ -95,8 +95,12 @@ def fast_downward_directly(domain_file: Path, problem_file: Path) -> float:
         plain = save(domain_file.read_text().replace(" :constraints", ""), Path(folder) / "domain.pddl")
         start = time.perf_counter()
         search = PLANNERS[DEFAULT_PLANNER][1]["fast_downward_search_config"]
-        subprocess.run([sys.executable, str(driver), str(plain), str(problem_file), "--search", search],
-                       cwd=folder, check=True, capture_output=True)
+        subprocess.run(
+            [sys.executable, str(driver), str(plain), str(problem_file), "--search", search],
+            cwd=folder,
+            check=True,
+            capture_output=True,
+        )
         return time.perf_counter() - start
 
 
@@ -113,9 +117,16 @@ def measure(domain_file: Path, n: int, folder: Path) -> dict:
         plan, times = solve_timed(read_domain, problem)
         start = time.perf_counter()
         verdict = validate(read_domain, problem, plan.steps)
-        row[key] = {"parse_s": parse, "build_s": times.build_s, "compile_s": times.compile_s,
-                    "solve_s": times.solve_s, "total_s": parse + plan.time_s,
-                    "validate_s": time.perf_counter() - start, "steps": len(plan.steps), "valid": verdict.valid}
+        row[key] = {
+            "parse_s": parse,
+            "build_s": times.build_s,
+            "compile_s": times.compile_s,
+            "solve_s": times.solve_s,
+            "total_s": parse + plan.time_s,
+            "validate_s": time.perf_counter() - start,
+            "steps": len(plan.steps),
+            "valid": verdict.valid,
+        }
         if ordered:
             row["chain_lama_s"] = solve(read_domain, problem, "fast-downward-lama").time_s
             row["keeps_order"] = [args[0] for _, args in plan.steps] == sorted(o for o, _ in problem.objects)
@@ -140,8 +151,9 @@ def val_verdict(domain: Domain, problem: Problem, domain_file: Path, steps: list
     with tempfile.TemporaryDirectory() as folder:
         problem_file = save(problem.to_pddl(), Path(folder) / "problem.pddl")
         plan_file = save("".join(f"({s})\n" for s in steps), Path(folder) / "plan")
-        done = subprocess.run([binary, str(domain_file), str(problem_file), str(plan_file)], capture_output=True,
-                              text=True, timeout=120)
+        done = subprocess.run(
+            [binary, str(domain_file), str(problem_file), str(plan_file)], capture_output=True, text=True, timeout=120
+        )
         return "valid" if done.returncode == 0 and "Plan valid" in done.stdout else "INVALID"
 
 
@@ -162,9 +174,13 @@ def measure_problem(domain_file: Path, problem_file: Path, timeout: float) -> di
         except VslspError as error:
             row["free_plan_s"], row["free_error"] = None, str(error)
         plan = solve(domain, problem, timeout=timeout)
-        row.update(plan_s=plan.time_s, steps=len(plan.steps), compilation=plan.compilation.value,
-                   valid=validate(domain, problem, plan).valid,
-                   val=val_verdict(domain, problem, domain_file, plan.lines()))
+        row.update(
+            plan_s=plan.time_s,
+            steps=len(plan.steps),
+            compilation=plan.compilation.value,
+            valid=validate(domain, problem, plan).valid,
+            val=val_verdict(domain, problem, domain_file, plan.lines()),
+        )
     except VslspError as error:
         row.update(error=f"{type(error).__name__}: {error}")
     return row
@@ -182,36 +198,64 @@ def run_suite(only: str, timeout: float, json_path: Path | None) -> None:
     for domain_file, problem_file in suite_problems(only):
         with progress.status(str(problem_file.relative_to(SUITE))):
             rows.append(measure_problem(domain_file, problem_file, timeout))
-    table = Table(title=f"PDDL 3 suite: lifted constraint compilation + Fast Downward ({DEFAULT_PLANNER}), seconds; "
-                        f"limit {timeout:g} s per problem")
-    for column in ("problem", "constr.", "read", "compile", "FD translate (free)", "compile/translate", "plan",
-                   "free plan", "steps", "valid", "VAL"):
+    table = Table(
+        title=f"PDDL 3 suite: lifted constraint compilation + Fast Downward ({DEFAULT_PLANNER}), seconds; "
+        f"limit {timeout:g} s per problem"
+    )
+    for column in (
+        "problem",
+        "constr.",
+        "read",
+        "compile",
+        "FD translate (free)",
+        "compile/translate",
+        "plan",
+        "free plan",
+        "steps",
+        "valid",
+        "VAL",
+    ):
         table.add_column(column, justify="right")
     for row in rows:
         if "error" in row:
-            table.add_row(row["problem"], str(row.get("constraints", "")), "", "", "", "", row["error"][:60], "", "",
-                          "", "")
+            table.add_row(
+                row["problem"], str(row.get("constraints", "")), "", "", "", "", row["error"][:60], "", "", "", ""
+            )
             continue
         ratio = row["compile_s"] / row["fd_translate_s"]
         free = f"{row['free_plan_s']:.2f}" if row["free_plan_s"] is not None else "none"
-        table.add_row(row["problem"], str(row["constraints"]), f"{row['read_s']:.2f}", f"{row['compile_s']:.3f}",
-                      f"{row['fd_translate_s']:.3f}", f"{ratio:.2f}x", f"{row['plan_s']:.2f}", free,
-                      str(row["steps"]), "yes" if row["valid"] else "NO", row["val"])
+        table.add_row(
+            row["problem"],
+            str(row["constraints"]),
+            f"{row['read_s']:.2f}",
+            f"{row['compile_s']:.3f}",
+            f"{row['fd_translate_s']:.3f}",
+            f"{ratio:.2f}x",
+            f"{row['plan_s']:.2f}",
+            free,
+            str(row["steps"]),
+            "yes" if row["valid"] else "NO",
+            row["val"],
+        )
     console = Console(width=180)
     console.print(table)
     constrained = [r for r in rows if r.get("constraints")]
     planned = [r for r in constrained if "error" not in r and r["plan_s"] <= timeout]  # wall-clock
     crashed = [r for r in rows if r.get("error", "").startswith(("InternalError", "AssertionError"))]
     ratios = [r["compile_s"] / r["fd_translate_s"] for r in rows if "compile_s" in r]
-    console.print(f"constrained problems: {len(planned)} of {len(constrained)} planned within {timeout:g} s "
-                  f"({100 * len(planned) / max(1, len(constrained)):.0f} %); "
-                  f"crashes (internal errors): {len(crashed)}; "
-                  f"plans valid (vslsp): {sum(r['valid'] for r in planned)} of {len(planned)}; "
-                  f"VAL: {sum(r['val'] == 'valid' for r in planned)} valid of {len(planned)}"
-                  f"{' (VAL not given)' if not os.environ.get('VAL') else ''}")
+    console.print(
+        f"constrained problems: {len(planned)} of {len(constrained)} planned within {timeout:g} s "
+        f"({100 * len(planned) / max(1, len(constrained)):.0f} %); "
+        f"crashes (internal errors): {len(crashed)}; "
+        f"plans valid (vslsp): {sum(r['valid'] for r in planned)} of {len(planned)}; "
+        f"VAL: {sum(r['val'] == 'valid' for r in planned)} valid of {len(planned)}"
+        f"{' (VAL not given)' if not os.environ.get('VAL') else ''}"
+    )
     if ratios:
-        console.print(f"compile / FD translate (unconstrained): max {max(ratios):.2f}x, median "
-                      f"{sorted(ratios)[len(ratios) // 2]:.2f}x (target <= 2x)")
+        console.print(
+            f"compile / FD translate (unconstrained): max {max(ratios):.2f}x, median "
+            f"{sorted(ratios)[len(ratios) // 2]:.2f}x (target <= 2x)"
+        )
     if json_path:
         json_path.write_text(json.dumps({"suite": rows}, indent=1))
 
@@ -242,31 +286,62 @@ def main() -> None:
             with progress.status(f"{n} blocks"):
                 rows.append(measure(domain_file, n, Path(tmp)))
 
-    table = Table(title=f"vslsp.symbolic.solve: pull N blocks ({DEFAULT_PLANNER}: greedy FF), seconds; "
-                        "total = parse + build + compile + solve")
-    for column in ("N", "chain parse", "build", "compile", "solve", "chain total", "free total",
-                   "FD direct", "chain/FD", "free/FD", "chain LAMA plan", "validate", "order kept"):
+    table = Table(
+        title=f"vslsp.symbolic.solve: pull N blocks ({DEFAULT_PLANNER}: greedy FF), seconds; "
+        "total = parse + build + compile + solve"
+    )
+    for column in (
+        "N",
+        "chain parse",
+        "build",
+        "compile",
+        "solve",
+        "chain total",
+        "free total",
+        "FD direct",
+        "chain/FD",
+        "free/FD",
+        "chain LAMA plan",
+        "validate",
+        "order kept",
+    ):
         table.add_column(column, justify="right")
     for row in rows:
         chain, free, direct = row["chain"], row["free"], row["fast_downward_direct_s"]
-        table.add_row(str(row["blocks"]), f"{chain['parse_s']:.3f}", f"{chain['build_s']:.3f}",
-                      f"{chain['compile_s']:.3f}", f"{chain['solve_s']:.3f}", f"{chain['total_s']:.3f}",
-                      f"{free['total_s']:.3f}", f"{direct:.3f}", f"{chain['total_s'] / direct:.2f}x",
-                      f"{free['total_s'] / direct:.2f}x", f"{row['chain_lama_s']:.3f}", f"{chain['validate_s']:.3f}",
-                      "yes" if row["keeps_order"] and chain["valid"] and free["valid"] else "NO")
+        table.add_row(
+            str(row["blocks"]),
+            f"{chain['parse_s']:.3f}",
+            f"{chain['build_s']:.3f}",
+            f"{chain['compile_s']:.3f}",
+            f"{chain['solve_s']:.3f}",
+            f"{chain['total_s']:.3f}",
+            f"{free['total_s']:.3f}",
+            f"{direct:.3f}",
+            f"{chain['total_s'] / direct:.2f}x",
+            f"{free['total_s'] / direct:.2f}x",
+            f"{row['chain_lama_s']:.3f}",
+            f"{chain['validate_s']:.3f}",
+            "yes" if row["keeps_order"] and chain["valid"] and free["valid"] else "NO",
+        )
     console = Console(width=170)
     console.print(table)
-    console.print("FD direct: Fast Downward's driver on the constraint-free files, same search, no UP; "
-                  "chain LAMA plan: build + compile + solve with fast-downward-lama (lama-first)")
-    console.print(f"cold start: import unified_planning {cold_import:.2f} s; first plan (3 blocks, both problems "
-                  f"and the FD reference) {first:.2f} s")
+    console.print(
+        "FD direct: Fast Downward's driver on the constraint-free files, same search, no UP; "
+        "chain LAMA plan: build + compile + solve with fast-downward-lama (lama-first)"
+    )
+    console.print(
+        f"cold start: import unified_planning {cold_import:.2f} s; first plan (3 blocks, both problems "
+        f"and the FD reference) {first:.2f} s"
+    )
     for size in (100, 200):
         for row in (r for r in rows if r["blocks"] == size):
             chain = row["chain"]
             planning = chain["total_s"] - chain["parse_s"]
-            console.print(f"target: {size} blocks with the full chain in <= 2 s: planning (build + compile + solve) "
-                          f"{planning:.2f} s ({'met' if planning <= 2.0 else 'NOT met'}), with parsing "
-                          f"{chain['total_s']:.2f} s")
+            console.print(
+                f"target: {size} blocks with the full chain in <= 2 s: planning (build + compile + solve) "
+                f"{planning:.2f} s ({'met' if planning <= 2.0 else 'NOT met'}), with parsing "
+                f"{chain['total_s']:.2f} s"
+            )
     if args.json:
         args.json.write_text(json.dumps({"cold_import_s": cold_import, "first_plan_s": first, "rows": rows}, indent=1))
 

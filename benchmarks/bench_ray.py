@@ -77,8 +77,13 @@ def main() -> None:
         for backend in times:
             progress.print(f"run {run + 1}/{args.runs}: {backend}")
             if backend == "ray, started":
-                ray.init(address="local", num_cpus=args.workers, include_dashboard=False, log_to_driver=False,
-                         logging_level=logging.ERROR)
+                ray.init(
+                    address="local",
+                    num_cpus=args.workers,
+                    include_dashboard=False,
+                    log_to_driver=False,
+                    logging_level=logging.ERROR,
+                )
                 try:
                     seconds, results[backend] = timed_run(task, seeds, args.workers, "ray")
                 finally:
@@ -89,8 +94,13 @@ def main() -> None:
     same = all(records(results[b]) == records(results["local"]) for b in times)
 
     # The driver's rate: no-op trials on a started instance (the start excluded).
-    ray.init(address="local", num_cpus=args.workers, include_dashboard=False, log_to_driver=False,
-             logging_level=logging.ERROR)
+    ray.init(
+        address="local",
+        num_cpus=args.workers,
+        include_dashboard=False,
+        log_to_driver=False,
+        logging_level=logging.ERROR,
+    )
     try:
         done: list[TrialResult] = []
         run_on_ray(NoOp(), list(range(20)), set(), args.workers, None, done.append)  # warm the workers
@@ -109,24 +119,47 @@ def main() -> None:
     for column in ("backend", "seconds (min)", "all runs", "trials/s", "throughput vs local"):
         table.add_column(column)
     for backend, seconds in best.items():
-        table.add_row(backend, f"{seconds:.1f}", ", ".join(f"{t:.1f}" for t in times[backend]),
-                      f"{args.trials / seconds:.3f}", f"{best['local'] / seconds:.2f}")
+        table.add_row(
+            backend,
+            f"{seconds:.1f}",
+            ", ".join(f"{t:.1f}" for t in times[backend]),
+            f"{args.trials / seconds:.3f}",
+            f"{best['local'] / seconds:.2f}",
+        )
     console = Console()
     console.print(table)
     console.print(f"same per-trial results on every backend (times excepted): {'yes' if same else 'NO'}")
-    console.print(f"data: the task once to the object store: {task_bytes} B pickled; per trial sent: {sent} B "
-                  f"(seed, keep) + a 28-byte object id; per trial received: a result without artefacts, "
-                  f"{min(received)}-{max(received)} B (mean {sum(received) / len(received):.0f} B)")
-    console.print(f"driver: {rate:.0f} no-op trials/s on {args.workers} CPUs; mean trial {mean_trial:.1f} s, so one "
-                  f"driver keeps about {rate * mean_trial:.0f} workers busy (linear scaling up to there)")
+    console.print(
+        f"data: the task once to the object store: {task_bytes} B pickled; per trial sent: {sent} B "
+        f"(seed, keep) + a 28-byte object id; per trial received: a result without artefacts, "
+        f"{min(received)}-{max(received)} B (mean {sum(received) / len(received):.0f} B)"
+    )
+    console.print(
+        f"driver: {rate:.0f} no-op trials/s on {args.workers} CPUs; mean trial {mean_trial:.1f} s, so one "
+        f"driver keeps about {rate * mean_trial:.0f} workers busy (linear scaling up to there)"
+    )
     if args.json:
         with open(args.json, "w") as handle:
-            json.dump({"experiment": args.experiment, "trials": args.trials, "workers": args.workers,
-                       "runs": args.runs, "seconds": times, "best": best,
-                       "throughput_ratio_ray": best["local"] / best["ray"],
-                       "throughput_ratio_ray_started": best["local"] / best["ray, started"], "same_results": same,
-                       "task_bytes": task_bytes, "sent_per_trial_bytes": sent, "received_per_trial_bytes": received,
-                       "driver_noop_trials_per_s": rate, "mean_trial_s": mean_trial}, handle, indent=2)
+            json.dump(
+                {
+                    "experiment": args.experiment,
+                    "trials": args.trials,
+                    "workers": args.workers,
+                    "runs": args.runs,
+                    "seconds": times,
+                    "best": best,
+                    "throughput_ratio_ray": best["local"] / best["ray"],
+                    "throughput_ratio_ray_started": best["local"] / best["ray, started"],
+                    "same_results": same,
+                    "task_bytes": task_bytes,
+                    "sent_per_trial_bytes": sent,
+                    "received_per_trial_bytes": received,
+                    "driver_noop_trials_per_s": rate,
+                    "mean_trial_s": mean_trial,
+                },
+                handle,
+                indent=2,
+            )
 
 
 if __name__ == "__main__":

@@ -42,9 +42,16 @@ def trial(library: SkillLibrary, skill: str, seed: int) -> dict:
         crossed = world.is_far(cube.name) != STARTS_FAR[skill]
         x, y, _ = world.cube_pose(cube.name)
         distance = float(np.dot(np.array([x, y]) - spec.landmark.point, spec.landmark.normal))
-    return {"seed": seed, "xy": [round(cube.x, 3), round(cube.y, 3)], "success": bool(crossed and result.ok),
-            "crossed": bool(crossed), "seen": result.ok, "final_line_distance": round(distance, 4),
-            "error": result.error, "s": seconds}
+    return {
+        "seed": seed,
+        "xy": [round(cube.x, 3), round(cube.y, 3)],
+        "success": bool(crossed and result.ok),
+        "crossed": bool(crossed),
+        "seen": result.ok,
+        "final_line_distance": round(distance, 4),
+        "error": result.error,
+        "s": seconds,
+    }
 
 
 def tutor_time(seed: int) -> float:
@@ -79,14 +86,22 @@ def main() -> None:
         rate = sum(r["success"] for r in results) / len(results)
         distances = np.array([abs(r["final_line_distance"]) for r in results if r["crossed"]])
         seconds = float(np.median([r["s"] for r in results]))
-        summary[skill] = {"positions": len(results), "success_rate": rate, "target": TARGET, "met": rate >= TARGET,
-                          "median_past_line_m": float(np.median(distances)) if len(distances) else None,
-                          "median_s": seconds, "in_tutor_moves": seconds / reference,
-                          "failures": [{k: r[k] for k in ("seed", "xy", "error")} for r in results if not r["success"]]}
-        print(f"{skill}: {rate * 100:.1f} % of {len(results)} positions (target {TARGET * 100:.0f} %: "
-              f"{'met' if rate >= TARGET else 'MISSED'}); cube ends a median "
-              f"{np.median(distances) * 100 if len(distances) else float('nan'):.1f} cm past the line; "
-              f"{seconds:.2f} s per execution = {seconds / reference:.1f} tutor moves")
+        summary[skill] = {
+            "positions": len(results),
+            "success_rate": rate,
+            "target": TARGET,
+            "met": rate >= TARGET,
+            "median_past_line_m": float(np.median(distances)) if len(distances) else None,
+            "median_s": seconds,
+            "in_tutor_moves": seconds / reference,
+            "failures": [{k: r[k] for k in ("seed", "xy", "error")} for r in results if not r["success"]],
+        }
+        print(
+            f"{skill}: {rate * 100:.1f} % of {len(results)} positions (target {TARGET * 100:.0f} %: "
+            f"{'met' if rate >= TARGET else 'MISSED'}); cube ends a median "
+            f"{np.median(distances) * 100 if len(distances) else float('nan'):.1f} cm past the line; "
+            f"{seconds:.2f} s per execution = {seconds / reference:.1f} tutor moves"
+        )
         for failure in summary[skill]["failures"][:5]:
             print(f"    seed {failure['seed']} at {failure['xy']}: {failure['error']}")
     print(f"reference: the tutor's relocation of a cube {reference:.2f} s")

@@ -85,12 +85,22 @@ def trial(seed: int) -> dict:
         fx, fy, fz, fyaw = world.pose(item.name)
     position_error = float(np.hypot(fx - target_xy[0], fy - target_xy[1]))
     angle_error = float(abs(np.angle(np.exp(1j * (fyaw - yaw - turn)))))
-    landed = (position_error < POSITION_TOLERANCE and angle_error < ANGLE_TOLERANCE
-              and abs(fz - height) < HEIGHT_TOLERANCE)
-    return {"seed": seed, "item": item.name, "stacked": height > 0.0, "ok": result.ok,
-            "diagnosis": result.diagnosis, "success": bool(result.ok and landed),
-            "position_error_m": position_error, "angle_error_deg": float(np.degrees(angle_error)),
-            "height_error_m": float(abs(fz - height)), "wall_s": wall, "sim_s": result.duration_s}
+    landed = (
+        position_error < POSITION_TOLERANCE and angle_error < ANGLE_TOLERANCE and abs(fz - height) < HEIGHT_TOLERANCE
+    )
+    return {
+        "seed": seed,
+        "item": item.name,
+        "stacked": height > 0.0,
+        "ok": result.ok,
+        "diagnosis": result.diagnosis,
+        "success": bool(result.ok and landed),
+        "position_error_m": position_error,
+        "angle_error_deg": float(np.degrees(angle_error)),
+        "height_error_m": float(abs(fz - height)),
+        "wall_s": wall,
+        "sim_s": result.duration_s,
+    }
 
 
 def bare_render_s(repeat: int) -> float:
@@ -101,8 +111,14 @@ def bare_render_s(repeat: int) -> float:
     projection = pb.computeProjectionMatrixFOV(27.0, 4.0 / 3.0, 0.05, 3.0)
     start = time.perf_counter()
     for _ in range(repeat):
-        pb.getCameraImage(TabletopWorld.WIDTH, TabletopWorld.HEIGHT, view, projection,
-                          renderer=pb.ER_TINY_RENDERER, physicsClientId=client)
+        pb.getCameraImage(
+            TabletopWorld.WIDTH,
+            TabletopWorld.HEIGHT,
+            view,
+            projection,
+            renderer=pb.ER_TINY_RENDERER,
+            physicsClientId=client,
+        )
     elapsed = (time.perf_counter() - start) / repeat
     pb.disconnect(client)
     return elapsed
@@ -132,12 +148,18 @@ def main() -> None:
     errors = np.array([t["position_error_m"] for t in trials if t["ok"]] or [np.nan])
     angles = np.array([t["angle_error_deg"] for t in trials if t["ok"]] or [np.nan])
     figures = {
-        "load_s": round(load, 3), "render_s": round(render, 3), "bare_render_s": round(reference, 3),
+        "load_s": round(load, 3),
+        "render_s": round(render, 3),
+        "bare_render_s": round(reference, 3),
         "render_in_bare_renders": round(render / reference, 2),
-        "trials": len(trials), "success_rate": len(ok) / len(trials),
+        "trials": len(trials),
+        "success_rate": len(ok) / len(trials),
         "stacked_trials": sum(t["stacked"] for t in trials),
         "diagnoses": {d: sum(t["diagnosis"] == d for t in trials) for d in {t["diagnosis"] for t in trials} if d},
-        "position_error_mm": {"mean": round(1000 * float(np.mean(errors)), 2), "max": round(1000 * float(np.max(errors)), 2)},
+        "position_error_mm": {
+            "mean": round(1000 * float(np.mean(errors)), 2),
+            "max": round(1000 * float(np.max(errors)), 2),
+        },
         "angle_error_deg": {"mean": round(float(np.mean(angles)), 2), "max": round(float(np.max(angles)), 2)},
         "wall_s_per_pick_and_place": round(float(np.mean([t["wall_s"] for t in trials])), 3),
         "sim_s_per_pick_and_place": round(float(np.mean([t["sim_s"] for t in trials])), 2),
@@ -147,16 +169,25 @@ def main() -> None:
     if args.json:
         print(json.dumps(figures))
         return
-    print(f"tabletop world: load {load:.2f} s (5 items); render 1280x960 {render:.2f} s "
-          f"= {render / reference:.2f} x a bare getCameraImage of an empty scene ({reference:.2f} s)")
-    print(f"pick-and-place, {len(trials)} random trials from seed {args.seed} "
-          f"({figures['stacked_trials']} onto another item): success {100 * figures['success_rate']:.0f} % "
-          f"{figures['diagnoses']}")
-    print(f"  placement error mean {figures['position_error_mm']['mean']} mm (max {figures['position_error_mm']['max']}), "
-          f"turn error mean {figures['angle_error_deg']['mean']} deg (max {figures['angle_error_deg']['max']})")
-    print(f"  {figures['wall_s_per_pick_and_place']:.2f} s wall per pick-and-place for "
-          f"{figures['sim_s_per_pick_and_place']:.1f} s simulated "
-          f"({figures['sim_s_per_pick_and_place'] / figures['wall_s_per_pick_and_place']:.0f} x real time)")
+    print(
+        f"tabletop world: load {load:.2f} s (5 items); render 1280x960 {render:.2f} s "
+        f"= {render / reference:.2f} x a bare getCameraImage of an empty scene ({reference:.2f} s)"
+    )
+    print(
+        f"pick-and-place, {len(trials)} random trials from seed {args.seed} "
+        f"({figures['stacked_trials']} onto another item): success {100 * figures['success_rate']:.0f} % "
+        f"{figures['diagnoses']}"
+    )
+    print(
+        f"  placement error mean {figures['position_error_mm']['mean']} mm "
+        f"(max {figures['position_error_mm']['max']}), "
+        f"turn error mean {figures['angle_error_deg']['mean']} deg (max {figures['angle_error_deg']['max']})"
+    )
+    print(
+        f"  {figures['wall_s_per_pick_and_place']:.2f} s wall per pick-and-place for "
+        f"{figures['sim_s_per_pick_and_place']:.1f} s simulated "
+        f"({figures['sim_s_per_pick_and_place'] / figures['wall_s_per_pick_and_place']:.0f} x real time)"
+    )
     print(f"target >= {100 * TARGET:.0f} % of operations: {'met' if figures['target_met'] else 'NOT met'}")
     for failure in figures["failures"][:10]:
         print("  failed:", {k: (round(v, 4) if isinstance(v, float) else v) for k, v in failure.items()})

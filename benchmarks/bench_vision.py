@@ -95,10 +95,17 @@ def rendered_pairs(worlds: int, moves: int, size: tuple[int, int]) -> list[Pair]
                 top = TABLE_Z + world.spec.cube(name).size
                 for camera in CAMERAS:
                     after = world.observe(camera, *size)
-                    pairs.append(Pair(camera, before[camera].rgb, after.rgb,
-                                      (world.spec.cube(name).colour, far_pre, far_post, action),
-                                      after.camera.table_to_pixel(x0, y0, top),
-                                      after.camera.table_to_pixel(x1, y1, top), yaw1 - yaw0))
+                    pairs.append(
+                        Pair(
+                            camera,
+                            before[camera].rgb,
+                            after.rgb,
+                            (world.spec.cube(name).colour, far_pre, far_post, action),
+                            after.camera.table_to_pixel(x0, y0, top),
+                            after.camera.table_to_pixel(x1, y1, top),
+                            yaw1 - yaw0,
+                        )
+                    )
                     before[camera] = after
     return pairs
 
@@ -158,12 +165,16 @@ def bench_grounding(pairs_by_size: dict[tuple[int, int], list[Pair]]) -> None:
         scene = median_ms(lambda image: attempt(ground_scene, image), [(p.post,) for p in pairs])
         plain = median_ms(reference_change, images)
         right = sum(correct(p, attempt(ground, p.pre, p.post)) for p in pairs)
-        print(f"| {size[0]}x{size[1]} | {len(pairs)} | {ours:.2f} | {scene:.2f} | {plain:.2f} | "
-              f"{ours / plain:.1f} | {_share(right, len(pairs))} |")
+        print(
+            f"| {size[0]}x{size[1]} | {len(pairs)} | {ours:.2f} | {scene:.2f} | {plain:.2f} | "
+            f"{ours / plain:.1f} | {_share(right, len(pairs))} |"
+        )
         measured[size] = ours
     verdict = "met" if measured[SIZES[0]] <= TARGET_MS else "MISSED"
-    print(f"target <= {TARGET_MS:.0f} ms per grounding at 640x480: {verdict} ({measured[SIZES[0]]:.2f} ms; "
-          f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)")
+    print(
+        f"target <= {TARGET_MS:.0f} ms per grounding at 640x480: {verdict} ({measured[SIZES[0]]:.2f} ms; "
+        f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)"
+    )
 
 
 def bench_noise(pairs: list[Pair]) -> None:
@@ -184,8 +195,10 @@ def bench_noise(pairs: list[Pair]) -> None:
                 ours += g is not None and np.hypot(*np.subtract(g.post, pair.top_post)) < near
                 found = reference_change(pre, post)
                 plain += found is not None and np.hypot(*np.subtract(found, pair.top_post)) < near
-        print(f"| {sigma} | {_share(right, len(pairs))} | {_share(ours, len(overhead))} | "
-              f"{_share(plain, len(overhead))} |")
+        print(
+            f"| {sigma} | {_share(right, len(pairs))} | {_share(ours, len(overhead))} | "
+            f"{_share(plain, len(overhead))} |"
+        )
 
 
 def _share(count: int, total: int) -> str:
@@ -212,9 +225,11 @@ def bench_matching(pairs: list[Pair]) -> None:
     adaptive = median_ms(find_best_match, [(demo, world, (390.0, 175.0), 40)])
     grey = cv2.cvtColor(cases[0][1], cv2.COLOR_RGB2GRAY)
     detect = median_ms(lambda image: sift().detectAndCompute(image, None), [(grey,)] * 4)
-    print(f"\nmatch finding (480x360, known rotation + translation, 4 cases): {ours:.1f} ms/match, "
-          f"position error max {max(errors):.2f} px, angle error max {max(angles):.2f} deg; "
-          f"SIFT detect+describe of one image alone {detect:.1f} ms (ratio {ours / detect:.1f})")
+    print(
+        f"\nmatch finding (480x360, known rotation + translation, 4 cases): {ours:.1f} ms/match, "
+        f"position error max {max(errors):.2f} px, angle error max {max(angles):.2f} deg; "
+        f"SIFT detect+describe of one image alone {detect:.1f} ms (ratio {ours / detect:.1f})"
+    )
     print(f"house-and-roof with the adaptive frame: {adaptive:.1f} ms/match")
     # Rendered cubes seen from above: the moved cube found again in the post-action image.
     found = []
@@ -228,8 +243,10 @@ def bench_matching(pairs: list[Pair]) -> None:
     found = np.array(found)
     # Plain-coloured cubes have almost no texture: SIFT finds too few keypoints on them, which
     # is why cubes are told apart by their colour symbols, not by match finding.
-    print(f"plain-coloured rendered cubes (overhead 640x480, {len(found)} moves): found within half a "
-          f"cube in {(found < 16).sum()}/{len(found)}, median error {np.median(found):.0f} px")
+    print(
+        f"plain-coloured rendered cubes (overhead 640x480, {len(found)} moves): found within half a "
+        f"cube in {(found < 16).sum()}/{len(found)}, median error {np.median(found):.0f} px"
+    )
 
 
 def main() -> None:

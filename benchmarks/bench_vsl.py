@@ -55,19 +55,32 @@ def tabletop(names: list[str], trials: int, seed: int, workers: int, as_json: bo
     for name in names:
         start = time.perf_counter()
         data = tabletop_summary(name, run_tabletop(name, trials, seed, workers), seed)
-        figures[name] = {key: data[key] for key in ("trials", "successes", "operations", "operations_ok",
-                                                    "operation_success_rate", "diagnoses", "s_per_trial", "failures")}
+        figures[name] = {
+            key: data[key]
+            for key in (
+                "trials",
+                "successes",
+                "operations",
+                "operations_ok",
+                "operation_success_rate",
+                "diagnoses",
+                "s_per_trial",
+                "failures",
+            )
+        }
         figures[name]["wall_s"] = round(time.perf_counter() - start, 1)
         figures[name]["operation_target_met"] = data["operation_success_rate"] >= OPERATION_TARGET
         if "intervention" in data:
             figures[name]["intervention"] = data["intervention"]
         if not as_json:
             f = figures[name]
-            print(f"{name}: {f['trials']} trials from seed {seed}, {workers} workers, {f['wall_s']:.0f} s wall; "
-                  f"robot operations {f['operations_ok']}/{f['operations']} "
-                  f"({100 * f['operation_success_rate']:.1f} %, target >= {100 * OPERATION_TARGET:.0f} %: "
-                  f"{'met' if f['operation_target_met'] else 'NOT met'}) {f['diagnoses']}; goal reached in "
-                  f"{f['successes']}/{f['trials']} trials; {f['s_per_trial']} s per trial (one core)")
+            print(
+                f"{name}: {f['trials']} trials from seed {seed}, {workers} workers, {f['wall_s']:.0f} s wall; "
+                f"robot operations {f['operations_ok']}/{f['operations']} "
+                f"({100 * f['operation_success_rate']:.1f} %, target >= {100 * OPERATION_TARGET:.0f} %: "
+                f"{'met' if f['operation_target_met'] else 'NOT met'}) {f['diagnoses']}; goal reached in "
+                f"{f['successes']}/{f['trials']} trials; {f['s_per_trial']} s per trial (one core)"
+            )
             for failure in f["failures"][:10]:
                 print(f"  seed {failure['seed']}: {failure['error']}")
     if as_json:
@@ -84,7 +97,7 @@ def main() -> None:
     parser.add_argument("--task", default="house-roof", help="house-roof, a tabletop task, or all (tabletop)")
     args = parser.parse_args()
     if args.task != "house-roof":
-        from vslsp.vsl.tabletop_tasks import TASKS as TABLETOP
+        from vslsp.vsl.paper_tasks import TASKS as TABLETOP
 
         tabletop(list(TABLETOP) if args.task == "all" else [args.task], args.trials, args.seed, args.workers, args.json)
         return
@@ -113,10 +126,12 @@ def main() -> None:
     print(f"reference: SIFT on a 960x720 world image {reference:.0f} ms")
     for frame in FRAMES:
         f = figures[frame]
-        print(f"  {frame:8s} frame: trials {100 * f['success_rate']:5.1f} %, operations "
-              f"{100 * f['operation_success_rate']:5.1f} % {f['diagnoses']}, "
-              f"{f['ms_per_reproduction']:.0f} ms per reproduction ({args.timing} trials in this process) "
-              f"(= {f['reproduction_in_sift_extractions']} SIFT extractions)")
+        print(
+            f"  {frame:8s} frame: trials {100 * f['success_rate']:5.1f} %, operations "
+            f"{100 * f['operation_success_rate']:5.1f} % {f['diagnoses']}, "
+            f"{f['ms_per_reproduction']:.0f} ms per reproduction ({args.timing} trials in this process) "
+            f"(= {f['reproduction_in_sift_extractions']} SIFT extractions)"
+        )
     verdict = "met" if figures["operation_target_met"] else "NOT met"
     print(f"target >= {100 * OPERATION_TARGET:.0f} % of operations with the adaptive frame: {verdict}")
     for failure in data["failures"][:10]:

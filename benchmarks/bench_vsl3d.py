@@ -98,8 +98,9 @@ def _trial(seed: int, method: str, max_yaw: float) -> dict:
             return {**result, "error": str(error)[:90]}
         result["seconds"] = time.process_time() - start
         result["motion"] = transform_error(moved.transform, truth, centre)
-        result["right_object"] = bool(np.mean(np.all((moved.pre.points >= lower - 0.005)
-                                                      & (moved.pre.points <= upper + 0.005), axis=1)) > 0.9)
+        result["right_object"] = bool(
+            np.mean(np.all((moved.pre.points >= lower - 0.005) & (moved.pre.points <= upper + 0.005), axis=1)) > 0.9
+        )
     reshuffled = _layout(OBJECTS, seed + 10_000)
     x, y, _ = reshuffled[name]  # seen again from about the same side: a single view shows one side
     reshuffled[name] = (x, y, layout[name][2] + rng.uniform(-max_yaw, max_yaw))
@@ -124,33 +125,54 @@ def accuracy(trials: int, method: str, max_yaw_deg: float) -> None:
         results.append(outcome)
         status = outcome.get("error") or (
             f"motion {outcome['motion'][0] * 1000:.2f} mm {outcome['motion'][1]:.2f} deg; "
-            + (f"match {outcome['match'][0] * 1000:.2f} mm {outcome['match'][1]:.2f} deg"
-               if "match" in outcome else f"match failed: {outcome.get('match_error')}"))
-        print(f"  trial {seed:3d} {outcome['object']:5s} tray={outcome['tray']!s:5s} "
-              f"tilted={outcome['tilted']!s:5s} {status}")
+            + (
+                f"match {outcome['match'][0] * 1000:.2f} mm {outcome['match'][1]:.2f} deg"
+                if "match" in outcome
+                else f"match failed: {outcome.get('match_error')}"
+            )
+        )
+        print(
+            f"  trial {seed:3d} {outcome['object']:5s} tray={outcome['tray']!s:5s} "
+            f"tilted={outcome['tilted']!s:5s} {status}"
+        )
     for key, label in (("motion", "getObject 6-DoF motion"), ("match", "findBestMatch pose")):
         errors = np.array([r[key] for r in results if key in r])
-        ok = [key in r and r[key][0] < TOLERANCE_M and r[key][1] < TOLERANCE_DEG
-              and (key != "motion" or r["right_object"]) for r in results]
-        print(f"  {label}: success {sum(ok)}/{len(results)} ({np.mean(ok):.0%}) within {TOLERANCE_M * 1000:.0f} mm "
-              f"and {TOLERANCE_DEG:.0f} deg")
+        ok = [
+            key in r
+            and r[key][0] < TOLERANCE_M
+            and r[key][1] < TOLERANCE_DEG
+            and (key != "motion" or r["right_object"])
+            for r in results
+        ]
+        print(
+            f"  {label}: success {sum(ok)}/{len(results)} ({np.mean(ok):.0%}) within {TOLERANCE_M * 1000:.0f} mm "
+            f"and {TOLERANCE_DEG:.0f} deg"
+        )
         if len(errors):
             for column, unit, scale in ((0, "mm", 1000.0), (1, "deg", 1.0)):
                 values = errors[:, column] * scale
-                print(f"    error {unit}: median {np.median(values):.2f}, mean of successes "
-                      f"{np.mean(values[np.array(ok)[[key in r for r in results]]]) if any(ok) else float('nan'):.2f}, "
-                      f"90th percentile {np.percentile(values, 90):.2f}")
+                print(
+                    f"    error {unit}: median {np.median(values):.2f}, mean of successes "
+                    f"{np.mean(values[np.array(ok)[[key in r for r in results]]]) if any(ok) else float('nan'):.2f}, "
+                    f"90th percentile {np.percentile(values, 90):.2f}"
+                )
     for label, chosen in [(f"object {name}", lambda r, name=name: r["object"] == name) for name in MOVED] + [
-            ("planar (x, y, yaw)", lambda r: not r["tilted"]), ("6-DoF (tilted)", lambda r: r["tilted"]),
-            ("into the tray", lambda r: r["tray"])]:
+        ("planar (x, y, yaw)", lambda r: not r["tilted"]),
+        ("6-DoF (tilted)", lambda r: r["tilted"]),
+        ("into the tray", lambda r: r["tray"]),
+    ]:
         subset = [r for r in results if chosen(r)]
-        counts = [sum(key in r and r[key][0] < TOLERANCE_M and r[key][1] < TOLERANCE_DEG for r in subset)
-                  for key in ("motion", "match")]
+        counts = [
+            sum(key in r and r[key][0] < TOLERANCE_M and r[key][1] < TOLERANCE_DEG for r in subset)
+            for key in ("motion", "match")
+        ]
         print(f"    {label:20s}: getObject {counts[0]}/{len(subset)}, findBestMatch {counts[1]}/{len(subset)}")
     seconds = [r["seconds"] for r in results if "seconds" in r]
     match_seconds = [r["match_seconds"] for r in results if "match_seconds" in r]
-    print(f"  CPU time per getObject: median {np.median(seconds):.2f} s; per findBestMatch: median "
-          f"{np.median(match_seconds):.2f} s")
+    print(
+        f"  CPU time per getObject: median {np.median(seconds):.2f} s; per findBestMatch: median "
+        f"{np.median(match_seconds):.2f} s"
+    )
 
 
 def _timed(function, repeat: int = 5):
@@ -188,13 +210,17 @@ class Table:
 
     def add(self, stage: str, ours: float, theirs: float, our_accuracy: str, their_accuracy: str) -> None:
         self.rows.append((stage, ours, theirs, our_accuracy, their_accuracy))
-        print(f"  {stage:34s} VSL-3D {ours * 1000:8.1f} ms | Open3D {theirs * 1000:8.1f} ms | "
-              f"ratio {ours / theirs:5.2f}x | accuracy VSL-3D {our_accuracy} ; Open3D {their_accuracy}")
+        print(
+            f"  {stage:34s} VSL-3D {ours * 1000:8.1f} ms | Open3D {theirs * 1000:8.1f} ms | "
+            f"ratio {ours / theirs:5.2f}x | accuracy VSL-3D {our_accuracy} ; Open3D {their_accuracy}"
+        )
 
     def summary(self) -> None:
         within = [row for row in self.rows if row[1] <= 2.0 * row[2]]
-        print(f"  stages within 2x of Open3D's time: {len(within)}/{len(self.rows)}"
-              + "".join(f"\n    over: {row[0]} ({row[1] / row[2]:.2f}x)" for row in self.rows if row not in within))
+        print(
+            f"  stages within 2x of Open3D's time: {len(within)}/{len(self.rows)}"
+            + "".join(f"\n    over: {row[0]} ({row[1] / row[2]:.2f}x)" for row in self.rows if row not in within)
+        )
 
 
 def _angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -235,8 +261,13 @@ def speed() -> None:
     t_o3d, o3d_cloud = _timed(lambda: o3d_raw.voxel_down_sample(VOXEL))
     theirs = np.asarray(o3d_cloud.points)
     spread = [np.sqrt(np.mean(KDTree(c).query(cropped, 1)[0] ** 2)) * 1000 for c in (cloud, theirs)]
-    table.add("voxel grid 2 mm", t_ours, t_o3d, f"{len(cloud)} pts, raw->sample RMS {spread[0]:.2f} mm",
-              f"{len(theirs)} pts, {spread[1]:.2f} mm")
+    table.add(
+        "voxel grid 2 mm",
+        t_ours,
+        t_o3d,
+        f"{len(cloud)} pts, raw->sample RMS {spread[0]:.2f} mm",
+        f"{len(theirs)} pts, {spread[1]:.2f} mm",
+    )
     # k-d tree: build, KNN and radius search, answers checked against brute force.
     t_ours, tree = _timed(lambda: KDTree(cloud))
     device_points = o3d.core.Tensor(cloud)
@@ -250,14 +281,20 @@ def speed() -> None:
         t_ours, (distance, _) = _timed(lambda k=k: tree.query(queries, k))
         t_o3d, (_, o3d_d2) = _timed(lambda k=k: nns.knn_search(query_tensor, k))
         errors = [np.abs(d - reference).max() for d in (distance, np.sqrt(o3d_d2.numpy()))]
-        table.add(f"KNN k={k}, 5000 queries", t_ours, t_o3d, f"max error {errors[0]:.1e} m",
-                  f"max error {errors[1]:.1e} m")
+        table.add(
+            f"KNN k={k}, 5000 queries", t_ours, t_o3d, f"max error {errors[0]:.1e} m", f"max error {errors[1]:.1e} m"
+        )
     nns.hybrid_index(0.006)
     t_ours, found = _timed(lambda: tree.query_radius(cloud, 0.006, 60))
     t_o3d, (_, _, counts) = _timed(lambda: nns.hybrid_search(device_points, 0.006, 60))
     same = np.mean(found.counts(len(cloud)) == counts.numpy().ravel())
-    table.add(f"radius 6 mm (<= 60), {len(cloud)} queries", t_ours, t_o3d, f"{len(found.query)} pairs",
-              f"{int(counts.numpy().sum())} pairs ({same:.1%} same counts)")
+    table.add(
+        f"radius 6 mm (<= 60), {len(cloud)} queries",
+        t_ours,
+        t_o3d,
+        f"{len(found.query)} pairs",
+        f"{int(counts.numpy().sum())} pairs ({same:.1%} same counts)",
+    )
     # Normals: the error against the cube's true face normals.
     on_cube, true_normals = _cube_truth(cloud, cube_pose, cube_half)
     o3d_cloud = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(cloud))
@@ -270,8 +307,13 @@ def speed() -> None:
     t_ours, normals = _timed(lambda: estimate_normals(cloud, 0.006, camera.position, tree))
     t_o3d, theirs = _timed(o3d_normals)
     errors = [np.median(_angles(n[on_cube], true_normals[on_cube])) for n in (normals.normals, theirs)]
-    table.add(f"normals 6 mm, {len(cloud)} points", t_ours, t_o3d,
-              f"median {errors[0]:.2f} deg on {on_cube.sum()} cube-face pts", f"median {errors[1]:.2f} deg")
+    table.add(
+        f"normals 6 mm, {len(cloud)} points",
+        t_ours,
+        t_o3d,
+        f"median {errors[0]:.2f} deg on {on_cube.sum()} cube-face pts",
+        f"median {errors[1]:.2f} deg",
+    )
     # FPFH and global registration on an observation of the duck against a world in which it moved.
     with CloudScene({"duck": (0.5, 0.0, 0.7)}, tray=False) as scene:
         image = scene.capture()
@@ -288,15 +330,20 @@ def speed() -> None:
 
     def ours_features(points, viewpoint):
         sparse_tree = KDTree(points)
-        return compute_fpfh(points, estimate_normals(points, 2.5 * FEATURE_VOXEL, viewpoint, sparse_tree),
-                            5.0 * FEATURE_VOXEL, sparse_tree)
+        return compute_fpfh(
+            points,
+            estimate_normals(points, 2.5 * FEATURE_VOXEL, viewpoint, sparse_tree),
+            5.0 * FEATURE_VOXEL,
+            sparse_tree,
+        )
 
     def o3d_features(points, viewpoint):
         pcd = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
         pcd.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=2.5 * FEATURE_VOXEL, max_nn=30))
         pcd.orient_normals_towards_camera_location(viewpoint)
-        return pcd, pipeline.compute_fpfh_feature(pcd, o3d.geometry.KDTreeSearchParamHybrid(
-            radius=5.0 * FEATURE_VOXEL, max_nn=100))
+        return pcd, pipeline.compute_fpfh_feature(
+            pcd, o3d.geometry.KDTreeSearchParamHybrid(radius=5.0 * FEATURE_VOXEL, max_nn=100)
+        )
 
     t_ours, target_features = _timed(lambda: ours_features(sparse_target, camera.position))
     t_o3d, (o3d_target, o3d_target_features) = _timed(lambda: o3d_features(sparse_target, camera.position))
@@ -304,27 +351,61 @@ def speed() -> None:
     o3d_source, o3d_source_features = o3d_features(sparse_source, duck_camera.position)
     moved_source = transform_points(shift, sparse_source)
     precision = []
-    for source_f, target_f in ((source_features, target_features),
-                               (np.asarray(o3d_source_features.data).T, np.asarray(o3d_target_features.data).T)):
+    for source_f, target_f in (
+        (source_features, target_features),
+        (np.asarray(o3d_source_features.data).T, np.asarray(o3d_target_features.data).T),
+    ):
         nearest = feature_neighbours(source_f, target_f, 1)[:, 0]
         precision.append(np.mean(np.linalg.norm(sparse_target[nearest] - moved_source, axis=1) < 1.5 * FEATURE_VOXEL))
-    table.add(f"normals + FPFH 5 mm voxels, {len(sparse_target)} pts", t_ours, t_o3d,
-              f"{precision[0]:.1%} true nearest-feature matches", f"{precision[1]:.1%}")
+    table.add(
+        f"normals + FPFH 5 mm voxels, {len(sparse_target)} pts",
+        t_ours,
+        t_o3d,
+        f"{precision[0]:.1%} true nearest-feature matches",
+        f"{precision[1]:.1%}",
+    )
     centre = duck.mean(axis=0)
     target_tree = KDTree(sparse_target)
-    t_ours, coarse = _timed(lambda: prerejective_ransac(sparse_source, sparse_target, source_features,
-                                                        target_features, 1.5 * FEATURE_VOXEL, seed=0,
-                                                        target_tree=target_tree), repeat=3)
+    t_ours, coarse = _timed(
+        lambda: prerejective_ransac(
+            sparse_source,
+            sparse_target,
+            source_features,
+            target_features,
+            1.5 * FEATURE_VOXEL,
+            seed=0,
+            target_tree=target_tree,
+        ),
+        repeat=3,
+    )
     distance = 1.5 * FEATURE_VOXEL
-    checkers = [registration.CorrespondenceCheckerBasedOnEdgeLength(0.9),
-                registration.CorrespondenceCheckerBasedOnDistance(distance)]
-    t_o3d, theirs = _timed(lambda: registration.registration_ransac_based_on_feature_matching(
-        o3d_source, o3d_target, o3d_source_features, o3d_target_features, True, distance,
-        registration.TransformationEstimationPointToPoint(False), 3, checkers,
-        registration.RANSACConvergenceCriteria(100000, 0.999)), repeat=3)
+    checkers = [
+        registration.CorrespondenceCheckerBasedOnEdgeLength(0.9),
+        registration.CorrespondenceCheckerBasedOnDistance(distance),
+    ]
+    t_o3d, theirs = _timed(
+        lambda: registration.registration_ransac_based_on_feature_matching(
+            o3d_source,
+            o3d_target,
+            o3d_source_features,
+            o3d_target_features,
+            True,
+            distance,
+            registration.TransformationEstimationPointToPoint(False),
+            3,
+            checkers,
+            registration.RANSACConvergenceCriteria(100000, 0.999),
+        ),
+        repeat=3,
+    )
     errors = [transform_error(t, shift, centre) for t in (coarse.transform, np.asarray(theirs.transformation))]
-    table.add("global registration (RANSAC)", t_ours, t_o3d, f"{errors[0][0] * 1000:.1f} mm {errors[0][1]:.1f} deg",
-              f"{errors[1][0] * 1000:.1f} mm {errors[1][1]:.1f} deg")
+    table.add(
+        "global registration (RANSAC)",
+        t_ours,
+        t_o3d,
+        f"{errors[0][0] * 1000:.1f} mm {errors[0][1]:.1f} deg",
+        f"{errors[1][0] * 1000:.1f} mm {errors[1][1]:.1f} deg",
+    )
     # ICP point-to-plane on the full-resolution clouds from a start 1 cm and 5 deg off the truth.
     start = np.eye(4)
     start[:3, :3] = [[np.cos(0.087), -np.sin(0.087), 0], [np.sin(0.087), np.cos(0.087), 0], [0, 0, 1]]
@@ -336,14 +417,35 @@ def speed() -> None:
     target_normals = np.asarray(full_target.normals)
     full_tree = KDTree(target)
     full_source = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(duck))
-    t_ours, fine = _timed(lambda: icp(duck, target, start, max_distance=0.02, method="point_to_plane",
-                                      target_normals=target_normals, target_tree=full_tree))
-    t_o3d, theirs = _timed(lambda: registration.registration_icp(
-        full_source, full_target, 0.02, start, registration.TransformationEstimationPointToPlane(),
-        registration.ICPConvergenceCriteria(1e-6, 1e-6, 50)))
+    t_ours, fine = _timed(
+        lambda: icp(
+            duck,
+            target,
+            start,
+            max_distance=0.02,
+            method="point_to_plane",
+            target_normals=target_normals,
+            target_tree=full_tree,
+        )
+    )
+    t_o3d, theirs = _timed(
+        lambda: registration.registration_icp(
+            full_source,
+            full_target,
+            0.02,
+            start,
+            registration.TransformationEstimationPointToPlane(),
+            registration.ICPConvergenceCriteria(1e-6, 1e-6, 50),
+        )
+    )
     errors = [transform_error(t, shift, centre) for t in (fine.transform, np.asarray(theirs.transformation))]
-    table.add("ICP point-to-plane", t_ours, t_o3d, f"{errors[0][0] * 1000:.2f} mm {errors[0][1]:.2f} deg",
-              f"{errors[1][0] * 1000:.2f} mm {errors[1][1]:.2f} deg")
+    table.add(
+        "ICP point-to-plane",
+        t_ours,
+        t_o3d,
+        f"{errors[0][0] * 1000:.2f} mm {errors[0][1]:.2f} deg",
+        f"{errors[1][0] * 1000:.2f} mm {errors[1][1]:.2f} deg",
+    )
     table.summary()
 
 

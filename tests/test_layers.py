@@ -30,10 +30,12 @@ def import_graph() -> dict[str, set[str]]:
             elif isinstance(node, ast.ImportFrom):
                 base = node.module or ""
                 if node.level:
-                    base = ".".join(package.split(".")[: len(package.split(".")) - node.level + 1] + ([base] if base
-                                                                                                        else []))
-                targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
-                           for alias in node.names]
+                    base = ".".join(
+                        package.split(".")[: len(package.split(".")) - node.level + 1] + ([base] if base else [])
+                    )
+                targets = [
+                    f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base for alias in node.names
+                ]
             for target in targets:
                 while target and target not in modules:
                     target = target.rpartition(".")[0]
@@ -89,8 +91,9 @@ def test_no_module_import_cycle():
 def test_no_subpackage_import_cycle():
     graph: dict[str, set[str]] = {}
     for module, targets in import_graph().items():
-        graph.setdefault(subpackage(module), set()).update(subpackage(t) for t in targets
-                                                          if subpackage(t) != subpackage(module))
+        graph.setdefault(subpackage(module), set()).update(
+            subpackage(t) for t in targets if subpackage(t) != subpackage(module)
+        )
     assert cycles(graph) == []
 
 
@@ -102,6 +105,7 @@ def test_the_simulator_imports_no_perception_planning_or_task_code():
 
 
 def test_no_module_is_over_500_lines():
-    long = {str(p.relative_to(PACKAGE)): n for p in PACKAGE.rglob("*.py")
-            if (n := len(p.read_text().splitlines())) > 500}
+    long = {
+        str(p.relative_to(PACKAGE)): n for p in PACKAGE.rglob("*.py") if (n := len(p.read_text().splitlines())) > 500
+    }
     assert long == {}

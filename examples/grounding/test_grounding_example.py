@@ -19,11 +19,24 @@ def test_pulling_green_across_the_line(synthetic_pair, assert_grounds):
     # The drawn table is 640x480 px; its line runs from (0, 300) to (640, 260); the robot is below.
     pair = synthetic_pair([Square("red", (150, 400)), Square("green", (450, 150))], move=(1, (430, 400)))
     assert_grounds(
-        pair.pre, pair.post, predicates=PREDICATES,
-        atoms_pre=["(far green)", "(on-robot-side red)", "(right-half green)", "(warm red)", "(left-of red green)",
-                   "(in-front-of red green)"],
-        atoms_post=["(on-robot-side red)", "(on-robot-side green)", "(right-half green)", "(warm red)",
-                    "(left-of red green)"],
+        pair.pre,
+        pair.post,
+        predicates=PREDICATES,
+        atoms_pre=[
+            "(far green)",
+            "(on-robot-side red)",
+            "(right-half green)",
+            "(warm red)",
+            "(left-of red green)",
+            "(in-front-of red green)",
+        ],
+        atoms_post=[
+            "(on-robot-side red)",
+            "(on-robot-side green)",
+            "(right-half green)",
+            "(warm red)",
+            "(left-of red green)",
+        ],
     )
 
 
@@ -38,14 +51,25 @@ def test_perception_agrees_with_the_truth_of_a_drawn_scene(synthetic_pair, asser
 def test_a_wrong_expectation_names_the_missing_and_unexpected_atoms(synthetic_pair, assert_grounds):
     pair = synthetic_pair([Square("red", (150, 400)), Square("green", (450, 150))], move=(1, (430, 400)))
     with pytest.raises(AssertionError, match=r"missing \(left-of green red\); unexpected \(left-of red green\)"):
-        assert_grounds(pair.pre, pair.post, predicates=PREDICATES, atoms_post=[
-            "(on-robot-side red)", "(on-robot-side green)", "(right-half green)", "(warm red)", "(left-of green red)"])
+        assert_grounds(
+            pair.pre,
+            pair.post,
+            predicates=PREDICATES,
+            atoms_post=[
+                "(on-robot-side red)",
+                "(on-robot-side green)",
+                "(right-half green)",
+                "(warm red)",
+                "(left-of green red)",
+            ],
+        )
 
 
 @pytest.mark.slow
 def test_a_rendered_scene_agrees_with_the_simulators_truth(rendered_pair, assert_grounds):
-    spec = SceneSpec(cubes=(CubeSpec("a", "red", 0.17, -0.02), CubeSpec("b", "green", 0.30, -0.12)),
-                     landmark=LandmarkSpec(x=0.23))
+    spec = SceneSpec(
+        cubes=(CubeSpec("a", "red", 0.17, -0.02), CubeSpec("b", "green", 0.30, -0.12)), landmark=LandmarkSpec(x=0.23)
+    )
     pair = rendered_pair(spec, move=("b", (0.17, -0.15)))  # the tutor pulls green to the robot's side
     truth_pre, truth_post = pair.atoms(PREDICATES)
     assert "(far green)" in truth_pre and "(on-robot-side green)" in truth_post

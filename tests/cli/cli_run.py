@@ -26,8 +26,9 @@ def vslsp(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, 
 def vslsp_process(*args: object, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
     """Run ``python -m vslsp ARGS`` as a subprocess (this checkout first on the path)."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")])}
-    return subprocess.run([sys.executable, "-m", "vslsp", *map(str, args)], capture_output=True, text=True,
-                          cwd=cwd, env=env, timeout=600)
+    return subprocess.run(
+        [sys.executable, "-m", "vslsp", *map(str, args)], capture_output=True, text=True, cwd=cwd, env=env, timeout=600
+    )
 
 
 def unwritable_folder(tmp_path: Path) -> Path:

@@ -55,10 +55,19 @@ def test_no_traceback_as_a_process(tmp_path, command):
 
 
 # -- sizes and counts ----------------------------------------------------------------------------
-@pytest.mark.parametrize("args", [("scene", "--width", "0"), ("scene", "--width", "-5"), ("scene", "--height", "0"),
-                                  ("scene", "--width", "100000"), ("scene", "--cubes", "0"),
-                                  ("teach", "push", "--demos", "0"), ("teach", "push", "--demos", "-2")],
-                         ids=" ".join)
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("scene", "--width", "0"),
+        ("scene", "--width", "-5"),
+        ("scene", "--height", "0"),
+        ("scene", "--width", "100000"),
+        ("scene", "--cubes", "0"),
+        ("teach", "push", "--demos", "0"),
+        ("teach", "push", "--demos", "-2"),
+    ],
+    ids=" ".join,
+)
 def test_sizes_and_counts_must_be_positive(capsys, monkeypatch, tmp_path, args):
     monkeypatch.chdir(tmp_path)
     code, out, err = vslsp(capsys, *args)
@@ -69,20 +78,23 @@ def test_sizes_and_counts_must_be_positive(capsys, monkeypatch, tmp_path, args):
 GOOD_CUBE = {"name": "red", "colour": "red", "x": 0.25, "y": -0.05, "yaw": 0.0}
 
 
-@pytest.mark.parametrize(("cube", "landmark", "expected"), [
-    ({"x": float("nan")}, {}, r"cubes\[0\]\.x is nan: not a finite number"),
-    ({"y": float("inf")}, {}, r"cubes\[0\]\.y is inf: not a finite number"),
-    ({"yaw": float("nan")}, {}, r"cubes\[0\]\.yaw is nan"),
-    ({"x": 2.0}, {}, r"cubes\[0\]\.x is 2\.0 m: the cube 'red' would be off the table"),
-    ({"y": -0.9}, {}, r"cubes\[0\]\.y is -0\.9 m: the cube 'red' would be off the table"),
-    ({"x": "0.25"}, {}, r"cubes\[0\]\.x is '0\.25', not a number"),
-    ({"x": True}, {}, r"cubes\[0\]\.x is True, not a number"),
-    ({"size": 3.0}, {}, r"cubes\[0\]\.size is 3\.0 m; use 0\.02-0\.1 m"),
-    ({"name": 5}, {}, r"cubes\[0\]\.name is 5, not a name"),
-    ({}, {"x": float("nan")}, r"landmark\.x is nan: not a finite number"),
-    ({}, {"x": 5.0}, r"landmark\.x is 5\.0 m: the line would be off the table"),
-    ({}, {"angle": float("inf")}, r"landmark\.angle is inf"),
-])
+@pytest.mark.parametrize(
+    ("cube", "landmark", "expected"),
+    [
+        ({"x": float("nan")}, {}, r"cubes\[0\]\.x is nan: not a finite number"),
+        ({"y": float("inf")}, {}, r"cubes\[0\]\.y is inf: not a finite number"),
+        ({"yaw": float("nan")}, {}, r"cubes\[0\]\.yaw is nan"),
+        ({"x": 2.0}, {}, r"cubes\[0\]\.x is 2\.0 m: the cube 'red' would be off the table"),
+        ({"y": -0.9}, {}, r"cubes\[0\]\.y is -0\.9 m: the cube 'red' would be off the table"),
+        ({"x": "0.25"}, {}, r"cubes\[0\]\.x is '0\.25', not a number"),
+        ({"x": True}, {}, r"cubes\[0\]\.x is True, not a number"),
+        ({"size": 3.0}, {}, r"cubes\[0\]\.size is 3\.0 m; use 0\.02-0\.1 m"),
+        ({"name": 5}, {}, r"cubes\[0\]\.name is 5, not a name"),
+        ({}, {"x": float("nan")}, r"landmark\.x is nan: not a finite number"),
+        ({}, {"x": 5.0}, r"landmark\.x is 5\.0 m: the line would be off the table"),
+        ({}, {"angle": float("inf")}, r"landmark\.angle is inf"),
+    ],
+)
 def test_a_scene_file_names_the_bad_field(capsys, tmp_path, cube, landmark, expected):
     scene = tmp_path / "scene.json"
     scene.write_text(json.dumps({"cubes": [{**GOOD_CUBE, **cube}], "landmark": {"x": 0.225, "angle": 0.0, **landmark}}))
@@ -93,13 +105,16 @@ def test_a_scene_file_names_the_bad_field(capsys, tmp_path, cube, landmark, expe
     assert not (tmp_path / "views" / "head.png").exists()
 
 
-@pytest.mark.parametrize(("content", "expected"), [
-    (b"\xff\xfe{}", "codec can't decode"),
-    (b'{"cubes": {"red": 1}}', "not a scene description"),
-    (b"[1, 2]", "not a scene description"),
-    (b'{"cubes": [1]}', r"cubes\[0\] is 1, not an object"),
-    (b'{"cubes": [], "landmark": [0.2]}', r"landmark is \[0\.2\], not an object"),
-])
+@pytest.mark.parametrize(
+    ("content", "expected"),
+    [
+        (b"\xff\xfe{}", "codec can't decode"),
+        (b'{"cubes": {"red": 1}}', "not a scene description"),
+        (b"[1, 2]", "not a scene description"),
+        (b'{"cubes": [1]}', r"cubes\[0\] is 1, not an object"),
+        (b'{"cubes": [], "landmark": [0.2]}', r"landmark is \[0\.2\], not an object"),
+    ],
+)
 def test_a_malformed_scene_file_is_an_input_error(capsys, tmp_path, content, expected):
     scene = tmp_path / "scene.json"
     scene.write_bytes(content)
@@ -115,8 +130,12 @@ def digest(folder: Path) -> dict[str, str]:
 @pytest.mark.parametrize("where", ["shipped skills", "shipped pddl", "package", "source tree"])
 def test_teach_refuses_vslsp_own_folders_without_force(capsys, monkeypatch, tmp_path, where):
     monkeypatch.chdir(tmp_path)
-    folder = {"shipped skills": default_library_path(), "shipped pddl": REPO / "pddl",
-              "package": REPO / "vslsp" / "skills", "source tree": REPO}[where]
+    folder = {
+        "shipped skills": default_library_path(),
+        "shipped pddl": REPO / "pddl",
+        "package": REPO / "vslsp" / "skills",
+        "source tree": REPO,
+    }[where]
     before = digest(default_library_path())
     code, out, err = vslsp(capsys, "teach", "push", "--out", folder)
     assert code == 2 and out == ""

@@ -33,33 +33,63 @@ def test_pyproject_uses_an_spdx_license_and_maps_the_data():
 def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere(tmp_path):
     """Build the wheel, install it (with its dependencies) into a new venv, run from another folder."""
     source = tmp_path / "source"  # a copy: an in-tree build writes build/ and *.egg-info beside the sources
-    shutil.copytree(REPO, source, ignore=shutil.ignore_patterns(".git", ".venv", "out", "runs", "build", "*.egg-info",
-                                                                "__pycache__", ".pytest_cache", ".gl", ".whl"))
-    build = subprocess.run([sys.executable, "-m", "pip", "wheel", "-v", str(source), "--no-deps", "-w",
-                            str(tmp_path / "wheels")], capture_output=True, text=True, timeout=900)
+    shutil.copytree(
+        REPO,
+        source,
+        ignore=shutil.ignore_patterns(
+            ".git", ".venv", "out", "runs", "build", "*.egg-info", "__pycache__", ".pytest_cache", ".gl", ".whl"
+        ),
+    )
+    build = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "-v", str(source), "--no-deps", "-w", str(tmp_path / "wheels")],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert build.returncode == 0, build.stderr[-3000:]
     assert "is deprecated" not in build.stdout + build.stderr  # e.g. `project.license` as a TOML table
     wheel = next((tmp_path / "wheels").glob("vslsp-*.whl"))
     environment = tmp_path / "venv"
     venv.create(environment, with_pip=True)  # no system site-packages: only what the wheel pulls in
     python = environment / "bin" / "python"
-    install = subprocess.run([str(python), "-m", "pip", "install", "-q", "-c", str(REPO / "constraints.txt"),
-                              str(wheel)], capture_output=True, text=True, timeout=3000)
+    install = subprocess.run(
+        [str(python), "-m", "pip", "install", "-q", "-c", str(REPO / "constraints.txt"), str(wheel)],
+        capture_output=True,
+        text=True,
+        timeout=3000,
+    )
     assert install.returncode == 0, install.stderr[-3000:]
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     show = "import vslsp.data as d; print(d.skills_folder()); print(d.pddl_folder())"
-    where = subprocess.run([str(python), "-c", show], capture_output=True, text=True, cwd=elsewhere, env=env,
-                           timeout=600)
+    where = subprocess.run(
+        [str(python), "-c", show], capture_output=True, text=True, cwd=elsewhere, env=env, timeout=600
+    )
     skills, pddl = (Path(line) for line in where.stdout.split())
     assert environment in skills.parents and environment in pddl.parents  # inside the installed package
     vslsp = str(environment / "bin" / "vslsp")
-    plan = subprocess.run([vslsp, "plan", str(pddl / "domain.pddl"), str(pddl / "pull-in-order.pddl"), "--json"],
-                          capture_output=True, text=True, cwd=elsewhere, env=env, timeout=600)
+    plan = subprocess.run(
+        [vslsp, "plan", str(pddl / "domain.pddl"), str(pddl / "pull-in-order.pddl"), "--json"],
+        capture_output=True,
+        text=True,
+        cwd=elsewhere,
+        env=env,
+        timeout=600,
+    )
     assert plan.returncode == 0, plan.stderr
     assert '"plan": ["pull orange", "pull green", "pull yellow"]' in plan.stdout
-    loaded = subprocess.run([str(python), "-c", "from vslsp.skills import SkillLibrary, default_library_path; "
-                             "print(sorted(SkillLibrary.load(default_library_path()).skills))"],
-                            capture_output=True, text=True, cwd=elsewhere, env=env, timeout=600)
+    loaded = subprocess.run(
+        [
+            str(python),
+            "-c",
+            "from vslsp.skills import SkillLibrary, default_library_path; "
+            "print(sorted(SkillLibrary.load(default_library_path()).skills))",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=elsewhere,
+        env=env,
+        timeout=600,
+    )
     assert loaded.stdout.strip() == "['pull', 'push']", loaded.stderr

@@ -83,9 +83,20 @@ def test_an_output_file_needs_a_writable_folder_and_a_name(tmp_path):
     assert code == 2 and "is a file" in message
 
 
-@pytest.mark.parametrize(("option", "value"), [("--size", "0"), ("--size", "-5"), ("--size", "4097"),
-                                               ("--tau", "0"), ("--tau", "-1"), ("--tau", "nan"),
-                                               ("--tau", "inf"), ("--tau", "11"), ("--tau", "fast")])
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [
+        ("--size", "0"),
+        ("--size", "-5"),
+        ("--size", "4097"),
+        ("--tau", "0"),
+        ("--tau", "-1"),
+        ("--tau", "nan"),
+        ("--tau", "inf"),
+        ("--tau", "11"),
+        ("--tau", "fast"),
+    ],
+)
 def test_sizes_and_durations_must_be_positive_and_bounded(option, value):
     code, message = run(option, value)
     assert code == 2 and option in message

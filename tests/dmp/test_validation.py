@@ -19,24 +19,33 @@ def with_value(array, index, value):
 
 
 # -- demonstrations ----------------------------------------------------------------------------
-@pytest.mark.parametrize("demos, message", [
-    ([], "at least one demonstration"),
-    ((T, Y), r"single \(t, y\) pair; pass \[\(t, y\)\]"),
-    (np.zeros((2, 20, 3)), "not an array"),
-    ("demo.npz", "list of demonstrations"),
-    ([(T, Y), (T, Y[:, :2])], r"demonstration 1: expected t \(T,\) and y \(T, 3\), got t \(20,\) and y \(20, 2\)"),
-    ([(T[:-1], Y)], r"demonstration 0: expected t .* got t \(19,\) and y \(20, 3\)"),
-    ([(T[:3], Y[:3])], "demonstration 0 has 3 samples; a DMP needs at least 5"),
-    ([(T, Y, Y)], r"demonstration 0 is not a pair \(t, y\)"),
-    ([(T, Y), (T, with_value(Y, (7, 1), np.nan))],
-     r"demonstration 1: y has 1 value\(s\) that are not finite \(NaN or inf\), the first at sample 7, dimension 1"),
-    ([(with_value(T, 3, np.inf), Y)], "demonstration 0: t has 1 value.*not finite.*sample 3"),
-    ([(T[::-1], Y)], r"demonstration 0: the time base t must increase strictly, but t\[1\] = 0.947368 does not "
-                     r"come after t\[0\] = 1"),
-    ([(with_value(T, 5, T[4]), Y)], r"demonstration 0: the time base t must increase strictly.*t\[5\]"),
-    ([(T, np.ones((20, 3)))], "demonstration 0 never moves"),
-    ([(T, [["a", "b", "c"]] * 20)], "demonstration 0: y is not an array of numbers"),
-])
+@pytest.mark.parametrize(
+    "demos, message",
+    [
+        ([], "at least one demonstration"),
+        ((T, Y), r"single \(t, y\) pair; pass \[\(t, y\)\]"),
+        (np.zeros((2, 20, 3)), "not an array"),
+        ("demo.npz", "list of demonstrations"),
+        ([(T, Y), (T, Y[:, :2])], r"demonstration 1: expected t \(T,\) and y \(T, 3\), got t \(20,\) and y \(20, 2\)"),
+        ([(T[:-1], Y)], r"demonstration 0: expected t .* got t \(19,\) and y \(20, 3\)"),
+        ([(T[:3], Y[:3])], "demonstration 0 has 3 samples; a DMP needs at least 5"),
+        ([(T, Y, Y)], r"demonstration 0 is not a pair \(t, y\)"),
+        (
+            [(T, Y), (T, with_value(Y, (7, 1), np.nan))],
+            r"demonstration 1: y has 1 value\(s\) that are not finite \(NaN or inf\), "
+            r"the first at sample 7, dimension 1",
+        ),
+        ([(with_value(T, 3, np.inf), Y)], "demonstration 0: t has 1 value.*not finite.*sample 3"),
+        (
+            [(T[::-1], Y)],
+            r"demonstration 0: the time base t must increase strictly, but t\[1\] = 0.947368 does not "
+            r"come after t\[0\] = 1",
+        ),
+        ([(with_value(T, 5, T[4]), Y)], r"demonstration 0: the time base t must increase strictly.*t\[5\]"),
+        ([(T, np.ones((20, 3)))], "demonstration 0 never moves"),
+        ([(T, [["a", "b", "c"]] * 20)], "demonstration 0: y is not an array of numbers"),
+    ],
+)
 def test_fit_rejects_bad_demonstrations_saying_which_and_what(demos, message):
     dmp = DMP(3)
     with pytest.raises(InputError, match=message):
@@ -55,19 +64,22 @@ def dmp():
     return DMP(3).fit([(T, Y)])
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"y0": np.zeros(2), "goal": np.ones(2)}, r"the start y0 must have shape \(3,\) or \(B, 3\)"),
-    ({"y0": np.zeros(3), "goal": np.ones((2, 2, 3))}, r"the goal must have shape"),
-    ({"y0": np.zeros((4, 3)), "goal": np.ones((3, 3))}, "4 starts and 3 goals"),
-    ({"y0": np.zeros(3), "goal": with_value(np.ones(3), 2, np.nan)}, "the goal has 1 value.*not finite"),
-    ({"y0": np.zeros(3), "goal": np.ones(3), "tau": 0.0}, "tau must be positive and finite, got 0.0"),
-    ({"y0": np.zeros(3), "goal": np.ones(3), "tau": np.nan}, "tau must be positive and finite"),
-    ({"y0": np.zeros((2, 3)), "goal": np.ones(3), "tau": [1.0, -1.0]}, "tau must be positive"),
-    ({"y0": np.zeros((2, 3)), "goal": np.ones(3), "tau": [1.0, 1.0, 1.0]}, r"one per movement \(2,\)"),
-    ({"y0": np.zeros(3), "goal": np.ones(3), "dt": 0.0}, "sample period dt must be positive"),
-    ({"y0": np.zeros(3), "goal": np.ones(3), "duration": 0.001}, "shorter than one sample period"),
-    ({"y0": np.zeros(3), "goal": np.ones(3), "duration": -1.0}, "duration must be positive"),
-])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"y0": np.zeros(2), "goal": np.ones(2)}, r"the start y0 must have shape \(3,\) or \(B, 3\)"),
+        ({"y0": np.zeros(3), "goal": np.ones((2, 2, 3))}, r"the goal must have shape"),
+        ({"y0": np.zeros((4, 3)), "goal": np.ones((3, 3))}, "4 starts and 3 goals"),
+        ({"y0": np.zeros(3), "goal": with_value(np.ones(3), 2, np.nan)}, "the goal has 1 value.*not finite"),
+        ({"y0": np.zeros(3), "goal": np.ones(3), "tau": 0.0}, "tau must be positive and finite, got 0.0"),
+        ({"y0": np.zeros(3), "goal": np.ones(3), "tau": np.nan}, "tau must be positive and finite"),
+        ({"y0": np.zeros((2, 3)), "goal": np.ones(3), "tau": [1.0, -1.0]}, "tau must be positive"),
+        ({"y0": np.zeros((2, 3)), "goal": np.ones(3), "tau": [1.0, 1.0, 1.0]}, r"one per movement \(2,\)"),
+        ({"y0": np.zeros(3), "goal": np.ones(3), "dt": 0.0}, "sample period dt must be positive"),
+        ({"y0": np.zeros(3), "goal": np.ones(3), "duration": 0.001}, "shorter than one sample period"),
+        ({"y0": np.zeros(3), "goal": np.ones(3), "duration": -1.0}, "duration must be positive"),
+    ],
+)
 def test_rollout_rejects_bad_arguments(dmp, kwargs, message):
     with pytest.raises(InputError, match=message):
         dmp.rollout(**kwargs)
@@ -83,12 +95,25 @@ def test_bad_parameters_are_input_errors():
 def test_save_and_load_give_identical_rollouts(dmp, tmp_path):
     dmp.save(tmp_path / "reach.npz")
     loaded = DMP.load(tmp_path / "reach.npz")
-    for name in ("n_dims", "n_basis", "alpha_z", "beta_z", "alpha_x", "regularization", "amplitude", "extent",
-                 "tau", "dt", "fit_rmse", "n_demos"):
+    for name in (
+        "n_dims",
+        "n_basis",
+        "alpha_z",
+        "beta_z",
+        "alpha_x",
+        "regularization",
+        "amplitude",
+        "extent",
+        "tau",
+        "dt",
+        "fit_rmse",
+        "n_demos",
+    ):
         assert getattr(loaded, name) == getattr(dmp, name)
     starts = Y[0] + np.random.default_rng(4).normal(0, 0.1, (5, 3))
-    assert np.array_equal(loaded.rollout(starts, Y[-1], tau=[1, 2, 3, 4, 5]).y,
-                          dmp.rollout(starts, Y[-1], tau=[1, 2, 3, 4, 5]).y)
+    assert np.array_equal(
+        loaded.rollout(starts, Y[-1], tau=[1, 2, 3, 4, 5]).y, dmp.rollout(starts, Y[-1], tau=[1, 2, 3, 4, 5]).y
+    )
     with np.load(tmp_path / "reach.npz", allow_pickle=False) as data:  # no pickle needed
         assert set(data.files) == {"meta", "weights"}
 

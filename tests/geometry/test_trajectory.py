@@ -45,8 +45,9 @@ def test_the_xy_path_is_the_cubic_of_the_end_conditions():
     s = np.linspace(0.0, 1.0, 11)
     path = cubic_path([1.0, 2.0], [3.0, -2.0], s, start_velocity=[0.5, 0.0], end_velocity=[0.0, 1.0])
     assert path[0] == pytest.approx([1.0, 2.0]) and path[-1] == pytest.approx([3.0, -2.0])
-    slope = np.gradient(cubic_path([1.0, 2.0], [3.0, -2.0], np.linspace(0, 1, 10001), [0.5, 0.0], [0.0, 1.0]),
-                        1e-4, axis=0)
+    slope = np.gradient(
+        cubic_path([1.0, 2.0], [3.0, -2.0], np.linspace(0, 1, 10001), [0.5, 0.0], [0.0, 1.0]), 1e-4, axis=0
+    )
     assert slope[0] == pytest.approx([0.5, 0.0], abs=5e-3) and slope[-1] == pytest.approx([0.0, 1.0], abs=5e-3)
     # With zero end velocities it is the smooth step 3s^2 - 2s^3 along the straight line.
     straight = cubic_path([0.0, 0.0], [2.0, 4.0], s)
@@ -75,7 +76,7 @@ def test_the_hand_lifts_by_h_between_pick_and_place_at_different_levels():
     i, j = trajectory.segments[1], trajectory.segments[2]
     middle = (i + j) // 2
     assert trajectory.xyz[middle, 2] == pytest.approx(0.5 * (PICK[2] + PLACE[2]) + 0.05)
-    assert trajectory.xyz[i:j + 1, 2].min() >= min(PICK[2], PLACE[2]) - 1e-12
+    assert trajectory.xyz[i : j + 1, 2].min() >= min(PICK[2], PLACE[2]) - 1e-12
 
 
 def test_time_scaling_is_the_cubic_between_t_start_and_t_final():
@@ -97,8 +98,9 @@ def test_the_rotation_profile_is_trapezoidal_and_monotone():
     flat = speed[(tau > 0.27) & (tau < 0.73)]
     assert flat == pytest.approx(np.full_like(flat, 1.6 / 0.75), rel=1e-3)  # constant cruise
     rising = speed[(tau > 0.01) & (tau < 0.24)]
-    assert np.all(np.diff(rising) > 0) and np.diff(rising) == pytest.approx(np.full(len(rising) - 1,
-                                                                                    np.diff(rising).mean()), rel=1e-2)
+    assert np.all(np.diff(rising) > 0) and np.diff(rising) == pytest.approx(
+        np.full(len(rising) - 1, np.diff(rising).mean()), rel=1e-2
+    )
     assert speed[0] == pytest.approx(0.0, abs=0.01) and speed[-1] == pytest.approx(0.0, abs=0.01)
 
 
@@ -107,8 +109,8 @@ def test_the_hand_turns_to_theta_pick_then_theta_place_then_back():
     i, j = trajectory.segments[1], trajectory.segments[2]
     assert trajectory.theta[0] == 0.0 and trajectory.theta[-1] == pytest.approx(0.0)
     assert trajectory.theta[i] == pytest.approx(0.6) and trajectory.theta[j] == pytest.approx(-1.1)
-    assert np.all(np.diff(trajectory.theta[:i + 1]) >= 0)
-    assert np.all(np.diff(trajectory.theta[i:j + 1]) <= 0)
+    assert np.all(np.diff(trajectory.theta[: i + 1]) >= 0)
+    assert np.all(np.diff(trajectory.theta[i : j + 1]) <= 0)
     assert np.all(np.diff(trajectory.theta[j:]) >= 0)
 
 
@@ -118,15 +120,18 @@ def test_to_dict_carries_the_arrays_and_the_parameters():
     assert data["segments"] == [0, 4, 8] and data["parameters"]["samples"] == 5
 
 
-@pytest.mark.parametrize("kwargs, message", [
-    ({"h0": 2.0}, "h0 must lie in"),
-    ({"h0": -0.5}, "h0 must lie in"),
-    ({"kappa": 0.0}, "kappa"),
-    ({"height": -0.01}, "height"),
-    ({"durations": (1.0, 0.0, 1.0)}, "durations"),
-    ({"samples": 1}, "samples"),
-    ({"blend": 0.7}, "blend"),
-])
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"h0": 2.0}, "h0 must lie in"),
+        ({"h0": -0.5}, "h0 must lie in"),
+        ({"kappa": 0.0}, "kappa"),
+        ({"height": -0.01}, "height"),
+        ({"durations": (1.0, 0.0, 1.0)}, "durations"),
+        ({"samples": 1}, "samples"),
+        ({"blend": 0.7}, "blend"),
+    ],
+)
 def test_bad_parameters_are_input_errors(kwargs, message):
     with pytest.raises(InputError, match=message):
         TrajectoryParameters(**kwargs)

@@ -15,8 +15,7 @@ from vslsp.vision.image import read_image, write_image
 
 
 def _vslsp(*args):
-    return subprocess.run([sys.executable, "-m", "vslsp", *map(str, args)], capture_output=True, text=True,
-                          timeout=60)
+    return subprocess.run([sys.executable, "-m", "vslsp", *map(str, args)], capture_output=True, text=True, timeout=60)
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +29,8 @@ def images(tmp_path_factory):
     (folder / "notes.png").write_text("not an image")
     cv2.imwrite(str(folder / "wide.png"), np.full((40, 20000, 3), 200, np.uint8))
     cv2.imwrite(str(folder / "huge.jpg"), np.full((8000, 6000, 3), 200, np.uint8))
-    (folder / "preds.py").write_text(textwrap.dedent("""
+    (folder / "preds.py").write_text(
+        textwrap.dedent("""
         from vslsp.grounding import predicate, register
         from vslsp.grounding.relations import LEFT_OF
 
@@ -39,30 +39,37 @@ def images(tmp_path_factory):
         @predicate("right-half")
         def right_half(obj, scene):
             return obj.x > scene.width / 2
-    """))
-    (folder / "raises.py").write_text(textwrap.dedent("""
+    """)
+    )
+    (folder / "raises.py").write_text(
+        textwrap.dedent("""
         from vslsp.grounding import predicate
 
         @predicate("broken")
         def broken(obj, scene):
             return obj.colour == "red"
-    """))
-    (folder / "not_bool.py").write_text(textwrap.dedent("""
+    """)
+    )
+    (folder / "not_bool.py").write_text(
+        textwrap.dedent("""
         from vslsp.grounding import predicate
 
         @predicate("distance", arity=2)
         def distance(a, b, scene):
             return abs(a.x - b.x)
-    """))
+    """)
+    )
     (folder / "syntax.py").write_text("from vslsp.grounding import predicate\n\ndef oops(:\n")
     (folder / "empty.py").write_text("x = 1\n")
-    (folder / "far_again.py").write_text(textwrap.dedent("""
+    (folder / "far_again.py").write_text(
+        textwrap.dedent("""
         from vslsp.grounding import predicate
 
         @predicate("far")
         def mine(obj, scene):
             return obj.y < 100
-    """))
+    """)
+    )
     return folder
 
 
@@ -80,13 +87,16 @@ def test_text_output_and_robot_side(images):
     assert result.returncode == 0 and "purple" in result.stdout and "action: push" in result.stdout
 
 
-@pytest.mark.parametrize("pre, post, message", [
-    ("pre.png", "pre.png", "nothing moved"),
-    ("pre.png", "small.png", "differ in size"),
-    ("pre.png", "missing.png", "cannot read image"),
-    ("notes.png", "post.png", "not an image file"),
-    ("pre.png", "both.png", "more than one object moved (purple left"),
-])
+@pytest.mark.parametrize(
+    "pre, post, message",
+    [
+        ("pre.png", "pre.png", "nothing moved"),
+        ("pre.png", "small.png", "differ in size"),
+        ("pre.png", "missing.png", "cannot read image"),
+        ("notes.png", "post.png", "not an image file"),
+        ("pre.png", "both.png", "more than one object moved (purple left"),
+    ],
+)
 def test_bad_input_exits_2_with_a_message_and_no_traceback(images, pre, post, message):
     result = _vslsp("ground", images / pre, images / post, "--json")
     assert result.returncode == 2
@@ -105,21 +115,26 @@ def test_predicates_file_adds_the_true_atoms_before_and_after(images):
     assert "post: (left-of purple blue) (right-half blue)" in text.stdout
 
 
-@pytest.mark.parametrize("args, message", [
-    (("wide.png", "post.png"), "is 20000x40 pixels; perception takes images of at least 32 and at most 8192"),
-    (("pre.png", "huge.jpg"), "is 6000x8000 pixels"),
-    (("pre.png", "post.png", "--overlay", "x.txt"), "give a file name ending in .png"),
-    (("pre.png", "post.png", "--overlay", "noext"), "give a file name ending in .png"),
-    (("pre.png", "post.png", "--overlay", "nowhere/o.png"), "does not exist"),
-    (("pre.png", "post.png", "--predicates", "raises.py"),
-     "predicate broken raised AttributeError: 'SceneObject' object has no attribute 'colour' while grounding"),
-    (("pre.png", "post.png", "--predicates", "not_bool.py"), "predicate distance returned float"),
-    (("pre.png", "post.png", "--predicates", "syntax.py"), "syntax.py, line 3: SyntaxError"),
-    (("pre.png", "post.png", "--predicates", "empty.py"), "registers no predicate"),
-    (("pre.png", "post.png", "--predicates", "far_again.py"), "predicate far is defined twice"),
-    (("pre.png", "post.png", "--predicates", "missing.py"), "no such file"),
-    (("pre.png", "post.png", "--predicates", "notes.png"), "must be a Python file"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (("wide.png", "post.png"), "is 20000x40 pixels; perception takes images of at least 32 and at most 8192"),
+        (("pre.png", "huge.jpg"), "is 6000x8000 pixels"),
+        (("pre.png", "post.png", "--overlay", "x.txt"), "give a file name ending in .png"),
+        (("pre.png", "post.png", "--overlay", "noext"), "give a file name ending in .png"),
+        (("pre.png", "post.png", "--overlay", "nowhere/o.png"), "does not exist"),
+        (
+            ("pre.png", "post.png", "--predicates", "raises.py"),
+            "predicate broken raised AttributeError: 'SceneObject' object has no attribute 'colour' while grounding",
+        ),
+        (("pre.png", "post.png", "--predicates", "not_bool.py"), "predicate distance returned float"),
+        (("pre.png", "post.png", "--predicates", "syntax.py"), "syntax.py, line 3: SyntaxError"),
+        (("pre.png", "post.png", "--predicates", "empty.py"), "registers no predicate"),
+        (("pre.png", "post.png", "--predicates", "far_again.py"), "predicate far is defined twice"),
+        (("pre.png", "post.png", "--predicates", "missing.py"), "no such file"),
+        (("pre.png", "post.png", "--predicates", "notes.png"), "must be a Python file"),
+    ],
+)
 def test_bad_sizes_overlays_and_predicates_exit_2_before_any_work(images, args, message):
     paths = [images / a if a.endswith((".png", ".jpg", ".py")) and "/" not in a else a for a in args]
     paths = [images / a if a == "nowhere/o.png" else a for a in paths]
@@ -130,10 +145,13 @@ def test_bad_sizes_overlays_and_predicates_exit_2_before_any_work(images, args, 
     assert not (images / "x.txt").exists() and not (images / "noext").exists()
 
 
-@pytest.mark.parametrize("args, message", [
-    (("--robot-side", "under"), "Invalid value for '--robot-side'"),
-    (("--colour", "red"), "No such option '--colour'"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (("--robot-side", "under"), "Invalid value for '--robot-side'"),
+        (("--colour", "red"), "No such option '--colour'"),
+    ],
+)
 def test_usage_errors_under_json_print_json(images, args, message):
     result = _vslsp("ground", images / "pre.png", images / "post.png", "--json", *args)
     assert result.returncode == 2 and message in result.stderr

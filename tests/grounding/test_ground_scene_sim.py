@@ -27,7 +27,8 @@ def _arrangement(rng, landmark: LandmarkSpec, k: int) -> list[np.ndarray]:
     while len(places) < k:
         xy = np.array([rng.uniform(*WORKSPACE_X), rng.uniform(*WORKSPACE_Y)])
         if abs(landmark.signed_distance(xy)) >= CLEAR_OF_LINE and all(
-                np.linalg.norm(xy - other) >= SPACING for other in places):
+            np.linalg.norm(xy - other) >= SPACING for other in places
+        ):
             places.append(xy)
     return places
 
@@ -35,8 +36,11 @@ def _arrangement(rng, landmark: LandmarkSpec, k: int) -> list[np.ndarray]:
 def _arrange(world: World, targets: dict[str, tuple[float, float, float]]) -> None:
     """Put every cube at its target (x, y, yaw); again where a cube carried past knocked it off."""
     for _ in range(3):
-        off = [name for name, (x, y, _) in targets.items()
-               if np.hypot(*np.subtract(world.cube_pose(name)[:2], (x, y))) > 0.005]
+        off = [
+            name
+            for name, (x, y, _) in targets.items()
+            if np.hypot(*np.subtract(world.cube_pose(name)[:2], (x, y))) > 0.005
+        ]
         for name in off:
             world.tutor.relocate(name, *targets[name])
     assert not off, f"cubes {off} could not be put in place"

@@ -15,16 +15,21 @@ STILL = Square("blue", (500, 420), angle=20)
 
 
 def _images(before: Square, after: Square, line=LINE):
-    return (tabletop_image([before, STILL], line=line, noise=4, seed=1),
-            tabletop_image([after, STILL], line=line, noise=4, seed=2))
+    return (
+        tabletop_image([before, STILL], line=line, noise=4, seed=1),
+        tabletop_image([after, STILL], line=line, noise=4, seed=2),
+    )
 
 
-@pytest.mark.parametrize("before, after, far, action", [
-    ((200, 400), (210, 150), (False, True), "push"),
-    ((200, 150), (230, 400), (True, False), "pull"),
-    ((200, 150), (400, 120), (True, True), None),
-    ((120, 420), (320, 400), (False, False), None),
-])
+@pytest.mark.parametrize(
+    "before, after, far, action",
+    [
+        ((200, 400), (210, 150), (False, True), "push"),
+        ((200, 150), (230, 400), (True, False), "pull"),
+        ((200, 150), (400, 120), (True, True), None),
+        ((120, 420), (320, 400), (False, False), None),
+    ],
+)
 def test_push_pull_and_null_are_grounded(before, after, far, action):
     grounding = ground(*_images(Square("green", before), Square("green", after, angle=12)))
     assert grounding.name == "green"
@@ -57,14 +62,19 @@ def test_a_pair_without_a_landmark_is_an_input_error():
 
 
 def test_every_object_of_one_observation_is_grounded():
-    image = tabletop_image([Square("red", (100, 150)), Square("orange", (300, 420)), Square("red", (520, 120))],
-                           line=LINE, noise=8)
+    image = tabletop_image(
+        [Square("red", (100, 150)), Square("orange", (300, 420)), Square("red", (520, 120))], line=LINE, noise=8
+    )
     scene = ground_scene(image)
     assert [o.name for o in scene.objects] == ["red", "orange", "red"]
     assert scene.far == (True, False, True)
     assert scene.far_by_name() == {"red": True, "orange": False, "red_2": True}
-    assert scene.to_dict()["objects"][1] == {"name": "orange", "x": pytest.approx(300, abs=1.5),
-                                             "y": pytest.approx(420, abs=1.5), "far": False}
+    assert scene.to_dict()["objects"][1] == {
+        "name": "orange",
+        "x": pytest.approx(300, abs=1.5),
+        "y": pytest.approx(420, abs=1.5),
+        "far": False,
+    }
 
 
 def test_a_line_moved_between_the_images_is_found_in_each():

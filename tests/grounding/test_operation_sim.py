@@ -18,8 +18,9 @@ SPACING = 0.075  # between cube centres (m)
 MIN_MOVE = 0.03  # a tutor's operation moves the cube at least this far (m)
 
 
-def _place(rng, landmark: LandmarkSpec, others: list[np.ndarray], far: bool,
-           start: np.ndarray | None = None) -> np.ndarray:
+def _place(
+    rng, landmark: LandmarkSpec, others: list[np.ndarray], far: bool, start: np.ndarray | None = None
+) -> np.ndarray:
     """A free cube position on the ``far`` side of the line (the other side if it is full)."""
     for side in (far, not far):
         for _ in range(500):
@@ -38,8 +39,10 @@ def _random_scene(rng) -> SceneSpec:
     places: list[np.ndarray] = []
     for _ in colours:
         places.append(_place(rng, landmark, places, bool(rng.random() < 0.5)))
-    cubes = tuple(CubeSpec(str(c), str(c), float(x), float(y), float(rng.uniform(-0.5, 0.5)))
-                  for c, (x, y) in zip(colours, places, strict=True))
+    cubes = tuple(
+        CubeSpec(str(c), str(c), float(x), float(y), float(rng.uniform(-0.5, 0.5)))
+        for c, (x, y) in zip(colours, places, strict=True)
+    )
     return SceneSpec(cubes=cubes, landmark=landmark)
 
 
@@ -58,11 +61,14 @@ def test_rendered_pairs_are_grounded_as_the_simulator_says():
                 others = [np.array(world.cube_pose(c.name)[:2]) for c in spec.cubes if c.name != cube.name]
                 start = np.array(world.cube_pose(cube.name)[:2])
                 target = _place(rng, spec.landmark, others, bool(rng.random() < 0.5), start)
-                world.tutor.relocate(cube.name, float(target[0]), float(target[1]),
-                                     yaw=float(rng.uniform(-0.6, 0.6)))
+                world.tutor.relocate(cube.name, float(target[0]), float(target[1]), yaw=float(rng.uniform(-0.6, 0.6)))
                 far_after = world.is_far(cube.name)
-                truth = (cube.colour, far_before, far_after,
-                         None if far_before == far_after else ("push" if far_after else "pull"))
+                truth = (
+                    cube.colour,
+                    far_before,
+                    far_after,
+                    None if far_before == far_after else ("push" if far_after else "pull"),
+                )
                 for camera in ("head", "overhead"):
                     post = world.observe(camera, *size).rgb
                     outcomes += 1

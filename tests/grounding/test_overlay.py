@@ -19,7 +19,7 @@ def test_the_overlay_draws_the_line_the_object_before_and_after_and_the_labels()
     for panel, line in ((left, grounding.landmark), (right, grounding.post_landmark)):
         x = 320
         y = int(round(line.p1[1] + (x - line.p1[0]) * (line.p2[1] - line.p1[1]) / (line.p2[0] - line.p1[0])))
-        assert np.abs(panel[y - 1:y + 2, x].astype(int) - LINE_RGB).max(axis=1).min() < 30
+        assert np.abs(panel[y - 1 : y + 2, x].astype(int) - LINE_RGB).max(axis=1).min() < 30
     # The pre panel marks the object in white, the post panel in magenta, and both carry text.
     assert (left[400, 195:206] == 255).all(axis=1).any()
     assert (np.abs(right[150, 205:216].astype(int) - [255, 0, 255]).max(axis=1) == 0).any()

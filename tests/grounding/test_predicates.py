@@ -22,6 +22,7 @@ from vslsp.grounding.testkit import synthetic_pair
 
 def test_the_decorator_registers_and_the_function_stays_callable():
     with collecting() as registry:
+
         @predicate("right-half")
         def right_half(obj, scene):
             return obj.x > scene.width / 2
@@ -35,12 +36,15 @@ def test_the_decorator_registers_and_the_function_stays_callable():
     assert right_half not in registered()  # the registry of the with block is gone
 
 
-@pytest.mark.parametrize("name, arity, function, message", [
-    ("Left Of", 1, lambda o, s: True, "not a PDDL name"),
-    ("far-away", 3, lambda a, b, c, s: True, "arity 3"),
-    ("odd", 2, lambda o, s: True, "must take (a, b, scene)"),
-    ("odd", 1, lambda s: True, "must take (obj, scene)"),
-])
+@pytest.mark.parametrize(
+    "name, arity, function, message",
+    [
+        ("Left Of", 1, lambda o, s: True, "not a PDDL name"),
+        ("far-away", 3, lambda a, b, c, s: True, "arity 3"),
+        ("odd", 2, lambda o, s: True, "must take (a, b, scene)"),
+        ("odd", 1, lambda s: True, "must take (obj, scene)"),
+    ],
+)
 def test_bad_declarations_are_input_errors(name, arity, function, message):
     with collecting(), pytest.raises(InputError, match=message.replace("(", r"\(").replace(")", r"\)")):
         predicate(name, arity)(function)
@@ -87,16 +91,34 @@ def test_directions_relative_to_the_robot_on_every_side():
 
 def test_rcc_relations_on_footprints_and_a_region():
     # A small yellow square on a large blue one (inside), a red one touching nothing.
-    image_pre = tabletop_image([Square("blue", (200, 380), 120), Square("yellow", (200, 380), 40),
-                                Square("red", (500, 400)), Square("green", (450, 120))])
-    image_post = tabletop_image([Square("blue", (200, 380), 120), Square("yellow", (200, 380), 40),
-                                 Square("red", (500, 400)), Square("green", (250, 400))])
+    image_pre = tabletop_image(
+        [
+            Square("blue", (200, 380), 120),
+            Square("yellow", (200, 380), 40),
+            Square("red", (500, 400)),
+            Square("green", (450, 120)),
+        ]
+    )
+    image_post = tabletop_image(
+        [
+            Square("blue", (200, 380), 120),
+            Square("yellow", (200, 380), 40),
+            Square("red", (500, 400)),
+            Square("green", (250, 400)),
+        ]
+    )
     tray = r.inside_region("in-tray", (100, 300, 330, 470))
     chosen = [r.DISCONNECTED, r.OVERLAPPING, r.INSIDE, tray]
     grounding = ground(image_pre, image_post, predicates=chosen)
     pre, post = set(true_atoms(grounding.atoms_pre)), set(true_atoms(grounding.atoms_post))
-    assert {"(inside yellow blue)", "(overlapping yellow blue)", "(overlapping blue yellow)",
-            "(disconnected red blue)", "(in-tray blue)", "(in-tray yellow)"} <= pre
+    assert {
+        "(inside yellow blue)",
+        "(overlapping yellow blue)",
+        "(overlapping blue yellow)",
+        "(disconnected red blue)",
+        "(in-tray blue)",
+        "(in-tray yellow)",
+    } <= pre
     assert "(inside blue yellow)" not in pre and "(disconnected yellow blue)" not in pre
     assert "(in-tray green)" not in pre and "(in-tray green)" in post and "(overlapping green blue)" in post
 

@@ -37,8 +37,14 @@ def test_expected_atoms_of_unknown_predicates_are_input_errors():
 
 @pytest.mark.slow
 def test_rendered_pair_truth_matches_what_perception_grounds():
-    spec = SceneSpec(cubes=(CubeSpec("a", "red", 0.16, 0.03), CubeSpec("b", "green", 0.30, -0.10),
-                            CubeSpec("c", "blue", 0.28, -0.20)), landmark=LandmarkSpec(x=0.22, angle=0.15))
+    spec = SceneSpec(
+        cubes=(
+            CubeSpec("a", "red", 0.16, 0.03),
+            CubeSpec("b", "green", 0.30, -0.10),
+            CubeSpec("c", "blue", 0.28, -0.20),
+        ),
+        landmark=LandmarkSpec(x=0.22, angle=0.15),
+    )
     chosen = [relations.LEFT_OF, relations.IN_FRONT_OF]
     for camera in ("head", "overhead"):
         pair = rendered_pair(spec, move=("b", (0.16, -0.08)), camera=camera)
@@ -50,14 +56,17 @@ def test_rendered_pair_truth_matches_what_perception_grounds():
 
 
 def test_the_pytest_plugin_serves_its_fixtures(tmp_path):
-    (tmp_path / "predicates.py").write_text(textwrap.dedent("""
+    (tmp_path / "predicates.py").write_text(
+        textwrap.dedent("""
         from vslsp.grounding import predicate
 
         @predicate("right-half")
         def right_half(obj, scene):
             return obj.x > scene.width / 2
-    """))
-    (tmp_path / "test_mine.py").write_text(textwrap.dedent("""
+    """)
+    )
+    (tmp_path / "test_mine.py").write_text(
+        textwrap.dedent("""
         from pathlib import Path
         from vslsp.grounding import load_predicates
         from vslsp.grounding.testkit import Square
@@ -72,11 +81,17 @@ def test_the_pytest_plugin_serves_its_fixtures(tmp_path):
         def test_fails(synthetic_pair, assert_grounds):
             pair = synthetic_pair([Square("red", (150, 400)), Square("green", (450, 150))], move=(1, (430, 400)))
             assert_grounds(pair.pre, pair.post, predicates=MINE, atoms_post=["(right-half red)"])
-    """))
+    """)
+    )
     installed = any(ep.value == "vslsp.grounding.pytest_plugin" for ep in metadata.entry_points(group="pytest11"))
     plugin = [] if installed else ["-p", "vslsp.grounding.pytest_plugin"]  # a source checkout not reinstalled
-    result = subprocess.run([sys.executable, "-m", "pytest", *plugin, "-q", "-p", "no:cacheprovider",
-                             "-W", "ignore", str(tmp_path)], capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    result = subprocess.run(
+        [sys.executable, "-m", "pytest", *plugin, "-q", "-p", "no:cacheprovider", "-W", "ignore", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
     assert "1 failed, 1 passed" in result.stdout, result.stdout + result.stderr
     assert "missing (right-half red); unexpected (right-half green)" in result.stdout
     assert "overlay: " in result.stdout and "grounding.png" in result.stdout

@@ -61,8 +61,9 @@ def test_experiment_json_and_exit_codes(tmp_path, capsys):
     with pytest.raises(SystemExit) as done:
         main(["experiment", "keep-all-near", "--trials", "1", "--seed", "1", "--json", "--out", str(tmp_path)])
     data = json.loads(capsys.readouterr().out)
-    assert {"experiment", "trials", "successes", "success_rate", "mean_time_s", "failures", "results",
-            "report"} <= set(data)
+    assert {"experiment", "trials", "successes", "success_rate", "mean_time_s", "failures", "results", "report"} <= set(
+        data
+    )
     assert data["trials"] == 1 and data["successes"] == 1 and done.value.code == 0
     assert data["results"][0]["operations"] and all(op["ok"] for op in data["results"][0]["operations"])
     with pytest.raises(SystemExit) as done:

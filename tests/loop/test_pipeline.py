@@ -33,12 +33,30 @@ def test_table_3_comes_out_of_watching_the_skills(domain):
 
 
 def _all_near_task() -> Task:
-    steps = [[Step("pull", "red", {"red": {"far": True}, "blue": {"far": False}},
-                   {"red": {"far": False}, "blue": {"far": False}})],
-             [Step("pull", "green", {"green": {"far": True}, "red": {"far": True}},
-                   {"green": {"far": False}, "red": {"far": True}}),
-              Step("pull", "red", {"green": {"far": False}, "red": {"far": True}},
-                   {"green": {"far": False}, "red": {"far": False}})]]
+    steps = [
+        [
+            Step(
+                "pull",
+                "red",
+                {"red": {"far": True}, "blue": {"far": False}},
+                {"red": {"far": False}, "blue": {"far": False}},
+            )
+        ],
+        [
+            Step(
+                "pull",
+                "green",
+                {"green": {"far": True}, "red": {"far": True}},
+                {"green": {"far": False}, "red": {"far": True}},
+            ),
+            Step(
+                "pull",
+                "red",
+                {"green": {"far": False}, "red": {"far": True}},
+                {"green": {"far": False}, "red": {"far": False}},
+            ),
+        ],
+    ]
     return learn_task(steps, ordered=False)
 
 

@@ -45,7 +45,10 @@ def test_each_shipped_skill_comes_with_its_demonstrations_and_metadata(library, 
         assert t.ndim == 1 and y.shape == (len(t), 3) and np.all(np.diff(t) > 0)
     assert index["reach_fit_rmse_mm"] == pytest.approx(skill.reach.fit_rmse * 1000, abs=1e-3)
     assert (index["n_basis"], index["alpha_z"], index["alpha_x"]) == (
-        skill.reach.n_basis, skill.reach.alpha_z, skill.reach.alpha_x)
+        skill.reach.n_basis,
+        skill.reach.alpha_z,
+        skill.reach.alpha_x,
+    )
     assert index["goal"] == pytest.approx(skill.goal) and index["move"] == pytest.approx(skill.move)
 
 
@@ -195,6 +198,7 @@ def edit_index(change):
         index = json.loads((folder / "library.json").read_text())
         change(index)
         (folder / "library.json").write_text(json.dumps(index))
+
     return edit
 
 
@@ -203,12 +207,14 @@ def edit_npz(change, file="push_reach.npz"):
         arrays = dict(np.load(folder / file))
         change(arrays)
         np.savez(folder / file, **arrays)
+
     return edit
 
 
 def dmp_meta(key, value):
     def change(arrays):
         arrays["meta"] = np.array(json.dumps({**json.loads(str(arrays["meta"])), key: value}))
+
     return change
 
 
@@ -219,31 +225,55 @@ def write_pickle(folder):
 
 
 BAD_LIBRARIES = {
-    "nan goal": (edit_index(lambda i: i["skills"]["push"].update(goal=[float("nan"), 0.0, 0.6])),
-                 r"skill 'push'.*goal\[0\] is nan: not finite"),
-    "goal of 2 values": (edit_index(lambda i: i["skills"]["pull"].update(goal=[0.1, 0.2])),
-                         r"skill 'pull'.*goal is \[0\.1, 0\.2\], not a list of 3 numbers"),
-    "huge move": (edit_index(lambda i: i["skills"]["push"].update(move=[1e9, 0.0, 0.0])),
-                  r"move\[0\] is 1e\+09, outside \[-10, 10\]"),
-    "skills as a list": (edit_index(lambda i: i.update(skills=[{"name": "push"}])),
-                         r'not a vslsp skill library \("skills" is a JSON list'),
-    "entry as a string": (edit_index(lambda i: i["skills"].update(push="push.npz")),
-                          r"the entry of skill 'push' is a JSON str"),
-    "travel model as a string": (edit_index(lambda i: i["skills"]["pull"].update(travel_model="linear")),
-                                 r"skill 'pull'.*travel_model is 'linear', not an object"),
-    "travel model without a slope": (edit_index(lambda i: i["skills"]["pull"].update(travel_model={"offset": 0})),
-                                     r"travel_model is .*, not an object with \"slope\" and \"offset\""),
-    "nan slope": (edit_index(lambda i: i["skills"]["pull"]["travel_model"].update(slope=float("nan"))),
-                  r"travel_model\.slope is nan: not finite"),
-    "reach file outside the folder": (edit_index(lambda i: i["skills"]["push"].update(reach_file="../../x.npz")),
-                                      r"reach_file is '\.\./\.\./x\.npz', not the name of a file"),
+    "nan goal": (
+        edit_index(lambda i: i["skills"]["push"].update(goal=[float("nan"), 0.0, 0.6])),
+        r"skill 'push'.*goal\[0\] is nan: not finite",
+    ),
+    "goal of 2 values": (
+        edit_index(lambda i: i["skills"]["pull"].update(goal=[0.1, 0.2])),
+        r"skill 'pull'.*goal is \[0\.1, 0\.2\], not a list of 3 numbers",
+    ),
+    "huge move": (
+        edit_index(lambda i: i["skills"]["push"].update(move=[1e9, 0.0, 0.0])),
+        r"move\[0\] is 1e\+09, outside \[-10, 10\]",
+    ),
+    "skills as a list": (
+        edit_index(lambda i: i.update(skills=[{"name": "push"}])),
+        r'not a vslsp skill library \("skills" is a JSON list',
+    ),
+    "entry as a string": (
+        edit_index(lambda i: i["skills"].update(push="push.npz")),
+        r"the entry of skill 'push' is a JSON str",
+    ),
+    "travel model as a string": (
+        edit_index(lambda i: i["skills"]["pull"].update(travel_model="linear")),
+        r"skill 'pull'.*travel_model is 'linear', not an object",
+    ),
+    "travel model without a slope": (
+        edit_index(lambda i: i["skills"]["pull"].update(travel_model={"offset": 0})),
+        r"travel_model is .*, not an object with \"slope\" and \"offset\"",
+    ),
+    "nan slope": (
+        edit_index(lambda i: i["skills"]["pull"]["travel_model"].update(slope=float("nan"))),
+        r"travel_model\.slope is nan: not finite",
+    ),
+    "reach file outside the folder": (
+        edit_index(lambda i: i["skills"]["push"].update(reach_file="../../x.npz")),
+        r"reach_file is '\.\./\.\./x\.npz', not the name of a file",
+    ),
     "unsupported version": (edit_index(lambda i: i.update(version=2)), r"version 2 is not supported"),
-    "weights x1e12": (edit_npz(lambda a: a.update(weights=a["weights"] * 1e12)),
-                      r"push_reach\.npz: weights reach [0-9.]+e\+1[0-9], beyond any plausible value"),
-    "nan weights": (edit_npz(lambda a: a.update(weights=a["weights"] * np.nan)),
-                    r"push_reach\.npz: weights are not finite \(150 NaN or infinite"),
-    "weights of another shape": (edit_npz(lambda a: a.update(weights=a["weights"][:10]), "pull_reach.npz"),
-                                 r"pull_reach\.npz is not a vslsp DMP"),
+    "weights x1e12": (
+        edit_npz(lambda a: a.update(weights=a["weights"] * 1e12)),
+        r"push_reach\.npz: weights reach [0-9.]+e\+1[0-9], beyond any plausible value",
+    ),
+    "nan weights": (
+        edit_npz(lambda a: a.update(weights=a["weights"] * np.nan)),
+        r"push_reach\.npz: weights are not finite \(150 NaN or infinite",
+    ),
+    "weights of another shape": (
+        edit_npz(lambda a: a.update(weights=a["weights"][:10]), "pull_reach.npz"),
+        r"pull_reach\.npz is not a vslsp DMP",
+    ),
     "text weights": (edit_npz(lambda a: a.update(weights=np.array(["a", "b"]))), r"weights are of type <U1"),
     "tau 0": (edit_npz(dmp_meta("tau", 0.0)), r"push_reach\.npz: tau is 0, outside \(0, 60\]"),
     "tau nan": (edit_npz(dmp_meta("tau", float("nan"))), r"tau is nan: not finite"),
@@ -251,16 +281,23 @@ BAD_LIBRARIES = {
     "dt 0": (edit_npz(dmp_meta("dt", 0.0)), r"dt is 0, outside"),
     "n_basis 1e12": (edit_npz(dmp_meta("n_basis", 10**12)), r"n_basis is 1e\+12, outside \[2, 1000\]"),
     "n_basis as text": (edit_npz(dmp_meta("n_basis", "50")), r"n_basis is '50', not an integer"),
-    "nan demonstration": (edit_npz(lambda a: a.update(y_0=a["y_0"] * np.nan), "push_demos.npz"),
-                          r"push_demos\.npz: y_0 are not finite"),
-    "demonstration of 2 dimensions": (edit_npz(lambda a: a.update(y_1=a["y_1"][:, :2]), "push_demos.npz"),
-                                      r"demonstration 1 has t of shape \(\d+,\) and y of shape \(\d+, 2\)"),
-    "time going back": (edit_npz(lambda a: a.update(t_0=a["t_0"][::-1].copy()), "push_demos.npz"),
-                        r"t_0, the sample times of demonstration 0, do not increase"),
+    "nan demonstration": (
+        edit_npz(lambda a: a.update(y_0=a["y_0"] * np.nan), "push_demos.npz"),
+        r"push_demos\.npz: y_0 are not finite",
+    ),
+    "demonstration of 2 dimensions": (
+        edit_npz(lambda a: a.update(y_1=a["y_1"][:, :2]), "push_demos.npz"),
+        r"demonstration 1 has t of shape \(\d+,\) and y of shape \(\d+, 2\)",
+    ),
+    "time going back": (
+        edit_npz(lambda a: a.update(t_0=a["t_0"][::-1].copy()), "push_demos.npz"),
+        r"t_0, the sample times of demonstration 0, do not increase",
+    ),
     "a pickle as the reach": (write_pickle, r"push_reach\.npz holds pickled Python objects"),
     "object arrays in the demonstrations": (
         lambda f: np.savez(f / "pull_demos.npz", t_0=np.array([{"a": 1}], dtype=object)),
-        r"pull_demos\.npz holds pickled Python objects"),
+        r"pull_demos\.npz holds pickled Python objects",
+    ),
 }
 
 

@@ -20,9 +20,10 @@ def keep_all_near_demonstrations() -> list[list[Step]]:
 
 @pytest.fixture
 def pull_in_order_demonstration() -> list[Step]:
-    """"Pull All Objects in a Given Order": orange, then green, then yellow."""
-    return demonstration(scene(orange=True, green=True, yellow=True),
-                         ("pull", "orange"), ("pull", "green"), ("pull", "yellow"))
+    """ "Pull All Objects in a Given Order": orange, then green, then yellow."""
+    return demonstration(
+        scene(orange=True, green=True, yellow=True), ("pull", "orange"), ("pull", "green"), ("pull", "yellow")
+    )
 
 
 @pytest.fixture

@@ -11,8 +11,10 @@ UNIVERSE = {"block": ("red", "green")}
 def test_formulas_print_as_pddl():
     assert (~far("?b")).to_pddl() == "(not (far ?b))"
     assert forall(("?b", "block"), ~far("?b")).to_pddl() == "(forall (?b - block) (not (far ?b)))"
-    assert SometimeBefore(~far("green"), ~far("orange")).to_pddl() == \
-        "(sometime-before (not (far green)) (not (far orange)))"
+    assert (
+        SometimeBefore(~far("green"), ~far("orange")).to_pddl()
+        == "(sometime-before (not (far green)) (not (far orange)))"
+    )
 
 
 def test_quantifiers_range_over_the_objects_of_the_type():

@@ -68,16 +68,23 @@ def test_keep_all_near_generalises_to_unseen_colours_and_counts(keep_all_near_de
 def test_one_demonstration_teaches_the_order_as_sometime_before(pull_in_order_demonstration):
     task = learn_task([pull_in_order_demonstration])
     near = {c: Not(far(c)) for c in ("orange", "green", "yellow")}
-    assert task.constraints == (SometimeBefore(near["green"], near["orange"]),
-                                SometimeBefore(near["yellow"], near["green"]))
+    assert task.constraints == (
+        SometimeBefore(near["green"], near["orange"]),
+        SometimeBefore(near["yellow"], near["green"]),
+    )
     assert [r.obj for r in task.rules] == ["orange", "green", "yellow"]
     assert task.without_order().constraints == () and task.without_order().goal == task.goal
 
 
 def test_order_is_kept_only_where_demonstrations_agree():
     start = scene(a=True, b=True, c=True)
-    task = learn_task([demonstration(start, ("pull", "a"), ("pull", "b"), ("pull", "c")),
-                       demonstration(start, ("pull", "b"), ("pull", "a"), ("pull", "c"))], ordered=True)
+    task = learn_task(
+        [
+            demonstration(start, ("pull", "a"), ("pull", "b"), ("pull", "c")),
+            demonstration(start, ("pull", "b"), ("pull", "a"), ("pull", "c")),
+        ],
+        ordered=True,
+    )
     # a/b disagree; both come before c.
     pairs = {(str(c.formula.arg.args[0]), str(c.before.arg.args[0])) for c in task.constraints}
     assert pairs == {("c", "a"), ("c", "b")}
@@ -98,8 +105,10 @@ def test_opposite_effects_are_not_lifted():
 
 def test_disagreeing_demonstrations_are_an_input_error():
     with pytest.raises(InputError, match="disagree about red"):
-        learn_task([demonstration(scene(red=False), ("push", "red")),
-                    demonstration(scene(red=True), ("pull", "red"))], ordered=True)
+        learn_task(
+            [demonstration(scene(red=False), ("push", "red")), demonstration(scene(red=True), ("pull", "red"))],
+            ordered=True,
+        )
 
 
 def test_task_round_trips_through_json(pull_in_order_demonstration):

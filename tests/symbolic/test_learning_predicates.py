@@ -23,8 +23,12 @@ def _step(action: str, obj: str, right_before: bool, right_after: bool, others: 
 
 def test_a_user_predicate_the_skills_change_enters_the_models_and_a_static_one_stays_out():
     # Every explored cube was warm and the pushes all started in the right half: neither is needed.
-    executions = [_step("push", "red", True, True), _step("push", "orange", True, True),
-                  _step("pull", "yellow", False, False), _step("pull", "red", True, True)]
+    executions = [
+        _step("push", "red", True, True),
+        _step("push", "orange", True, True),
+        _step("pull", "yellow", False, False),
+        _step("pull", "red", True, True),
+    ]
     domain = learn_domain(executions)
     push, pull = domain.action("push"), domain.action("pull")
     assert set(push.effects) == {Atom("far", ("?b",)), Not(Atom("on-robot-side", ("?b",)))}
@@ -35,13 +39,20 @@ def test_a_user_predicate_the_skills_change_enters_the_models_and_a_static_one_s
 
 
 def test_an_effect_must_hold_in_every_execution():
-    by_chance = [_step("push", "red", True, False), _step("push", "green", True, True),
-                 _step("pull", "blue", False, False)]
+    by_chance = [
+        _step("push", "red", True, False),
+        _step("push", "green", True, True),
+        _step("pull", "blue", False, False),
+    ]
     domain = learn_domain(by_chance)
-    assert all("right-half" not in a.precondition.to_pddl() + " ".join(e.to_pddl() for e in a.effects)
-               for a in domain.actions)
-    always = [_step("push", "red", True, False), _step("push", "green", True, False),
-              _step("pull", "blue", False, False)]
+    assert all(
+        "right-half" not in a.precondition.to_pddl() + " ".join(e.to_pddl() for e in a.effects) for a in domain.actions
+    )
+    always = [
+        _step("push", "red", True, False),
+        _step("push", "green", True, False),
+        _step("pull", "blue", False, False),
+    ]
     push = learn_domain(always).action("push")
     assert Not(Atom("right-half", ("?b",))) in push.effects
     assert "(right-half ?b)" in push.precondition.to_pddl()  # a fluent the skill changes: needed before
@@ -50,8 +61,11 @@ def test_an_effect_must_hold_in_every_execution():
 def test_rules_keep_what_the_demonstrations_share_and_what_the_skill_changes():
     models = learn_domain([_step("push", "red", True, True), _step("pull", "blue", False, False)])
     # Three demonstrations pull cubes; one pull happened to carry a cube across the image's middle.
-    demonstrations = [[_step("pull", "red", True, True)], [_step("pull", "green", True, False)],
-                      [_step("pull", "blue", False, False)]]
+    demonstrations = [
+        [_step("pull", "red", True, True)],
+        [_step("pull", "green", True, False)],
+        [_step("pull", "blue", False, False)],
+    ]
     for task in (learn_task(demonstrations), learn_task(demonstrations, models=models)):
         (rule,) = task.rules
         assert rule.obj == "?" and rule.effect == (("far", False), ("on-robot-side", True))
@@ -73,9 +87,27 @@ def test_keep_all_near_with_the_example_predicates_end_to_end(tmp_path):
     from pathlib import Path
 
     predicates = Path(__file__).parents[2] / "examples/grounding/predicates.py"
-    result = subprocess.run([sys.executable, "-m", "vslsp", "experiment", "keep-all-near", "--predicates",
-                             str(predicates), "--trials", "1", "--seed", "5", "--out", str(tmp_path), "--json"],
-                            capture_output=True, text=True, timeout=900)
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "vslsp",
+            "experiment",
+            "keep-all-near",
+            "--predicates",
+            str(predicates),
+            "--trials",
+            "1",
+            "--seed",
+            "5",
+            "--out",
+            str(tmp_path),
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert result.returncode == 0, result.stderr
     trial = json.loads(result.stdout)["results"][0]
     models = "\n".join(trial["action_models"])

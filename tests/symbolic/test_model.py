@@ -21,18 +21,25 @@ far = Predicate("far", (("?b", "block"),))
 
 
 def tabletop() -> Domain:
-    return (Domain("vsl-sp").with_type("block").with_predicate(far)
-            .with_action(Action("push", (("?b", "block"),), ~far("?b"), (far("?b"),)))
-            .with_action(Action("pull", (("?b", "block"),), far("?b"), (~far("?b"),))))
+    return (
+        Domain("vsl-sp")
+        .with_type("block")
+        .with_predicate(far)
+        .with_action(Action("push", (("?b", "block"),), ~far("?b"), (far("?b"),)))
+        .with_action(Action("pull", (("?b", "block"),), far("?b"), (~far("?b"),)))
+    )
 
 
 def test_authored_models_equal_the_shipped_files():
     domain = tabletop()
-    problem = (Problem("pull-in-order", domain).with_objects("block", "orange", "green", "yellow")
-               .with_init(far("orange"), far("green"), far("yellow"))
-               .with_goal(~far("orange") & ~far("green") & ~far("yellow"))
-               .with_constraint(sometime_before(~far("green"), ~far("orange")))
-               .with_constraint(sometime_before(~far("yellow"), ~far("green"))))
+    problem = (
+        Problem("pull-in-order", domain)
+        .with_objects("block", "orange", "green", "yellow")
+        .with_init(far("orange"), far("green"), far("yellow"))
+        .with_goal(~far("orange") & ~far("green") & ~far("yellow"))
+        .with_constraint(sometime_before(~far("green"), ~far("orange")))
+        .with_constraint(sometime_before(~far("yellow"), ~far("green")))
+    )
     shipped_domain, shipped_problem = read_pddl(PDDL / "domain.pddl", PDDL / "pull-in-order.pddl")
     assert domain == shipped_domain
     assert problem.init == shipped_problem.init and problem.constraints == shipped_problem.constraints
@@ -41,8 +48,12 @@ def test_authored_models_equal_the_shipped_files():
 
 def test_edit_plan_and_validate_in_a_notebook():
     domain = tabletop()
-    problem = (Problem("p", domain).with_objects("block", "red", "green").with_init(far("red"))
-               .with_goal(forall(("?b", "block"), ~far("?b"))))
+    problem = (
+        Problem("p", domain)
+        .with_objects("block", "red", "green")
+        .with_init(far("red"))
+        .with_goal(forall(("?b", "block"), ~far("?b")))
+    )
     assert solve(domain, problem).lines() == ["pull red"]
     problem = problem.with_objects("block", "blue").with_init(far("blue")).without_init(far("red"))
     assert solve(domain, problem).lines() == ["pull blue"]

@@ -34,8 +34,12 @@ def test_shipped_problems_read(name):
 
 def test_learned_model_writes_reads_back_and_plans(tmp_path, skill_executions, pull_in_order_demonstration):
     domain = learn_domain(skill_executions)
-    problem = make_problem(domain, learn_task([pull_in_order_demonstration]),
-                           {"orange": {"far": True}, "green": {"far": True}, "yellow": {"far": True}}, name="learned")
+    problem = make_problem(
+        domain,
+        learn_task([pull_in_order_demonstration]),
+        {"orange": {"far": True}, "green": {"far": True}, "yellow": {"far": True}},
+        name="learned",
+    )
     domain_text, problem_text = domain.to_pddl(), problem.to_pddl()
     assert "(:requirements :strips :typing :negative-preconditions :constraints)" in domain_text
     assert "(:constraints (and\n    (sometime-before (not (far green)) (not (far orange)))\n" in problem_text
@@ -79,17 +83,21 @@ def test_unknown_predicate_names_it_and_its_place(tmp_path):
 
 
 def test_type_errors_and_unknown_names(tmp_path):
-    assert "undefined type 'blok'" in _broken(tmp_path, "domain.pddl", "(?b - block)\n    :precondition (not",
-                                              "(?b - blok)\n    :precondition (not")
-    assert "unknown object or constant 'purple'" in _broken(tmp_path, "pull-in-order.pddl", "(far orange)\n",
-                                                              "(far purple)\n")
-    assert "'far' takes 1 argument(s), 2 given" in _broken(tmp_path, "pull-in-order.pddl", "(far orange)\n",
-                                                           "(far orange green)\n")
+    assert "undefined type 'blok'" in _broken(
+        tmp_path, "domain.pddl", "(?b - block)\n    :precondition (not", "(?b - blok)\n    :precondition (not"
+    )
+    assert "unknown object or constant 'purple'" in _broken(
+        tmp_path, "pull-in-order.pddl", "(far orange)\n", "(far purple)\n"
+    )
+    assert "'far' takes 1 argument(s), 2 given" in _broken(
+        tmp_path, "pull-in-order.pddl", "(far orange)\n", "(far orange green)\n"
+    )
 
 
 def test_somewhere_after_names_the_pddl3_operators(tmp_path):
-    message = _broken(tmp_path, "pull-in-order.pddl", "(sometime-before (not (far yellow))",
-                      "(somewhere-after (not (far yellow))")
+    message = _broken(
+        tmp_path, "pull-in-order.pddl", "(sometime-before (not (far yellow))", "(somewhere-after (not (far yellow))"
+    )
     assert _place(message) == (17, 6)
     assert "(sometime-before p q)" in message and "sometime-after" in message and "at-most-once" in message
 
@@ -100,14 +108,20 @@ def test_unreadable_file_is_an_input_error(tmp_path):
 
 
 def test_unsupported_pddl3_operators_are_named(tmp_path):
-    message = _broken(tmp_path, "pull-in-order.pddl", "(sometime-before (not (far yellow)) (not (far green)))",
-                      "(within 3 (not (far yellow)))")
+    message = _broken(
+        tmp_path,
+        "pull-in-order.pddl",
+        "(sometime-before (not (far yellow)) (not (far green)))",
+        "(within 3 (not (far yellow)))",
+    )
     assert "(within ...) is not supported" in message and "sometime-before" in message
 
 
 def test_problem_for_another_domain_is_read_with_a_warning(tmp_path):
-    path = save((PDDL / "keep-all-near.pddl").read_text().replace("(:domain vsl-sp)", "(:domain blocks-world)"),
-                tmp_path / "other.pddl")
+    path = save(
+        (PDDL / "keep-all-near.pddl").read_text().replace("(:domain vsl-sp)", "(:domain blocks-world)"),
+        tmp_path / "other.pddl",
+    )
     with pytest.warns(PddlWarning) as warned:
         _, problem = read_pddl(PDDL / "domain.pddl", path)
     message = str(warned[0].message)

@@ -131,16 +131,18 @@ def test_a_long_order_shares_one_monitor(lights):
 def test_public_constrained_problems_plan_lifted_and_validate(name):
     folder, instance = name.split("/")
     with pytest.warns(PddlWarning, match=r"lists \d constraints without \(and ...\)"):
-        domain, problem = read_pddl(DATA / "liftedtcore" / folder / "domain.pddl",
-                                    DATA / "liftedtcore" / folder / f"{instance}.pddl")
+        domain, problem = read_pddl(
+            DATA / "liftedtcore" / folder / "domain.pddl", DATA / "liftedtcore" / folder / f"{instance}.pddl"
+        )
     assert problem is not None and len(problem.constraints) >= 2
     plan = solve(domain, problem, timeout=60)
     assert plan.compilation is Compilation.LIFTED and validate(domain, problem, plan).valid
 
 
 def test_the_ground_compilation_agrees_on_a_public_problem():
-    domain, problem = read_pddl(DATA / "liftedtcore" / "blocksworld" / "domain.pddl",
-                                DATA / "liftedtcore" / "blocksworld" / "p1.pddl")
+    domain, problem = read_pddl(
+        DATA / "liftedtcore" / "blocksworld" / "domain.pddl", DATA / "liftedtcore" / "blocksworld" / "p1.pddl"
+    )
     assert problem is not None
     plan = solve(domain, problem, compilation=Compilation.GROUND, timeout=60)
     assert plan.compilation is Compilation.GROUND and validate(domain, problem, plan).valid
@@ -173,8 +175,10 @@ def test_sections_out_of_order_are_read_with_a_warning():
 
 def test_at_end_is_read_and_kept(lights):
     domain, problem = lights
-    text = ROOMS.replace("(:goal (and (on hall) (not (on porch))))",
-                         "(:goal (on hall))\n  (:constraints (and (at end (on porch)) (sometime (on kitchen)))))")
+    text = ROOMS.replace(
+        "(:goal (and (on hall) (not (on porch))))",
+        "(:goal (on hall))\n  (:constraints (and (at end (on porch)) (sometime (on kitchen)))))",
+    )
     _, problem = parse_pddl(LIGHTS, text[:-2] + "\n")
     assert problem is not None and AtEnd(Atom("on", ("porch",))) in problem.constraints
     plan = solve(domain, problem)
@@ -191,8 +195,9 @@ def test_unsupported_constructs_are_named_as_written_with_their_place():
     text = LIGHTS.replace("(:action switch-off", "(:durative-action switch-off")
     with pytest.raises(InputError, match=r"^<domain>:10:4: durative actions are not supported"):
         parse_pddl(text)
-    text = LIGHTS.replace("(:action switch-off\n    :parameters (?l - lamp)",
-                          "(:action switch-off\n    :parameters (?l - (either lamp))")
+    text = LIGHTS.replace(
+        "(:action switch-off\n    :parameters (?l - lamp)", "(:action switch-off\n    :parameters (?l - (either lamp))"
+    )
     with pytest.raises(InputError, match=r"^<domain>:11:24: \(either ...\) types are not supported"):
         parse_pddl(text)
 
@@ -211,8 +216,13 @@ def test_undeclared_requirements_are_warned_and_counts_read_well(lights):
     with pytest.warns(PddlWarning, match=r"the domain uses :negative-preconditions, :equality without declaring them"):
         parse_pddl(text, ROOMS)
     domain, problem = lights
-    verdict = validate(domain, problem.with_goal(Atom("on", ("hall",))).with_constraint(CONSTRAINTS["sometime"]),
-                       ["switch-on porch", "switch-on hall"])
+    verdict = validate(
+        domain,
+        problem.with_goal(Atom("on", ("hall",))).with_constraint(CONSTRAINTS["sometime"]),
+        ["switch-on porch", "switch-on hall"],
+    )
     assert verdict.reason == "the plan reaches the goal in 2 steps and keeps its constraint"
-    assert validate(domain, problem.with_goal(Atom("on", ("hall",))), ["switch-on hall"]).reason == \
-        "the plan reaches the goal in 1 step"
+    assert (
+        validate(domain, problem.with_goal(Atom("on", ("hall",))), ["switch-on hall"]).reason
+        == "the plan reaches the goal in 1 step"
+    )

@@ -43,8 +43,11 @@ def test_validate_rejects_the_wrong_order_with_exit_1(capsys, tmp_path):
 
 def test_unsolvable_problem_is_no_plan_exit_1(capsys, tmp_path):
     problem = tmp_path / "unsolvable.pddl"
-    problem.write_text((PDDL / "keep-all-near.pddl").read_text().replace(
-        "(not (far ?b)))))", "(not (far ?b))))\n  (:constraints (always (far green))))"))
+    problem.write_text(
+        (PDDL / "keep-all-near.pddl")
+        .read_text()
+        .replace("(not (far ?b)))))", "(not (far ?b))))\n  (:constraints (always (far green))))")
+    )
     code, out, err = vslsp(capsys, "plan", DOMAIN, problem, "--json")
     data = json.loads(out)
     assert code == 1 and data["plan"] is None and data["error"].startswith("no plan: ") and data["exit_code"] == 1
@@ -72,8 +75,12 @@ def test_pddl_check_summarises(capsys):
 
 
 def test_plan_runs_as_a_program():
-    result = subprocess.run([sys.executable, "-m", "vslsp", "plan", str(DOMAIN), str(PDDL / "simple-push-pull.pddl")],
-                            capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [sys.executable, "-m", "vslsp", "plan", str(DOMAIN), str(PDDL / "simple-push-pull.pddl")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines() == ["1. pull red", "2. push green"]
 
@@ -95,8 +102,11 @@ def test_validate_reads_the_plan_as_vslsp_plan_prints_it(capsys, tmp_path):
 def test_files_that_are_not_utf8_exit_2(capsys, tmp_path, command):
     latin = tmp_path / "latin1.pddl"
     latin.write_bytes((PDDL / "pull-in-order.pddl").read_bytes().replace(b"; ", b"; caf\xe9 ", 1))
-    args = {"check": ["pddl", "check", DOMAIN, latin], "plan": ["plan", DOMAIN, latin],
-            "validate": ["validate", DOMAIN, PDDL / "pull-in-order.pddl", latin]}[command]
+    args = {
+        "check": ["pddl", "check", DOMAIN, latin],
+        "plan": ["plan", DOMAIN, latin],
+        "validate": ["validate", DOMAIN, PDDL / "pull-in-order.pddl", latin],
+    }[command]
     code, _, err = vslsp(capsys, *args)
     assert code == 2 and f"{latin}:1:" in err and "not UTF-8" in err and "Traceback" not in err
 

@@ -48,17 +48,24 @@ def test_a_scripted_session_builds_plans_and_validates(tmp_path):
     assert "valid: the plan reaches the goal in 3 steps\n" in out  # once the order is dropped
     assert "error: unknown command 'fly'" in out
     # each command says what it changed
-    for said in ("type block", "predicate (far ?b - block)", "action push added; actions: push",
-                 "true initially: (far orange) (far green) (far yellow)",
-                 "constraint (sometime-before (not (far green)) (not (far orange))); 1 constraint",
-                 "dropped 2 constraints"):
+    for said in (
+        "type block",
+        "predicate (far ?b - block)",
+        "action push added; actions: push",
+        "true initially: (far orange) (far green) (far yellow)",
+        "constraint (sometime-before (not (far green)) (not (far orange))); 1 constraint",
+        "dropped 2 constraints",
+    ):
         assert f"(vslsp) {said}\n" in out, said
     # What was saved is the shipped pull-in-order experiment.
     saved_domain, saved_problem = read_pddl(tmp_path / "domain.pddl", tmp_path / "problem.pddl")
     shipped_domain, shipped_problem = read_pddl(PDDL / "domain.pddl", PDDL / "pull-in-order.pddl")
     assert saved_domain == shipped_domain
-    assert (saved_problem.init, saved_problem.goal, saved_problem.constraints) == \
-        (shipped_problem.init, shipped_problem.goal, shipped_problem.constraints)
+    assert (saved_problem.init, saved_problem.goal, saved_problem.constraints) == (
+        shipped_problem.init,
+        shipped_problem.goal,
+        shipped_problem.constraints,
+    )
 
 
 def test_load_and_complete_names():
@@ -74,9 +81,13 @@ def test_vslsp_shell_is_the_pddl_shell_at_the_top_level(tmp_path):
     import sys
 
     script = "plan\nquit\n"
-    done = subprocess.run([sys.executable, "-m", "vslsp", "shell", str(PDDL / "domain.pddl"),
-                           str(PDDL / "pull-in-order.pddl")], input=script, capture_output=True, text=True,
-                          timeout=120)
+    done = subprocess.run(
+        [sys.executable, "-m", "vslsp", "shell", str(PDDL / "domain.pddl"), str(PDDL / "pull-in-order.pddl")],
+        input=script,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert done.returncode == 0, done.stderr
     assert "pull orange" in done.stdout and done.stdout.index("pull orange") < done.stdout.index("pull yellow")
 
@@ -90,6 +101,7 @@ def test_a_missing_parenthesis_is_placed_in_what_was_typed():
 
 def test_a_domain_with_constants_is_edited_in_the_shell():
     folder = PDDL.parent / "tests" / "data" / "pddl3" / "ipc2006" / "tpp-preferences-qualitative"
-    out = run(f"load {folder / 'domain.pddl'} {folder / 'instance-1.pddl'}\n"
-              "goal (forall (?g - goods) (stored ?g level1))\n")
+    out = run(
+        f"load {folder / 'domain.pddl'} {folder / 'instance-1.pddl'}\ngoal (forall (?g - goods) (stored ?g level1))\n"
+    )
     assert "(vslsp) goal (forall (?g - goods) (stored ?g level1))\n" in out, out

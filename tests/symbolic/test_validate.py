@@ -32,8 +32,10 @@ def test_wrong_order_is_rejected_naming_sometime_before(pull_in_order):
 
 
 def test_preconditions_goal_and_names_are_checked(pull_in_order):
-    assert "step 1 (push orange): precondition (not (far orange)) does not hold" in \
-        validate(*pull_in_order, ["push orange"]).reason
+    assert (
+        "step 1 (push orange): precondition (not (far orange)) does not hold"
+        in validate(*pull_in_order, ["push orange"]).reason
+    )
     assert "the goal" in validate(*pull_in_order, ["pull orange"]).reason
     assert "unknown action 'jump'" in validate(*pull_in_order, ["jump orange"]).reason
     assert "'purple' is not an object" in validate(*pull_in_order, ["pull purple"]).reason
@@ -44,20 +46,23 @@ def test_preconditions_goal_and_names_are_checked(pull_in_order):
 PLAN = ["push blue", "pull red", "push red", "pull blue"]
 
 
-@pytest.mark.parametrize("constraint, valid, why", [
-    (Always(far("red") | far("blue")), True, ""),
-    (Always(far("red")), False, "(far red) is false after step 2 (pull red)"),
-    (Sometime(far("blue") & Not(far("red"))), True, ""),
-    (Sometime(Not(far("red")) & Not(far("blue"))), False, "never holds"),
-    (AtMostOnce(far("blue")), True, ""),
-    (AtMostOnce(far("red")), False, "becomes true again after step 3 (push red)"),
-    (SometimeBefore(Not(far("red")), far("blue")), True, ""),
-    (SometimeBefore(far("blue"), Not(far("red"))), False, "(far blue) holds after step 1 (push blue)"),
-    (SometimeAfter(Not(far("red")), far("red")), True, ""),
-    (SometimeAfter(far("blue"), Not(far("red")) & far("blue")), False, "after step 3 (push red)"),
-    (AtEnd(Not(far("blue"))), True, ""),
-    (AtEnd(far("blue")), False, "false at the end"),
-])
+@pytest.mark.parametrize(
+    "constraint, valid, why",
+    [
+        (Always(far("red") | far("blue")), True, ""),
+        (Always(far("red")), False, "(far red) is false after step 2 (pull red)"),
+        (Sometime(far("blue") & Not(far("red"))), True, ""),
+        (Sometime(Not(far("red")) & Not(far("blue"))), False, "never holds"),
+        (AtMostOnce(far("blue")), True, ""),
+        (AtMostOnce(far("red")), False, "becomes true again after step 3 (push red)"),
+        (SometimeBefore(Not(far("red")), far("blue")), True, ""),
+        (SometimeBefore(far("blue"), Not(far("red"))), False, "(far blue) holds after step 1 (push blue)"),
+        (SometimeAfter(Not(far("red")), far("red")), True, ""),
+        (SometimeAfter(far("blue"), Not(far("red")) & far("blue")), False, "after step 3 (push red)"),
+        (AtEnd(Not(far("blue"))), True, ""),
+        (AtEnd(far("blue")), False, "false at the end"),
+    ],
+)
 def test_each_constraint_has_its_pddl3_meaning(constraint, valid, why):
     domain, problem = read_pddl(PDDL / "domain.pddl", PDDL / "simple-push-pull.pddl")
     problem = problem.without_init(far("blue")).with_goal(far("red")).with_constraint(constraint)
@@ -83,8 +88,13 @@ def _random_problem(rng, domain, problem):
         atom = far(rng.choice(blocks))
         return atom if rng.random() < 0.5 else Not(atom)
 
-    kinds = (lambda: Always(lit() | lit()), lambda: Sometime(lit() & lit()), lambda: AtMostOnce(lit()),
-             lambda: SometimeBefore(lit(), lit()), lambda: SometimeAfter(lit(), lit()))
+    kinds = (
+        lambda: Always(lit() | lit()),
+        lambda: Sometime(lit() & lit()),
+        lambda: AtMostOnce(lit()),
+        lambda: SometimeBefore(lit(), lit()),
+        lambda: SometimeAfter(lit(), lit()),
+    )
     problem = problem.without_init(*problem.init).with_init(*(far(b) for b in blocks if rng.random() < 0.5))
     problem = problem.with_goal(lit() & lit())
     for _ in range(2):

@@ -24,8 +24,15 @@ class DiceBelowFive(Task):
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         roll = int(np.random.default_rng(seed).integers(1, 7))
         image = np.full((60, 200, 3), 40 * roll, np.uint8) if keep else None
-        return TrialResult(self.name, seed, roll < 5, None if roll < 5 else f"rolled {roll}",
-                           operations=[{"operation": 1, "roll": roll}], details={"roll": roll}, artefacts=image)
+        return TrialResult(
+            self.name,
+            seed,
+            roll < 5,
+            None if roll < 5 else f"rolled {roll}",
+            operations=[{"operation": 1, "roll": roll}],
+            details={"roll": roll},
+            artefacts=image,
+        )
 
     def summary(self, results: list[TrialResult]) -> dict:
         return {"mean_roll": float(np.mean([r.details["roll"] for r in results]))}

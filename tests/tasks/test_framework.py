@@ -18,8 +18,19 @@ from vslsp.cli import main
 from vslsp.errors import InputError
 from vslsp.tasks import Run, get_task, list_tasks, run_trials, write_report
 
-PAPER = ["house-roof", "alphabet-ordering", "animal-puzzle", "tower-of-hanoi", "animals-vs-machines", "domino",
-         "table-cleaning", "stacking", "simple-vsl-task", "keep-all-near", "pull-in-order"]
+PAPER = [
+    "house-roof",
+    "alphabet-ordering",
+    "animal-puzzle",
+    "tower-of-hanoi",
+    "animals-vs-machines",
+    "domino",
+    "table-cleaning",
+    "stacking",
+    "simple-vsl-task",
+    "keep-all-near",
+    "pull-in-order",
+]
 HERE = Path(__file__).parent
 
 
@@ -84,11 +95,14 @@ def test_a_raising_trial_is_recorded_and_a_dying_worker_is_replaced(tmp_path, mo
 @pytest.mark.slow
 def test_sigterm_stops_the_run_and_keeps_the_finished_trials(tmp_path):
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(HERE), os.environ.get("PYTHONPATH", "")])}
-    script = ("import example_tasks; from vslsp.cli import main; "
-              f"main(['experiment', 'troublesome', '--trials', '40', '--seed', '10', '--workers', '2', "
-              f"'--json', '--out', {str(tmp_path)!r}])")
-    process = subprocess.Popen([sys.executable, "-c", script], env=env, stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True)
+    script = (
+        "import example_tasks; from vslsp.cli import main; "
+        f"main(['experiment', 'troublesome', '--trials', '40', '--seed', '10', '--workers', '2', "
+        f"'--json', '--out', {str(tmp_path)!r}])"
+    )
+    process = subprocess.Popen(
+        [sys.executable, "-c", script], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
     time.sleep(12)
     process.send_signal(signal.SIGTERM)
     start = time.perf_counter()
@@ -110,8 +124,9 @@ def test_the_report_of_a_run_is_byte_equal_for_the_same_seeds_on_one_or_two_work
         for result in run.results:
             result.time_s = 0.0
         write_report(tmp_path / str(workers), task, run)
-    assert (tmp_path / "1" / "report.json").read_text().replace("/1", "") == \
-        (tmp_path / "2" / "report.json").read_text().replace("/2", "")
+    assert (tmp_path / "1" / "report.json").read_text().replace("/1", "") == (
+        tmp_path / "2" / "report.json"
+    ).read_text().replace("/2", "")
 
 
 def test_a_run_reports_partial_when_not_every_seed_finished():
@@ -119,9 +134,14 @@ def test_a_run_reports_partial_when_not_every_seed_finished():
     assert run.partial
 
 
-@pytest.mark.parametrize("args", [["experiment", "tidy-the-kitchen", "--json"],
-                                  ["experiment", "house-roof", "--seed", "-1", "--json"],
-                                  ["experiment", "house-roof", "--faults", "--json"]])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["experiment", "tidy-the-kitchen", "--json"],
+        ["experiment", "house-roof", "--seed", "-1", "--json"],
+        ["experiment", "house-roof", "--faults", "--json"],
+    ],
+)
 def test_json_is_printed_for_bad_input_too(args, capsys):
     with pytest.raises(SystemExit) as done:
         main(args)

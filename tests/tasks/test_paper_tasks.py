@@ -11,8 +11,16 @@ from vslsp.tasks import get_task, run_trials
 pytestmark = pytest.mark.slow
 
 
-@pytest.mark.parametrize(("name", "seed"), [("alphabet-ordering", 11), ("animal-puzzle", 12), ("tower-of-hanoi", 4),
-                                            ("animals-vs-machines", 13), ("domino", 14)])
+@pytest.mark.parametrize(
+    ("name", "seed"),
+    [
+        ("alphabet-ordering", 11),
+        ("animal-puzzle", 12),
+        ("tower-of-hanoi", 4),
+        ("animals-vs-machines", 13),
+        ("domino", 14),
+    ],
+)
 def test_every_panda_task_succeeds_on_a_second_seed(name, seed):
     result = get_task(name).run_trial(seed)
     assert result.success, result.error

@@ -39,9 +39,15 @@ class Draw(Task):
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         values = np.random.default_rng(seed).integers(0, 10, size=3)
         ok = int(values.sum()) < 15
-        return TrialResult(self.name, seed, ok, None if ok else f"drew {values.tolist()}",
-                           operations=[{"value": int(v)} for v in values], details={"sum": int(values.sum())},
-                           artefacts=values if keep else None)
+        return TrialResult(
+            self.name,
+            seed,
+            ok,
+            None if ok else f"drew {values.tolist()}",
+            operations=[{"value": int(v)} for v in values],
+            details={"sum": int(values.sum())},
+            artefacts=values if keep else None,
+        )
 
 
 class RaisesOnOdd(Task):
@@ -67,8 +73,9 @@ class DiesOnce(Task):
         if not marker.exists():
             marker.write_text(str(os.getpid()))
             os._exit(1)
-        return TrialResult(self.name, seed, True, details={"first_pid": int(marker.read_text()),
-                                                           "retry_pid": os.getpid()})
+        return TrialResult(
+            self.name, seed, True, details={"first_pid": int(marker.read_text()), "retry_pid": os.getpid()}
+        )
 
 
 class AlwaysDies(Task):
@@ -118,8 +125,14 @@ def cluster():
     """A local Ray cluster of 2 CPUs for this module; the backend runs on it (the process is connected)."""
     saved = os.environ.get("PYTHONPATH")
     os.environ["PYTHONPATH"] = os.pathsep.join([str(HERE), str(ROOT)] + ([saved] if saved else []))
-    ray.init(address="local", num_cpus=2, _node_ip_address="127.0.0.1", include_dashboard=False,
-             log_to_driver=False, logging_level=logging.ERROR)
+    ray.init(
+        address="local",
+        num_cpus=2,
+        _node_ip_address="127.0.0.1",
+        include_dashboard=False,
+        log_to_driver=False,
+        logging_level=logging.ERROR,
+    )
     try:
         yield ray.get_runtime_context().gcs_address
     finally:
@@ -220,8 +233,21 @@ def test_cli_refuses_an_address_where_no_cluster_answers(tmp_path):
 def test_house_roof_on_the_cluster_equals_local(cluster, tmp_path):
     seeds = [0, 1]
     local = run_trials(get_task("house-roof"), seeds)
-    done = cli("experiment", "house-roof", "--trials", "2", "--workers", "2", "--backend", "ray", "--address",
-               cluster, "--out", str(tmp_path), "--json")
+    done = cli(
+        "experiment",
+        "house-roof",
+        "--trials",
+        "2",
+        "--workers",
+        "2",
+        "--backend",
+        "ray",
+        "--address",
+        cluster,
+        "--out",
+        str(tmp_path),
+        "--json",
+    )
     assert done.returncode in (0, 1), done.stderr
     data = json.loads(done.stdout)
     on_ray = [{k: v for k, v in r.items() if k not in ("time_s", "reproduction_ms")} for r in data["results"]]
@@ -229,13 +255,27 @@ def test_house_roof_on_the_cluster_equals_local(cluster, tmp_path):
     assert (tmp_path / "report.md").exists()
     # the command disconnected from the cluster at the end and left it running
     assert records(run_trials(Draw(), [1, 2], workers=2, backend="ray").results) == records(
-        run_trials(Draw(), [1, 2]).results)
+        run_trials(Draw(), [1, 2]).results
+    )
 
 
 @pytest.mark.slow
 def test_cli_starts_a_local_ray_instance_for_the_run(tmp_path):
-    done = cli("experiment", "house-roof", "--trials", "2", "--seed", "3", "--workers", "2", "--backend", "ray",
-               "--out", str(tmp_path), "--json")
+    done = cli(
+        "experiment",
+        "house-roof",
+        "--trials",
+        "2",
+        "--seed",
+        "3",
+        "--workers",
+        "2",
+        "--backend",
+        "ray",
+        "--out",
+        str(tmp_path),
+        "--json",
+    )
     assert done.returncode in (0, 1), done.stderr
     data = json.loads(done.stdout)
     assert data["trials"] == 2 and [r["seed"] for r in data["results"]] == [3, 4]
@@ -248,14 +288,38 @@ def test_ctrl_c_on_the_command_line_cancels_and_writes_the_partial_report(tmp_pa
     markers.mkdir()
     # A real Ctrl-C: SIGINT to the command's process group. The command restores Python's
     # KeyboardInterrupt handler (a shell that starts jobs in the background has it ignored).
-    program = ("import signal, sys\nsignal.signal(signal.SIGINT, signal.default_int_handler)\n"
-               "from vslsp.tasks import register\nimport test_ray_backend\nregister(test_ray_backend.WaitsForCtrlC)\n"
-               "from vslsp.cli import main\nmain(sys.argv[1:])")
-    env = {**os.environ, "VSLSP_TEST_MARKERS": str(markers),
-           "PYTHONPATH": os.pathsep.join([str(HERE), str(ROOT)] + [os.environ.get("PYTHONPATH", "")])}
-    command = subprocess.Popen([sys.executable, "-c", program, "experiment", "ray-test-waits", "--trials", "4",
-                                "--workers", "2", "--backend", "ray", "--out", str(out)], env=env,
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    program = (
+        "import signal, sys\nsignal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        "from vslsp.tasks import register\nimport test_ray_backend\nregister(test_ray_backend.WaitsForCtrlC)\n"
+        "from vslsp.cli import main\nmain(sys.argv[1:])"
+    )
+    env = {
+        **os.environ,
+        "VSLSP_TEST_MARKERS": str(markers),
+        "PYTHONPATH": os.pathsep.join([str(HERE), str(ROOT)] + [os.environ.get("PYTHONPATH", "")]),
+    }
+    command = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            program,
+            "experiment",
+            "ray-test-waits",
+            "--trials",
+            "4",
+            "--workers",
+            "2",
+            "--backend",
+            "ray",
+            "--out",
+            str(out),
+        ],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     try:
         deadline = time.monotonic() + 300
         while not (markers / "0.done").exists() and command.poll() is None and time.monotonic() < deadline:
@@ -273,4 +337,3 @@ def test_ctrl_c_on_the_command_line_cancels_and_writes_the_partial_report(tmp_pa
     assert report["partial"] and report["interrupted"] == "SIGINT" and report["trials_requested"] == 4
     assert [r["seed"] for r in report["results"]] == [0]
     assert (markers / "1.started").exists() and not list(markers.glob("[123].done"))
-

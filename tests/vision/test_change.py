@@ -32,8 +32,9 @@ def test_a_short_move_with_overlap_still_gives_the_whole_object_at_both_places()
 
 @pytest.mark.parametrize("noise, brightness", [(20, 1.0), (0, 0.85), (10, 1.12)])
 def test_noise_and_a_global_brightness_change_are_not_motion(noise, brightness):
-    change = detect_change(*_pair(Square("orange", (150, 150)), Square("orange", (300, 380)),
-                                  noise=noise, brightness=brightness))
+    change = detect_change(
+        *_pair(Square("orange", (150, 150)), Square("orange", (300, 380)), noise=noise, brightness=brightness)
+    )
     assert change.before.name == "orange"
     assert np.hypot(change.after.centroid[0] - 300, change.after.centroid[1] - 380) < 2.0
 

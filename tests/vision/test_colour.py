@@ -21,8 +21,9 @@ def test_simulator_colours_are_named(name):
     assert colour_name(rgb) == name
 
 
-@pytest.mark.parametrize("rgb", [(128, 128, 128), (250, 250, 250), (20, 200, 200), (250, 160, 185),
-                                 (100, 60, 20), (15, 15, 15)])
+@pytest.mark.parametrize(
+    "rgb", [(128, 128, 128), (250, 250, 250), (20, 200, 200), (250, 160, 185), (100, 60, 20), (15, 15, 15)]
+)
 def test_colours_outside_the_six_get_the_generic_symbol(rgb):
     assert colour_name(np.array([rgb], np.uint8)) == GENERIC
 

@@ -36,8 +36,12 @@ def test_a_mask_gives_the_full_image_features_inside_it_in_image_pixels():
     mask[190:270, 290:370] = 1
     masked = extract_features(image, mask)
     whole = extract_features(image)
-    inside = whole.keypoints[(whole.keypoints[:, 0] >= 290) & (whole.keypoints[:, 0] < 370)
-                             & (whole.keypoints[:, 1] >= 190) & (whole.keypoints[:, 1] < 270)]
+    inside = whole.keypoints[
+        (whole.keypoints[:, 0] >= 290)
+        & (whole.keypoints[:, 0] < 370)
+        & (whole.keypoints[:, 1] >= 190)
+        & (whole.keypoints[:, 1] < 270)
+    ]
     assert len(masked) >= 0.8 * len(inside) > 5
     x, y = masked.keypoints[:, 0], masked.keypoints[:, 1]
     assert (x >= 289).all() and (x < 371).all() and (y >= 189).all() and (y < 271).all()

@@ -8,15 +8,18 @@ from vslsp.grounding.synthetic import TABLE_RGB, Square, tabletop_image
 from vslsp.vision.image import as_rgb, header_size, read_image, table_colour, write_image
 
 
-@pytest.mark.parametrize("bad, message", [
-    (np.zeros((48, 64, 3), np.float32), "uint8"),
-    (np.zeros((48, 64), np.uint8), "shape"),
-    (np.zeros((48, 64, 4), np.uint8), "shape"),
-    (np.zeros((20, 64, 3), np.uint8), "at least 32 and at most 8192 pixels a side"),
-    (np.zeros((40, 9000, 3), np.uint8), "is 9000x40 pixels"),
-    (np.zeros((40, 400, 3), np.uint8), "at most 8:1 between the sides"),
-    ([[0, 0, 0]], "numpy array"),
-])
+@pytest.mark.parametrize(
+    "bad, message",
+    [
+        (np.zeros((48, 64, 3), np.float32), "uint8"),
+        (np.zeros((48, 64), np.uint8), "shape"),
+        (np.zeros((48, 64, 4), np.uint8), "shape"),
+        (np.zeros((20, 64, 3), np.uint8), "at least 32 and at most 8192 pixels a side"),
+        (np.zeros((40, 9000, 3), np.uint8), "is 9000x40 pixels"),
+        (np.zeros((40, 400, 3), np.uint8), "at most 8:1 between the sides"),
+        ([[0, 0, 0]], "numpy array"),
+    ],
+)
 def test_wrong_images_are_input_errors(bad, message):
     with pytest.raises(InputError, match=message):
         as_rgb(bad)
@@ -43,8 +46,9 @@ def test_oversized_files_are_refused_from_their_header(tmp_path):
             read_image(tmp_path / name)
 
 
-@pytest.mark.parametrize("name, message", [("x.txt", "ending in .png"), ("noext", "ending in .png"),
-                                           ("missing/o.png", "does not exist")])
+@pytest.mark.parametrize(
+    "name, message", [("x.txt", "ending in .png"), ("noext", "ending in .png"), ("missing/o.png", "does not exist")]
+)
 def test_unwritable_image_names_are_input_errors(tmp_path, name, message):
     with pytest.raises(InputError, match=message):
         write_image(tmp_path / name, np.zeros((40, 40, 3), np.uint8))

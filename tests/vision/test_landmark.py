@@ -12,8 +12,9 @@ def _distance_to(line, point):
     return abs(line.signed_distance(point))
 
 
-@pytest.mark.parametrize("a, b", [((0, 300), (640, 260)), ((0, 100), (640, 420)), ((200, 0), (330, 480)),
-                                  ((0, 240), (640, 240))])
+@pytest.mark.parametrize(
+    "a, b", [((0, 300), (640, 260)), ((0, 100), (640, 420)), ((200, 0), (330, 480)), ((0, 240), (640, 240))]
+)
 def test_the_line_is_found_where_it_was_drawn(a, b):
     line = find_landmark(tabletop_image([], line=(a, b), noise=5))
     for t in np.linspace(0.1, 0.9, 5):
@@ -24,8 +25,9 @@ def test_the_line_is_found_where_it_was_drawn(a, b):
 
 
 def test_objects_on_the_line_do_not_bend_the_fit():
-    squares = [Square(colour, (x, 300 - 40 * x / 640), 70, 25) for colour, x in
-               (("red", 120), ("blue", 330), ("green", 520))]
+    squares = [
+        Square(colour, (x, 300 - 40 * x / 640), 70, 25) for colour, x in (("red", 120), ("blue", 330), ("green", 520))
+    ]
     line = find_landmark(tabletop_image(squares, line=((0, 300), (640, 260)), noise=10))
     for x in (0, 320, 640):
         assert _distance_to(line, (x, 300 - 40 * x / 640)) < 1.5

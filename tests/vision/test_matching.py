@@ -69,8 +69,7 @@ def test_an_object_s_recorded_features_recognise_it_in_a_later_observation():
     observation = houses_world([(200, 150)], [0], size=(480, 360))
     phi = object_features(observation, (200, 120, BODY_SIZE, BODY_SIZE + 30))  # body and roof
     later = houses_world([(300, 200)], [0], size=(480, 360), seed=3)  # moved 100 px right, 50 down
-    match = find_best_match(observation, later, (230.0, 165.0), object_size=BODY_SIZE,
-                            observation_features=phi)
+    match = find_best_match(observation, later, (230.0, 165.0), object_size=BODY_SIZE, observation_features=phi)
     assert np.hypot(match.x - 330.0, match.y - 215.0) < 3.0 and abs(np.degrees(match.theta)) < 2.0
 
 

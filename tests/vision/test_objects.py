@@ -14,7 +14,7 @@ def test_objects_are_found_left_to_right_with_colour_and_centroid():
     assert [o.name for o in objects] == ["green", "orange", "purple"]
     for obj, square in zip(objects, squares):
         assert np.hypot(*np.subtract(obj.centroid, square.centre)) < 1.5
-        assert 0.8 * 60 ** 2 < obj.area < 1.2 * 60 ** 2
+        assert 0.8 * 60**2 < obj.area < 1.2 * 60**2
         x, y, w, h = obj.box
         assert x <= square.centre[0] <= x + w and y <= square.centre[1] <= y + h
 

@@ -106,8 +106,19 @@ def test_a_fixed_small_frame_puts_the_third_roof_below_a_finished_house(seed):
 @pytest.mark.slow
 def test_the_command_writes_the_report_and_prints_json(tmp_path, capsys):
     with pytest.raises(SystemExit) as done:
-        main(["experiment", "house-roof", "--trials", "1", "--seed", str(FIXED_FRAME_FAILS[0]), "--json",
-              "--out", str(tmp_path)])
+        main(
+            [
+                "experiment",
+                "house-roof",
+                "--trials",
+                "1",
+                "--seed",
+                str(FIXED_FRAME_FAILS[0]),
+                "--json",
+                "--out",
+                str(tmp_path),
+            ]
+        )
     data = json.loads(capsys.readouterr().out)
     assert done.value.code == 0
     assert data["experiment"] == "house-roof" and data["trials"] == 1 and data["success_rate"] == 1.0

@@ -115,18 +115,22 @@ def test_the_last_look_puts_right_an_object_left_off_its_place_and_leaves_one_on
 def test_a_placement_that_maps_many_features_onto_one_spot_loses_to_the_object_seen_turned():
     rng = np.random.default_rng(3)
     points = rng.uniform(0, 100, (40, 2)).astype(np.float32)
-    obj = Features(np.column_stack([points, np.full((40, 2), 3.0, np.float32)]),
-                   rng.uniform(0, 1, (40, 128)).astype(np.float32))
+    obj = Features(
+        np.column_stack([points, np.full((40, 2), 3.0, np.float32)]), rng.uniform(0, 1, (40, 128)).astype(np.float32)
+    )
     turn = np.radians(160.0)
     rotation = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
     turned = points[:8] @ rotation.T + (600.0, 400.0)  # the object, 8 features found again
     spot = np.full((12, 2), (200.0, 150.0)) + rng.uniform(-1, 1, (12, 2))  # 12 features on one spot
-    seen = Features(np.column_stack([np.vstack([turned, spot]), np.full((20, 2), 3.0)]).astype(np.float32),
-                    obj.descriptors[:20].copy())
+    seen = Features(
+        np.column_stack([np.vstack([turned, spot]), np.full((20, 2), 3.0)]).astype(np.float32),
+        obj.descriptors[:20].copy(),
+    )
     found = object_candidates(obj, seen, 3)
     assert found and found[0][1] == 8
-    assert apply(found[0][0], (50.0, 50.0)) == pytest.approx(tuple(np.array([50.0, 50.0]) @ rotation.T + (600, 400)),
-                                                             abs=0.5)
+    assert apply(found[0][0], (50.0, 50.0)) == pytest.approx(
+        tuple(np.array([50.0, 50.0]) @ rotation.T + (600, 400)), abs=0.5
+    )
     assert all(0.67 <= np.hypot(t[0, 0], t[1, 0]) <= 1.5 for t, _ in found)
 
 

@@ -14,10 +14,18 @@ def operation(actor: str, diagnosis: str, item: str = "A") -> dict:
 
 
 def test_the_summary_rates_the_robots_operations_and_names_the_failures():
-    trials = [TrialResult("domino", 0, True, None, 2.0, [operation("tutor", "ok"), operation("robot", "ok")]),
-              TrialResult("domino", 1, False, "operation 1 (robot, B): grasp failed", 4.0,
-                          [operation("tutor", "ok"), operation("robot", "grasp failed", "B")]),
-              TrialResult("domino", 2, False, "demonstration: no object was taken", 1.0, [])]
+    trials = [
+        TrialResult("domino", 0, True, None, 2.0, [operation("tutor", "ok"), operation("robot", "ok")]),
+        TrialResult(
+            "domino",
+            1,
+            False,
+            "operation 1 (robot, B): grasp failed",
+            4.0,
+            [operation("tutor", "ok"), operation("robot", "grasp failed", "B")],
+        ),
+        TrialResult("domino", 2, False, "demonstration: no object was taken", 1.0, []),
+    ]
     data = summary(get_task("domino"), Run(trials, [0, 1, 2]))
     assert (data["trials"], data["successes"], data["success_rate"]) == (3, 1, pytest.approx(1 / 3))
     assert (data["operations"], data["operations_ok"], data["operation_success_rate"]) == (2, 1, 0.5)

@@ -12,14 +12,18 @@ CAMERA_SCALE = 1500.0 / textures.PX_PER_M  # the top-down view's px per m over t
 
 ALL = {
     **{f"letter {c}": lambda c=c: textures.letter_tile(c, (0.04, 0.055)) for c in "ABCD"},
-    **{f"{a} {p}": lambda a=a, p=p: textures.puzzle_piece(a, p, (0.055, 0.04)) for a in ("frog", "giraffe")
-       for p in (0, 1)},
+    **{
+        f"{a} {p}": lambda a=a, p=p: textures.puzzle_piece(a, p, (0.055, 0.04))
+        for a in ("frog", "giraffe")
+        for p in (0, 1)
+    },
     **{s: lambda s=s: textures.picture(s, (0.055, 0.045)) for s in textures.PICTURES},
     **{f"domino {k}": lambda k=k: textures.domino_piece(k, (0.07, 0.035)) for k in range(1, 6)},
     **{f"disk {k}": lambda k=k: textures.hanoi_disk(k, (0.045 + 0.015 * k, 0.045)) for k in (1, 2, 3)},
     "base": lambda: textures.hanoi_base((0.12, 0.12)),
     "baseline": lambda: textures.baseline((0.025, 0.34), "long"),
-    "pond": lambda: textures.label("pond", (0.15, 0.09)), "tree": lambda: textures.label("tree", (0.15, 0.09)),
+    "pond": lambda: textures.label("pond", (0.15, 0.09)),
+    "tree": lambda: textures.label("tree", (0.15, 0.09)),
     "bin animals": lambda: textures.bin_plate("animals", (0.2, 0.13)),
     "bin machines": lambda: textures.bin_plate("machines", (0.2, 0.13)),
 }

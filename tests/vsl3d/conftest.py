@@ -20,8 +20,7 @@ def duck_view() -> tuple[np.ndarray, np.ndarray]:
     return voxel_downsample(points[WORKSPACE.contains(points)], 0.002), camera.position
 
 
-LAYOUT = {"duck": (0.42, -0.17, 0.4), "teddy": (0.62, -0.16, -0.5), "mug": (0.40, 0.03, 2.4),
-          "blob": (0.66, 0.0, 1.0)}
+LAYOUT = {"duck": (0.42, -0.17, 0.4), "teddy": (0.62, -0.16, -0.5), "mug": (0.40, 0.03, 2.4), "blob": (0.66, 0.0, 1.0)}
 TOLERANCE_M, TOLERANCE_DEG = 0.005, 3.0
 
 
@@ -35,8 +34,16 @@ def _centre(scene: CloudScene, name: str) -> np.ndarray:
     return (lower + upper) / 2.0
 
 
-def demonstrate(scene: CloudScene, name: str, x: float, y: float, yaw: float, roll: float = 0.0,
-                 pitch: float = 0.0, into_tray: bool = False):
+def demonstrate(
+    scene: CloudScene,
+    name: str,
+    x: float,
+    y: float,
+    yaw: float,
+    roll: float = 0.0,
+    pitch: float = 0.0,
+    into_tray: bool = False,
+):
     """The tutor moves ``name``; returns the pre and post worlds, the true motion (4, 4) and the
     object's centre before the move."""
     pre = world(scene)

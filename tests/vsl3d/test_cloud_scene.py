@@ -36,8 +36,11 @@ def test_the_tutor_places_an_object_at_a_6dof_pose_and_the_truth_follows():
 
 def test_sensor_noise_is_seeded_and_grows_with_depth():
     layout = {"teddy": (0.5, -0.1, 0.3)}
-    with CloudScene(layout, noise=True, seed=2) as a, CloudScene(layout, noise=True, seed=2) as b, \
-            CloudScene(layout) as clean:
+    with (
+        CloudScene(layout, noise=True, seed=2) as a,
+        CloudScene(layout, noise=True, seed=2) as b,
+        CloudScene(layout) as clean,
+    ):
         first, second, exact = a.capture().depth, b.capture().depth, clean.capture().depth
     np.testing.assert_array_equal(first, second)
     seen = exact > 0

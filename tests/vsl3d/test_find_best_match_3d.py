@@ -4,14 +4,13 @@ recovered; an absent object is not matched."""
 import numpy as np
 import pytest
 
+from tests.vsl3d.conftest import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, WORKSPACE, assert_within_bounds, demonstrate, world
 from vslsp.errors import InputError, TaskFailed
 from vslsp.sim.cloud_scene import SENSOR, CloudScene
 from vslsp.vsl3d.cloud import DepthCamera
 from vslsp.vsl3d.matching import find_best_match, object_windows
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.vsl import CloudObservation, WorldCloud, get_object
-
-from tests.vsl3d.conftest import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, WORKSPACE, assert_within_bounds, demonstrate, world
 
 
 def test_find_best_match_finds_a_recorded_observation_in_a_reshuffled_world(tmp_path):
@@ -21,8 +20,12 @@ def test_find_best_match_finds_a_recorded_observation_in_a_reshuffled_world(tmp_
         observation = get_object(pre, post).pre
     observation.save(tmp_path / "teddy.npz")
     observation = CloudObservation.load(tmp_path / "teddy.npz")
-    reshuffled = {"duck": (0.64, -0.02, -1.0), "teddy": (0.45, -0.12, 0.2), "mug": (0.60, -0.18, 1.0),
-                  "blob": (0.40, 0.06, 2.5)}
+    reshuffled = {
+        "duck": (0.64, -0.02, -1.0),
+        "teddy": (0.45, -0.12, 0.2),
+        "mug": (0.60, -0.18, 1.0),
+        "blob": (0.40, 0.06, 2.5),
+    }
     with CloudScene(reshuffled) as scene:
         captured = world(scene)
         truth = scene.pose("teddy") @ np.linalg.inv(recorded_pose)
@@ -55,7 +58,9 @@ def test_bad_observation_files_and_methods(tmp_path, duck_view):
 def test_windows_are_the_objects_not_the_box(duck_view):
     layout = {"duck": (0.45, -0.15, 0.3), "teddy": (0.62, -0.12, 1.0)}
     with CloudScene(layout) as scene:
-        scene.tutor_move("teddy", scene.resting_pose("teddy", 0.56, 0.16, 0.5, support=scene.surface_height(0.56, 0.16)))
+        scene.tutor_move(
+            "teddy", scene.resting_pose("teddy", 0.56, 0.16, 0.5, support=scene.surface_height(0.56, 0.16))
+        )
         captured = world(scene)
         centres = [np.mean(scene.bounds(name), axis=0) for name in layout]
     found = [centre for _, centre in object_windows(captured.points, duck_view[0])]

@@ -19,8 +19,7 @@ def test_pair_features_of_known_pairs():
     np.testing.assert_allclose(flat, [[0.0, 0.0, 0.0]], atol=1e-12)
     # The source normal leans towards the target by a: phi = sin a, theta = -a, alpha = 0.
     a = 0.3
-    leaning = pair_features(np.zeros((1, 3)), np.array([[np.sin(a), 0.0, np.cos(a)]]),
-                            np.array([[1.0, 0.0, 0.0]]), up)
+    leaning = pair_features(np.zeros((1, 3)), np.array([[np.sin(a), 0.0, np.cos(a)]]), np.array([[1.0, 0.0, 0.0]]), up)
     np.testing.assert_allclose(leaning, [[0.0, np.sin(a), -a]], atol=1e-12)
     # The features do not depend on which point of the pair is the query.
     rng = np.random.default_rng(0)

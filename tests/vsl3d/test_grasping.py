@@ -75,8 +75,9 @@ def test_an_empty_capture_is_a_diagnosis_not_a_traceback(duck_view):
     points, sensor = duck_view
     observation = CloudObservation(points, None, sensor)  # type: ignore[arg-type]
     with CloudScene({}, tray=False, robot=True) as scene:
-        record = reproduce(scene, observation, lambda match, world: np.eye(4), method="prerejective_ransac", seed=0,
-                           movable=[])
+        record = reproduce(
+            scene, observation, lambda match, world: np.eye(4), method="prerejective_ransac", seed=0, movable=[]
+        )
     assert record.diagnosis is not None and record.diagnosis.startswith("empty capture")
     assert record.to_dict()["executed_by"] == "robot" and record.to_dict()["attempts"] == 1
 
@@ -86,6 +87,12 @@ def test_an_object_never_seen_is_a_diagnosis(duck_view):
     points, sensor = duck_view
     observation = CloudObservation(points, None, sensor)  # type: ignore[arg-type]
     with CloudScene({"blob": (0.5, 0.0, 0.0), "mug": (0.45, -0.15, 1.0)}, robot=True) as scene:
-        record = reproduce(scene, observation, lambda match, world: np.eye(4), method="prerejective_ransac", seed=0,
-                           movable=list(scene.bodies.values()))
+        record = reproduce(
+            scene,
+            observation,
+            lambda match, world: np.eye(4),
+            method="prerejective_ransac",
+            seed=0,
+            movable=list(scene.bodies.values()),
+        )
     assert record.diagnosis is not None and "match" in record.diagnosis

@@ -8,7 +8,12 @@ from vslsp.errors import TaskFailed
 from vslsp.vsl3d.alignment import align, describe
 from vslsp.vsl3d.normals import estimate_normals
 from vslsp.vsl3d.registration import (
-    icp, prerejective_ransac, rigid_transform, sac_ia, transform_error, transform_points,
+    icp,
+    prerejective_ransac,
+    rigid_transform,
+    sac_ia,
+    transform_error,
+    transform_points,
 )
 
 
@@ -55,12 +60,14 @@ def test_the_global_stage_alone_lands_within_icp_reach(moved_duck):
     source, target, truth, sensor, moved_sensor = moved_duck
     sparse_source, source_features, _ = describe(source, sensor)
     sparse_target, target_features, tree = describe(target, moved_sensor)
-    coarse = prerejective_ransac(sparse_source, sparse_target, source_features, target_features, 0.0075,
-                                 seed=3, target_tree=tree)
+    coarse = prerejective_ransac(
+        sparse_source, sparse_target, source_features, target_features, 0.0075, seed=3, target_tree=tree
+    )
     translation, rotation = transform_error(coarse.transform, truth, source.mean(axis=0))
     assert translation < 0.01 and rotation < 8.0
-    again = prerejective_ransac(sparse_source, sparse_target, source_features, target_features, 0.0075,
-                                seed=3, target_tree=tree)
+    again = prerejective_ransac(
+        sparse_source, sparse_target, source_features, target_features, 0.0075, seed=3, target_tree=tree
+    )
     np.testing.assert_array_equal(again.transform, coarse.transform)  # seeded: deterministic
     sac = sac_ia(sparse_source, sparse_target, source_features, target_features, 0.0075, seed=3, target_tree=tree)
     assert transform_error(sac.transform, truth, source.mean(axis=0))[0] < 0.015

@@ -4,12 +4,12 @@ pre-/post-action observations and its 6-DoF motion, or says clearly why not."""
 import numpy as np
 import pytest
 
+from tests.vsl3d.conftest import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, assert_within_bounds, demonstrate, world
 from vslsp.errors import TaskFailed
 from vslsp.sim.cloud_scene import CloudScene
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.vsl import get_object
 
-from tests.vsl3d.conftest import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, assert_within_bounds, demonstrate, world
 
 def test_get_object_finds_the_moved_object_and_its_planar_motion():
     with CloudScene(LAYOUT) as scene:
@@ -30,8 +30,7 @@ def test_get_object_finds_the_moved_object_and_its_planar_motion():
 @pytest.mark.slow
 def test_get_object_recovers_a_tilted_placement_in_the_tray():
     with CloudScene(LAYOUT) as scene:
-        pre, post, truth, centre = demonstrate(scene, "duck", 0.56, 0.16, 1.5, roll=0.3, pitch=0.2,
-                                                into_tray=True)
+        pre, post, truth, centre = demonstrate(scene, "duck", 0.56, 0.16, 1.5, roll=0.3, pitch=0.2, into_tray=True)
         moved = get_object(pre, post)
         assert_within_bounds(moved.post.points, scene, "duck")
     translation, rotation = transform_error(moved.transform, truth, centre)

@@ -19,12 +19,22 @@ from vslsp.cli.params import OUTPUT_FOLDER, seed_option
 
 
 @click.command()
-@click.option("--out", type=OUTPUT_FOLDER, default="out/demo", show_default=True,
-              help="Report folder (created and checked for writing before the run).")
+@click.option(
+    "--out",
+    type=OUTPUT_FOLDER,
+    default="out/demo",
+    show_default=True,
+    help="Report folder (created and checked for writing before the run).",
+)
 @seed_option(help="Seed of the embedded scene (0 to 4294967295).")
 @click.option("--gui", is_flag=True, help="Show the pybullet GUI (needs a display).")
-@click.option("--skills", "skills_dir", type=click.Path(file_okay=False), default=None,
-              help="Skill library folder (default: the shipped skills).")
+@click.option(
+    "--skills",
+    "skills_dir",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Skill library folder (default: the shipped skills).",
+)
 def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
     """Run the full VSL-SP pipeline (pull-in-order) on the embedded scene and write a report."""
     from rich.console import Console
@@ -53,8 +63,10 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
         console.log(f"learned task: {len(trial.task.constraints)} ordering constraints")
     if details.get("plan"):
         console.log(f"plan (Fast Downward): {', '.join(details['plan'])}")
-    console.log(f"executed order: VSL-SP {details.get('vsl_sp_order')}, VSL {details.get('vsl_order')}; "
-                f"{details.get('replans', 0)} replans")
+    console.log(
+        f"executed order: VSL-SP {details.get('vsl_sp_order')}, VSL {details.get('vsl_order')}; "
+        f"{details.get('replans', 0)} replans"
+    )
     verdict = "succeeded" if result.success else f"failed: {result.error}"
     click.echo(f"demo {verdict} in {time.perf_counter() - start:.0f} s; report: {Path(out) / 'report.md'}")
     sys.exit(0 if result.success else 1)

@@ -21,29 +21,67 @@ from vslsp.cli.params import prepare_output_folder, seed_option
 @click.option("--list", "list_them", is_flag=True, help="List the experiments (with --json: as JSON) and exit.")
 @click.option("--trials", type=click.IntRange(1, 100_000), default=1, show_default=True)
 @seed_option(help="Seed of the first trial (then seed+1, ...), 0 to 4294967295.")
-@click.option("--workers", type=click.IntRange(1, 256), default=1, show_default=True,
-              help="Trials running in parallel (processes, or Ray tasks with --backend ray).")
-@click.option("--backend", type=click.Choice(["local", "ray"]), default="local", show_default=True,
-              help="local: this machine's processes; ray: a Ray cluster (pip install 'vslsp[ray]').")
-@click.option("--address", default=None,
-              help="With --backend ray: the cluster's address ('auto', 'ray://HOST:10001', HOST:PORT); "
-                   "default: a local Ray instance started for the run.")
-@click.option("--faults", is_flag=True, help="VSL-SP: inject an execution fault per trial (cube nudged back, "
-                                              "step skipped).")
+@click.option(
+    "--workers",
+    type=click.IntRange(1, 256),
+    default=1,
+    show_default=True,
+    help="Trials running in parallel (processes, or Ray tasks with --backend ray).",
+)
+@click.option(
+    "--backend",
+    type=click.Choice(["local", "ray"]),
+    default="local",
+    show_default=True,
+    help="local: this machine's processes; ray: a Ray cluster (pip install 'vslsp[ray]').",
+)
+@click.option(
+    "--address",
+    default=None,
+    help="With --backend ray: the cluster's address ('auto', 'ray://HOST:10001', HOST:PORT); "
+    "default: a local Ray instance started for the run.",
+)
+@click.option(
+    "--faults", is_flag=True, help="VSL-SP: inject an execution fault per trial (cube nudged back, step skipped)."
+)
 @click.option("--planner", default=None, help="VSL-SP: unified-planning oneshot planner [default: fast-downward].")
-@click.option("--skills", "skills_dir", type=click.Path(file_okay=False), default=None,
-              help="VSL-SP: skill library folder (default: the shipped skills).")
+@click.option(
+    "--skills",
+    "skills_dir",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="VSL-SP: skill library folder (default: the shipped skills).",
+)
 @click.option("--method", default=None, help="VSL-3D: match finding (prerejective_ransac, sac_ia, icp).")
-@click.option("--out", type=click.Path(file_okay=False), default=None,
-              help="Report folder (default: out/experiments/NAME).")
-@click.option("--predicates", "predicates_file", type=click.Path(dir_okay=False), default=None,
-              help="VSL-SP: a Python file of your predicates (@predicate from vslsp.grounding), grounded with far at "
-                   "every observed step and learned into the action models, rules and goals. It runs as Python with "
-                   "your rights, like a pytest conftest.py.")
+@click.option(
+    "--out", type=click.Path(file_okay=False), default=None, help="Report folder (default: out/experiments/NAME)."
+)
+@click.option(
+    "--predicates",
+    "predicates_file",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="VSL-SP: a Python file of your predicates (@predicate from vslsp.grounding), grounded with far at "
+    "every observed step and learned into the action models, rules and goals. It runs as Python with "
+    "your rights, like a pytest conftest.py.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object on stdout.")
-def experiment(name: str | None, list_them: bool, trials: int, seed: int, workers: int, backend: str,
-               address: str | None, faults: bool, planner: str | None, skills_dir: str | None, method: str | None,
-               predicates_file: str | None, out: str | None, as_json: bool) -> None:
+def experiment(
+    name: str | None,
+    list_them: bool,
+    trials: int,
+    seed: int,
+    workers: int,
+    backend: str,
+    address: str | None,
+    faults: bool,
+    planner: str | None,
+    skills_dir: str | None,
+    method: str | None,
+    predicates_file: str | None,
+    out: str | None,
+    as_json: bool,
+) -> None:
     """Run experiment NAME (see --list) and write a report folder.
 
     Exit 0 when every trial succeeded, 1 when a trial failed or the run was interrupted, 2 for
@@ -68,26 +106,34 @@ def experiment(name: str | None, list_them: bool, trials: int, seed: int, worker
         from vslsp.tasks.ray_backend import check_ray
 
         check_ray(address)
-    task = get_task(name, faults=faults, planner=planner, skills=skills_dir, method=method,
-                    predicates=str(Path(predicates_file).resolve()) if predicates_file else None)
+    task = get_task(
+        name,
+        faults=faults,
+        planner=planner,
+        skills=skills_dir,
+        method=method,
+        predicates=str(Path(predicates_file).resolve()) if predicates_file else None,
+    )
     folder = Path(out) if out else Path("out") / "experiments" / name
     prepare_output_folder(folder)
-    data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend,
-                          address=address)
+    data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend, address=address)
     if as_json:
         click.echo(json.dumps(data))
     else:
         partial = f" (interrupted after {data['trials']} of {data['trials_requested']})" if data.get("partial") else ""
-        click.echo(f"{name}: {data['successes']}/{data['trials']} trials succeeded "
-                   f"({100 * data['success_rate']:.1f} %){partial}, {data['mean_time_s']} s per trial; "
-                   f"report: {folder / 'report.md'}")
+        click.echo(
+            f"{name}: {data['successes']}/{data['trials']} trials succeeded "
+            f"({100 * data['success_rate']:.1f} %){partial}, {data['mean_time_s']} s per trial; "
+            f"report: {folder / 'report.md'}"
+        )
         for failure in data["failures"][:10]:
             click.echo(f"  seed {failure['seed']}: {failure['error']}", err=True)
     sys.exit(0 if data["successes"] == data["trials"] and not data.get("partial") else 1)
 
 
-def run_experiment(task, seeds, folder: Path, *, workers: int = 1, backend: str = "local",
-                   address: str | None = None) -> dict:
+def run_experiment(
+    task, seeds, folder: Path, *, workers: int = 1, backend: str = "local", address: str | None = None
+) -> dict:
     """Run the trials with a progress bar on stderr and write the report; returns the summary."""
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
@@ -96,8 +142,15 @@ def run_experiment(task, seeds, folder: Path, *, workers: int = 1, backend: str 
 
     seeds = list(seeds)
     console = Console(stderr=True)
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  TextColumn("{task.fields[ok]} ok"), console=console, transient=True) as progress:
+    with Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        TextColumn("{task.fields[ok]} ok"),
+        console=console,
+        transient=True,
+    ) as progress:
         bar = progress.add_task(task.name, total=len(seeds), ok=0)
         done = {"ok": 0, "finished": 0}
 
@@ -107,10 +160,13 @@ def run_experiment(task, seeds, folder: Path, *, workers: int = 1, backend: str 
             progress.update(bar, advance=1, ok=done["ok"])
 
         def interrupted(signal_name: str) -> None:
-            console.print(f"{signal_name}: stopping now: cancelling the outstanding trials, ending the workers, "
-                          f"writing the report of the {done['finished']} finished trials")
+            console.print(
+                f"{signal_name}: stopping now: cancelling the outstanding trials, ending the workers, "
+                f"writing the report of the {done['finished']} finished trials"
+            )
 
-        run = run_trials(task, seeds, workers=workers, backend=backend, address=address, on_done=advance,
-                         on_interrupt=interrupted)
+        run = run_trials(
+            task, seeds, workers=workers, backend=backend, address=address, on_done=advance, on_interrupt=interrupted
+        )
         progress.update(bar, description=f"{task.name}: report")
         return write_report(folder, task, run)

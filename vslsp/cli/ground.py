@@ -11,24 +11,40 @@ import click
 @click.command()
 @click.argument("pre", type=click.Path(dir_okay=False))
 @click.argument("post", type=click.Path(dir_okay=False))
-@click.option("--robot-side", type=click.Choice(["bottom", "top", "left", "right"]), default="bottom",
-              show_default=True, help="The image edge the robot is beyond (bottom: the robot's own view).")
-@click.option("--predicates", "predicates_file", type=click.Path(dir_okay=False), default=None,
-              help="A Python file of predicates (@predicate from vslsp.grounding) to ground for every object and "
-                   "ordered pair, before and after. The file runs as Python with your rights, like a pytest "
-                   "conftest.py: use only files you trust.")
-@click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout ({\"error\": ...} on failure).")
-@click.option("--overlay", type=click.Path(dir_okay=False), default=None,
-              help="Write a PNG with the line, the object before and after, and the labels.")
-def ground(pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool,
-           overlay: str | None) -> None:
+@click.option(
+    "--robot-side",
+    type=click.Choice(["bottom", "top", "left", "right"]),
+    default="bottom",
+    show_default=True,
+    help="The image edge the robot is beyond (bottom: the robot's own view).",
+)
+@click.option(
+    "--predicates",
+    "predicates_file",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="A Python file of predicates (@predicate from vslsp.grounding) to ground for every object and "
+    "ordered pair, before and after. The file runs as Python with your rights, like a pytest "
+    "conftest.py: use only files you trust.",
+)
+@click.option("--json", "as_json", is_flag=True, help='Print one JSON object on stdout ({"error": ...} on failure).')
+@click.option(
+    "--overlay",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Write a PNG with the line, the object before and after, and the labels.",
+)
+def ground(
+    pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool, overlay: str | None
+) -> None:
     """Ground one demonstrated operation from its PRE- and POST-action images (PNG/JPEG; at least 32 and
     at most 8192 pixels a side, at most 40 megapixels)."""
     _ground(pre, post, robot_side, predicates_file, as_json, overlay)  # errors: vslsp.cli.main (JSON too)
 
 
-def _ground(pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool,
-            overlay: str | None) -> None:
+def _ground(
+    pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool, overlay: str | None
+) -> None:
     from vslsp.grounding import draw_grounding, load_predicates, with_builtins
     from vslsp.grounding import ground as ground_pair
     from vslsp.vision.image import check_image_output, read_image, write_image

@@ -73,8 +73,10 @@ class Seed(click.ParamType):
 SEED = Seed()
 
 
-def seed_option(help: str = "Seed of the run (0 to 4294967295): the same seed, the same result.",  # noqa: A002
-                default: int = 0) -> Callable[[F], F]:
+def seed_option(
+    help: str = "Seed of the run (0 to 4294967295): the same seed, the same result.",  # noqa: A002
+    default: int = 0,
+) -> Callable[[F], F]:
     """The ``--seed`` option every seeded command shares."""
     return click.option("--seed", type=SEED, default=default, show_default=True, help=help)
 
@@ -101,8 +103,7 @@ def _folder_problem(path: Path) -> str | None:
     """Create ``path`` as a folder and probe it; a sentence saying what is wrong, or None."""
     blocker = _blocking_file(path)
     if blocker is not None:
-        return (f"{blocker} is a file, so the folder {path} cannot be created there; "
-                "choose another output folder")
+        return f"{blocker} is a file, so the folder {path} cannot be created there; choose another output folder"
     try:
         path.mkdir(parents=True, exist_ok=True)
         _probe(path)

@@ -40,15 +40,19 @@ def pddl_edge(as_json: bool, debug: bool, failure: dict[str, Any] | None = None)
         if isinstance(error, (click.exceptions.Exit, click.ClickException)):
             raise
         if not isinstance(error, VslspError):  # a bug or a failure we did not foresee: not the user's input
-            wrapped = InternalError(f"internal error ({type(error).__name__}: {error}); run with --debug for the "
-                                    "traceback")
+            wrapped = InternalError(
+                f"internal error ({type(error).__name__}: {error}); run with --debug for the traceback"
+            )
             wrapped.__cause__ = error
             error = wrapped
         if debug and error.__cause__ is not None:
             traceback.print_exception(error.__cause__, file=sys.stderr)
         if as_json:
-            click.echo(json.dumps({**(failure or {}), "error": str(error), "exit_code": error.exit_code,
-                                   "warnings": collected}))
+            click.echo(
+                json.dumps(
+                    {**(failure or {}), "error": str(error), "exit_code": error.exit_code, "warnings": collected}
+                )
+            )
             error.json_printed = True  # type: ignore[attr-defined]
         raise error from None
 
@@ -73,13 +77,16 @@ def check(domain: str, problem: str | None, as_json: bool, debug: bool) -> None:
 
     with pddl_edge(as_json, debug) as warned:
         parsed_domain, parsed_problem = read_pddl(domain, problem)
-    summary: dict[str, Any] = {"domain": {
-        "name": parsed_domain.name,
-        "types": [name for name, _ in parsed_domain.types],
-        "constants": [name for name, _ in parsed_domain.constants],
-        "predicates": [p.name for p in parsed_domain.predicates],
-        "actions": [a.name for a in parsed_domain.actions],
-    }, "warnings": warned}
+    summary: dict[str, Any] = {
+        "domain": {
+            "name": parsed_domain.name,
+            "types": [name for name, _ in parsed_domain.types],
+            "constants": [name for name, _ in parsed_domain.constants],
+            "predicates": [p.name for p in parsed_domain.predicates],
+            "actions": [a.name for a in parsed_domain.actions],
+        },
+        "warnings": warned,
+    }
     if parsed_problem is not None:
         summary["problem"] = {
             "name": parsed_problem.name,
@@ -92,13 +99,17 @@ def check(domain: str, problem: str | None, as_json: bool, debug: bool) -> None:
         click.echo(json.dumps(summary))
         return
     d = summary["domain"]
-    click.echo(f"{domain}: domain {d['name']}: {_count(len(d['types']), 'type')}, predicates "
-               f"{', '.join(d['predicates'])}; actions {', '.join(d['actions'])}")
+    click.echo(
+        f"{domain}: domain {d['name']}: {_count(len(d['types']), 'type')}, predicates "
+        f"{', '.join(d['predicates'])}; actions {', '.join(d['actions'])}"
+    )
     if parsed_problem is not None:
         p = summary["problem"]
-        click.echo(f"{problem}: problem {p['name']}: {_count(len(p['objects']), 'object')}, "
-                   f"{_count(len(p['init']), 'true atom')} initially, goal {p['goal']}, "
-                   f"{_count(len(p['constraints']), 'constraint')}")
+        click.echo(
+            f"{problem}: problem {p['name']}: {_count(len(p['objects']), 'object')}, "
+            f"{_count(len(p['init']), 'true atom')} initially, goal {p['goal']}, "
+            f"{_count(len(p['constraints']), 'constraint')}"
+        )
         for constraint in p["constraints"]:
             click.echo(f"  {constraint}")
     click.echo("ok")

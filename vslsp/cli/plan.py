@@ -32,22 +32,47 @@ def writable_file(path: str) -> Path:
 @click.command()
 @click.argument("domain", type=click.Path(dir_okay=False))
 @click.argument("problem", type=click.Path(dir_okay=False))
-@click.option("--planner", default="fast-downward", show_default=True,
-              help="fast-downward (greedy FF), fast-downward-lama, fast-downward-opt (A* LM-cut), or any installed "
-                   "unified-planning oneshot planner.")
-@click.option("--compilation", type=click.Choice(["lifted", "ground"]), default=None,
-              help="How PDDL 3.0 constraints are compiled away: lifted (default with Fast Downward: monitors in the "
-                   "action schemas) or ground (unified-planning's TrajectoryConstraintsRemover).")
-@click.option("--timeout", type=click.FloatRange(min=0.1), default=None,
-              help="Give up after this many seconds (exit 1).")
-@click.option("--out", type=click.Path(dir_okay=False), default=None,
-              help="Also write the plan there, one (action arg ...) per line (the PLAN of vslsp validate).")
-@click.option("--json", "as_json", is_flag=True,
-              help='Print {"plan": [...] or null, "planner": str, "time_s": float, "compilation": str, "warnings": '
-                   '[...]} (and "error" on failure).')
+@click.option(
+    "--planner",
+    default="fast-downward",
+    show_default=True,
+    help="fast-downward (greedy FF), fast-downward-lama, fast-downward-opt (A* LM-cut), or any installed "
+    "unified-planning oneshot planner.",
+)
+@click.option(
+    "--compilation",
+    type=click.Choice(["lifted", "ground"]),
+    default=None,
+    help="How PDDL 3.0 constraints are compiled away: lifted (default with Fast Downward: monitors in the "
+    "action schemas) or ground (unified-planning's TrajectoryConstraintsRemover).",
+)
+@click.option(
+    "--timeout", type=click.FloatRange(min=0.1), default=None, help="Give up after this many seconds (exit 1)."
+)
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Also write the plan there, one (action arg ...) per line (the PLAN of vslsp validate).",
+)
+@click.option(
+    "--json",
+    "as_json",
+    is_flag=True,
+    help='Print {"plan": [...] or null, "planner": str, "time_s": float, "compilation": str, "warnings": '
+    '[...]} (and "error" on failure).',
+)
 @debug_option
-def plan(domain: str, problem: str, planner: str, compilation: str | None, timeout: float | None, out: str | None,
-         as_json: bool, debug: bool) -> None:
+def plan(
+    domain: str,
+    problem: str,
+    planner: str,
+    compilation: str | None,
+    timeout: float | None,
+    out: str | None,
+    as_json: bool,
+    debug: bool,
+) -> None:
     """Find a plan for PROBLEM in DOMAIN, keeping its PDDL 3.0 trajectory constraints.
 
     Exit 0: a plan; 1: no plan; 2: bad input; 3: the planner or compiler failed inside.
@@ -59,8 +84,13 @@ def plan(domain: str, problem: str, planner: str, compilation: str | None, timeo
         target = writable_file(out) if out else None
         parsed_domain, parsed_problem = read_pddl(domain, problem)
         assert parsed_problem is not None
-        result = solve(parsed_domain, parsed_problem, planner=planner,
-                       compilation=Compilation(compilation) if compilation else None, timeout=timeout)
+        result = solve(
+            parsed_domain,
+            parsed_problem,
+            planner=planner,
+            compilation=Compilation(compilation) if compilation else None,
+            timeout=timeout,
+        )
         if target is not None:
             save(result.to_pddl(), target)
     if as_json:
@@ -69,5 +99,8 @@ def plan(domain: str, problem: str, planner: str, compilation: str | None, timeo
     for number, line in enumerate(result.lines(), start=1):
         click.echo(f"{number}. {line}")
     steps = len(result.steps)
-    click.echo(f"{steps} step{'' if steps == 1 else 's'}, {result.planner}, constraints compiled: "
-               f"{result.compilation.value}, {result.time_s:.2f} s", err=True)
+    click.echo(
+        f"{steps} step{'' if steps == 1 else 's'}, {result.planner}, constraints compiled: "
+        f"{result.compilation.value}, {result.time_s:.2f} s",
+        err=True,
+    )

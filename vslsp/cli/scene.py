@@ -14,11 +14,21 @@ MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
 
 @click.command()
 @seed_option(help="Seed of the random scene (0 to 4294967295).")
-@click.option("--scene", "scene_file", type=click.Path(exists=True, dir_okay=False), default=None,
-              help="A scene JSON file (cubes and landmark) instead of a random scene.")
+@click.option(
+    "--scene",
+    "scene_file",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="A scene JSON file (cubes and landmark) instead of a random scene.",
+)
 @click.option("--cubes", type=click.IntRange(1, 3), default=3, show_default=True, help="Number of cubes.")
-@click.option("--out", type=OUTPUT_FOLDER, default="out/scene", show_default=True,
-              help="Folder for the views (created; must be writable).")
+@click.option(
+    "--out",
+    type=OUTPUT_FOLDER,
+    default="out/scene",
+    show_default=True,
+    help="Folder for the views (created; must be writable).",
+)
 @click.option("--width", type=count(MAX_IMAGE_SIDE), default=640, show_default=True, help="Image width (px).")
 @click.option("--height", type=count(MAX_IMAGE_SIDE), default=480, show_default=True, help="Image height (px).")
 @click.option("--gui", is_flag=True, help="Open the pybullet window.")

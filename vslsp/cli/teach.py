@@ -44,20 +44,35 @@ def protected_folder(folder: Path) -> str | None:
 
 @click.command()
 @click.argument("skill", type=click.Choice(["push", "pull"]))
-@click.option("--demos", type=count(100), default=5, show_default=True,
-              help="Number of demonstrations from different start poses.")
+@click.option(
+    "--demos",
+    type=count(100),
+    default=5,
+    show_default=True,
+    help="Number of demonstrations from different start poses.",
+)
 @seed_option()
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=DEFAULT_OUT, show_default=True,
-              help="Skill library folder to write into (the skill is added to a library already there).")
-@click.option("--force", is_flag=True,
-              help="Allow writing into the shipped skills/ (or the package, the source tree) and replace a "
-                   "damaged library's unreadable parts.")
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=DEFAULT_OUT,
+    show_default=True,
+    help="Skill library folder to write into (the skill is added to a library already there).",
+)
+@click.option(
+    "--force",
+    is_flag=True,
+    help="Allow writing into the shipped skills/ (or the package, the source tree) and replace a "
+    "damaged library's unreadable parts.",
+)
 def teach(skill: str, demos: int, seed: int, out: Path, force: bool) -> None:
     """Record kinesthetic-style demonstrations of SKILL and learn it; write the library and a figure."""
     protected = protected_folder(out)
     if protected and not force:
-        raise InputError(f"--out: {protected}; vslsp teach writes there only with --force "
-                         f"(or give another folder, default {DEFAULT_OUT})")
+        raise InputError(
+            f"--out: {protected}; vslsp teach writes there only with --force "
+            f"(or give another folder, default {DEFAULT_OUT})"
+        )
     folder = prepare_output_folder(out)
 
     from rich.progress import Progress
@@ -84,8 +99,9 @@ def teach(skill: str, demos: int, seed: int, out: Path, force: bool) -> None:
             except UnreachableError as unreachable:
                 skipped.append(f"demonstration {k}: {unreachable}")
     if len(recorded) < demos:
-        raise TaskFailed(f"only {len(recorded)} of {demos} {skill} demonstrations could be recorded: "
-                         + "; ".join(skipped[:3]))
+        raise TaskFailed(
+            f"only {len(recorded)} of {demos} {skill} demonstrations could be recorded: " + "; ".join(skipped[:3])
+        )
     learned = learn_skill(skill, recorded)
     learned.meta["seed"] = seed
     library.skills[skill] = learned
@@ -96,5 +112,7 @@ def teach(skill: str, demos: int, seed: int, out: Path, force: bool) -> None:
         click.echo(f"redone: {line}", err=True)
     for problem in damaged:
         click.echo(f"replaced (--force): {problem}", err=True)
-    click.echo(f"{skill}: {learned.reach.n_demos} demonstrations, fit RMSE "
-               f"{learned.reach.fit_rmse * 1000:.1f} mm -> {folder / 'library.json'}, {figure}")
+    click.echo(
+        f"{skill}: {learned.reach.n_demos} demonstrations, fit RMSE "
+        f"{learned.reach.fit_rmse * 1000:.1f} mm -> {folder / 'library.json'}, {figure}"
+    )

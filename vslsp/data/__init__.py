@@ -32,8 +32,10 @@ def shipped_folder(kind: str) -> Path:
                 return Path(path).parent
     except ModuleNotFoundError:
         pass
-    raise FileNotFoundError(f"the shipped {kind} folder is missing from this installation of vslsp "
-                            f"(no {marker} in the package data nor in {source}); reinstall vslsp")
+    raise FileNotFoundError(
+        f"the shipped {kind} folder is missing from this installation of vslsp "
+        f"(no {marker} in the package data nor in {source}); reinstall vslsp"
+    )
 
 
 def skills_folder() -> Path:

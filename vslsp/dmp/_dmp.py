@@ -93,11 +93,22 @@ class DMP:
         RMS distance between the demonstrations and their reproductions.
     """
 
-    def __init__(self, n_dims: int, n_basis: int = 50, alpha_z: float = 25.0, alpha_x: float = 4.6,
-                 regularization: float = 1e-6, device: str | torch.device | None = None) -> None:
+    def __init__(
+        self,
+        n_dims: int,
+        n_basis: int = 50,
+        alpha_z: float = 25.0,
+        alpha_x: float = 4.6,
+        regularization: float = 1e-6,
+        device: str | torch.device | None = None,
+    ) -> None:
         numbers = (alpha_z, alpha_x, regularization)
-        if not isinstance(n_dims, int | np.integer) or not isinstance(n_basis, int | np.integer) \
-                or n_dims < 1 or n_basis < 2:
+        if (
+            not isinstance(n_dims, int | np.integer)
+            or not isinstance(n_basis, int | np.integer)
+            or n_dims < 1
+            or n_basis < 2
+        ):
             raise InputError(f"a DMP needs integers n_dims >= 1 and n_basis >= 2, got {n_dims}, {n_basis}")
         if not all(np.isfinite(numbers)) or alpha_z <= 0 or alpha_x <= 0 or regularization < 0:
             raise InputError(f"alpha_z and alpha_x must be positive and regularization >= 0, got {numbers}")
@@ -183,9 +194,16 @@ class DMP:
         return inputs @ self.weights, states @ self.weights
 
     # -- reproduction -------------------------------------------------------------------------
-    def rollout(self, y0: np.ndarray, goal: np.ndarray, tau: float | np.ndarray | None = None,
-                dt: float | None = None, duration: float | None = None, coupling_force: Coupling | None = None,
-                coupling_phase: Coupling | None = None) -> Rollout:
+    def rollout(
+        self,
+        y0: np.ndarray,
+        goal: np.ndarray,
+        tau: float | np.ndarray | None = None,
+        dt: float | None = None,
+        duration: float | None = None,
+        coupling_force: Coupling | None = None,
+        coupling_phase: Coupling | None = None,
+    ) -> Rollout:
         """Reproduce the movement from ``y0`` to ``goal``.
 
         Parameters
@@ -212,8 +230,9 @@ class DMP:
             ``t`` (T,) and ``y``, ``yd``, ``ydd`` of shape (T, D), or (B, T, D) when batched.
         """
         y0, goal, batched = check_points(y0, goal, self.n_dims)
-        taus, dt, duration = check_times(self.tau if tau is None else tau, self.dt if dt is None else dt,
-                                         duration, len(y0))
+        taus, dt, duration = check_times(
+            self.tau if tau is None else tau, self.dt if dt is None else dt, duration, len(y0)
+        )
         t = np.arange(int(np.floor(duration / dt + 1e-9)) + 1) * dt
         if coupling_force is None and coupling_phase is None:
             y, yd, ydd = self._superpose(y0, goal, taus, t)
@@ -223,8 +242,9 @@ class DMP:
             return Rollout(t=t, y=y[0], yd=yd[0], ydd=ydd[0])
         return Rollout(t=t, y=y, yd=yd, ydd=ydd)
 
-    def _superpose(self, y0: np.ndarray, goal: np.ndarray, taus: np.ndarray,
-                   t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _superpose(
+        self, y0: np.ndarray, goal: np.ndarray, taus: np.ndarray, t: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """y, ẏ, ÿ (B, T, D) of uncoupled movements: e = P(u) e0 + s F(u), evaluated exactly.
 
         P is the free spring's response and F the learned forcing term's, both functions of
@@ -241,17 +261,25 @@ class DMP:
         parts = [  # (coefficient of e0 (B', T), of s (B', T, D)) for y − g, ẏ and ÿ
             (free[..., 0], forced[..., 0, :]),
             (free[..., 1] / tau, forced[..., 1, :] / tau[..., None]),
-            ((-w2 * free[..., 0] - w * free[..., 1]) / tau**2,
-             (-w2 * forced[..., 0, :] - w * forced[..., 1, :] + held) / tau[..., None] ** 2),
+            (
+                (-w2 * free[..., 0] - w * free[..., 1]) / tau**2,
+                (-w2 * forced[..., 0, :] - w * forced[..., 1, :] + held) / tau[..., None] ** 2,
+            ),
         ]
         e0, s = (y0 - goal)[:, None, :], self.scale(y0, goal)[:, None, None]
         y, yd, ydd = (p[..., None] * e0 + s * q for p, q in parts)
         y += goal[:, None, :]
         return y, yd, ydd
 
-    def _step(self, y0: np.ndarray, goal: np.ndarray, taus: np.ndarray, t: np.ndarray,
-              coupling_force: Coupling | None,
-              coupling_phase: Coupling | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _step(
+        self,
+        y0: np.ndarray,
+        goal: np.ndarray,
+        taus: np.ndarray,
+        t: np.ndarray,
+        coupling_force: Coupling | None,
+        coupling_phase: Coupling | None,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """y, ẏ, ÿ (B, T, D) of coupled movements, stepped 1/N of normalised time at a time.
 
         The couplings and the phase are held over each step; the spring is integrated exactly
@@ -295,17 +323,26 @@ class DMP:
         state = torch.einsum("btij,btjd->btid", phi_k, before) + gamma_k[..., None] * held[:, :, None, :]
         e, v = state[:, :, 0], state[:, :, 1]
         taus_t = tau[:, :, None]
-        acceleration = (-self.omega**2 * e - 2.0 * self.omega * v + held) / taus_t**2
+        acceleration = (-(self.omega**2) * e - 2.0 * self.omega * v + held) / taus_t**2
         return (g[:, None, :] + e).cpu().numpy(), (v / taus_t).cpu().numpy(), acceleration.cpu().numpy()
 
     # -- files ----------------------------------------------------------------------------------
     def to_arrays(self) -> dict[str, np.ndarray]:
         """The model as named arrays (JSON metadata and the weights (n_basis, n_dims)), no pickle."""
         meta = {
-            "format": FORMAT, "version": VERSION, "n_dims": self.n_dims, "n_basis": self.n_basis,
-            "alpha_z": self.alpha_z, "alpha_x": self.alpha_x, "regularization": self.regularization,
-            "amplitude": self.amplitude, "extent": self.extent, "tau": self.tau, "dt": self.dt,
-            "fit_rmse": self.fit_rmse, "n_demos": self.n_demos,
+            "format": FORMAT,
+            "version": VERSION,
+            "n_dims": self.n_dims,
+            "n_basis": self.n_basis,
+            "alpha_z": self.alpha_z,
+            "alpha_x": self.alpha_x,
+            "regularization": self.regularization,
+            "amplitude": self.amplitude,
+            "extent": self.extent,
+            "tau": self.tau,
+            "dt": self.dt,
+            "fit_rmse": self.fit_rmse,
+            "n_demos": self.n_demos,
         }
         return {"meta": np.array(json.dumps(meta)), "weights": self.weights}
 
@@ -315,8 +352,9 @@ class DMP:
         try:
             meta = json.loads(str(arrays["meta"]))
             if not isinstance(meta, dict) or meta.get("format") != FORMAT:
-                raise ValueError(f"format is {meta.get('format') if isinstance(meta, dict) else meta!r}, "
-                                 f"not {FORMAT!r}")
+                raise ValueError(
+                    f"format is {meta.get('format') if isinstance(meta, dict) else meta!r}, not {FORMAT!r}"
+                )
             if meta.get("version") != VERSION:
                 raise ValueError(f"version {meta.get('version')} is not supported (this is {VERSION})")
             numbers = ("alpha_z", "alpha_x", "regularization", "amplitude", "extent", "tau", "dt")
@@ -326,8 +364,9 @@ class DMP:
                 raise ValueError(f"{', '.join(bad)} not finite")
             dmp = cls(meta["n_dims"], meta["n_basis"], meta["alpha_z"], meta["alpha_x"], meta["regularization"])
             if weights.shape != (dmp.n_basis, dmp.n_dims):
-                raise ValueError(f"weights of shape {weights.shape} do not fit n_basis = {dmp.n_basis} "
-                                 f"and n_dims = {dmp.n_dims}")
+                raise ValueError(
+                    f"weights of shape {weights.shape} do not fit n_basis = {dmp.n_basis} and n_dims = {dmp.n_dims}"
+                )
             if not np.all(np.isfinite(weights)):
                 raise ValueError(f"{int(np.sum(~np.isfinite(weights)))} weights are not finite (NaN or inf)")
             if meta["tau"] <= 0 or meta["dt"] <= 0 or meta["amplitude"] ** 2 + meta["extent"] ** 2 <= 0:
@@ -338,8 +377,7 @@ class DMP:
             dmp.fit_rmse, dmp.n_demos = float(meta["fit_rmse"]), int(meta["n_demos"])
             return dmp
         except (KeyError, ValueError, TypeError, json.JSONDecodeError, InputError) as error:
-            raise InputError(f"{source} is not a vslsp DMP ({error}); re-create it with `vslsp teach`") \
-                from error
+            raise InputError(f"{source} is not a vslsp DMP ({error}); re-create it with `vslsp teach`") from error
 
     def save(self, path: str | Path) -> None:
         """Write an ``.npz`` file (no pickle)."""

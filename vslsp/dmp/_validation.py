@@ -51,11 +51,14 @@ def check_demonstrations(demos: Any, n_dims: int) -> list[tuple[np.ndarray, np.n
         The DMP's number of dimensions.
     """
     if isinstance(demos, np.ndarray):
-        raise InputError("fit takes a list of demonstrations [(t, y), ...], not an array; "
-                         "pass [(t, y)] for a single demonstration")
+        raise InputError(
+            "fit takes a list of demonstrations [(t, y), ...], not an array; pass [(t, y)] for a single demonstration"
+        )
     if isinstance(demos, tuple) and len(demos) == 2 and _looks_like(demos[0], 1) and _looks_like(demos[1], 2):
-        raise InputError("fit takes a list of demonstrations [(t, y), ...], got a single (t, y) pair; "
-                         "pass [(t, y)] for one demonstration")
+        raise InputError(
+            "fit takes a list of demonstrations [(t, y), ...], got a single (t, y) pair; "
+            "pass [(t, y)] for one demonstration"
+        )
     if not isinstance(demos, Sequence) or isinstance(demos, str):
         raise InputError(f"fit takes a list of demonstrations [(t, y), ...], got {type(demos).__name__}")
     if len(demos) == 0:
@@ -77,8 +80,10 @@ def check_demonstrations(demos: Any, n_dims: int) -> list[tuple[np.ndarray, np.n
         steps = np.diff(t)
         if np.any(steps <= 0):
             i = int(np.argmax(steps <= 0))
-            raise InputError(f"{name}: the time base t must increase strictly, but t[{i + 1}] = {t[i + 1]:g} "
-                             f"does not come after t[{i}] = {t[i]:g}")
+            raise InputError(
+                f"{name}: the time base t must increase strictly, but t[{i + 1}] = {t[i + 1]:g} "
+                f"does not come after t[{i}] = {t[i]:g}"
+            )
         if np.all(y == y[0]):
             raise InputError(f"{name} never moves: all its {len(y)} positions are equal")
         checked.append((t - t[0], y))
@@ -90,8 +95,9 @@ def check_points(y0: Any, goal: Any, n_dims: int) -> tuple[np.ndarray, np.ndarra
     y0, goal = _as_array(y0, "the start y0"), _as_array(goal, "the goal")
     for name, value in (("the start y0", y0), ("the goal", goal)):
         if value.ndim not in (1, 2) or value.shape[-1] != n_dims:
-            raise InputError(f"{name} must have shape ({n_dims},) or (B, {n_dims}) for {n_dims} dimensions, "
-                             f"got {value.shape}")
+            raise InputError(
+                f"{name} must have shape ({n_dims},) or (B, {n_dims}) for {n_dims} dimensions, got {value.shape}"
+            )
         problem = _non_finite(name, np.atleast_2d(value))
         if problem:
             raise InputError(problem.replace("sample", "movement"))
@@ -99,8 +105,10 @@ def check_points(y0: Any, goal: Any, n_dims: int) -> tuple[np.ndarray, np.ndarra
     try:
         y0, goal = np.broadcast_arrays(np.atleast_2d(y0), np.atleast_2d(goal))
     except ValueError as error:
-        raise InputError(f"{y0.shape[0]} starts and {goal.shape[0]} goals: give one of each per movement, "
-                         "or a single start or goal for all") from error
+        raise InputError(
+            f"{y0.shape[0]} starts and {goal.shape[0]} goals: give one of each per movement, "
+            "or a single start or goal for all"
+        ) from error
     return y0, goal, batched
 
 

@@ -52,15 +52,23 @@ class TrajectoryParameters:
     def __post_init__(self) -> None:
         check_height_parameters(self.height, self.h0, self.kappa)
         if len(self.durations) != 3 or any(not np.isfinite(d) or d <= 0.0 for d in self.durations):
-            raise InputError(f"durations must be three positive seconds (rest->pick, pick->place, "
-                             f"place->rest), got {self.durations!r}")
+            raise InputError(
+                f"durations must be three positive seconds (rest->pick, pick->place, "
+                f"place->rest), got {self.durations!r}"
+            )
         if int(self.samples) != self.samples or self.samples < 2:
             raise InputError(f"samples per segment must be an integer >= 2, got {self.samples!r}")
         check_blend(self.blend)
 
     def to_dict(self) -> dict:
-        return {"height": self.height, "h0": self.h0, "kappa": self.kappa, "durations": list(self.durations),
-                "samples": self.samples, "blend": self.blend}
+        return {
+            "height": self.height,
+            "h0": self.h0,
+            "kappa": self.kappa,
+            "durations": list(self.durations),
+            "samples": self.samples,
+            "blend": self.blend,
+        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -82,9 +90,13 @@ class PickPlaceTrajectory:
         return self.xyz[[0, self.segments[1], self.segments[2]]]
 
     def to_dict(self) -> dict:
-        return {"t": self.t.round(6).tolist(), "xyz": self.xyz.round(6).tolist(),
-                "theta": self.theta.round(6).tolist(), "segments": list(self.segments),
-                "parameters": self.parameters.to_dict()}
+        return {
+            "t": self.t.round(6).tolist(),
+            "xyz": self.xyz.round(6).tolist(),
+            "theta": self.theta.round(6).tolist(),
+            "segments": list(self.segments),
+            "parameters": self.parameters.to_dict(),
+        }
 
 
 def check_height_parameters(height: float, h0: float, kappa: float) -> None:
@@ -92,8 +104,10 @@ def check_height_parameters(height: float, h0: float, kappa: float) -> None:
     if not np.isfinite(height) or height < 0.0:
         raise InputError(f"the height h of the path must be >= 0, got {height!r}")
     if not np.isfinite(h0) or not 0.0 < h0 < 2.0:
-        raise InputError(f"h0 must lie in (0, 2) so that atanh(h0 (s - 0.5)) is defined on s in [0, 1], "
-                         f"got {h0!r} (the paper's profile uses h0 = 2 tanh(1) = {PAPER_H0:.4f})")
+        raise InputError(
+            f"h0 must lie in (0, 2) so that atanh(h0 (s - 0.5)) is defined on s in [0, 1], "
+            f"got {h0!r} (the paper's profile uses h0 = 2 tanh(1) = {PAPER_H0:.4f})"
+        )
     if not np.isfinite(kappa) or kappa <= 0.0:
         raise InputError(f"the curvature kappa must be > 0, got {kappa!r}")
 
@@ -103,8 +117,13 @@ def check_blend(blend: float) -> None:
         raise InputError(f"the rotation profile's blend must lie in (0, 0.5], got {blend!r}")
 
 
-def cubic_path(start: np.ndarray, end: np.ndarray, s: np.ndarray, start_velocity: np.ndarray | None = None,
-               end_velocity: np.ndarray | None = None) -> np.ndarray:
+def cubic_path(
+    start: np.ndarray,
+    end: np.ndarray,
+    s: np.ndarray,
+    start_velocity: np.ndarray | None = None,
+    end_velocity: np.ndarray | None = None,
+) -> np.ndarray:
     """(traj1, traj2): points (N, D) of the cubic from ``start`` (D,) to ``end`` (D,) at path
     parameters ``s`` (N,), with path velocities dp/ds at the ends (default zero)."""
     p0, p1 = np.asarray(start, float), np.asarray(end, float)
@@ -149,23 +168,36 @@ def trapezoidal_profile(tau: np.ndarray, start: float, end: float, blend: float 
     return start + (end - start) * fraction
 
 
-def segment(start: np.ndarray, end: np.ndarray, theta_start: float, theta_end: float, t_start: float,
-            t_final: float, parameters: TrajectoryParameters) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def segment(
+    start: np.ndarray,
+    end: np.ndarray,
+    theta_start: float,
+    theta_end: float,
+    t_start: float,
+    t_final: float,
+    parameters: TrajectoryParameters,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One segment between key points ``start`` and ``end`` (3,) (x, y, z): times (N,),
     positions (N, 3) and rotation (N,), with N = ``parameters.samples``."""
     t = np.linspace(t_start, t_final, parameters.samples)
     s = time_scaling(t, t_start, t_final)
     start, end = np.asarray(start, float), np.asarray(end, float)
     xy = cubic_path(start[:2], end[:2], s)
-    z = cubic_path(start[2:], end[2:], s)[:, 0] + height_profile(s, parameters.height, parameters.h0,
-                                                                 parameters.kappa)
+    z = cubic_path(start[2:], end[2:], s)[:, 0] + height_profile(s, parameters.height, parameters.h0, parameters.kappa)
     theta = trapezoidal_profile((t - t_start) / (t_final - t_start), theta_start, theta_end, parameters.blend)
     return t, np.column_stack([xy, z]), theta
 
 
-def pick_and_place(rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_pick: float, theta_place: float,
-                   parameters: TrajectoryParameters | None = None, t_start: float = 0.0,
-                   theta_rest: float = 0.0) -> PickPlaceTrajectory:
+def pick_and_place(
+    rest: np.ndarray,
+    pick: np.ndarray,
+    place: np.ndarray,
+    theta_pick: float,
+    theta_place: float,
+    parameters: TrajectoryParameters | None = None,
+    t_start: float = 0.0,
+    theta_rest: float = 0.0,
+) -> PickPlaceTrajectory:
     """The cycle rest → pick → place → rest through key points (3,) each (x, y, z), the hand
     turning from ``theta_rest`` to ``theta_pick`` (rad) on the way to the object, to
     ``theta_place`` while carrying it, and back to ``theta_rest``."""
@@ -176,8 +208,11 @@ def pick_and_place(rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_
     if not np.all(np.isfinite([theta_pick, theta_place, theta_rest, t_start])):
         raise InputError("the rotation angles and t_start must be finite")
     rest, pick, place = points
-    legs = ((rest, pick, theta_rest, theta_pick), (pick, place, theta_pick, theta_place),
-            (place, rest, theta_place, theta_rest))
+    legs = (
+        (rest, pick, theta_rest, theta_pick),
+        (pick, place, theta_pick, theta_place),
+        (place, rest, theta_place, theta_rest),
+    )
     times: list[np.ndarray] = []
     positions: list[np.ndarray] = []
     angles: list[np.ndarray] = []
@@ -191,5 +226,6 @@ def pick_and_place(rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_
         positions.append(xyz[skip:])
         angles.append(theta[skip:])
         clock += duration
-    return PickPlaceTrajectory(np.concatenate(times), np.concatenate(positions), np.concatenate(angles),
-                               (0, starts[1], starts[2]), parameters)
+    return PickPlaceTrajectory(
+        np.concatenate(times), np.concatenate(positions), np.concatenate(angles), (0, starts[1], starts[2]), parameters
+    )

@@ -49,12 +49,15 @@ def load_predicates(path: str | Path) -> tuple[Predicate, ...]:
             raise InputError(f"predicates file {path}: {error}") from None
         except Exception as error:  # the user's code
             sys.modules.pop(module_name, None)
-            raise InputError(f"cannot load predicates file {path}{_line(error, path)}: "
-                             f"{type(error).__name__}: {error}") from None
+            raise InputError(
+                f"cannot load predicates file {path}{_line(error, path)}: {type(error).__name__}: {error}"
+            ) from None
     predicates = registry.predicates()
     if not predicates:
-        raise InputError(f"predicates file {path} registers no predicate; decorate functions with "
-                         "@predicate(\"name\") from vslsp.grounding")
+        raise InputError(
+            f"predicates file {path} registers no predicate; decorate functions with "
+            '@predicate("name") from vslsp.grounding'
+        )
     return tuple(p for p in with_builtins(predicates) if p not in BUILTINS)
 
 
@@ -63,8 +66,10 @@ def check_unique(predicates: Sequence[Predicate]) -> tuple[Predicate, ...]:
     seen: dict[str, Predicate] = {}
     for made in predicates:
         if made.name in seen and seen[made.name] is not made:
-            raise InputError(f"predicate {made.name} is defined twice (the built-in {made.name} is always grounded); "
-                             "give yours another name")
+            raise InputError(
+                f"predicate {made.name} is defined twice (the built-in {made.name} is always grounded); "
+                "give yours another name"
+            )
         seen[made.name] = made
     return tuple(seen.values())
 

@@ -78,8 +78,9 @@ class Grounding:
         )
 
 
-def ground(pre: np.ndarray, post: np.ndarray, robot_side: str = "bottom",
-           predicates: Sequence[Predicate] | None = None) -> Grounding:
+def ground(
+    pre: np.ndarray, post: np.ndarray, robot_side: str = "bottom", predicates: Sequence[Predicate] | None = None
+) -> Grounding:
     """Ground one operation from RGB images ``pre`` and ``post`` (H, W, 3) uint8.
 
     ``robot_side``: the image edge the robot is beyond (bottom, top, left, right); bottom is
@@ -150,8 +151,9 @@ class SceneGrounding:
     def to_dict(self) -> dict:
         return {
             "landmark": self.landmark.to_dict(),
-            "objects": [{"name": o.name, **_point(o.centroid), "far": f}
-                        for o, f in zip(self.objects, self.far, strict=True)],
+            "objects": [
+                {"name": o.name, **_point(o.centroid), "far": f} for o, f in zip(self.objects, self.far, strict=True)
+            ],
         }
 
 
@@ -163,7 +165,13 @@ def ground_scene(image: np.ndarray, robot_side: str = "bottom", features: bool =
     check_robot_side(robot_side)
     seg = segment(image)
     line = fit_line(seg.dark, seg.scale)
-    objects = sorted((describe(seg, label, image if features else None) for label in seg.object_labels),
-                     key=lambda o: o.centroid)
-    return SceneGrounding(line, tuple(objects), tuple(far_of(o.centroid, line, robot_side) for o in objects),
-                          (image.shape[1], image.shape[0]), robot_side)
+    objects = sorted(
+        (describe(seg, label, image if features else None) for label in seg.object_labels), key=lambda o: o.centroid
+    )
+    return SceneGrounding(
+        line,
+        tuple(objects),
+        tuple(far_of(o.centroid, line, robot_side) for o in objects),
+        (image.shape[1], image.shape[0]),
+        robot_side,
+    )

@@ -23,18 +23,27 @@ def draw_grounding(pre: np.ndarray, post: np.ndarray, grounding: Grounding) -> n
     return draw_atoms(pre, post, grounding)
 
 
-def draw_atoms(pre: np.ndarray, post: np.ndarray, grounding: Grounding,
-               notes: tuple[Sequence[str], Sequence[str]] | None = None) -> np.ndarray:
+def draw_atoms(
+    pre: np.ndarray, post: np.ndarray, grounding: Grounding, notes: tuple[Sequence[str], Sequence[str]] | None = None
+) -> np.ndarray:
     """As :func:`draw_grounding`; with atoms grounded, each object's footprint and symbol, and
     per panel the lines of ``notes`` (pre, post), by default the true atoms."""
     if notes is None and grounding.atoms_pre is not None and grounding.atoms_post is not None:
         notes = (true_atoms(grounding.atoms_pre), true_atoms(grounding.atoms_post))
     panels = []
-    for k, (image, point, obj, far, line, title) in enumerate((
-        (pre, grounding.pre, grounding.pre_object, grounding.far_pre, grounding.landmark, "pre"),
-        (post, grounding.post, grounding.post_object, grounding.far_post,
-         grounding.post_landmark or grounding.landmark, "post"),
-    )):
+    for k, (image, point, obj, far, line, title) in enumerate(
+        (
+            (pre, grounding.pre, grounding.pre_object, grounding.far_pre, grounding.landmark, "pre"),
+            (
+                post,
+                grounding.post,
+                grounding.post_object,
+                grounding.far_post,
+                grounding.post_landmark or grounding.landmark,
+                "post",
+            ),
+        )
+    ):
         panel = image.copy()
         thickness = max(1, image.shape[1] // 320)
         scene = (grounding.scene_pre, grounding.scene_post)[k]
@@ -45,13 +54,13 @@ def draw_atoms(pre: np.ndarray, post: np.ndarray, grounding: Grounding,
         if obj is not None:
             x, y, w, h = obj.box
             cv2.rectangle(panel, (x, y), (x + w, y + h), _PRE if title == "pre" else _POST, thickness)
-        cv2.drawMarker(panel, _int(point), _PRE if title == "pre" else _POST, cv2.MARKER_CROSS,
-                       10 * thickness, thickness)
+        cv2.drawMarker(
+            panel, _int(point), _PRE if title == "pre" else _POST, cv2.MARKER_CROSS, 10 * thickness, thickness
+        )
         label = f"{title}: {'' if far else 'not '}(far {grounding.name})"
         _text(panel, label, (8, 8 + 16 * thickness), thickness)
         panels.append(panel)
-    cv2.arrowedLine(panels[1], _int(grounding.pre), _int(grounding.post), _PRE, thickness, cv2.LINE_AA,
-                    tipLength=0.1)
+    cv2.arrowedLine(panels[1], _int(grounding.pre), _int(grounding.post), _PRE, thickness, cv2.LINE_AA, tipLength=0.1)
     _text(panels[1], f"action: {grounding.action or 'none'}", (8, 8 + 36 * thickness), thickness)
     if notes is not None:
         rows = max(len(notes[0]), len(notes[1]), 1)

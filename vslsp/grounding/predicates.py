@@ -137,15 +137,22 @@ def symbol_names(objects: Sequence[DetectedObject]) -> list[str]:
     return names
 
 
-def scene_of(objects: Sequence[DetectedObject], size: tuple[int, int], line: Line | None,
-             robot_side: str = "bottom") -> Scene:
+def scene_of(
+    objects: Sequence[DetectedObject], size: tuple[int, int], line: Line | None, robot_side: str = "bottom"
+) -> Scene:
     """The :class:`Scene` of perceived ``objects`` in an image of ``size`` (W, H) px."""
     check_robot_side(robot_side)
     members = {}
     for name, obj in zip(symbol_names(objects), objects, strict=True):
         x, y, w, h = obj.box
-        members[name] = SceneObject(name, float(obj.centroid[0]), float(obj.centroid[1]),
-                                    Box(float(x), float(y), float(x + w), float(y + h)), obj.area, obj.orientation)
+        members[name] = SceneObject(
+            name,
+            float(obj.centroid[0]),
+            float(obj.centroid[1]),
+            Box(float(x), float(y), float(x + w), float(y + h)),
+            obj.area,
+            obj.orientation,
+        )
     landmark = Landmark(line, robot_side) if line is not None else None
     return Scene(int(size[0]), int(size[1]), members, landmark, robot_side)
 
@@ -167,20 +174,24 @@ class Predicate:
     @property
     def signature(self) -> str:
         """Its PDDL declaration: ``(left-of ?a ?b)``."""
-        return f"({self.name} {' '.join(('?a', '?b')[:self.arity])})" if self.arity == 2 else f"({self.name} ?b)"
+        return f"({self.name} {' '.join(('?a', '?b')[: self.arity])})" if self.arity == 2 else f"({self.name} ?b)"
 
     def evaluate(self, args: Sequence[SceneObject], scene: Scene) -> bool:
         """The value for ``args`` (``arity`` objects); a raise or a non-bool is an InputError."""
         try:
             value = self.function(*args, scene)
         except Exception as error:  # the user's code: any error is theirs to fix
-            raise InputError(f"predicate {self.name} raised {type(error).__name__}: {error} while grounding "
-                             f"{self._atom(args)}; fix its function {_where(self.function)}") from error
+            raise InputError(
+                f"predicate {self.name} raised {type(error).__name__}: {error} while grounding "
+                f"{self._atom(args)}; fix its function {_where(self.function)}"
+            ) from error
         if value is True or value is False:
             return value
         if not isinstance(value, np.bool_):
-            raise InputError(f"predicate {self.name} returned {type(value).__name__} {value!r} for {self._atom(args)}, "
-                             f"not a bool; make its function {_where(self.function)} return True or False")
+            raise InputError(
+                f"predicate {self.name} returned {type(value).__name__} {value!r} for {self._atom(args)}, "
+                f"not a bool; make its function {_where(self.function)} return True or False"
+            )
         return bool(value)
 
     def _atom(self, args: Sequence[SceneObject]) -> str:
@@ -202,8 +213,10 @@ class Registry:
     def add(self, predicate: Predicate) -> Predicate:
         known = self._predicates.get(predicate.name)
         if known is not None and _identity(known.function) != _identity(predicate.function):
-            raise InputError(f"predicate {predicate.name} is defined twice ({_where(known.function)} and "
-                             f"{_where(predicate.function)}); give each predicate its own name")
+            raise InputError(
+                f"predicate {predicate.name} is defined twice ({_where(known.function)} and "
+                f"{_where(predicate.function)}); give each predicate its own name"
+            )
         self._predicates[predicate.name] = predicate
         return predicate
 
@@ -225,8 +238,10 @@ def predicate(name: str, arity: int = 1, *, register: bool = True) -> Callable[[
     """Decorator: make ``function`` the predicate ``name`` of ``arity`` 1 (``(obj, scene)``) or 2
     (``(a, b, scene)``) and register it (unless ``register`` is False)."""
     if not isinstance(name, str) or not _NAME.match(name):
-        raise InputError(f"predicate name {name!r} is not a PDDL name: use lower-case letters, digits, '-' and '_', "
-                         "starting with a letter (e.g. 'left-of')")
+        raise InputError(
+            f"predicate name {name!r} is not a PDDL name: use lower-case letters, digits, '-' and '_', "
+            "starting with a letter (e.g. 'left-of')"
+        )
     if arity not in (1, 2):
         raise InputError(f"predicate {name}: arity {arity!r} is not supported; use 1 (obj, scene) or 2 (a, b, scene)")
 

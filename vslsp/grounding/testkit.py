@@ -89,12 +89,14 @@ def _square_box(square: Square) -> Box:
     half = square.side / 2.0
     c, s = abs(np.cos(np.radians(square.angle))), abs(np.sin(np.radians(square.angle)))
     reach_x, reach_y = half * (c + s), half * (s + c)
-    return Box(square.centre[0] - reach_x, square.centre[1] - reach_y,
-               square.centre[0] + reach_x, square.centre[1] + reach_y)
+    return Box(
+        square.centre[0] - reach_x, square.centre[1] - reach_y, square.centre[0] + reach_x, square.centre[1] + reach_y
+    )
 
 
-def _scene(entries: Iterable[tuple[str, float, float, Box]], size: tuple[int, int], line: Line | None,
-           robot_side: str) -> Scene:
+def _scene(
+    entries: Iterable[tuple[str, float, float, Box]], size: tuple[int, int], line: Line | None, robot_side: str
+) -> Scene:
     """A true scene; objects named by symbol left to right (then top down), repeats suffixed
     (red, red_2) as perception names them."""
     objects: dict[str, SceneObject] = {}
@@ -107,10 +109,16 @@ def _scene(entries: Iterable[tuple[str, float, float, Box]], size: tuple[int, in
     return Scene(size[0], size[1], objects, Landmark(line, robot_side) if line is not None else None, robot_side)
 
 
-def synthetic_pair(squares: Sequence[Square], move: tuple[int, tuple[float, float]], *,
-                   line: tuple[tuple[float, float], tuple[float, float]] | None = LINE,
-                   size: tuple[int, int] = (640, 480), noise: float = 2.0, seed: int = 0,
-                   robot_side: str = "bottom") -> Pair:
+def synthetic_pair(
+    squares: Sequence[Square],
+    move: tuple[int, tuple[float, float]],
+    *,
+    line: tuple[tuple[float, float], tuple[float, float]] | None = LINE,
+    size: tuple[int, int] = (640, 480),
+    noise: float = 2.0,
+    seed: int = 0,
+    robot_side: str = "bottom",
+) -> Pair:
     """A drawn tabletop of ``size`` (W, H) px with ``squares``, and the same after the square of
     index ``move[0]`` was moved to the centre ``move[1]`` (x, y) px; ``line`` passes through two
     points (px); Gaussian sensor ``noise`` (grey levels, seeded)."""
@@ -127,14 +135,24 @@ def synthetic_pair(squares: Sequence[Square], move: tuple[int, tuple[float, floa
         truth_line = Line(ends[0], ends[1])
 
     def truth(placed: Sequence[Square]) -> Scene:
-        return _scene(((_square_symbol(s), s.centre[0], s.centre[1], _square_box(s)) for s in placed),
-                      size, truth_line, robot_side)
+        return _scene(
+            ((_square_symbol(s), s.centre[0], s.centre[1], _square_box(s)) for s in placed),
+            size,
+            truth_line,
+            robot_side,
+        )
 
     return Pair(pre, post, truth(squares), truth(after))
 
 
-def rendered_pair(spec: SceneSpec, move: tuple[str, tuple[float, float]], *, camera: str = "head",
-                  size: tuple[int, int] = (640, 480), robot: bool = False) -> Pair:
+def rendered_pair(
+    spec: SceneSpec,
+    move: tuple[str, tuple[float, float]],
+    *,
+    camera: str = "head",
+    size: tuple[int, int] = (640, 480),
+    robot: bool = False,
+) -> Pair:
     """The pybullet scene of ``spec`` (a :class:`~vslsp.sim.SceneSpec`) seen by ``camera`` at
     ``size`` (W, H), before and after the tutor moved cube ``move[0]`` to ``move[1]`` (x, y) m
     on the table. The truth: each cube's centre (half-way up its visible faces) and its eight
@@ -151,8 +169,14 @@ def rendered_pair(spec: SceneSpec, move: tuple[str, tuple[float, float]], *, cam
             for cube in world.spec.cubes:
                 cx, cy, yaw = world.cube_pose(cube.name)
                 half, c, s = cube.size / 2.0, np.cos(yaw), np.sin(yaw)
-                corners = np.array([[cx + c * dx - s * dy, cy + s * dx + c * dy, TABLE_Z + dz]
-                                    for dx in (-half, half) for dy in (-half, half) for dz in (0.0, cube.size)])
+                corners = np.array(
+                    [
+                        [cx + c * dx - s * dy, cy + s * dx + c * dy, TABLE_Z + dz]
+                        for dx in (-half, half)
+                        for dy in (-half, half)
+                        for dz in (0.0, cube.size)
+                    ]
+                )
                 pixels = view.project(corners)
                 u, v = view.table_to_pixel(cx, cy, TABLE_Z + half)
                 box = Box(*pixels.min(axis=0), *pixels.max(axis=0))
@@ -182,10 +206,16 @@ def _image(image: np.ndarray | str | Path, what: str) -> np.ndarray:
     return read_image(image, what) if isinstance(image, (str, Path)) else image
 
 
-def assert_grounds(pre: np.ndarray | str | Path, post: np.ndarray | str | Path, *,
-                   atoms_pre: Iterable[str] | None = None, atoms_post: Iterable[str] | None = None,
-                   predicates: Sequence[Predicate] | None = None, robot_side: str = "bottom",
-                   overlay_dir: str | Path | None = None) -> Grounding:
+def assert_grounds(
+    pre: np.ndarray | str | Path,
+    post: np.ndarray | str | Path,
+    *,
+    atoms_pre: Iterable[str] | None = None,
+    atoms_post: Iterable[str] | None = None,
+    predicates: Sequence[Predicate] | None = None,
+    robot_side: str = "bottom",
+    overlay_dir: str | Path | None = None,
+) -> Grounding:
     """Ground the pair (images (H, W, 3) uint8 RGB or file paths) as ``vslsp ground --predicates``
     does, and check that exactly ``atoms_pre`` / ``atoms_post`` (PDDL syntax) hold before / after
     (None: not checked). ``predicates``: by default the built-in ``far`` and every registered one.
@@ -207,13 +237,18 @@ def assert_grounds(pre: np.ndarray | str | Path, post: np.ndarray | str | Path, 
         wanted = {_normal(a) for a in expected}
         unknown = sorted(a for a in wanted if a[1:-1].split()[0] not in names)
         if unknown:
-            raise InputError(f"expected {side} atoms {', '.join(unknown)} name no grounded predicate "
-                             f"(grounded: {', '.join(sorted(names))}); register it or pass it in predicates=")
+            raise InputError(
+                f"expected {side} atoms {', '.join(unknown)} name no grounded predicate "
+                f"(grounded: {', '.join(sorted(names))}); register it or pass it in predicates="
+            )
         missing, unexpected = sorted(wanted - got), sorted(got - wanted)
         if missing or unexpected:
             report.append(f"{side}: missing {' '.join(missing) or 'none'}; unexpected {' '.join(unexpected) or 'none'}")
-        notes.append([f"missing {a}" for a in missing] + [f"unexpected {a}" for a in unexpected]
-                     + [a for a in sorted(got) if a not in unexpected])
+        notes.append(
+            [f"missing {a}" for a in missing]
+            + [f"unexpected {a}" for a in unexpected]
+            + [a for a in sorted(got) if a not in unexpected]
+        )
     if report:
         folder = Path(overlay_dir) if overlay_dir is not None else Path(tempfile.mkdtemp(prefix="vslsp-grounding-"))
         folder.mkdir(parents=True, exist_ok=True)
@@ -223,8 +258,13 @@ def assert_grounds(pre: np.ndarray | str | Path, post: np.ndarray | str | Path, 
             k += 1
             path = folder / f"grounding_{k}.png"
         write_image(path, draw_atoms(pre_image, post_image, grounding, (notes[0], notes[1])))
-        seen = ", ".join(f"{n} at ({o.x:.0f}, {o.y:.0f})" for n, o in (grounding.scene_pre.objects.items()
-                                                                       if grounding.scene_pre else ()))
-        raise AssertionError("grounding differs from the expected atoms\n  " + "\n  ".join(report)
-                             + f"\n  objects seen before: {seen or 'none'}\n  overlay: {path}")
+        seen = ", ".join(
+            f"{n} at ({o.x:.0f}, {o.y:.0f})"
+            for n, o in (grounding.scene_pre.objects.items() if grounding.scene_pre else ())
+        )
+        raise AssertionError(
+            "grounding differs from the expected atoms\n  "
+            + "\n  ".join(report)
+            + f"\n  objects seen before: {seen or 'none'}\n  overlay: {path}"
+        )
     return grounding

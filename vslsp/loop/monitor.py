@@ -54,15 +54,22 @@ class StepResult:
     trajectory: HandTrajectory | None = field(default=None, repr=False)
 
     def to_dict(self) -> dict:
-        return {"action": self.action, "object": self.obj, "expected_far": self.expected_far,
-                "observed_far": self.observed_far, "ok": self.ok, "error": self.error}
+        return {
+            "action": self.action,
+            "object": self.obj,
+            "expected_far": self.expected_far,
+            "observed_far": self.observed_far,
+            "ok": self.ok,
+            "error": self.error,
+        }
 
 
 EXPECTED_FAR = {action.value: action.makes_far for action in Action}
 
 
-def execute_step(world: World, library: SkillLibrary, action: str, obj: str, state: PerceivedState,
-                 fault: Fault | str | None = None) -> tuple[StepResult, PerceivedState]:
+def execute_step(
+    world: World, library: SkillLibrary, action: str, obj: str, state: PerceivedState, fault: Fault | str | None = None
+) -> tuple[StepResult, PerceivedState]:
     """Run ``action`` on ``obj`` as perceived in ``state``; observe again and check the effect.
 
     ``fault`` injects an execution fault for testing replanning (:class:`Fault`).
@@ -77,8 +84,9 @@ def execute_step(world: World, library: SkillLibrary, action: str, obj: str, sta
     if fault is not Fault.SKIP:
         before = _truth_pose(world, obj)
         try:
-            trajectory = execute_skill(world, library[action], np.array(target.table_xy), state.normal,
-                                       state.line_distance(obj))
+            trajectory = execute_skill(
+                world, library[action], np.array(target.table_xy), state.normal, state.line_distance(obj)
+            )
         except UnreachableError as unreachable:
             error = str(unreachable)
         if fault is Fault.NUDGE and before is not None:
@@ -88,8 +96,10 @@ def execute_step(world: World, library: SkillLibrary, action: str, obj: str, sta
     observed_far = observed.far if observed is not None else None
     ok = error is None and observed_far == EXPECTED_FAR[action]
     if error is None and not ok:
-        error = (f"expected (far {obj}) to be {EXPECTED_FAR[action]} after {action}, observed "
-                 f"{'nothing' if observed is None else observed_far}")
+        error = (
+            f"expected (far {obj}) to be {EXPECTED_FAR[action]} after {action}, observed "
+            f"{'nothing' if observed is None else observed_far}"
+        )
     return StepResult(action, obj, EXPECTED_FAR[action], observed_far, ok, error, trajectory), new_state
 
 
@@ -100,5 +110,3 @@ def _truth_pose(world: World, colour: str) -> tuple[str, float, float, float] | 
             x, y, yaw = world.cube_pose(cube.name)
             return cube.name, x, y, yaw
     return None
-
-

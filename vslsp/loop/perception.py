@@ -44,8 +44,10 @@ class PerceivedState:
         return {name: obj.far for name, obj in self.objects.items()}
 
     def to_dict(self) -> dict:
-        return {name: {"far": o.far, "pixel": [round(v, 1) for v in o.pixel],
-                       "table_xy": [round(v, 4) for v in o.table_xy]} for name, o in self.objects.items()}
+        return {
+            name: {"far": o.far, "pixel": [round(v, 1) for v in o.pixel], "table_xy": [round(v, 4) for v in o.table_xy]}
+            for name, o in self.objects.items()
+        }
 
 
 def perceive(world: World, camera: str = "head") -> PerceivedState:

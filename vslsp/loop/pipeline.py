@@ -37,8 +37,9 @@ def literals(state: PerceivedState, predicates: Sequence[Predicate] | None = Non
     return {name: values.get(name, {}) for name in state.objects}
 
 
-def to_step(grounding: Grounding, before: PerceivedState, after: PerceivedState,
-            predicates: Sequence[Predicate] | None = None) -> Step:
+def to_step(
+    grounding: Grounding, before: PerceivedState, after: PerceivedState, predicates: Sequence[Predicate] | None = None
+) -> Step:
     """A grounded operation as the symbolic layer learns from it."""
     return Step(grounding.action, grounding.name, literals(before, predicates), literals(after, predicates))
 
@@ -56,8 +57,13 @@ class Exploration:
     images: tuple[tuple[np.ndarray, np.ndarray], ...] = field(repr=False)
 
 
-def explore_skill(world: World, library: SkillLibrary, action: str, obj: str | None = None,
-                  predicates: Sequence[Predicate] | None = None) -> Exploration:
+def explore_skill(
+    world: World,
+    library: SkillLibrary,
+    action: str,
+    obj: str | None = None,
+    predicates: Sequence[Predicate] | None = None,
+) -> Exploration:
     """The robot executes ``action`` on a cube and watches: VSL grounds the pre/post pair.
 
     The grounded execution (which object moved, ``far`` before and after) is what the
@@ -113,10 +119,18 @@ class Execution:
         }
 
 
-def execute_task(world: World, library: SkillLibrary, domain: Domain, task: Task, *, planner: str = "fast-downward",
-                 faults: dict[int, str] | None = None, max_replans: int = MAX_REPLANS,
-                 on_step: Callable[[StepResult, PerceivedState], None] | None = None,
-                 predicates: Sequence[Predicate] | None = None) -> Execution:
+def execute_task(
+    world: World,
+    library: SkillLibrary,
+    domain: Domain,
+    task: Task,
+    *,
+    planner: str = "fast-downward",
+    faults: dict[int, str] | None = None,
+    max_replans: int = MAX_REPLANS,
+    on_step: Callable[[StepResult, PerceivedState], None] | None = None,
+    predicates: Sequence[Predicate] | None = None,
+) -> Execution:
     """Plan ``task`` in the scene the robot sees and execute the plan, replanning on failures.
 
     ``faults`` maps the index of an executed step (0-based, over the whole run) to a fault to

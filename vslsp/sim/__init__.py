@@ -11,6 +11,18 @@ from vslsp.sim.tabletop import Item, PickPlaceResult, Placement, TabletopWorld
 from vslsp.sim.world import CAMERA_NAMES, Observation, World
 
 __all__ = [
-    "CAMERA_NAMES", "COLOURS", "CUBE_SIZE", "TABLE_Z", "Camera", "CubeSpec", "LandmarkSpec",
-    "Observation", "SceneSpec", "World", "Item", "PickPlaceResult", "Placement", "TabletopWorld",
+    "CAMERA_NAMES",
+    "COLOURS",
+    "CUBE_SIZE",
+    "TABLE_Z",
+    "Camera",
+    "CubeSpec",
+    "LandmarkSpec",
+    "Observation",
+    "SceneSpec",
+    "World",
+    "Item",
+    "PickPlaceResult",
+    "Placement",
+    "TabletopWorld",
 ]

@@ -81,8 +81,9 @@ ASYMMETRIC = ("duck", "duckling", "teddy")
 
 # The RGB-D sensor: 640 x 480, 45 degrees vertical field of view (an Xtion's), 0.63 m from the
 # middle of the workspace, looking down at about 53 degrees.
-SENSOR = Camera("rgbd", eye=(0.15, 0.0, 0.50), target=(0.53, 0.0, 0.0), up=(0.0, 0.0, 1.0),
-                width=640, height=480, fov=45.0)
+SENSOR = Camera(
+    "rgbd", eye=(0.15, 0.0, 0.50), target=(0.53, 0.0, 0.0), up=(0.0, 0.0, 1.0), width=640, height=480, fov=45.0
+)
 
 
 def axial_noise(depth: np.ndarray) -> np.ndarray:
@@ -120,9 +121,17 @@ class CloudScene(PhysicsClient):
     Each name must be one of :data:`OBJECTS` (a name may carry a suffix after ``#`` for a
     second copy, e.g. ``"duck#2"``). Close it (or use ``with``) when done."""
 
-    def __init__(self, objects: dict[str, tuple[float, float, float]], *, tray: bool = True,
-                 camera: Camera = SENSOR, noise: bool = False, seed: int = 0, robot: bool = False,
-                 boxes: dict[str, tuple[float, float, float]] | None = None) -> None:
+    def __init__(
+        self,
+        objects: dict[str, tuple[float, float, float]],
+        *,
+        tray: bool = True,
+        camera: Camera = SENSOR,
+        noise: bool = False,
+        seed: int = 0,
+        robot: bool = False,
+        boxes: dict[str, tuple[float, float, float]] | None = None,
+    ) -> None:
         for name in objects:
             if name.split("#")[0] not in OBJECTS:
                 raise InputError(f"unknown object {name!r}; use one of {', '.join(OBJECTS)}")
@@ -147,18 +156,27 @@ class CloudScene(PhysicsClient):
         self.tray = None
         if tray:
             with quiet():
-                self.tray = pb.loadURDF(os.path.join("tray", "traybox.urdf"), [*TRAY_POSITION, 0.0],
-                                        useFixedBase=True, globalScaling=TRAY_SCALE, physicsClientId=c)
+                self.tray = pb.loadURDF(
+                    os.path.join("tray", "traybox.urdf"),
+                    [*TRAY_POSITION, 0.0],
+                    useFixedBase=True,
+                    globalScaling=TRAY_SCALE,
+                    physicsClientId=c,
+                )
             self._rest_on_table(self.tray)
         self.bodies: dict[str, int] = {}
         for name, (x, y, yaw) in objects.items():
             model = OBJECTS[name.split("#")[0]]
             with quiet():
-                self.bodies[name] = pb.loadURDF(model.urdf, [x, y, 0.2], globalScaling=model.scale,
-                                                physicsClientId=c)
+                self.bodies[name] = pb.loadURDF(model.urdf, [x, y, 0.2], globalScaling=model.scale, physicsClientId=c)
             if robot:
-                pb.changeDynamics(self.bodies[name], -1, lateralFriction=FRICTION, spinningFriction=SPINNING_FRICTION,
-                                  physicsClientId=c)
+                pb.changeDynamics(
+                    self.bodies[name],
+                    -1,
+                    lateralFriction=FRICTION,
+                    spinningFriction=SPINNING_FRICTION,
+                    physicsClientId=c,
+                )
             self.tutor_move(name, self.resting_pose(name, x, y, yaw))
         self.boxes: dict[str, int] = {}
         for name, (x, y, yaw) in (boxes or {}).items():
@@ -187,8 +205,14 @@ class CloudScene(PhysicsClient):
         half = [v / 2.0 for v in BOXES[name]]
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
         visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=BOX_COLOUR, physicsClientId=c)
-        body = pb.createMultiBody(BOX_MASS, shape, visual, [x, y, half[2] + 0.0005],
-                                  pb.getQuaternionFromEuler([0.0, 0.0, yaw]), physicsClientId=c)
+        body = pb.createMultiBody(
+            BOX_MASS,
+            shape,
+            visual,
+            [x, y, half[2] + 0.0005],
+            pb.getQuaternionFromEuler([0.0, 0.0, yaw]),
+            physicsClientId=c,
+        )
         pb.changeDynamics(body, -1, lateralFriction=FRICTION, spinningFriction=SPINNING_FRICTION, physicsClientId=c)
         self.bodies[name] = body
         self.boxes[name] = body
@@ -218,15 +242,16 @@ class CloudScene(PhysicsClient):
         if self.panda is not None:
             self.panda.reset(PARK)
 
-    def resting_pose(self, name: str, x: float, y: float, yaw: float, roll: float = 0.0,
-                     pitch: float = 0.0, support: float = 0.0) -> np.ndarray:
+    def resting_pose(
+        self, name: str, x: float, y: float, yaw: float, roll: float = 0.0, pitch: float = 0.0, support: float = 0.0
+    ) -> np.ndarray:
         """The pose (4, 4) at which ``name``, upright then tilted by ``roll``/``pitch`` and turned
         by ``yaw`` (rad), has the middle of its box over (x, y) and touches the plane z = ``support``."""
         body = self._body(name)
         current = self.pose(name)
         model = OBJECTS.get(name.split("#")[0])
         upright = model.upright if model is not None else (0.0, 0.0)  # a landmark box stands as built
-        rotation = (_rotation(0.0, 0.0, yaw) @ _rotation(roll, pitch, 0.0) @ _rotation(*upright, 0.0))
+        rotation = _rotation(0.0, 0.0, yaw) @ _rotation(roll, pitch, 0.0) @ _rotation(*upright, 0.0)
         probe = np.eye(4)
         probe[:3, :3] = rotation
         self.tutor_move(name, probe)
@@ -276,7 +301,6 @@ class CloudScene(PhysicsClient):
         _, _, fraction, _, _ = pb.rayTest(start, end, physicsClientId=self.client)[0]
         return float(start[2] - fraction * (start[2] - end[2]))
 
-
     def _body(self, name: str) -> int:
         if name not in self.bodies:
             raise InputError(f"no object named {name!r}; the scene has {sorted(self.bodies)}")
@@ -285,8 +309,9 @@ class CloudScene(PhysicsClient):
     def _rest_on_table(self, body: int) -> None:
         lower, _ = pb.getAABB(body, physicsClientId=self.client)
         position, orientation = pb.getBasePositionAndOrientation(body, physicsClientId=self.client)
-        pb.resetBasePositionAndOrientation(body, [position[0], position[1], position[2] - lower[2]],
-                                           orientation, physicsClientId=self.client)
+        pb.resetBasePositionAndOrientation(
+            body, [position[0], position[1], position[2] - lower[2]], orientation, physicsClientId=self.client
+        )
 
 
 def random_layout(names: list[str], seed: int, tray: bool = True) -> dict[str, tuple[float, float, float]]:

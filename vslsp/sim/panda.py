@@ -60,19 +60,39 @@ class Panda:
     def __init__(self, client: int) -> None:
         self.client = client
         with quiet():
-            self.body = pb.loadURDF(f"{pybullet_data.getDataPath()}/franka_panda/panda.urdf", [0, 0, 0],
-                                    useFixedBase=True, physicsClientId=client)
+            self.body = pb.loadURDF(
+                f"{pybullet_data.getDataPath()}/franka_panda/panda.urdf",
+                [0, 0, 0],
+                useFixedBase=True,
+                physicsClientId=client,
+            )
         for joint in FINGER_JOINTS:
             # The URDF's soft pads (stiffness 3e4, damping 1e3) with friction anchors jammed the
             # fingers on a tile after a long turn, and their damping held items to an opening
             # finger: stiffer, less damped pads without anchors let go.
-            pb.changeDynamics(self.body, joint, lateralFriction=FINGER_FRICTION,
-                              spinningFriction=FINGER_SPINNING_FRICTION, frictionAnchor=0,
-                              contactStiffness=PAD_STIFFNESS, contactDamping=PAD_DAMPING, physicsClientId=client)
+            pb.changeDynamics(
+                self.body,
+                joint,
+                lateralFriction=FINGER_FRICTION,
+                spinningFriction=FINGER_SPINNING_FRICTION,
+                frictionAnchor=0,
+                contactStiffness=PAD_STIFFNESS,
+                contactDamping=PAD_DAMPING,
+                physicsClientId=client,
+            )
         # The fingers are geared together as in the real gripper (the URDF's mimic joint, which
         # pybullet ignores): the first finger's motor drives both, and a held item stays centred.
-        gear = pb.createConstraint(self.body, FINGER_JOINTS[0], self.body, FINGER_JOINTS[1], pb.JOINT_GEAR,
-                                   [1, 0, 0], [0, 0, 0], [0, 0, 0], physicsClientId=client)
+        gear = pb.createConstraint(
+            self.body,
+            FINGER_JOINTS[0],
+            self.body,
+            FINGER_JOINTS[1],
+            pb.JOINT_GEAR,
+            [1, 0, 0],
+            [0, 0, 0],
+            [0, 0, 0],
+            physicsClientId=client,
+        )
         pb.changeConstraint(gear, gearRatio=-1, erp=0.1, maxForce=100, physicsClientId=client)
         pb.setJointMotorControl2(self.body, FINGER_JOINTS[1], pb.VELOCITY_CONTROL, force=0.0, physicsClientId=client)
         self.reset(PARK)
@@ -97,13 +117,26 @@ class Panda:
 
     def drive(self, q: np.ndarray) -> None:
         """Command the arm's joints to ``q`` (7,) by position control."""
-        pb.setJointMotorControlArray(self.body, ARM_JOINTS, pb.POSITION_CONTROL, targetPositions=list(q),
-                                     forces=list(ARM_FORCES), physicsClientId=self.client)
+        pb.setJointMotorControlArray(
+            self.body,
+            ARM_JOINTS,
+            pb.POSITION_CONTROL,
+            targetPositions=list(q),
+            forces=list(ARM_FORCES),
+            physicsClientId=self.client,
+        )
 
     def fingers_to(self, each: float, force: float = FINGER_FORCE) -> None:
         """Command both fingers to ``each`` m from the middle, pushing with at most ``force`` N."""
-        pb.setJointMotorControl2(self.body, FINGER_JOINTS[0], pb.POSITION_CONTROL, targetPosition=each, force=force,
-                                 maxVelocity=FINGER_SPEED, physicsClientId=self.client)
+        pb.setJointMotorControl2(
+            self.body,
+            FINGER_JOINTS[0],
+            pb.POSITION_CONTROL,
+            targetPosition=each,
+            force=force,
+            maxVelocity=FINGER_SPEED,
+            physicsClientId=self.client,
+        )
 
     # -- the hand -------------------------------------------------------------------------
     def hand(self) -> tuple[np.ndarray, float]:
@@ -138,10 +171,18 @@ class Panda:
 
     def _null_space_ik(self, target: list[float], orientation: tuple, rest: np.ndarray) -> np.ndarray:
         solution = pb.calculateInverseKinematics(
-            self.body, GRASP_LINK, target, orientation,
-            lowerLimits=[*LOWER, 0.0, 0.0], upperLimits=[*UPPER, FINGER_OPEN, FINGER_OPEN],
-            jointRanges=[*(UPPER - LOWER), FINGER_OPEN, FINGER_OPEN], restPoses=[*rest, 0.0, 0.0],
-            maxNumIterations=100, residualThreshold=1e-5, physicsClientId=self.client)
+            self.body,
+            GRASP_LINK,
+            target,
+            orientation,
+            lowerLimits=[*LOWER, 0.0, 0.0],
+            upperLimits=[*UPPER, FINGER_OPEN, FINGER_OPEN],
+            jointRanges=[*(UPPER - LOWER), FINGER_OPEN, FINGER_OPEN],
+            restPoses=[*rest, 0.0, 0.0],
+            maxNumIterations=100,
+            residualThreshold=1e-5,
+            physicsClientId=self.client,
+        )
         return np.clip(np.array(solution[:7]), LOWER, UPPER)
 
     def plan(self, points: np.ndarray, thetas: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -171,7 +212,8 @@ class Panda:
         """Normal force (N) of the contacts between each finger and ``body``."""
         return tuple(  # type: ignore[return-value]
             float(sum(c[9] for c in pb.getContactPoints(self.body, body, finger, -1, physicsClientId=self.client)))
-            for finger in FINGER_JOINTS)
+            for finger in FINGER_JOINTS
+        )
 
     def between_fingers(self, bodies: list[int]) -> int | None:
         """The one of ``bodies`` both fingers touch (the largest squeeze), or None."""

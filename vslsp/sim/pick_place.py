@@ -18,10 +18,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from vslsp.errors import InputError
-from vslsp.sim.panda import CONTACT_THRESHOLD, FINGER_FORCE, FINGER_OPEN, IK_ANGLE_TOLERANCE, \
-    IK_POSITION_TOLERANCE, PARK, REST, UPPER, Panda
-from vslsp.sim.quiet import quiet
 from vslsp.geometry import trajectory
+from vslsp.sim.panda import (
+    CONTACT_THRESHOLD,
+    FINGER_FORCE,
+    FINGER_OPEN,
+    IK_ANGLE_TOLERANCE,
+    IK_POSITION_TOLERANCE,
+    PARK,
+    REST,
+    UPPER,
+    Panda,
+)
+from vslsp.sim.quiet import quiet
 
 with quiet():
     import pybullet as pb
@@ -57,8 +66,13 @@ class PickPlaceResult:
     duration_s: float
 
     def to_dict(self) -> dict:
-        return {"ok": self.ok, "diagnosis": self.diagnosis, "held": self.held,
-                "hand_path": np.round(self.hand_path, 5).tolist(), "duration_s": round(self.duration_s, 4)}
+        return {
+            "ok": self.ok,
+            "diagnosis": self.diagnosis,
+            "held": self.held,
+            "hand_path": np.round(self.hand_path, 5).tolist(),
+            "duration_s": round(self.duration_s, 4),
+        }
 
 
 def check_pose(label: str, pose: tuple[float, float, float]) -> np.ndarray:
@@ -76,8 +90,10 @@ def wrist_branch(pick: np.ndarray, place: np.ndarray) -> tuple[float, float]:
     for k in range(-2, 3):
         theta_pick = float(pick[2] + k * np.pi)
         theta_place = theta_pick + turn
-        margin = min(UPPER[6] - abs(Panda.wrist_angle(x, y, t))
-                     for x, y, t in ((pick[0], pick[1], theta_pick), (place[0], place[1], theta_place)))
+        margin = min(
+            UPPER[6] - abs(Panda.wrist_angle(x, y, t))
+            for x, y, t in ((pick[0], pick[1], theta_pick), (place[0], place[1], theta_place))
+        )
         if best is None or margin > best[0]:
             best = (margin, theta_pick, theta_place)
     return best[1], best[2]
@@ -146,8 +162,9 @@ class Operation:
             self.panda.drive(q)
             self.step(DESCENT_STEPS)
             self.record()
-            pressed = sum(c[9] for c in pb.getContactPoints(held, physicsClientId=self.world.client)
-                          if c[2] != self.panda.body)
+            pressed = sum(
+                c[9] for c in pb.getContactPoints(held, physicsClientId=self.world.client) if c[2] != self.panda.body
+            )
             if pressed >= TOUCH_FORCE:
                 self.panda.drive(self.panda.joints())  # stop there: pressing on would jam the fingers
                 return
@@ -157,8 +174,9 @@ class Operation:
         return PickPlaceResult(diagnosis is None, diagnosis, held, path, self.steps * TIME_STEP)
 
 
-def cycle(rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_pick: float, theta_place: float,
-          theta_rest: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[int, int, int]]:
+def cycle(
+    rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_pick: float, theta_place: float, theta_rest: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[int, int, int]]:
     """The paper's cycle through key points (3,) each: times (T,), hand points (T, 3), angles
     (T,) and where the pick, the place and the way home begin. After the release the hand first
     rises :data:`RETREAT` straight up (turning there, the open fingers would sweep the item's
@@ -168,12 +186,15 @@ def cycle(rest: np.ndarray, pick: np.ndarray, place: np.ndarray, theta_pick: flo
     t_place = plan.t[at_place]
     lift_t = t_place + np.linspace(0.0, RETREAT / DESCENT_SPEED, 6)
     lift = place + np.outer(trajectory.time_scaling(lift_t, lift_t[0], lift_t[-1]), [0.0, 0.0, RETREAT])
-    t, xyz, theta = trajectory.segment(lift[-1], rest, theta_place, theta_rest, lift_t[-1],
-                                       lift_t[-1] + PATH.durations[2], PATH)
-    return (np.concatenate([plan.t[: at_place + 1], lift_t[1:], t[1:]]),
-            np.vstack([plan.xyz[: at_place + 1], lift[1:], xyz[1:]]),
-            np.concatenate([plan.theta[: at_place + 1], np.full(5, theta_place), theta[1:]]),
-            (at_pick, at_place, at_place + 5))
+    t, xyz, theta = trajectory.segment(
+        lift[-1], rest, theta_place, theta_rest, lift_t[-1], lift_t[-1] + PATH.durations[2], PATH
+    )
+    return (
+        np.concatenate([plan.t[: at_place + 1], lift_t[1:], t[1:]]),
+        np.vstack([plan.xyz[: at_place + 1], lift[1:], xyz[1:]]),
+        np.concatenate([plan.theta[: at_place + 1], np.full(5, theta_place), theta[1:]]),
+        (at_pick, at_place, at_place + 5),
+    )
 
 
 def ring(world, centre: np.ndarray, theta: float, distances: tuple[float, ...], ignore: int | None = None) -> float:
@@ -183,8 +204,9 @@ def ring(world, centre: np.ndarray, theta: float, distances: tuple[float, ...], 
     return max(world.probe(*(centre[:2] + sign * d * axis), ignore=ignore)[0] for d in distances for sign in (-1, 1))
 
 
-def key_points(world, pick: np.ndarray, place: np.ndarray, theta_pick: float, theta_place: float,
-               each: float) -> tuple[np.ndarray, np.ndarray]:
+def key_points(
+    world, pick: np.ndarray, place: np.ndarray, theta_pick: float, theta_place: float, each: float
+) -> tuple[np.ndarray, np.ndarray]:
     """The fingertips' pick and place points (3,) from the depth probe. At the pick: the top,
     and the highest surface under the item and beside it where the fingertips come down and
     close; at the place (seen through the item to be picked): the surface and what lies where
@@ -204,8 +226,9 @@ def key_points(world, pick: np.ndarray, place: np.ndarray, theta_pick: float, th
     return np.array([pick[0], pick[1], tip_pick]), np.array([place[0], place[1], tip_place])
 
 
-def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple[float, float, float],
-                           grasp_width: float | None = None) -> PickPlaceResult:
+def execute_pick_and_place(
+    world, pick: tuple[float, float, float], place: tuple[float, float, float], grasp_width: float | None = None
+) -> PickPlaceResult:
     """See :meth:`vslsp.sim.tabletop.TabletopWorld.pick_and_place`."""
     pick, place = check_pose("pick", pick), check_pose("place", place)
     if grasp_width is not None and not (np.isfinite(grasp_width) and grasp_width > 0.0):
@@ -218,8 +241,15 @@ def execute_pick_and_place(world, pick: tuple[float, float, float], place: tuple
     return execute_between(world, pick_point, place_point, theta_pick, theta_place, each, movable)
 
 
-def execute_between(world, pick_point: np.ndarray, place_point: np.ndarray, theta_pick: float, theta_place: float,
-                    each: float, movable: list[int]) -> PickPlaceResult:
+def execute_between(
+    world,
+    pick_point: np.ndarray,
+    place_point: np.ndarray,
+    theta_pick: float,
+    theta_place: float,
+    each: float,
+    movable: list[int],
+) -> PickPlaceResult:
     """The cycle rest -> pick -> place -> rest between the fingertips' key points (3,) each,
     closing along ``theta_pick`` and opening along ``theta_place`` (rad), the fingers opened to
     ``each`` m from the middle; the fingers close on one of the ``movable`` bodies. The key
@@ -230,9 +260,9 @@ def execute_between(world, pick_point: np.ndarray, place_point: np.ndarray, thet
     panda.reset(REST)
     rest, theta_rest = panda.hand()
     panda.reset(PARK)
-    t, xyz, theta, (at_pick, at_place, at_home) = cycle(rest, np.asarray(pick_point, float),
-                                                        np.asarray(place_point, float), theta_pick, theta_place,
-                                                        theta_rest)
+    t, xyz, theta, (at_pick, at_place, at_home) = cycle(
+        rest, np.asarray(pick_point, float), np.asarray(place_point, float), theta_pick, theta_place, theta_rest
+    )
     joints, position_error, angle_error = panda.plan(xyz, theta, REST)
     drop = DESCENT_SPEED * DESCENT_STEPS * TIME_STEP
     below = xyz[at_place] - np.outer(np.arange(1, int(MAX_DESCENT / drop) + 1) * drop, [0.0, 0.0, 1.0])
@@ -252,7 +282,7 @@ def execute_between(world, pick_point: np.ndarray, place_point: np.ndarray, thet
         op.follow(np.array([joints[0], PARK]), np.array([0.0, SWING_TIME]))
         return op.result("grasp failed", None)
 
-    op.follow(joints[at_pick: at_place + 1], t[at_pick: at_place + 1])
+    op.follow(joints[at_pick : at_place + 1], t[at_pick : at_place + 1])
     op.converge(joints[at_place])
     diagnosis = None
     if panda.between_fingers([held]) is None:
@@ -260,7 +290,7 @@ def execute_between(world, pick_point: np.ndarray, place_point: np.ndarray, thet
     else:
         op.guarded_descent(descent, held)
     op.release()
-    op.follow(np.vstack([panda.joints(), joints[at_place + 1: at_home + 1]]), t[at_place: at_home + 1])
+    op.follow(np.vstack([panda.joints(), joints[at_place + 1 : at_home + 1]]), t[at_place : at_home + 1])
     op.follow(joints[at_home:], t[at_home:])
     op.follow(np.array([joints[-1], PARK]), np.array([0.0, SWING_TIME]))
     return op.result(diagnosis, names[held])

@@ -25,9 +25,9 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.sim.camera import Backdrop, Camera
+from vslsp.sim.client import PhysicsClient
 from vslsp.sim.panda import PARK, Panda
 from vslsp.sim.pick_place import TIME_STEP, PickPlaceResult, execute_pick_and_place
-from vslsp.sim.client import PhysicsClient
 from vslsp.sim.quiet import quiet
 
 with quiet():
@@ -60,12 +60,14 @@ class Item:
 
     def __post_init__(self) -> None:
         if len(self.size) != 3 or not all(np.isfinite(s) and 0.002 <= s <= 0.5 for s in self.size):
-            raise InputError(f"item {self.name!r}: size must be three extents between 2 mm and 0.5 m, "
-                             f"got {self.size!r}")
+            raise InputError(
+                f"item {self.name!r}: size must be three extents between 2 mm and 0.5 m, got {self.size!r}"
+            )
         texture = np.asarray(self.texture)
         if texture.ndim != 3 or texture.shape[2] != 3 or texture.dtype != np.uint8 or min(texture.shape[:2]) < 2:
-            raise InputError(f"item {self.name!r}: texture must be an (H, W, 3) uint8 RGB image, "
-                             f"got {texture.dtype} {texture.shape}")
+            raise InputError(
+                f"item {self.name!r}: texture must be an (H, W, 3) uint8 RGB image, got {texture.dtype} {texture.shape}"
+            )
         if self.movable and not (np.isfinite(self.mass) and self.mass > 0.0):
             raise InputError(f"item {self.name!r}: a movable item needs a mass > 0 kg, got {self.mass!r}")
         if not (np.isfinite(self.friction) and self.friction > 0.0):
@@ -88,8 +90,15 @@ def tabletop_camera() -> Camera:
     vertical towards +x, so the robot is at the bottom of its 1280×960 image."""
     tx, ty, tz = CAMERA_TARGET
     eye = (tx - CAMERA_DISTANCE * np.sin(CAMERA_TILT), ty, tz + CAMERA_DISTANCE * np.cos(CAMERA_TILT))
-    return Camera("tabletop", eye=tuple(float(v) for v in eye), target=CAMERA_TARGET, up=(0.0, 0.0, 1.0),
-                  width=TabletopWorld.WIDTH, height=TabletopWorld.HEIGHT, fov=CAMERA_FOV)
+    return Camera(
+        "tabletop",
+        eye=tuple(float(v) for v in eye),
+        target=CAMERA_TARGET,
+        up=(0.0, 0.0, 1.0),
+        width=TabletopWorld.WIDTH,
+        height=TabletopWorld.HEIGHT,
+        fov=CAMERA_FOV,
+    )
 
 
 def box_mesh(size: tuple[float, float, float], top_rows: float) -> tuple[list, list, list, list]:
@@ -165,13 +174,21 @@ class TabletopWorld(PhysicsClient):
             small = self.camera.resized(8, 6)
             colour = small.render(c)[0][small.height // 2, small.width // 2]
             pb.removeBody(look, physicsClientId=c)
-            self.backdrop = Backdrop(0.0, (TABLE_CENTRE[0] - TABLE_HALF[0], TABLE_CENTRE[0] + TABLE_HALF[0]),
-                                     (TABLE_CENTRE[1] - TABLE_HALF[1], TABLE_CENTRE[1] + TABLE_HALF[1]),
-                                     tuple(int(v) for v in colour))
+            self.backdrop = Backdrop(
+                0.0,
+                (TABLE_CENTRE[0] - TABLE_HALF[0], TABLE_CENTRE[0] + TABLE_HALF[0]),
+                (TABLE_CENTRE[1] - TABLE_HALF[1], TABLE_CENTRE[1] + TABLE_HALF[1]),
+                tuple(int(v) for v in colour),
+            )
             # a body without a visual shape would be drawn from its collision box: give the
             # table a speck of a visual far above the camera instead, which it never sees
-            speck = pb.createVisualShape(pb.GEOM_SPHERE, radius=1e-3, visualFramePosition=[0.0, 0.0, 50.0],
-                                         rgbaColor=TABLE_COLOUR, physicsClientId=c)
+            speck = pb.createVisualShape(
+                pb.GEOM_SPHERE,
+                radius=1e-3,
+                visualFramePosition=[0.0, 0.0, 50.0],
+                rgbaColor=TABLE_COLOUR,
+                physicsClientId=c,
+            )
             body = pb.createMultiBody(0, shape, speck, centre, physicsClientId=c)
         pb.changeDynamics(body, -1, lateralFriction=ITEM_FRICTION, physicsClientId=c)
         return body
@@ -181,11 +198,19 @@ class TabletopWorld(PhysicsClient):
         half = [s / 2.0 for s in item.size]
         texture = np.asarray(item.texture)
         strip = max(4, texture.shape[0] // 8)  # plain rows for the sides: the texture's mean colour
-        atlas = np.concatenate([texture, np.broadcast_to(texture.reshape(-1, 3).mean(0).astype(np.uint8),
-                                                         (strip, texture.shape[1], 3))])
+        atlas = np.concatenate(
+            [texture, np.broadcast_to(texture.reshape(-1, 3).mean(0).astype(np.uint8), (strip, texture.shape[1], 3))]
+        )
         vertices, indices, uvs, normals = box_mesh(item.size, texture.shape[0] / atlas.shape[0])
-        visual = pb.createVisualShape(pb.GEOM_MESH, vertices=vertices, indices=indices, uvs=uvs, normals=normals,
-                                      rgbaColor=[1, 1, 1, 1], physicsClientId=c)
+        visual = pb.createVisualShape(
+            pb.GEOM_MESH,
+            vertices=vertices,
+            indices=indices,
+            uvs=uvs,
+            normals=normals,
+            rgbaColor=[1, 1, 1, 1],
+            physicsClientId=c,
+        )
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
         body = pb.createMultiBody(item.mass if item.movable else 0.0, shape, visual, [0, 0, 0], physicsClientId=c)
         handle, path = tempfile.mkstemp(suffix=".png")
@@ -207,12 +232,15 @@ class TabletopWorld(PhysicsClient):
         base = 0.0
         if placement.on is not None:
             if placement.on not in self.bodies or placement.on == name:
-                raise InputError(f"{name!r} cannot go on {placement.on!r}: name an item listed before it "
-                                 f"(the world has {sorted(self.bodies)})")
+                raise InputError(
+                    f"{name!r} cannot go on {placement.on!r}: name an item listed before it "
+                    f"(the world has {sorted(self.bodies)})"
+                )
             base = self.pose(placement.on)[2] + self.specs[placement.on].size[2]
         centre = [placement.x, placement.y, base + self.specs[name].size[2] / 2.0]
-        pb.resetBasePositionAndOrientation(self.bodies[name], centre, pb.getQuaternionFromEuler([0, 0, placement.yaw]),
-                                           physicsClientId=self.client)
+        pb.resetBasePositionAndOrientation(
+            self.bodies[name], centre, pb.getQuaternionFromEuler([0, 0, placement.yaw]), physicsClientId=self.client
+        )
         pb.resetBaseVelocity(self.bodies[name], [0, 0, 0], [0, 0, 0], physicsClientId=self.client)
 
     # -- running ------------------------------------------------------------------------
@@ -225,10 +253,10 @@ class TabletopWorld(PhysicsClient):
         movable = [self.bodies[n] for n, item in self.specs.items() if item.movable]
         for k in range(max_steps):
             self.step()
-            if k >= 5 and all(np.linalg.norm(pb.getBaseVelocity(b, physicsClientId=self.client)[0]) < 1e-3
-                              for b in movable):
+            if k >= 5 and all(
+                np.linalg.norm(pb.getBaseVelocity(b, physicsClientId=self.client)[0]) < 1e-3 for b in movable
+            ):
                 break
-
 
     # -- what the camera sees -------------------------------------------------------------
     def observe(self) -> np.ndarray:
@@ -263,8 +291,9 @@ class TabletopWorld(PhysicsClient):
         self.settle()
 
     # -- the robot ------------------------------------------------------------------------
-    def pick_and_place(self, pick: tuple[float, float, float], place: tuple[float, float, float],
-                       grasp_width: float | None = None) -> PickPlaceResult:
+    def pick_and_place(
+        self, pick: tuple[float, float, float], place: tuple[float, float, float], grasp_width: float | None = None
+    ) -> PickPlaceResult:
         """Pick what lies at ``pick`` = (x, y, θ) and put it down at ``place`` = (x, y, θ), θ
         the gripper's closing-axis angle (rad); the item turns by θ_place − θ_pick. The
         fingers open to ``grasp_width`` + 2 cm (m; default fully open)."""

@@ -55,16 +55,20 @@ class Tutor:
         steps = 60
         for s in np.linspace(0.0, 1.0, steps):
             blend = 10 * s**3 - 15 * s**4 + 6 * s**5
-            position = [x0 + blend * (x - x0), y0 + blend * (y - y0),
-                        TABLE_Z + size / 2 + 0.002 + lift * np.sin(np.pi * s)]
+            position = [
+                x0 + blend * (x - x0),
+                y0 + blend * (y - y0),
+                TABLE_Z + size / 2 + 0.002 + lift * np.sin(np.pi * s),
+            ]
             orientation = pb.getQuaternionFromEuler([0.0, 0.0, yaw0 + blend * (yaw - yaw0)])
             pb.resetBasePositionAndOrientation(body, position, orientation, physicsClientId=world.client)
             pb.resetBaseVelocity(body, [0, 0, 0], [0, 0, 0], physicsClientId=world.client)
             world.step()
         world.settle()
 
-    def kinesthetic(self, via_points: np.ndarray, duration: float, seed: int = 0,
-                    tremor: float = 0.0005, yaw: float | None = None):
+    def kinesthetic(
+        self, via_points: np.ndarray, duration: float, seed: int = 0, tremor: float = 0.0005, yaw: float | None = None
+    ):
         """Guide the hand through via-points (K, 3) in about ``duration`` s; record it.
 
         Timing is shared among segments by length, varied by ±15% per segment; a smooth

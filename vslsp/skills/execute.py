@@ -13,8 +13,9 @@ from vslsp.skills.teach import hand_yaw
 BEYOND = 0.06  # a push or pull aims to leave the object this far (m) past the line
 
 
-def execute_skill(world: World, skill: Skill, object_xy: np.ndarray, normal: np.ndarray,
-                  line_distance: float | None = None) -> HandTrajectory:
+def execute_skill(
+    world: World, skill: Skill, object_xy: np.ndarray, normal: np.ndarray, line_distance: float | None = None
+) -> HandTrajectory:
     """Run ``skill`` on the object seen at ``object_xy`` (table, m), the line's ``normal`` (2,).
 
     The reach starts from the ready pose the arm passes through when it leaves its parked

@@ -84,8 +84,9 @@ class Skill:
     demos: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)  # object-frame reaches
     meta: dict = field(default_factory=dict)
 
-    def hand_path(self, hand_start: np.ndarray, object_xy: np.ndarray, normal: np.ndarray,
-                  travel: float | None = None) -> np.ndarray:
+    def hand_path(
+        self, hand_start: np.ndarray, object_xy: np.ndarray, normal: np.ndarray, travel: float | None = None
+    ) -> np.ndarray:
         """World hand waypoints (N, 3), 5 mm apart: the reach rollout, then the move.
 
         ``travel`` (m): how far the object should go along the normal; the move's length then
@@ -104,19 +105,24 @@ class Skill:
         move = np.linspace(self.goal, self.goal + displacement, 2)
         length = float(np.sum(np.linalg.norm(np.diff(reach, axis=0), axis=1))) + float(np.linalg.norm(displacement))
         if not math.isfinite(length) or length > MAX_PATH_LENGTH:
-            raise InputError(f"skill {self.name!r} gives a hand path of {length:.3g} m from {start.round(3).tolist()} "
-                             f"(at most {MAX_PATH_LENGTH} m); its reach DMP or travel model is wrong: re-teach it "
-                             f"(`vslsp teach {self.name}`)")
+            raise InputError(
+                f"skill {self.name!r} gives a hand path of {length:.3g} m from {start.round(3).tolist()} "
+                f"(at most {MAX_PATH_LENGTH} m); its reach DMP or travel model is wrong: re-teach it "
+                f"(`vslsp teach {self.name}`)"
+            )
         local = np.vstack([resample(reach), resample(move)[1:]])
         return from_object_frame(local, object_xy, normal)
 
     def summary(self) -> dict:
         return {
-            "name": self.name, "demonstrations": self.reach.n_demos,
+            "name": self.name,
+            "demonstrations": self.reach.n_demos,
             "reach_fit_rmse_mm": round(self.reach.fit_rmse * 1000, 3),
             "goal_in_object_frame": [round(float(v), 4) for v in self.goal],
             "move_in_object_frame": [round(float(v), 4) for v in self.move],
-            "n_basis": self.reach.n_basis, "alpha_z": self.reach.alpha_z, "alpha_x": self.reach.alpha_x,
+            "n_basis": self.reach.n_basis,
+            "alpha_z": self.reach.alpha_z,
+            "alpha_x": self.reach.alpha_x,
             **self.meta,
         }
 
@@ -129,8 +135,10 @@ class SkillLibrary:
 
     def __getitem__(self, name: str) -> Skill:
         if name not in self.skills:
-            raise InputError(f"the skill library has no skill {name!r} (it has {sorted(self.skills)}); "
-                             f"teach it with `vslsp teach {name}`")
+            raise InputError(
+                f"the skill library has no skill {name!r} (it has {sorted(self.skills)}); "
+                f"teach it with `vslsp teach {name}`"
+            )
         return self.skills[name]
 
     def __contains__(self, name: str) -> bool:
@@ -141,8 +149,10 @@ class SkillLibrary:
         missing = [name for name in names if name not in self.skills]
         if missing:
             teach = " and ".join(f"`vslsp teach {name} --out {source}`" for name in missing)
-            raise InputError(f"{source} has no {' and no '.join(repr(m) for m in missing)} skill "
-                             f"(it has {sorted(self.skills) or 'none'}); teach it with {teach}")
+            raise InputError(
+                f"{source} has no {' and no '.join(repr(m) for m in missing)} skill "
+                f"(it has {sorted(self.skills) or 'none'}); teach it with {teach}"
+            )
 
     def save(self, folder: str | Path) -> None:
         folder = Path(folder)
@@ -153,10 +163,16 @@ class SkillLibrary:
             arrays.update({f"y_{k}": y for k, (_, y) in enumerate(skill.demos)})
             np.savez(folder / f"{name}_demos.npz", **arrays)
         index = {
-            "format": LIBRARY_FORMAT, "version": LIBRARY_VERSION,
+            "format": LIBRARY_FORMAT,
+            "version": LIBRARY_VERSION,
             "skills": {
-                name: {**skill.summary(), "goal": skill.goal.tolist(), "move": skill.move.tolist(),
-                       "reach_file": f"{name}_reach.npz", "demos_file": f"{name}_demos.npz"}
+                name: {
+                    **skill.summary(),
+                    "goal": skill.goal.tolist(),
+                    "move": skill.move.tolist(),
+                    "reach_file": f"{name}_reach.npz",
+                    "demos_file": f"{name}_demos.npz",
+                }
                 for name, skill in self.skills.items()
             },
         }
@@ -185,8 +201,10 @@ class SkillLibrary:
             index = json.loads(index_file.read_text(encoding="utf-8"))
         except FileNotFoundError as error:
             if strict:
-                raise InputError(f"no skill library in {folder} (library.json is missing); create one with "
-                                 f"`vslsp teach push --out {folder}` and `vslsp teach pull --out {folder}`") from error
+                raise InputError(
+                    f"no skill library in {folder} (library.json is missing); create one with "
+                    f"`vslsp teach push --out {folder}` and `vslsp teach pull --out {folder}`"
+                ) from error
             return cls(), []
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
             problem = f"{index_file} is corrupt ({error}); re-create it with {fix_all}"
@@ -204,8 +222,11 @@ class SkillLibrary:
             try:
                 skills[name] = _read_skill(folder, name, entry)
             except _Invalid as error:
-                fix = f"`vslsp teach {name} --out {folder} --force`" if name in SKILL_NAMES else \
-                    f"remove {name!r} from {index_file}"
+                fix = (
+                    f"`vslsp teach {name} --out {folder} --force`"
+                    if name in SKILL_NAMES
+                    else f"remove {name!r} from {index_file}"
+                )
                 problem = f"skill {name!r} in {index_file} is corrupt: {error}; re-create it with {fix}"
                 if strict:
                     raise InputError(problem) from error
@@ -237,8 +258,9 @@ def _index_problem(index: object) -> str | None:
     return None
 
 
-def _number(value: object, field: str, low: float, high: float, *, integer: bool = False,
-            low_open: bool = False) -> float:
+def _number(
+    value: object, field: str, low: float, high: float, *, integer: bool = False, low_open: bool = False
+) -> float:
     """``value`` as a finite number in [low, high] ((low, high] with ``low_open``), else _Invalid."""
     kind = "an integer" if integer else "a number"
     if isinstance(value, bool) or not isinstance(value, int | float) or (integer and not isinstance(value, int)):
@@ -275,8 +297,10 @@ def _arrays(path: Path, what: str) -> dict[str, np.ndarray]:
         raise _Invalid(f"{path.name} ({what}) is missing") from error
     except ValueError as error:
         if "pickle" in str(error) or "Object arrays" in str(error):
-            raise _Invalid(f"{path.name} holds pickled Python objects, not the {what}; vslsp never reads "
-                           "pickles (loading one can run any code)") from None
+            raise _Invalid(
+                f"{path.name} holds pickled Python objects, not the {what}; vslsp never reads "
+                "pickles (loading one can run any code)"
+            ) from None
         raise _Invalid(f"{path.name} cannot be read as the {what} ({error})") from error
     except (OSError, EOFError, zipfile.BadZipFile, KeyError) as error:
         raise _Invalid(f"{path.name} is not a readable .npz file of the {what} ({error})") from error
@@ -293,15 +317,28 @@ def _check_dmp_arrays(arrays: dict[str, np.ndarray], path: Path) -> None:
             raise _Invalid(f"{path.name}: meta is not JSON ({error})") from error
     if not isinstance(meta, dict):
         raise _Invalid(f"{path.name}: meta is a JSON {type(meta).__name__}, not an object")
-    limits = {"n_dims": (3, 3, True), "n_basis": (2, MAX_BASIS, True), "alpha_z": (0, 1e4, False),
-              "alpha_x": (0, 1e3, False), "tau": (0, MAX_TAU, False), "dt": (MIN_DT, MAX_TAU, False),
-              "amplitude": (0, MAX_COORDINATE, False), "n_demos": (0, 10**6, True)}
+    limits = {
+        "n_dims": (3, 3, True),
+        "n_basis": (2, MAX_BASIS, True),
+        "alpha_z": (0, 1e4, False),
+        "alpha_x": (0, 1e3, False),
+        "tau": (0, MAX_TAU, False),
+        "dt": (MIN_DT, MAX_TAU, False),
+        "amplitude": (0, MAX_COORDINATE, False),
+        "n_demos": (0, 10**6, True),
+    }
     for key, (low, high, integer) in limits.items():
         values = meta.get(key)
         # A list (a value per dimension) is checked value by value.
         for k, value in enumerate(values if isinstance(values, list) else [values] if key in meta else []):
-            _number(value, f"{path.name}: {key}" + (f"[{k}]" if isinstance(values, list) else ""), low, high,
-                    integer=integer, low_open=key in ("alpha_z", "alpha_x", "tau"))
+            _number(
+                value,
+                f"{path.name}: {key}" + (f"[{k}]" if isinstance(values, list) else ""),
+                low,
+                high,
+                integer=integer,
+                low_open=key in ("alpha_z", "alpha_x", "tau"),
+            )
     if "weights" in arrays:  # its shape is the DMP's own check (DMP.load)
         _check_array(arrays["weights"], f"{path.name}: weights", MAX_WEIGHT)
 
@@ -343,8 +380,10 @@ def _read_demos(path: Path) -> list[tuple[np.ndarray, np.ndarray]]:
         _check_array(t, f"{path.name}: t_{k}", MAX_TAU * 10)
         _check_array(y, f"{path.name}: y_{k}", MAX_COORDINATE)
         if t.ndim != 1 or y.shape != (len(t), 3) or len(t) < 2:
-            raise _Invalid(f"{path.name}: demonstration {k} has t of shape {t.shape} and y of shape {y.shape}, "
-                           "not (T,) and (T, 3) with T >= 2")
+            raise _Invalid(
+                f"{path.name}: demonstration {k} has t of shape {t.shape} and y of shape {y.shape}, "
+                "not (T,) and (T, 3) with T >= 2"
+            )
         if not np.all(np.diff(t) > 0):
             raise _Invalid(f"{path.name}: t_{k}, the sample times of demonstration {k}, do not increase")
         demos.append((t.astype(np.float64), y.astype(np.float64)))
@@ -391,8 +430,10 @@ def _read_skill(folder: Path, name: str, entry: dict) -> Skill:
     path = reach.rollout(start, goal, duration=2.0 * reach.tau).y
     spread = float(np.abs(path - goal).max()) if np.all(np.isfinite(path)) else math.inf
     if spread > MAX_REACH_SPREAD:
-        raise _Invalid(f"{reach_path.name}: its rollout from a demonstrated start goes {spread:.3g} m from the goal "
-                       f"(at most {MAX_REACH_SPREAD} m on a table); the weights or tau are wrong")
+        raise _Invalid(
+            f"{reach_path.name}: its rollout from a demonstrated start goes {spread:.3g} m from the goal "
+            f"(at most {MAX_REACH_SPREAD} m on a table); the weights or tau are wrong"
+        )
     return skill
 
 

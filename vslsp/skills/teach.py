@@ -55,8 +55,7 @@ def hand_yaw(normal: np.ndarray) -> float:
 def demonstration_scene(skill: str, rng: np.random.Generator) -> SceneSpec:
     landmark = LandmarkSpec(x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
     colour = str(rng.choice(["red", "green", "blue", "yellow", "orange", "purple"]))
-    spec = SceneSpec.random(int(rng.integers(1 << 30)), colours=(colour,), far=(skill == "pull",),
-                            landmark=landmark)
+    spec = SceneSpec.random(int(rng.integers(1 << 30)), colours=(colour,), far=(skill == "pull",), landmark=landmark)
     return spec
 
 
@@ -82,8 +81,9 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
         yaw = hand_yaw(normal)
         robot.move_hand(start[None, :], yaw=yaw)
         reach = world.tutor.kinesthetic(via, duration=float(rng.uniform(1.6, 2.2)), seed=seed, yaw=yaw)
-        move = world.tutor.kinesthetic(np.vstack([via[-1], end]), duration=float(rng.uniform(0.9, 1.2)),
-                                       seed=seed + 1, yaw=yaw, tremor=0.0)
+        move = world.tutor.kinesthetic(
+            np.vstack([via[-1], end]), duration=float(rng.uniform(0.9, 1.2)), seed=seed + 1, yaw=yaw, tremor=0.0
+        )
         robot.park()
         world.settle()
         crossed = world.is_far(cube.name) == (skill == "push")
@@ -114,8 +114,11 @@ def learn_skill(skill: str, demonstrations: list[Demonstration], n_basis: int = 
         slope, offset = np.polyfit(lengths, travels, 1)
         rmse = float(np.sqrt(np.mean((travels - (slope * lengths + offset)) ** 2)))
         if 0.5 <= slope <= 1.5 and rmse < 0.01:
-            meta["travel_model"] = {"slope": round(float(slope), 4), "offset": round(float(offset), 4),
-                                    "rmse_mm": round(rmse * 1000, 1)}
+            meta["travel_model"] = {
+                "slope": round(float(slope), 4),
+                "offset": round(float(offset), 4),
+                "rmse_mm": round(rmse * 1000, 1),
+            }
     return Skill(skill, dmp, goal, move, reaches, meta)
 
 
@@ -142,8 +145,10 @@ def plot_skill(skill: Skill, path, starts: np.ndarray | None = None) -> None:
         axis.set_xlabel("nt z"[i * 2] + " (m)" if i != 1 else "t (m)")
         axis.grid(alpha=0.3)
     axes[0].legend(loc="best", fontsize=8)
-    figure.suptitle(f"{skill.name}: reach-{'before' if skill.name == 'push' else 'after'} in the object frame "
-                    f"({skill.reach.n_demos} demonstrations, fit RMSE {skill.reach.fit_rmse * 1000:.2f} mm)")
+    figure.suptitle(
+        f"{skill.name}: reach-{'before' if skill.name == 'push' else 'after'} in the object frame "
+        f"({skill.reach.n_demos} demonstrations, fit RMSE {skill.reach.fit_rmse * 1000:.2f} mm)"
+    )
     figure.tight_layout()
     figure.savefig(path, dpi=110)
     plt.close(figure)

@@ -36,9 +36,20 @@ class Outcome(Enum):
     ERROR = "error"  # the translator or the search failed
 
 
-_CODES = {0: Outcome.SOLVED, 1: Outcome.SOLVED, 2: Outcome.SOLVED, 3: Outcome.SOLVED, 10: Outcome.UNSOLVABLE,
-          11: Outcome.UNSOLVABLE, 12: Outcome.UNSOLVED, 20: Outcome.MEMOUT, 21: Outcome.TIMEOUT, 22: Outcome.MEMOUT,
-          23: Outcome.TIMEOUT, 24: Outcome.TIMEOUT}
+_CODES = {
+    0: Outcome.SOLVED,
+    1: Outcome.SOLVED,
+    2: Outcome.SOLVED,
+    3: Outcome.SOLVED,
+    10: Outcome.UNSOLVABLE,
+    11: Outcome.UNSOLVABLE,
+    12: Outcome.UNSOLVED,
+    20: Outcome.MEMOUT,
+    21: Outcome.TIMEOUT,
+    22: Outcome.MEMOUT,
+    23: Outcome.TIMEOUT,
+    24: Outcome.TIMEOUT,
+}
 
 
 @dataclass(frozen=True)
@@ -63,8 +74,9 @@ def driver() -> Path:
     return path
 
 
-def run(domain_text: str, problem_text: str, options: list[str], timeout: float | None = None,
-        translate_only: bool = False) -> Run:
+def run(
+    domain_text: str, problem_text: str, options: list[str], timeout: float | None = None, translate_only: bool = False
+) -> Run:
     """Run the driver on the two texts in a fresh folder.
 
     ``options``: ``["--search", "..."]`` or ``["--alias", "..."]``.
@@ -79,11 +91,22 @@ def run(domain_text: str, problem_text: str, options: list[str], timeout: float 
         phase = ["--translate"] if translate_only else []
         alias = options if options[:1] == ["--alias"] and not translate_only else []
         search = [] if translate_only or alias else options
-        command = [sys.executable, str(driver()), *limit, *alias, *phase, "--plan-file", "plan", str(domain_file),
-                   str(problem_file), *search]
+        command = [
+            sys.executable,
+            str(driver()),
+            *limit,
+            *alias,
+            *phase,
+            "--plan-file",
+            "plan",
+            str(domain_file),
+            str(problem_file),
+            *search,
+        ]
         start = time.perf_counter()
-        process = subprocess.Popen(command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                   start_new_session=True)
+        process = subprocess.Popen(
+            command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
+        )
         try:
             log, _ = process.communicate(timeout=timeout)  # wall-clock (the driver limits CPU time)
         except subprocess.TimeoutExpired:

@@ -117,6 +117,7 @@ Formula = Atom | Not | And | Or | Imply | Forall | Exists | Equals
 
 # --- PDDL 3.0 trajectory constraints -------------------------------------------------------
 
+
 class _Trajectory:
     """A PDDL 3.0 constraint; prints as ``(keyword formula ...)``."""
 
@@ -214,6 +215,7 @@ def _typed(variables: tuple[tuple[str, str], ...]) -> str:
 
 # --- substitution, evaluation --------------------------------------------------------------
 
+
 def substitute(formula: Formula, binding: Mapping[str, str]) -> Formula:
     """Replace variables by objects: ``substitute(far("?b"), {"?b": "red"}) == far("red")``."""
     if isinstance(formula, Atom):
@@ -254,8 +256,9 @@ def holds(formula: Formula, state: State, universe: Universe) -> bool:
     if isinstance(formula, Imply):
         return not holds(formula.condition, state, universe) or holds(formula.consequence, state, universe)
     test: Callable = all if isinstance(formula, Forall) else any
-    return test(holds(substitute(formula.body, binding), state, universe)
-                for binding in bindings(formula.variables, universe))
+    return test(
+        holds(substitute(formula.body, binding), state, universe) for binding in bindings(formula.variables, universe)
+    )
 
 
 def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
@@ -267,8 +270,9 @@ def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
     if isinstance(formula, (Atom, Equals)):
         return formula
     if isinstance(formula, (Forall, Exists)):
-        parts = tuple(expand_quantifiers(substitute(formula.body, b), universe)
-                      for b in bindings(formula.variables, universe))
+        parts = tuple(
+            expand_quantifiers(substitute(formula.body, b), universe) for b in bindings(formula.variables, universe)
+        )
         return And(parts) if isinstance(formula, Forall) else Or(parts)
     return _map_connective(formula, lambda part: expand_quantifiers(part, universe))
 
@@ -314,6 +318,7 @@ def constraint_formulas(constraint: Constraint) -> tuple[Formula, ...]:
 
 
 # --- JSON: nested lists, the s-expression spelled in JSON ----------------------------------
+
 
 def formula_to_list(formula: Formula | Constraint) -> list:
     """``(forall (?b - block) (not (far ?b)))`` -> ``["forall", [["?b", "block"]], ["not", ["far", "?b"]]]``."""

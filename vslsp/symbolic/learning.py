@@ -48,15 +48,20 @@ class Step:
     def changed(self) -> dict[str, bool]:
         """The acted object's predicates whose value changed: ``{predicate: value after}``."""
         if self.obj not in self.before or self.obj not in self.after:
-            raise InputError(f"step on {self.obj!r}: the object is missing from the before/after observations "
-                             f"(seen: {', '.join(sorted(self.before))})")
+            raise InputError(
+                f"step on {self.obj!r}: the object is missing from the before/after observations "
+                f"(seen: {', '.join(sorted(self.before))})"
+            )
         before, after = self.before[self.obj], self.after[self.obj]
         return {p: bool(v) for p, v in after.items() if p in before and bool(before[p]) != bool(v)}
 
     def to_dict(self) -> dict:
-        return {"action": self.action, "obj": self.obj,
-                "before": {o: dict(v) for o, v in self.before.items()},
-                "after": {o: dict(v) for o, v in self.after.items()}}
+        return {
+            "action": self.action,
+            "obj": self.obj,
+            "before": {o: dict(v) for o, v in self.before.items()},
+            "after": {o: dict(v) for o, v in self.after.items()},
+        }
 
     @classmethod
     def from_dict(cls, data: dict) -> Step:
@@ -88,21 +93,27 @@ def learn_domain(steps: Iterable[Step], name: str = "vsl-sp") -> Domain:
         preconditions[step.action] = preconditions.get(step.action, before) & before
         effects[step.action] = effects.get(step.action, set(changed.items())) & set(changed.items())
     if not preconditions:
-        raise InputError("no action to learn from: no step names an action whose object changed "
-                         "(check the grounding of the demonstrations)")
+        raise InputError(
+            "no action to learn from: no step names an action whose object changed "
+            "(check the grounding of the demonstrations)"
+        )
     fluents = {p for effect in effects.values() for p, _ in effect}
     actions = []
     for action_name in preconditions:  # in the order first seen
         if not effects[action_name]:
-            raise InputError(f"{action_name}: its executions changed different predicates, so no effect is common "
-                             "to all of them; check the grounding")
+            raise InputError(
+                f"{action_name}: its executions changed different predicates, so no effect is common "
+                "to all of them; check the grounding"
+            )
         needed = sorted((p, v) for p, v in preconditions[action_name] if p in fluents)
-        actions.append(Action(
-            action_name,
-            (("?b", BLOCK),),
-            conjunction(literal(p, ("?b",), v) for p, v in needed),
-            tuple(literal(p, ("?b",), v) for p, v in sorted(effects[action_name])),
-        ))
+        actions.append(
+            Action(
+                action_name,
+                (("?b", BLOCK),),
+                conjunction(literal(p, ("?b",), v) for p, v in needed),
+                tuple(literal(p, ("?b",), v) for p, v in sorted(effects[action_name])),
+            )
+        )
     return Domain(name, ((BLOCK, None),), tuple(Predicate(p, (("?b", BLOCK),)) for p in predicates), tuple(actions))
 
 
@@ -122,18 +133,27 @@ class Rule:
     def __str__(self) -> str:
         def words(pairs):
             return ", ".join(f"{'' if v else 'not '}{p}" for p, v in pairs)
+
         context = "; ".join(f"B_{o} is {'' if v else 'not '}{p}" for o, p, v in self.context)
         names = ", ".join(f"r_{i}^{j}" for i, j in self.sources)
         return f"{names}: <B_{self.obj} -> {words(self.effect)}> IF <{context}>"
 
     def to_dict(self) -> dict:
-        return {"obj": self.obj, "effect": [list(e) for e in self.effect],
-                "context": [list(c) for c in self.context], "sources": [list(s) for s in self.sources]}
+        return {
+            "obj": self.obj,
+            "effect": [list(e) for e in self.effect],
+            "context": [list(c) for c in self.context],
+            "sources": [list(s) for s in self.sources],
+        }
 
     @classmethod
     def from_dict(cls, data: dict) -> Rule:
-        return cls(data["obj"], tuple((p, bool(v)) for p, v in data["effect"]),
-                   tuple((o, p, bool(v)) for o, p, v in data["context"]), tuple((i, j) for i, j in data["sources"]))
+        return cls(
+            data["obj"],
+            tuple((p, bool(v)) for p, v in data["effect"]),
+            tuple((o, p, bool(v)) for o, p, v in data["context"]),
+            tuple((i, j) for i, j in data["sources"]),
+        )
 
 
 @dataclass(frozen=True)
@@ -154,22 +174,32 @@ class Task:
         return bool(self.constraints)
 
     def to_dict(self) -> dict:
-        return {"goal": formula_to_list(self.goal), "constraints": [formula_to_list(c) for c in self.constraints],
-                "rules": [r.to_dict() for r in self.rules]}
+        return {
+            "goal": formula_to_list(self.goal),
+            "constraints": [formula_to_list(c) for c in self.constraints],
+            "rules": [r.to_dict() for r in self.rules],
+        }
 
     @classmethod
     def from_dict(cls, data: dict) -> Task:
-        return cls(formula_from_list(data["goal"]),  # type: ignore[arg-type]
-                   tuple(formula_from_list(c) for c in data.get("constraints", ())),  # type: ignore[misc]
-                   tuple(Rule.from_dict(r) for r in data.get("rules", ())))
+        return cls(
+            formula_from_list(data["goal"]),  # type: ignore[arg-type]
+            tuple(formula_from_list(c) for c in data.get("constraints", ())),  # type: ignore[misc]
+            tuple(Rule.from_dict(r) for r in data.get("rules", ())),
+        )
 
 
 def changed_by(domain: Domain) -> dict[str, set[str]]:
     """Action name -> the predicates its learned effects change."""
-    return {action.name: {atom.predicate for effect in action.effects
-                          for literal in (effect.effects if isinstance(effect, When) else (effect,))
-                          for atom in atoms_of(literal)}
-            for action in domain.actions}
+    return {
+        action.name: {
+            atom.predicate
+            for effect in action.effects
+            for literal in (effect.effects if isinstance(effect, When) else (effect,))
+            for atom in atoms_of(literal)
+        }
+        for action in domain.actions
+    }
 
 
 def extract_rules(demonstrations: Sequence[Sequence[Step]], models: Domain | None = None) -> list[Rule]:
@@ -186,13 +216,13 @@ def extract_rules(demonstrations: Sequence[Sequence[Step]], models: Domain | Non
         for step in demonstration:
             if step.action is None:
                 continue
-            changed = {p: v for p, v in step.changed().items()
-                       if kept is None or p in kept.get(step.action, {p})}
+            changed = {p: v for p, v in step.changed().items() if kept is None or p in kept.get(step.action, {p})}
             if not changed:
                 continue
             j += 1
-            context = tuple(sorted((o, p, bool(v)) for o, values in step.before.items() if o != step.obj
-                                   for p, v in values.items()))
+            context = tuple(
+                sorted((o, p, bool(v)) for o, values in step.before.items() if o != step.obj for p, v in values.items())
+            )
             rules.append(Rule(step.obj, tuple(sorted(changed.items())), context, ((i, j),)))
     if not rules:
         raise InputError("the demonstrations contain no step that changed an object; nothing to learn")
@@ -223,13 +253,16 @@ def generalise(rules: Sequence[Rule]) -> list[Rule]:
         if len(colours) > 1 and not opposite & set(effect):
             merged.append(Rule("?", effect, tuple(sorted(c for c in context if c[0] not in colours)), sources))
         else:
-            merged.extend(Rule(c, effect, tuple(sorted(context)),
-                               tuple(s for r in group if r.obj == c for s in r.sources)) for c in colours)
+            merged.extend(
+                Rule(c, effect, tuple(sorted(context)), tuple(s for r in group if r.obj == c for s in r.sources))
+                for c in colours
+            )
     return merged
 
 
-def learn_task(demonstrations: Sequence[Sequence[Step]], ordered: bool | None = None,
-               models: Domain | None = None) -> Task:
+def learn_task(
+    demonstrations: Sequence[Sequence[Step]], ordered: bool | None = None, models: Domain | None = None
+) -> Task:
     """The goal (and order) that ``demonstrations`` teach, over every grounded predicate.
 
     ``ordered=None`` follows the paper: one demonstration teaches a sequence (the colours stay,
@@ -248,8 +281,10 @@ def learn_task(demonstrations: Sequence[Sequence[Step]], ordered: bool | None = 
     if ordered:
         final = _final_literals(rules)
         goal = conjunction(literal(p, (o,), v) for o, effect in final.items() for p, v in effect)
-        constraints = tuple(SometimeBefore(_effect_formula(b, final[b]), _effect_formula(a, final[a]))
-                            for a, b in _demonstrated_order(demonstrations, rules))
+        constraints = tuple(
+            SometimeBefore(_effect_formula(b, final[b]), _effect_formula(a, final[a]))
+            for a, b in _demonstrated_order(demonstrations, rules)
+        )
         return Task(goal, constraints, tuple(rules))
     general = generalise(rules)
     parts: list[Formula] = []
@@ -269,9 +304,11 @@ def _final_literals(rules: Sequence[Rule]) -> dict[str, tuple[tuple[str, bool], 
         values = final.setdefault(rule.obj, {})
         for predicate, value in rule.effect:
             if predicate in values and values[predicate][1] != demo and values[predicate][0] != value:
-                raise InputError(f"the demonstrations disagree about {rule.obj}: {predicate} is "
-                                 f"{values[predicate][0]} in demonstration {values[predicate][1]} and {value} in "
-                                 f"demonstration {demo}")
+                raise InputError(
+                    f"the demonstrations disagree about {rule.obj}: {predicate} is "
+                    f"{values[predicate][0]} in demonstration {values[predicate][1]} and {value} in "
+                    f"demonstration {demo}"
+                )
             values[predicate] = (value, demo)  # a later step of the same demonstration overrides
     return {o: tuple(sorted((p, v) for p, (v, _) in values.items())) for o, values in final.items()}
 
@@ -290,12 +327,21 @@ def _demonstrated_order(demonstrations: Sequence[Sequence[Step]], rules: Sequenc
         last = {r.obj: j for r in rules for d, j in r.sources if d == i}
         sequences.append(sorted(last, key=last.__getitem__))
     objects = list(dict.fromkeys(o for s in sequences for o in s))
-    before = {(a, b) for a in objects for b in objects if a != b and
-              any(a in s and b in s and s.index(a) < s.index(b) for s in sequences) and
-              not any(a in s and b in s and s.index(a) > s.index(b) for s in sequences)}
+    before = {
+        (a, b)
+        for a in objects
+        for b in objects
+        if a != b
+        and any(a in s and b in s and s.index(a) < s.index(b) for s in sequences)
+        and not any(a in s and b in s and s.index(a) > s.index(b) for s in sequences)
+    }
     # Transitive reduction: keep a < b only when no c sits between them.
-    return [(a, b) for a in objects for b in objects
-            if (a, b) in before and not any((a, c) in before and (c, b) in before for c in objects)]
+    return [
+        (a, b)
+        for a in objects
+        for b in objects
+        if (a, b) in before and not any((a, c) in before and (c, b) in before for c in objects)
+    ]
 
 
 def make_problem(domain: Domain, task: Task, state: Literals, name: str = "vsl-sp-task") -> Problem:
@@ -312,20 +358,30 @@ def make_problem(domain: Domain, task: Task, state: Literals, name: str = "vsl-s
     for obj, values in state.items():
         for predicate, value in values.items():
             if predicate not in known:
-                raise InputError(f"the state says {predicate} of {obj}, but the domain {domain.name} has only: "
-                                 f"{', '.join(sorted(known))}")
+                raise InputError(
+                    f"the state says {predicate} of {obj}, but the domain {domain.name} has only: "
+                    f"{', '.join(sorted(known))}"
+                )
             if value:
                 init.add(literal(predicate, (obj,), True))
-    named = {a for part in (task.goal, *task.constraints) for atom in atoms_of(part) for a in atom.args
-             if not a.startswith("?")}
+    named = {
+        a
+        for part in (task.goal, *task.constraints)
+        for atom in atoms_of(part)
+        for a in atom.args
+        if not a.startswith("?")
+    }
     missing = sorted(named - set(state))
     if missing:
-        raise InputError(f"the task names {', '.join(missing)}, not in the scene (objects: {', '.join(state)}); "
-                         "use a scene with these objects or a lifted task")
+        raise InputError(
+            f"the task names {', '.join(missing)}, not in the scene (objects: {', '.join(state)}); "
+            "use a scene with these objects or a lifted task"
+        )
     problem = Problem(name, domain, tuple((o, block) for o in state), frozenset(init), task.goal)
     # An ordering whose later literal already holds in this scene is done with: the order can only
     # speak of what is still to be done (this is what lets the robot replan halfway through).
     universe, now = problem.universe(), frozenset(init)
-    pending = tuple(c for c in task.constraints
-                    if not (isinstance(c, SometimeBefore) and holds(c.formula, now, universe)))
+    pending = tuple(
+        c for c in task.constraints if not (isinstance(c, SometimeBefore) and holds(c.formula, now, universe))
+    )
     return replace(problem, constraints=pending)

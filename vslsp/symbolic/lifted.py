@@ -82,11 +82,18 @@ def compile_lifted(domain: Domain, problem: Problem) -> tuple[Domain, Problem]:
     per_action: dict[str, list[Effect]] = {a.name: [] for a in domain.actions}
 
     for index, (constraint, variables, rows) in enumerate(_templates(problem, fresh), start=1):
-        _monitor(_Target(domain, init, universe, predicates, goals, new_init, per_action), index, constraint,
-                 variables, rows)
+        _monitor(
+            _Target(domain, init, universe, predicates, goals, new_init, per_action), index, constraint, variables, rows
+        )
 
-    actions = tuple(replace(a, precondition=conjunction([a.precondition, Not(VIOLATED)]) if a.precondition != TRUE
-                            else Not(VIOLATED), effects=(*a.effects, *per_action[a.name])) for a in domain.actions)
+    actions = tuple(
+        replace(
+            a,
+            precondition=conjunction([a.precondition, Not(VIOLATED)]) if a.precondition != TRUE else Not(VIOLATED),
+            effects=(*a.effects, *per_action[a.name]),
+        )
+        for a in domain.actions
+    )
     compiled = replace(domain, predicates=(*domain.predicates, *predicates), actions=actions)
     return compiled, replace(problem, domain=compiled, init=init | new_init, goal=conjunction(goals), constraints=())
 
@@ -104,8 +111,13 @@ class _Target:
     per_action: dict[str, list[Effect]]
 
 
-def _monitor(target: _Target, index: int, constraint: Constraint, variables: tuple[tuple[str, str], ...],
-             rows: list[tuple[str, ...]]) -> None:
+def _monitor(
+    target: _Target,
+    index: int,
+    constraint: Constraint,
+    variables: tuple[tuple[str, str], ...],
+    rows: list[tuple[str, ...]],
+) -> None:
     """The monitor of one constraint (or one shape of constraints, ``variables`` over ``rows``)."""
     domain, init, universe = target.domain, target.init, target.universe
     predicates, goals, new_init, per_action = target.predicates, target.goals, target.new_init, target.per_action
@@ -165,8 +177,11 @@ def _monitor(target: _Target, index: int, constraint: Constraint, variables: tup
         p, q = constraint.formula, constraint.after
         goal(monitor)
         initially(Imply(p, q))
-        add(lambda a, p=p, q=q: _and(regress(p, a), _not(regress(q, a))) if _touches(a, p, q) else FALSE,
-            monitor, value=False)
+        add(
+            lambda a, p=p, q=q: _and(regress(p, a), _not(regress(q, a))) if _touches(a, p, q) else FALSE,
+            monitor,
+            value=False,
+        )
         add(lambda a, q=q: regress(q, a) if _touches(a, q) else FALSE, monitor)  # type: ignore[misc]
 
 
@@ -203,6 +218,7 @@ def _templates(problem: Problem, fresh) -> list[tuple[Constraint, tuple[tuple[st
 def _disjuncts(formula: Formula, limit: int = 16) -> list[Formula]:
     """``formula`` as a disjunction of conjunctions over its and/or structure (as it is if that takes more than
     ``limit`` disjuncts)."""
+
     def dnf(f: Formula) -> list[list[Formula]]:
         if isinstance(f, Or):
             return [c for a in f.args for c in dnf(a)]
@@ -221,8 +237,13 @@ def _disjuncts(formula: Formula, limit: int = 16) -> list[Formula]:
         return [formula]
 
 
-def _bound(condition: Formula, effect: tuple[Formula, ...], variables: tuple[tuple[str, str], ...], action: Action,
-           domain: Domain) -> When:
+def _bound(
+    condition: Formula,
+    effect: tuple[Formula, ...],
+    variables: tuple[tuple[str, str], ...],
+    action: Action,
+    domain: Domain,
+) -> When:
     """``When(condition, effect, variables)`` with each variable that the condition equates to an action
     parameter (of its type or below) replaced by that parameter: the planner need not range over it."""
     parameters = dict(action.parameters)
@@ -243,13 +264,19 @@ def _bound(condition: Formula, effect: tuple[Formula, ...], variables: tuple[tup
                     break
             if changed:
                 break
-    condition = _and(*(p for p in (condition.args if isinstance(condition, And) else (condition,))
-                       if not (isinstance(p, Equals) and p.left == p.right)))
+    condition = _and(
+        *(
+            p
+            for p in (condition.args if isinstance(condition, And) else (condition,))
+            if not (isinstance(p, Equals) and p.left == p.right)
+        )
+    )
     return When(condition, effect, tuple((v, t) for v, t in variables if v in free))
 
 
-def _collect_objects(formula: Formula, objects: dict[str, str], signatures: dict[str, list[str]],
-                     types: dict[str, str]) -> None:
+def _collect_objects(
+    formula: Formula, objects: dict[str, str], signatures: dict[str, list[str]], types: dict[str, str]
+) -> None:
     """Add to ``objects`` (object -> the type of its place) the objects ``formula`` names, in order."""
     if isinstance(formula, Atom):
         for position, arg in enumerate(formula.args):
@@ -303,7 +330,7 @@ def objects_named(domain: Domain) -> set[str]:
         for effect in action.effects:
             if isinstance(effect, When):
                 terms(effect.condition)
-            for literal_ in (effect.effects if isinstance(effect, When) else (effect,)):
+            for literal_ in effect.effects if isinstance(effect, When) else (effect,):
                 terms(literal_)
     return names
 
@@ -347,7 +374,7 @@ def _writers(atom: Atom, action: Action) -> tuple[list[Formula], list[Formula]]:
     deletes: list[Formula] = []
     for effect in action.effects:
         condition, variables = (effect.condition, effect.variables) if isinstance(effect, When) else (TRUE, ())
-        for literal_ in (effect.effects if isinstance(effect, When) else (effect,)):
+        for literal_ in effect.effects if isinstance(effect, When) else (effect,):
             positive = not isinstance(literal_, Not)
             written = literal_ if positive else literal_.arg  # type: ignore[union-attr]
             if written.predicate != atom.predicate:  # type: ignore[union-attr]
@@ -366,6 +393,7 @@ def _touches(action: Action, *formulas: Formula) -> bool:
 
 def _renamed(constraint: Constraint, fresh) -> Constraint:
     """``constraint`` with every quantified variable renamed ``?vslsp-N`` (no clash with action parameters)."""
+
     def rename(formula: Formula) -> Formula:
         if isinstance(formula, (Forall, Exists)):
             names = {v: f"?{PREFIX}{next(fresh)}" for v, _ in formula.variables}
@@ -383,6 +411,7 @@ def _renamed(constraint: Constraint, fresh) -> Constraint:
 
 
 # --- formulas with constant folding ----------------------------------------------------------
+
 
 def _equal(left: str, right: str) -> Formula:
     if left == right:

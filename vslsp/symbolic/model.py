@@ -72,8 +72,12 @@ class When:
         return body
 
     def to_list(self) -> list:
-        return ["when", [list(v) for v in self.variables], formula_to_list(self.condition),
-                [formula_to_list(e) for e in self.effects]]
+        return [
+            "when",
+            [list(v) for v in self.variables],
+            formula_to_list(self.condition),
+            [formula_to_list(e) for e in self.effects],
+        ]
 
 
 Effect = Atom | Not | When
@@ -81,8 +85,11 @@ Effect = Atom | Not | When
 
 def _effect_from_list(data: list) -> Effect:
     if data and data[0] == "when":
-        return When(formula_from_list(data[2]), tuple(formula_from_list(e) for e in data[3]),  # type: ignore[arg-type, misc]
-                    tuple((str(n), str(t)) for n, t in data[1]))
+        return When(
+            formula_from_list(data[2]),
+            tuple(formula_from_list(e) for e in data[3]),  # type: ignore[arg-type, misc]
+            tuple((str(n), str(t)) for n, t in data[1]),
+        )
     return formula_from_list(data)  # type: ignore[return-value]
 
 
@@ -125,7 +132,7 @@ class Action:
     def effect_atoms(self) -> Iterable[Atom]:
         """The atoms the effects write (lifted)."""
         for effect in self.effects:
-            for literal_ in (effect.effects if isinstance(effect, When) else (effect,)):
+            for literal_ in effect.effects if isinstance(effect, When) else (effect,):
                 yield literal_.arg if isinstance(literal_, Not) else literal_  # type: ignore[misc]
 
 
@@ -158,8 +165,10 @@ class Domain:
         conditions = [action.precondition, *(e.condition for e in action.effects if isinstance(e, When))]
         for atom in (*(a for c in conditions for a in atoms_of(c)), *action.effect_atoms()):
             if known.get(atom.predicate) != len(atom.args):
-                raise InputError(f"action {action.name}: {atom.to_pddl()} does not match a declared predicate "
-                                 f"({', '.join(sorted(known)) or 'none declared'}); add it with with_predicate")
+                raise InputError(
+                    f"action {action.name}: {atom.to_pddl()} does not match a declared predicate "
+                    f"({', '.join(sorted(known)) or 'none declared'}); add it with with_predicate"
+                )
         return replace(self, actions=_put(self.actions, action, key=lambda a: a.name))
 
     def without_action(self, name: str) -> Domain:
@@ -170,15 +179,17 @@ class Domain:
         for action in self.actions:
             if action.name == name:
                 return action
-        raise InputError(f"unknown action {name!r}; the domain {self.name} has: "
-                         f"{', '.join(a.name for a in self.actions)}")
+        raise InputError(
+            f"unknown action {name!r}; the domain {self.name} has: {', '.join(a.name for a in self.actions)}"
+        )
 
     def predicate(self, name: str) -> Predicate:
         for predicate in self.predicates:
             if predicate.name == name:
                 return predicate
-        raise InputError(f"unknown predicate {name!r}; the domain {self.name} has: "
-                         f"{', '.join(p.name for p in self.predicates)}")
+        raise InputError(
+            f"unknown predicate {name!r}; the domain {self.name} has: {', '.join(p.name for p in self.predicates)}"
+        )
 
     def subtypes(self, type_: str) -> set[str]:
         """``type_`` and every type below it."""
@@ -193,11 +204,17 @@ class Domain:
         """The PDDL requirements the domain needs (``:constraints`` always: problems may order it)."""
         needed = [":strips", ":typing"]
         conditions = [a.precondition for a in self.actions] + [
-            e.condition for a in self.actions for e in a.effects if isinstance(e, When)]
+            e.condition for a in self.actions for e in a.effects if isinstance(e, When)
+        ]
         text = " ".join(c.to_pddl() for c in conditions)
-        for word, requirement in (("(not ", ":negative-preconditions"), ("(or ", ":disjunctive-preconditions"),
-                                  ("(imply ", ":disjunctive-preconditions"), ("(= ", ":equality"),
-                                  ("(exists ", ":existential-preconditions"), ("(forall ", ":universal-preconditions")):
+        for word, requirement in (
+            ("(not ", ":negative-preconditions"),
+            ("(or ", ":disjunctive-preconditions"),
+            ("(imply ", ":disjunctive-preconditions"),
+            ("(= ", ":equality"),
+            ("(exists ", ":existential-preconditions"),
+            ("(forall ", ":universal-preconditions"),
+        ):
             if word in text and requirement not in needed:
                 needed.append(requirement)
         if any(isinstance(e, When) for a in self.actions for e in a.effects):
@@ -207,8 +224,12 @@ class Domain:
     def to_pddl(self) -> str:
         """The domain file."""
         roots = [name for name, parent in self.types if not parent]
-        types = " ".join([*([" ".join(roots) + " - object"] if roots else []),
-                          *(f"{name} - {parent}" for name, parent in self.types if parent)])
+        types = " ".join(
+            [
+                *([" ".join(roots) + " - object"] if roots else []),
+                *(f"{name} - {parent}" for name, parent in self.types if parent),
+            ]
+        )
         lines = [f"(define (domain {self.name})", f"  (:requirements {' '.join(self.requirements())})"]
         if self.types:
             lines.append(f"  (:types {types})")
@@ -233,8 +254,9 @@ class Domain:
         return cls(
             name=data["name"],
             types=tuple((n, p) for n, p in data["types"]),
-            predicates=tuple(Predicate(p["name"], tuple((n, t) for n, t in p["parameters"]))
-                             for p in data["predicates"]),
+            predicates=tuple(
+                Predicate(p["name"], tuple((n, t) for n, t in p["parameters"])) for p in data["predicates"]
+            ),
             actions=tuple(Action.from_dict(a) for a in data["actions"]),
             constants=tuple((n, t) for n, t in data.get("constants", ())),
         )
@@ -335,12 +357,16 @@ class Problem:
         objects = {o for o, _ in self.all_objects()}
         for atom in atoms_of(formula):
             if arity.get(atom.predicate) != len(atom.args):
-                raise InputError(f"{atom.to_pddl()} does not match a predicate of domain {self.domain.name} "
-                                 f"({', '.join(sorted(arity))})")
+                raise InputError(
+                    f"{atom.to_pddl()} does not match a predicate of domain {self.domain.name} "
+                    f"({', '.join(sorted(arity))})"
+                )
             for arg in atom.args:
                 if not arg.startswith("?") and arg not in objects:
-                    raise InputError(f"{atom.to_pddl()} names {arg!r}, which is not an object of problem "
-                                     f"{self.name}; add it with with_objects")
+                    raise InputError(
+                        f"{atom.to_pddl()} names {arg!r}, which is not an object of problem "
+                        f"{self.name}; add it with with_objects"
+                    )
         return formula
 
 
@@ -349,7 +375,7 @@ def _put(items: tuple, item, key) -> tuple:
     keys = [key(i) for i in items]
     if key(item) in keys:
         index = keys.index(key(item))
-        return (*items[:index], item, *items[index + 1:])
+        return (*items[:index], item, *items[index + 1 :])
     return (*items, item)
 
 
@@ -372,8 +398,9 @@ def _section(keyword: str, items: list) -> list[str]:
     return [f"  ({keyword} (and", *(f"    {t}" for t in texts), "  ))"]
 
 
-def ground_effects(action: Action, args: tuple[str, ...], state: frozenset = frozenset(),
-                   universe: Universe | None = None) -> tuple[frozenset, frozenset]:
+def ground_effects(
+    action: Action, args: tuple[str, ...], state: frozenset = frozenset(), universe: Universe | None = None
+) -> tuple[frozenset, frozenset]:
     """(atoms added, atoms deleted) by ``action`` applied to objects ``args`` in ``state``.
 
     Conditional effects are read in ``state``; universal ones range over ``universe``.

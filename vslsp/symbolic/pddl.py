@@ -86,8 +86,10 @@ def read_text(path: str | Path, what: str = "PDDL file") -> str:
     try:
         size = path.stat().st_size
         if size > MAX_PDDL_BYTES:
-            raise InputError(f"{path}: the {what} has {size / 1e6:.1f} MB; vslsp reads at most "
-                             f"{MAX_PDDL_BYTES / 1e6:.0f} MB (split the problem or plan with Fast Downward directly)")
+            raise InputError(
+                f"{path}: the {what} has {size / 1e6:.1f} MB; vslsp reads at most "
+                f"{MAX_PDDL_BYTES / 1e6:.0f} MB (split the problem or plan with Fast Downward directly)"
+            )
         data = path.read_bytes()
     except OSError as error:
         raise InputError(f"{path}: cannot read the file ({error.strerror})") from None
@@ -96,16 +98,20 @@ def read_text(path: str | Path, what: str = "PDDL file") -> str:
     except UnicodeDecodeError as error:
         line = data.count(b"\n", 0, error.start) + 1
         column = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
-        raise InputError(f"{path}:{line}:{column}: the {what} is not UTF-8 text (byte 0x{data[error.start]:02x}); "
-                         "save it as UTF-8 (plain ASCII is fine)") from None
+        raise InputError(
+            f"{path}:{line}:{column}: the {what} is not UTF-8 text (byte 0x{data[error.start]:02x}); "
+            "save it as UTF-8 (plain ASCII is fine)"
+        ) from None
 
 
-def _read(domain_text: str, problem_text: str | None, domain_name: str,
-          problem_name: str | None) -> tuple[Domain, Problem | None]:
+def _read(
+    domain_text: str, problem_text: str | None, domain_name: str, problem_name: str | None
+) -> tuple[Domain, Problem | None]:
     check_text(domain_text, domain_name)
     check_types(domain_text, domain_name)
-    domain_text = either_widened(sections_in_order(preferences_removed(domain_text, domain_name), domain_name),
-                                 domain_name)
+    domain_text = either_widened(
+        sections_in_order(preferences_removed(domain_text, domain_name), domain_name), domain_name
+    )
     domain_text = types_declared_once(domain_text)
     domain = domain_from_up(_parse(domain_text, None, domain_name, None))
     if problem_text is None or problem_name is None:
@@ -125,9 +131,18 @@ def _check_requirements(domain_text: str, domain: Domain, problem: Problem, name
     """Warn about requirements the files use but the domain does not declare (VAL warns too)."""
     match = re.search(r"\(\s*:requirements([^()]*)\)", domain_text, re.IGNORECASE)
     declared = set(match.group(1).lower().split()) if match else set()
-    implied = {":adl": {":negative-preconditions", ":disjunctive-preconditions", ":equality", ":conditional-effects",
-                        ":existential-preconditions", ":universal-preconditions", ":quantified-preconditions"},
-               ":quantified-preconditions": {":existential-preconditions", ":universal-preconditions"}}
+    implied = {
+        ":adl": {
+            ":negative-preconditions",
+            ":disjunctive-preconditions",
+            ":equality",
+            ":conditional-effects",
+            ":existential-preconditions",
+            ":universal-preconditions",
+            ":quantified-preconditions",
+        },
+        ":quantified-preconditions": {":existential-preconditions", ":universal-preconditions"},
+    }
     for word in list(declared):
         declared |= implied.get(word, set())
     needed = [r for r in domain.requirements() if r not in (":strips", ":typing", ":constraints")]
@@ -135,8 +150,10 @@ def _check_requirements(domain_text: str, domain: Domain, problem: Problem, name
         needed.append(":constraints")
     missing = [r for r in needed if r not in declared]
     if missing:
-        warn(f"{name}: the domain uses {', '.join(missing)} without declaring "
-             f"{'it' if len(missing) == 1 else 'them'} in (:requirements ...)")
+        warn(
+            f"{name}: the domain uses {', '.join(missing)} without declaring "
+            f"{'it' if len(missing) == 1 else 'them'} in (:requirements ...)"
+        )
 
 
 class _OverBudget(Exception):
@@ -171,8 +188,10 @@ def _parse(domain_text: str, problem_text: str | None, domain_name: str, problem
             warnings.simplefilter("ignore", DeprecationWarning)  # pyparsing's notes about the reader's own calls
             return PDDLReader(environment()).parse_problem_string(domain_text, problem_text)
     except _OverBudget:
-        raise InputError(f"{name}: parsing took more than {PARSE_BUDGET_S:.0f} s and was stopped; the file is too "
-                         "large for vslsp's reader (plan with Fast Downward directly)") from None
+        raise InputError(
+            f"{name}: parsing took more than {PARSE_BUDGET_S:.0f} s and was stopped; the file is too "
+            "large for vslsp's reader (plan with Fast Downward directly)"
+        ) from None
     except RecursionError:
         raise InputError(f"{name}: the file nests too deeply to read (a type or formula refers to itself?)") from None
     except InputError:

@@ -23,11 +23,22 @@ def warn(message: str) -> None:
     """Issue a :class:`PddlWarning` (the CLI prints them as ``warning: ...``)."""
     warnings.warn(message, PddlWarning, stacklevel=3)
 
-PDDL3_OPERATORS = ("always", "sometime", "within", "at-most-once", "sometime-after", "sometime-before",
-                   "always-within", "hold-during", "hold-after", "at end")
+
+PDDL3_OPERATORS = (
+    "always",
+    "sometime",
+    "within",
+    "at-most-once",
+    "sometime-after",
+    "sometime-before",
+    "always-within",
+    "hold-during",
+    "hold-after",
+    "at end",
+)
 _NOT_PDDL = {
     "somewhere-after": "PDDL 3.0 has no 'somewhere-after'; for \"p only after q\" (the demonstrated order) "
-                       "write (sometime-before p q)",
+    "write (sometime-before p q)",
     "somewhere-before": "PDDL 3.0 has no 'somewhere-before'; for \"p only after q\" write (sometime-before p q)",
 }
 
@@ -48,27 +59,37 @@ def check_text(text: str, name: str) -> None:
     code = _code(text)
     for match in re.finditer(r"\(\s*(somewhere-after|somewhere-before)\b", code, re.IGNORECASE):
         line, column = _position(text, match.start(1))
-        raise InputError(f"{name}:{line}:{column}: {_NOT_PDDL[match.group(1).lower()]}. "
-                         f"The PDDL 3.0 operators are: {', '.join(PDDL3_OPERATORS)}")
+        raise InputError(
+            f"{name}:{line}:{column}: {_NOT_PDDL[match.group(1).lower()]}. "
+            f"The PDDL 3.0 operators are: {', '.join(PDDL3_OPERATORS)}"
+        )
     for match in re.finditer(r"\(\s*(within|always-within|hold-during|hold-after)\b", code, re.IGNORECASE):
         if re.search(r"\(\s*problem\b", code, re.IGNORECASE):
             line, column = _position(text, match.start(1))
-            raise InputError(f"{name}:{line}:{column}: ({match.group(1).lower()} ...) is not supported (timed "
-                             "constraints need a temporal planner); vslsp plans with always, sometime, at-most-once, "
-                             "sometime-before, sometime-after and at end")
+            raise InputError(
+                f"{name}:{line}:{column}: ({match.group(1).lower()} ...) is not supported (timed "
+                "constraints need a temporal planner); vslsp plans with always, sometime, at-most-once, "
+                "sometime-before, sometime-after and at end"
+            )
     for match in re.finditer(r"\(\s*(either|:derived|:functions|:durative-action)\b", code, re.IGNORECASE):
         word = match.group(1).lower()
         if word == "either" and _in_section(code, match.start(), (":predicates",)):
             continue  # a predicate's parameter: widened to the types' common ancestor (either_widened)
-        if word == ":functions" and re.match(r"\(\s*:functions\s*\(\s*total-cost\s*\)(\s*-\s*number)?\s*\)",
-                                             code[match.start():], re.IGNORECASE):
+        if word == ":functions" and re.match(
+            r"\(\s*:functions\s*\(\s*total-cost\s*\)(\s*-\s*number)?\s*\)", code[match.start() :], re.IGNORECASE
+        ):
             continue  # action costs: read, and ignored by the planners vslsp uses
         line, column = _position(text, match.start(1))
-        what = {"either": "(either ...) types", ":derived": "derived predicates (:derived ...)",
-                ":functions": "numeric functions other than (total-cost)",
-                ":durative-action": "durative actions"}[word]
-        raise InputError(f"{name}:{line}:{column}: {what} are not supported; vslsp reads STRIPS with types, "
-                         "negation, equality, quantifiers, conditional effects, constants and PDDL 3.0 constraints")
+        what = {
+            "either": "(either ...) types",
+            ":derived": "derived predicates (:derived ...)",
+            ":functions": "numeric functions other than (total-cost)",
+            ":durative-action": "durative actions",
+        }[word]
+        raise InputError(
+            f"{name}:{line}:{column}: {what} are not supported; vslsp reads STRIPS with types, "
+            "negation, equality, quantifiers, conditional effects, constants and PDDL 3.0 constraints"
+        )
     opened: list[int] = []
     for index, char in enumerate(code):
         if char == "(":
@@ -77,19 +98,25 @@ def check_text(text: str, name: str) -> None:
                 line, column = _position(text, index)
                 open_line, open_column = _position(text, opened[-1])
                 keyword = re.match(r"\(:[\w-]+", code[index:]).group(0)  # type: ignore[union-attr]
-                raise InputError(f"{name}:{line}:{column}: '{keyword}' starts inside an unclosed '(' "
-                                 f"(opened at line {open_line}, col {open_column}): a ')' is missing before it")
+                raise InputError(
+                    f"{name}:{line}:{column}: '{keyword}' starts inside an unclosed '(' "
+                    f"(opened at line {open_line}, col {open_column}): a ')' is missing before it"
+                )
             opened.append(index)
         elif char == ")":
             if not opened:
                 line, column = _position(text, index)
-                raise InputError(f"{name}:{line}:{column}: unexpected ')': there is no '(' left to close; "
-                                 "remove it or add the missing '('")
+                raise InputError(
+                    f"{name}:{line}:{column}: unexpected ')': there is no '(' left to close; "
+                    "remove it or add the missing '('"
+                )
             opened.pop()
     if opened:
         line, column = _position(text, opened[-1])
-        raise InputError(f"{name}:{line}:{column}: this '(' is never closed: a ')' is missing "
-                         f"({len(opened)} unclosed at the end of the file)")
+        raise InputError(
+            f"{name}:{line}:{column}: this '(' is never closed: a ')' is missing "
+            f"({len(opened)} unclosed at the end of the file)"
+        )
     if not code.strip():
         raise InputError(f"{name}: the file is empty; expected (define (domain ...)) or (define (problem ...))")
 
@@ -99,8 +126,10 @@ def check_domain_name(problem_text: str, domain_name: str, name: str) -> None:
     match = re.search(r"\(\s*:domain\s+([^\s()]+)", _code(problem_text), re.IGNORECASE)
     if match and match.group(1).lower() != domain_name.lower():
         line, column = _position(problem_text, match.start(1))
-        warn(f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
-             f"defines {domain_name!r}; read with it all the same")
+        warn(
+            f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
+            f"defines {domain_name!r}; read with it all the same"
+        )
 
 
 def _in_section(code: str, index: int, sections: tuple[str, ...]) -> bool:
@@ -130,7 +159,7 @@ def either_widened(text: str, name: str) -> str:
     for match in reversed(found):
         chains = [ancestors(t.lower()) for t in match.group(1).split()]
         common = next((t for t in chains[0] if all(t in c for c in chains[1:])), "object")
-        text = text[:match.start()] + common.ljust(match.end() - match.start()) + text[match.end():]
+        text = text[: match.start()] + common.ljust(match.end() - match.start()) + text[match.end() :]
     if found:
         line, column = _position(text, found[0].start())
         warn(f"{name}:{line}:{column}: (either ...) in a predicate's parameters read as the types' common ancestor")
@@ -157,17 +186,21 @@ def sections_in_order(text: str, name: str) -> str:
         keyword = re.match(r"\(\s*([:\w-]+)", code[start:])
         sections.append((keyword.group(1).lower() if keyword else "", start, close))
         index = close + 1
-    rank = [-1 if not k.startswith(":") else _SECTION_ORDER.index(k) if k in _SECTION_ORDER else len(_SECTION_ORDER)
-            for k, _, _ in sections]
+    rank = [
+        -1 if not k.startswith(":") else _SECTION_ORDER.index(k) if k in _SECTION_ORDER else len(_SECTION_ORDER)
+        for k, _, _ in sections
+    ]
     if rank == sorted(rank):
         return text
     ordered = [s for _, s in sorted(zip(rank, sections, strict=False), key=lambda pair: pair[0])]
-    body = "\n".join(text[start:close + 1] for _, start, close in ordered)
+    body = "\n".join(text[start : close + 1] for _, start, close in ordered)
     first = sections[0][1]
     moved = next(k for (k, _, _), r, sorted_r in zip(sections, rank, sorted(rank), strict=False) if r != sorted_r)
-    warn(f"{name}: the domain's sections were read in the order {', '.join(_SECTION_ORDER)} ({moved} moved); "
-         "places in later messages refer to that order")
-    return text[:first] + body + text[sections[-1][2] + 1:]
+    warn(
+        f"{name}: the domain's sections were read in the order {', '.join(_SECTION_ORDER)} ({moved} moved); "
+        "places in later messages refer to that order"
+    )
+    return text[:first] + body + text[sections[-1][2] + 1 :]
 
 
 def _type_parents(code: str) -> dict[str, tuple[str, int]]:
@@ -210,7 +243,7 @@ def types_declared_once(text: str) -> str:
         return text
     names = [w for w in words if w not in ("-", "object")]
     body = " ".join(f"{n} - {parents[n][0]}" if n in parents else n for n in dict.fromkeys(names))
-    return text[:section.start(1)] + " " + body + text[section.end(1):]
+    return text[: section.start(1)] + " " + body + text[section.end(1) :]
 
 
 def check_types(text: str, name: str) -> None:
@@ -224,8 +257,10 @@ def check_types(text: str, name: str) -> None:
             current = parents[current][0]
             if current == start:
                 line, column = _position(text, parents[start][1])
-                raise InputError(f"{name}:{line}:{column}: the types form a cycle ({' - '.join([*seen, start])}); "
-                                 "a type cannot be its own ancestor")
+                raise InputError(
+                    f"{name}:{line}:{column}: the types form a cycle ({' - '.join([*seen, start])}); "
+                    "a type cannot be its own ancestor"
+                )
             if current in seen:
                 break
             seen.append(current)
@@ -246,13 +281,13 @@ def preferences_removed(text: str, name: str) -> str:
     for start, end in spans:
         if out[start] != "(":  # inside a preference removed already
             continue
-        blank = [c if c == "\n" else " " for c in text[start:end + 1]]
+        blank = [c if c == "\n" else " " for c in text[start : end + 1]]
         if not inside[0] < start < inside[1]:
             blank[0:5] = list("(and)")  # a goal or precondition part: true
-        out[start:end + 1] = blank
-    if metric and "is-violated" in code[metric.start():_closing(code, metric.start())].lower():
+        out[start : end + 1] = blank
+    if metric and "is-violated" in code[metric.start() : _closing(code, metric.start())].lower():
         end = _closing(code, metric.start())
-        out[metric.start():end + 1] = [c if c == "\n" else " " for c in text[metric.start():end + 1]]
+        out[metric.start() : end + 1] = [c if c == "\n" else " " for c in text[metric.start() : end + 1]]
     if section:  # emptied (and ...) and (forall (...) ...) go, and the section if nothing is left
         empty = re.compile(r"\(\s*(?:and|forall\s*\([^()]*\))\s*\)|\(\s*:constraints\s*\)", re.IGNORECASE)
         while True:
@@ -260,10 +295,12 @@ def preferences_removed(text: str, name: str) -> str:
             match = empty.search(joined, inside[0], inside[1] + 1)
             if not match:
                 break
-            out[match.start():match.end()] = [c if c == "\n" else " " for c in joined[match.start():match.end()]]
+            out[match.start() : match.end()] = [c if c == "\n" else " " for c in joined[match.start() : match.end()]]
     line, column = _position(text, found[0])
-    warn(f"{name}:{line}:{column}: {len(found)} preference{'s' if len(found) != 1 else ''} ignored: vslsp plans for "
-         "the hard goal and constraints only (soft goals and their :metric are left out)")
+    warn(
+        f"{name}:{line}:{column}: {len(found)} preference{'s' if len(found) != 1 else ''} ignored: vslsp plans for "
+        "the hard goal and constraints only (soft goals and their :metric are left out)"
+    )
     return "".join(out)
 
 
@@ -289,7 +326,7 @@ def check_constraints_form(text: str, name: str) -> None:
     match = re.search(r"\(\s*:constraints\b", code, re.IGNORECASE)
     if not match:
         return
-    body = code[match.end():_closing(code, match.start())]
+    body = code[match.end() : _closing(code, match.start())]
     depth, tops = 0, 0
     for char in body:
         if char == "(":
@@ -299,8 +336,10 @@ def check_constraints_form(text: str, name: str) -> None:
             depth -= 1
     if tops > 1:
         line, column = _position(text, match.start())
-        warn(f"{name}:{line}:{column}: (:constraints ...) lists {tops} constraints without (and ...); read as their "
-             "conjunction (VAL drops such constraints)")
+        warn(
+            f"{name}:{line}:{column}: (:constraints ...) lists {tops} constraints without (and ...); read as their "
+            "conjunction (VAL drops such constraints)"
+        )
 
 
 _ORDER = {
@@ -315,8 +354,10 @@ _REWRITES = (
     (re.compile(r"Undefined variable's type: ([^\s.]+)"), "undefined type '{0}'"),
     (re.compile(r"Undefined name found: ([^\s.]+)"), "undefined parameter '?{0}'"),
     (re.compile(r"fluent: (\S+) has arity (\d+) but (\d+) parameters"), "'{0}' takes {1} argument(s), {2} given"),
-    (re.compile(r"The expression '([^']+)' is not well-formed"),
-     "type error in {0}: an argument's type does not match the predicate's parameter type"),
+    (
+        re.compile(r"The expression '([^']+)' is not well-formed"),
+        "type error in {0}: an argument's type does not match the predicate's parameter type",
+    ),
     (re.compile(r"Type (\S+) is declared more than once"), "type '{0}' is declared more than once"),
     (re.compile(r"Missing goal section"), "the problem has no (:goal ...) section"),
 )
@@ -329,7 +370,7 @@ def located_error(error: Exception, text: str, name: str) -> InputError:
     if type(error).__name__ in ("ParseException", "ParseSyntaxException"):
         found = re.sub(r"\s*\(at char \d+\), \(line:\d+, col:\d+\)", "", getattr(error, "msg", message))
         what = f"syntax error: {found}"
-        section = re.match(r"\(:[\w-]+", text[getattr(error, "loc", 0):])
+        section = re.match(r"\(:[\w-]+", text[getattr(error, "loc", 0) :])
         if section:
             kind = "problem" if re.search(r"\(\s*problem", text, re.IGNORECASE) else "domain"
             what = f"{what}: '{section.group(0)}' is not allowed here; sections come in the order {_ORDER[kind]}"

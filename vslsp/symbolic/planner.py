@@ -37,8 +37,10 @@ DEFAULT_PLANNER = "fast-downward"
 #: LAMA's landmark preprocessing dominates on the long chains of a demonstrated order
 #: (about 5x slower at 200 blocks, see benchmarks/bench_planning.py).
 PLANNERS: dict[str, tuple[str, dict]] = {
-    "fast-downward": ("fast-downward", {"fast_downward_search_config":
-                                        "let(hff,ff(),lazy_greedy([hff],preferred=[hff]))"}),
+    "fast-downward": (
+        "fast-downward",
+        {"fast_downward_search_config": "let(hff,ff(),lazy_greedy([hff],preferred=[hff]))"},
+    ),
     "fast-downward-lama": ("fast-downward", {"fast_downward_alias": "lama-first"}),
 }
 #: The same two, as options of Fast Downward's driver run directly (vslsp.symbolic.fast_downward).
@@ -66,8 +68,12 @@ class PlanResult:
         return "".join(f"({line})\n" for line in self.lines())
 
     def to_dict(self) -> dict:
-        return {"plan": self.lines(), "planner": self.planner, "time_s": self.time_s,
-                "compilation": self.compilation.value}
+        return {
+            "plan": self.lines(),
+            "planner": self.planner,
+            "time_s": self.time_s,
+            "compilation": self.compilation.value,
+        }
 
     @classmethod
     def from_dict(cls, data: dict) -> PlanResult:
@@ -98,8 +104,13 @@ def check_planner(name: str) -> None:
         raise InputError(f"unknown planner {name!r}; available: {', '.join(available)}")
 
 
-def solve(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER, compilation: Compilation | None = None,
-          timeout: float | None = None) -> PlanResult:
+def solve(
+    domain: Domain,
+    problem: Problem,
+    planner: str = DEFAULT_PLANNER,
+    compilation: Compilation | None = None,
+    timeout: float | None = None,
+) -> PlanResult:
     """Plan for ``problem`` in ``domain`` with a unified-planning oneshot planner.
 
     Raises TaskFailed("no plan: ...") when the planner proves or reports no plan (or runs out
@@ -111,9 +122,13 @@ def solve(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER, comp
     return solve_timed(domain, problem, planner, compilation, timeout)[0]
 
 
-def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER,
-                compilation: Compilation | None = None,
-                timeout: float | None = None) -> tuple[PlanResult, PlanningTimes]:
+def solve_timed(
+    domain: Domain,
+    problem: Problem,
+    planner: str = DEFAULT_PLANNER,
+    compilation: Compilation | None = None,
+    timeout: float | None = None,
+) -> tuple[PlanResult, PlanningTimes]:
     """:func:`solve`, with the time of each phase."""
     check_planner(planner)
     if problem.domain.name != domain.name:
@@ -128,19 +143,22 @@ def solve_timed(domain: Domain, problem: Problem, planner: str = DEFAULT_PLANNER
     except Exception as error:  # a failure inside unified-planning or the planner: not "no plan"
         stage = getattr(error, "vslsp_stage", "planning")
         first = str(error).splitlines()[0] if str(error) else ""
-        raise InternalError(f"{stage} failed inside ({type(error).__name__}: {first}); "
-                            "run with --debug for the traceback") from error
+        raise InternalError(
+            f"{stage} failed inside ({type(error).__name__}: {first}); run with --debug for the traceback"
+        ) from error
 
 
-def _solve(domain: Domain, problem: Problem, planner: str, compilation: Compilation | None,
-           timeout: float | None) -> tuple[PlanResult, PlanningTimes]:
+def _solve(
+    domain: Domain, problem: Problem, planner: str, compilation: Compilation | None, timeout: float | None
+) -> tuple[PlanResult, PlanningTimes]:
     if planner in DIRECT and compilation is not Compilation.GROUND:
         return _solve_directly(domain, problem, planner, timeout)
     return _solve_up(domain, problem, planner, compilation, timeout)
 
 
-def _solve_directly(domain: Domain, problem: Problem, planner: str,
-                    timeout: float | None) -> tuple[PlanResult, PlanningTimes]:
+def _solve_directly(
+    domain: Domain, problem: Problem, planner: str, timeout: float | None
+) -> tuple[PlanResult, PlanningTimes]:
     """Lifted compilation, our PDDL text, Fast Downward's driver: nothing grounded in Python."""
     start = time.perf_counter()
     compiled_domain, compiled_problem = compile_lifted(domain, problem)
@@ -152,7 +170,7 @@ def _solve_directly(domain: Domain, problem: Problem, planner: str,
     if run.outcome is not Outcome.SOLVED:
         reasons = {
             Outcome.UNSOLVABLE: "the goal cannot be reached from the initial state under the constraints "
-                                "(proved by Fast Downward)",
+            "(proved by Fast Downward)",
             Outcome.UNSOLVED: "Fast Downward's search gave up without a plan (it is incomplete)",
             Outcome.TIMEOUT: f"the planner ran out of time{f' ({timeout:g} s)' if timeout else ''}",
             Outcome.MEMOUT: "the planner ran out of memory",
@@ -178,8 +196,9 @@ def planner_texts(domain: Domain, problem: Problem) -> tuple[str, str]:
     return domain_text, problem.to_pddl()
 
 
-def _solve_up(domain: Domain, problem: Problem, planner: str, compilation: Compilation | None,
-              timeout: float | None) -> tuple[PlanResult, PlanningTimes]:
+def _solve_up(
+    domain: Domain, problem: Problem, planner: str, compilation: Compilation | None, timeout: float | None
+) -> tuple[PlanResult, PlanningTimes]:
     """Through a unified-planning engine (any installed planner; the ground compilation)."""
     from unified_planning.engines import CompilationKind, PlanGenerationResultStatus
     from unified_planning.exceptions import UPException
@@ -189,8 +208,11 @@ def _solve_up(domain: Domain, problem: Problem, planner: str, compilation: Compi
     start = time.perf_counter()
     with OneshotPlanner(name=engine_name, params=params) as engine:
         conditional = engine.supported_kind().has_conditional_effects()
-        used = Compilation.NONE if not problem.constraints else \
-            compilation or (Compilation.LIFTED if conditional else Compilation.GROUND)
+        used = (
+            Compilation.NONE
+            if not problem.constraints
+            else compilation or (Compilation.LIFTED if conditional else Compilation.GROUND)
+        )
         map_backs = []
         if used is Compilation.LIFTED:
             compiled_domain, compiled_problem = compile_lifted(domain, problem)
@@ -212,8 +234,7 @@ def _solve_up(domain: Domain, problem: Problem, planner: str, compilation: Compi
             map_backs.append(result.map_back_action_instance)
             kind = up_problem.kind
         if not engine.supports(kind):
-            raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); "
-                             f"try {DEFAULT_PLANNER}")
+            raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); try {DEFAULT_PLANNER}")
         if _false_goal(up_problem):
             raise TaskFailed(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
         engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
@@ -280,9 +301,9 @@ def _reason(result: Any, timeout: float | None) -> str:
 
     reasons = {
         Status.UNSOLVABLE_PROVEN: "the goal cannot be reached from the initial state under the constraints "
-                                  f"(proved by {result.engine_name})",
+        f"(proved by {result.engine_name})",
         Status.UNSOLVABLE_INCOMPLETELY: f"{result.engine_name} explored every reachable state and found none "
-                                        "that reaches the goal under the constraints",
+        "that reaches the goal under the constraints",
         Status.TIMEOUT: f"the planner ran out of time{f' ({timeout:g} s)' if timeout else ''}",
         Status.MEMOUT: "the planner ran out of memory",
         Status.UNSUPPORTED_PROBLEM: "the planner does not support this problem",

@@ -30,8 +30,9 @@ HISTORY = Path.home() / ".vslsp_history"
 def _domain_text(domain: Domain, extra_action: str = "", extra_predicate: str = "") -> str:
     """Scratch PDDL of ``domain`` (plus one more action or predicate) for the reader to check a
     fragment in context."""
-    text = re.sub(r"\(:requirements[^)]*\)", "(:requirements :strips :typing :adl :constraints)", domain.to_pddl(),
-                  count=1)
+    text = re.sub(
+        r"\(:requirements[^)]*\)", "(:requirements :strips :typing :adl :constraints)", domain.to_pddl(), count=1
+    )
     if extra_predicate:
         text = text.replace("(:predicates", f"(:predicates {extra_predicate}", 1)
     return text.rstrip()[:-1] + f"\n{extra_action})\n"
@@ -51,8 +52,10 @@ def _problem_text(problem: Problem, goal: str | None = None, constraints: list[s
     goal = goal if goal is not None else problem.goal.to_pddl()
     parts = constraints if constraints is not None else [c.to_pddl() for c in problem.constraints]
     section = f"(:constraints (and {' '.join(parts)}))" if parts else ""
-    return (f"(define (problem {problem.name}) (:domain {problem.domain.name}) (:objects {objects})\n"
-            f"(:init {init}) (:goal {goal}) {section})")
+    return (
+        f"(define (problem {problem.name}) (:domain {problem.domain.name}) (:objects {objects})\n"
+        f"(:init {init}) (:goal {goal}) {section})"
+    )
 
 
 def _balanced(typed: str) -> None:
@@ -63,12 +66,15 @@ def _balanced(typed: str) -> None:
             opened.append(index)
         elif char == ")":
             if not opened:
-                raise InputError(f"unexpected ')' at column {index + 1} of what you typed:\n  {typed}\n  "
-                                 f"{' ' * index}^")
+                raise InputError(
+                    f"unexpected ')' at column {index + 1} of what you typed:\n  {typed}\n  {' ' * index}^"
+                )
             opened.pop()
     if opened:
-        raise InputError(f"the '(' at column {opened[-1] + 1} of what you typed is never closed: a ')' is missing"
-                         f"\n  {typed}\n  {' ' * opened[-1]}^")
+        raise InputError(
+            f"the '(' at column {opened[-1] + 1} of what you typed is never closed: a ')' is missing"
+            f"\n  {typed}\n  {' ' * opened[-1]}^"
+        )
 
 
 class Shell(cmd.Cmd):
@@ -105,10 +111,25 @@ class Shell(cmd.Cmd):
         self.say(f"error: unknown command {line.split()[0]!r}; type help")
 
     def completedefault(self, text, line, begidx, endidx):
-        names = ([p.name for p in self.domain.predicates] + [a.name for a in self.domain.actions]
-                 + [o for o, _ in self.problem.objects] + [t for t, _ in self.domain.types]
-                 + ["not", "and", "or", "forall", "exists", "imply", "sometime-before", "sometime-after",
-                    "always", "sometime", "at-most-once"])
+        names = (
+            [p.name for p in self.domain.predicates]
+            + [a.name for a in self.domain.actions]
+            + [o for o, _ in self.problem.objects]
+            + [t for t, _ in self.domain.types]
+            + [
+                "not",
+                "and",
+                "or",
+                "forall",
+                "exists",
+                "imply",
+                "sometime-before",
+                "sometime-after",
+                "always",
+                "sometime",
+                "at-most-once",
+            ]
+        )
         return sorted(n for n in set(names) if n.startswith(text.lstrip("(")))
 
     def _set(self, domain: Domain | None = None, problem: Problem | None = None) -> None:
@@ -152,8 +173,10 @@ class Shell(cmd.Cmd):
         domain, _ = parse_pddl(_domain_text(self.domain.without_action(name), f"(:action {arg})"))
         replaced = any(a.name == name for a in self.domain.actions)
         self._set(domain=self.domain.with_action(domain.action(name)))
-        self.say(f"action {name} {'replaced' if replaced else 'added'}; actions: "
-                 f"{', '.join(a.name for a in self.domain.actions)}")
+        self.say(
+            f"action {name} {'replaced' if replaced else 'added'}; actions: "
+            f"{', '.join(a.name for a in self.domain.actions)}"
+        )
 
     def do_drop(self, arg: str) -> None:
         """drop action NAME | drop constraints | drop init ATOM: remove something."""
@@ -205,8 +228,10 @@ class Shell(cmd.Cmd):
         parts = [c.to_pddl() for c in self.problem.constraints] + [arg.strip()]
         self._set(problem=self._reparse(_problem_text(self.problem, constraints=parts)))
         count = len(self.problem.constraints)
-        self.say(f"constraint {self.problem.constraints[-1].to_pddl() if count else arg.strip()}; "
-                 f"{count} constraint{'' if count == 1 else 's'}")
+        self.say(
+            f"constraint {self.problem.constraints[-1].to_pddl() if count else arg.strip()}; "
+            f"{count} constraint{'' if count == 1 else 's'}"
+        )
 
     def _parse_formula(self, text: str) -> Formula:
         return self._reparse(_problem_text(self.problem, goal=text)).goal
@@ -230,8 +255,9 @@ class Shell(cmd.Cmd):
 
     def do_validate(self, arg: str) -> None:
         """validate [(action arg ...) ...]: check the given steps, or the last plan."""
-        steps = parse_plan(arg.replace(")", ")\n"), self.domain, self.problem, "<input>") if arg.strip() \
-            else self.last_plan
+        steps = (
+            parse_plan(arg.replace(")", ")\n"), self.domain, self.problem, "<input>") if arg.strip() else self.last_plan
+        )
         verdict = validate(self.domain, self.problem, steps)
         self.say(f"{'valid' if verdict.valid else 'invalid'}: {verdict.reason}")
 

@@ -52,6 +52,7 @@ def environment() -> Any:
 
 # --- ours -> unified-planning ------------------------------------------------------------
 
+
 def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False) -> Any:
     """A ``unified_planning.model.Problem`` for ``domain`` (and ``problem``'s objects, init, goal, constraints).
 
@@ -85,7 +86,7 @@ def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False) 
         fluents[predicate.name] = Fluent(predicate.name, tm.BoolType(), signature, env)
         up_problem.add_fluent(fluents[predicate.name], default_initial_value=False)
     objects = {}
-    for name, type_ in (problem.all_objects() if problem is not None else domain.constants):
+    for name, type_ in problem.all_objects() if problem is not None else domain.constants:
         objects[name] = Object(name, user_type(type_), env)
         up_problem.add_object(objects[name])
 
@@ -142,8 +143,13 @@ def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False) 
 
     if expand:
         universe = problem.universe()
-        problem = replace(problem, goal=expand_quantifiers(problem.goal, universe), constraints=tuple(
-            type(c)(*(expand_quantifiers(f, universe) for f in constraint_formulas(c))) for c in problem.constraints))
+        problem = replace(
+            problem,
+            goal=expand_quantifiers(problem.goal, universe),
+            constraints=tuple(
+                type(c)(*(expand_quantifiers(f, universe) for f in constraint_formulas(c))) for c in problem.constraints
+            ),
+        )
     for atom in sorted(problem.init, key=lambda a: (a.predicate, a.args)):
         up_problem.set_initial_value(node(atom, {}), True)
     at_end = [c.formula for c in problem.constraints if isinstance(c, AtEnd)]
@@ -151,8 +157,13 @@ def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False) 
     if goal != And(()):
         up_problem.add_goal(node(goal, {}))
     trajectory = []
-    operators = {Always: em.Always, Sometime: em.Sometime, AtMostOnce: em.AtMostOnce,
-                 SometimeBefore: em.SometimeBefore, SometimeAfter: em.SometimeAfter}
+    operators = {
+        Always: em.Always,
+        Sometime: em.Sometime,
+        AtMostOnce: em.AtMostOnce,
+        SometimeBefore: em.SometimeBefore,
+        SometimeAfter: em.SometimeAfter,
+    }
     for constraint in problem.constraints:
         if not isinstance(constraint, AtEnd):
             parts = [node(f, {}) for f in constraint_formulas(constraint)]
@@ -164,14 +175,17 @@ def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False) 
 
 # --- unified-planning -> ours --------------------------------------------------------------
 
+
 def domain_from_up(up_problem: Any) -> Domain:
     """Our Domain from a UP problem read from a domain file (its objects are the domain's constants)."""
     types = tuple((t.name, t.father.name if t.father is not None else None) for t in up_problem.user_types)
     predicates = []
     for fluent in up_problem.fluents:
         if not fluent.type.is_bool_type():
-            raise InputError(f"function {fluent.name} is numeric; vslsp domains have Boolean predicates only "
-                             "(total-cost is read as action costs and ignored)")
+            raise InputError(
+                f"function {fluent.name} is numeric; vslsp domains have Boolean predicates only "
+                "(total-cost is read as action costs and ignored)"
+            )
         predicates.append(Predicate(fluent.name, tuple((f"?{p.name}", p.type.name) for p in fluent.signature)))
     actions = []
     for up_action in up_problem.actions:
@@ -189,12 +203,16 @@ def domain_from_up(up_problem: Any) -> Domain:
                 effects.append(When(condition, (literal_,), variables))  # type: ignore[arg-type]
             else:
                 effects.append(literal_)  # type: ignore[arg-type]
-        actions.append(Action(
-            up_action.name,
-            tuple((f"?{p.name}", p.type.name) for p in up_action.parameters),
-            conjunction([formula_from_up(c) for c in up_action.preconditions]) if up_action.preconditions else And(()),
-            tuple(effects),
-        ))
+        actions.append(
+            Action(
+                up_action.name,
+                tuple((f"?{p.name}", p.type.name) for p in up_action.parameters),
+                conjunction([formula_from_up(c) for c in up_action.preconditions])
+                if up_action.preconditions
+                else And(()),
+                tuple(effects),
+            )
+        )
     constants = tuple((o.name, o.type.name) for o in up_problem.all_objects)
     return Domain(up_problem.name, types, tuple(predicates), tuple(actions), constants)
 
@@ -203,8 +221,11 @@ def problem_from_up(up_problem: Any, domain: Domain) -> Problem:
     """Our Problem from a UP problem read from a domain and a problem file."""
     constants = set(domain.constants)
     objects = tuple(o for o in ((o.name, o.type.name) for o in up_problem.all_objects) if o not in constants)
-    init = frozenset(formula_from_up(f) for f, v in up_problem.explicit_initial_values.items()
-                     if v.is_bool_constant() and v.is_true())
+    init = frozenset(
+        formula_from_up(f)
+        for f, v in up_problem.explicit_initial_values.items()
+        if v.is_bool_constant() and v.is_true()
+    )
     goal = conjunction([formula_from_up(g) for g in up_problem.goals]) if up_problem.goals else And(())
     problem = Problem(up_problem.name, domain, objects, init, goal)
     constraints: list[Constraint] = []
@@ -234,8 +255,10 @@ def formula_from_up(node: Any) -> Formula:
         return And(())
     if node.is_false():
         return Or(())
-    raise InputError(f"{_as_written(node)} is not supported: vslsp formulas use and, or, not, imply, forall, "
-                     "exists, = and predicates (no numbers)")
+    raise InputError(
+        f"{_as_written(node)} is not supported: vslsp formulas use and, or, not, imply, forall, "
+        "exists, = and predicates (no numbers)"
+    )
 
 
 def _as_written(node: Any) -> str:
@@ -259,8 +282,13 @@ def _term_from_up(node: Any) -> str:
     raise InputError(f"{_as_written(node)} is not an object, parameter or variable")
 
 
-_UP_CONSTRAINTS = (("is_always", Always), ("is_sometime", Sometime), ("is_at_most_once", AtMostOnce),
-                   ("is_sometime_before", SometimeBefore), ("is_sometime_after", SometimeAfter))
+_UP_CONSTRAINTS = (
+    ("is_always", Always),
+    ("is_sometime", Sometime),
+    ("is_at_most_once", AtMostOnce),
+    ("is_sometime_before", SometimeBefore),
+    ("is_sometime_after", SometimeAfter),
+)
 
 
 def _constraints_from_up(node: Any, binding: dict, problem: Problem) -> list[Constraint]:
@@ -274,8 +302,11 @@ def _constraints_from_up(node: Any, binding: dict, problem: Problem) -> list[Con
         return []
     if node.is_forall():
         variables = tuple((f"?{v.name}", v.type.name) for v in node.variables())
-        return [c for extra in bindings(variables, problem.universe())
-                for c in _constraints_from_up(node.arg(0), {**binding, **extra}, problem)]
+        return [
+            c
+            for extra in bindings(variables, problem.universe())
+            for c in _constraints_from_up(node.arg(0), {**binding, **extra}, problem)
+        ]
     if node.is_sometime_after() and node.arg(0).is_true():
         return [AtEnd(substitute(formula_from_up(node.arg(1)), binding))]
     for test, kind in _UP_CONSTRAINTS:

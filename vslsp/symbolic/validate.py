@@ -98,13 +98,16 @@ def initially_broken(problem: Problem) -> str | None:
         if isinstance(constraint, Always) and not holds(constraint.formula, state, universe):
             return f"{constraint.to_pddl()} is false in the initial state"
         if isinstance(constraint, SometimeBefore) and holds(constraint.formula, state, universe):
-            return (f"{constraint.to_pddl()} can never hold: {constraint.formula.to_pddl()} is already true in the "
-                    "initial state, before anything else")
+            return (
+                f"{constraint.to_pddl()} can never hold: {constraint.formula.to_pddl()} is already true in the "
+                "initial state, before anything else"
+            )
     return None
 
 
 def _broken(constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequence[PlanStep], universe) -> str | None:
     """Why ``constraint`` fails on ``trajectory`` (states s_0..s_n), or None when it holds."""
+
     def when(i: int) -> str:
         return "in the initial state" if i == 0 else f"after step {i} ({' '.join((steps[i - 1][0], *steps[i - 1][1]))})"
 
@@ -127,15 +130,19 @@ def _broken(constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequ
         q = truth(constraint.before)
         for i, p_i in enumerate(p):
             if p_i and not any(q[:i]):
-                return (f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.before.to_pddl()} "
-                        "has not held before")
+                return (
+                    f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.before.to_pddl()} "
+                    "has not held before"
+                )
         return None
     assert isinstance(constraint, SometimeAfter)
     q = truth(constraint.after)
     for i, p_i in enumerate(p):
         if p_i and not any(q[i:]):
-            return (f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} "
-                    "never holds then or later")
+            return (
+                f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} "
+                "never holds then or later"
+            )
     return None
 
 
@@ -161,8 +168,10 @@ def _as_step(step: PlanStep | str) -> PlanStep:
 
 
 #: ``(pull green)``; ``0: (pull green)`` and ``0.000: (pull green) [1]`` (VAL, IPC); ``1. pull green`` (vslsp plan).
-_PLAN_LINE = re.compile(r"^\s*(?:\d+(?:\.\d+)?\s*:\s*)?\(\s*([\w-]+)((?:\s+[\w-]+)*)\s*\)\s*(?:\[[\d.]+\])?\s*$"
-                        r"|^\s*\d+\.\s+([\w-]+)((?:\s+[\w-]+)*)\s*$")
+_PLAN_LINE = re.compile(
+    r"^\s*(?:\d+(?:\.\d+)?\s*:\s*)?\(\s*([\w-]+)((?:\s+[\w-]+)*)\s*\)\s*(?:\[[\d.]+\])?\s*$"
+    r"|^\s*\d+\.\s+([\w-]+)((?:\s+[\w-]+)*)\s*$"
+)
 
 
 def parse_plan(text: str, domain: Domain, problem: Problem, name: str = "<plan>") -> list[PlanStep]:
@@ -180,8 +189,9 @@ def parse_plan(text: str, domain: Domain, problem: Problem, name: str = "<plan>"
         match = _PLAN_LINE.match(code.lower())
         if not match:
             column = len(code) - len(code.lstrip()) + 1
-            raise InputError(f"{name}:{number}:{column}: expected one step like (pull green) or 1. pull green, "
-                             f"got {code.strip()!r}")
+            raise InputError(
+                f"{name}:{number}:{column}: expected one step like (pull green) or 1. pull green, got {code.strip()!r}"
+            )
         group = 1 if match.group(1) else 3
         action_name, args = match.group(group), tuple(match.group(group + 1).split())
         column = match.start(group) + 1
@@ -207,6 +217,8 @@ def read_plan(path: str | Path, domain: Domain, problem: Problem) -> list[PlanSt
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as error:
         line = data.count(b"\n", 0, error.start) + 1
-        raise InputError(f"{path}:{line}: the plan is not UTF-8 text (byte 0x{data[error.start]:02x}); "
-                         "save it as UTF-8 (plain ASCII is fine)") from None
+        raise InputError(
+            f"{path}:{line}: the plan is not UTF-8 text (byte 0x{data[error.start]:02x}); "
+            "save it as UTF-8 (plain ASCII is fine)"
+        ) from None
     return parse_plan(text, domain, problem, str(path))

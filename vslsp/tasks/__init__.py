@@ -12,5 +12,18 @@ from vslsp.tasks.report import summary, write_report
 from vslsp.tasks.runner import Run, run_trials
 from vslsp.tasks.trial import run_one
 
-__all__ = ["Option", "Run", "System", "Task", "TrialResult", "get_task", "list_tasks", "register", "run_one",
-           "run_trials", "summary", "task_class", "write_report"]
+__all__ = [
+    "Option",
+    "Run",
+    "System",
+    "Task",
+    "TrialResult",
+    "get_task",
+    "list_tasks",
+    "register",
+    "run_one",
+    "run_trials",
+    "summary",
+    "task_class",
+    "write_report",
+]

@@ -72,8 +72,13 @@ class TrialResult:
 
     def to_dict(self) -> dict:
         """The trial's JSON record (``results`` of ``report.json``)."""
-        data: dict = {"experiment": self.experiment, "seed": self.seed, "success": self.success,
-                      "error": self.error, "time_s": round(self.time_s, 3)}
+        data: dict = {
+            "experiment": self.experiment,
+            "seed": self.seed,
+            "success": self.success,
+            "error": self.error,
+            "time_s": round(self.time_s, 3),
+        }
         if self.operations is not None:
             data["operations"] = self.operations
         return {**data, **self.details}
@@ -88,8 +93,9 @@ class TrialResult:
 
     def without_artefacts(self) -> TrialResult:
         """The same result with nothing kept for the report (what crosses processes)."""
-        return TrialResult(self.experiment, self.seed, self.success, self.error, self.time_s, self.operations,
-                           self.details)
+        return TrialResult(
+            self.experiment, self.seed, self.success, self.error, self.time_s, self.operations, self.details
+        )
 
 
 class Task:
@@ -141,8 +147,13 @@ class Task:
 
     def describe(self) -> dict:
         """The entry of ``vslsp experiment --list --json``."""
-        return {"name": self.name, "system": self.system.value, "paper_section": self.paper_section,
-                "description": self.description, "options": sorted(o.value for o in self.options)}
+        return {
+            "name": self.name,
+            "system": self.system.value,
+            "paper_section": self.paper_section,
+            "description": self.description,
+            "options": sorted(o.value for o in self.options),
+        }
 
 
 def timed(task: Task, seed: int, keep: bool) -> TrialResult:
@@ -151,4 +162,3 @@ def timed(task: Task, seed: int, keep: bool) -> TrialResult:
     result = task.run_trial(seed, keep)
     result.time_s = time.perf_counter() - start
     return result
-

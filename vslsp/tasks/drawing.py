@@ -20,7 +20,7 @@ def label(image: np.ndarray, text: str, origin: tuple[int, int] = (8, 26)) -> np
     (width, height), baseline = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, 0.6, 2)
     x, y = origin
     top, bottom = max(0, y - height - 6), min(image.shape[0], y + baseline + 4)
-    band = image[top:bottom, max(0, x - 6):min(image.shape[1], x + width + 6)]
+    band = image[top:bottom, max(0, x - 6) : min(image.shape[1], x + width + 6)]
     band[:] = (0.25 * band).astype(image.dtype)
     cv2.putText(image, text, origin, cv2.FONT_HERSHEY_SIMPLEX, 0.6, (255, 255, 255), 2, cv2.LINE_AA)
     return image
@@ -29,8 +29,9 @@ def label(image: np.ndarray, text: str, origin: tuple[int, int] = (8, 26)) -> np
 def square(image: np.ndarray, centre: tuple[float, float], size: float, colour: tuple[int, int, int]) -> None:
     """Draw an axis-aligned square frame of side ``size`` px about ``centre`` (in place)."""
     half = size / 2.0
-    cv2.rectangle(image, point((centre[0] - half, centre[1] - half)), point((centre[0] + half, centre[1] + half)),
-                  colour, 3)
+    cv2.rectangle(
+        image, point((centre[0] - half, centre[1] - half)), point((centre[0] + half, centre[1] + half)), colour, 3
+    )
 
 
 def point(xy) -> tuple[int, int]:
@@ -42,6 +43,6 @@ def grid(panels: list[np.ndarray], columns: int) -> np.ndarray:
     """Panels of one size in rows of ``columns`` (the last row padded with black)."""
     rows = []
     for i in range(0, len(panels), columns):
-        row = panels[i:i + columns]
+        row = panels[i : i + columns]
         rows.append(np.hstack(row + [np.zeros_like(panels[0])] * (columns - len(row))))
     return np.vstack(rows)

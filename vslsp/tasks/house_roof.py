@@ -34,9 +34,11 @@ class HouseRoof(Task):
     name = "house-roof"
     system = System.VSL
     paper_section = "Simulation (Figure 3Houses)"
-    description = ("The tutor puts two roofs on their house bodies and the third upside down below its body; each "
-                   "trial reproduces it in a new random world with a fixed small pre-place frame and with the "
-                   "adaptive frame (success: the adaptive one), judged on the ground truth.")
+    description = (
+        "The tutor puts two roofs on their house bodies and the third upside down below its body; each "
+        "trial reproduces it in a new random world with a fixed small pre-place frame and with the "
+        "adaptive frame (success: the adaptive one), judged on the ground truth."
+    )
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         """Demonstrate in the world of ``seed``, reproduce with both frame policies in the world of
@@ -61,8 +63,14 @@ class HouseRoof(Task):
             reproductions[frame] = reproduction
         success = bool(results["adaptive"]["success"])
         error = None if success else _failure(results["adaptive"])
-        return TrialResult(self.name, seed, success, error, details={"reproduction_ms": milliseconds, **results},
-                           artefacts=(demo, reproductions) if keep else None)
+        return TrialResult(
+            self.name,
+            seed,
+            success,
+            error,
+            details={"reproduction_ms": milliseconds, **results},
+            artefacts=(demo, reproductions) if keep else None,
+        )
 
     def summary(self, results: list[TrialResult]) -> dict:
         """Per-frame success rates, per-operation rates and diagnoses, ms per reproduction."""
@@ -74,10 +82,14 @@ class HouseRoof(Task):
             successes = sum(d[frame]["success"] for d in done)
             times = [d["reproduction_ms"][frame] for d in done]
             data[f"{frame}_frame"] = {
-                "successes": successes, "success_rate": successes / total if total else 0.0,
-                "operations": len(operations), "operations_ok": sum(op["diagnosis"] == "ok" for op in operations),
-                "diagnoses": {d: sum(op["diagnosis"] == d for op in operations)
-                              for d in sorted({op["diagnosis"] for op in operations})},
+                "successes": successes,
+                "success_rate": successes / total if total else 0.0,
+                "operations": len(operations),
+                "operations_ok": sum(op["diagnosis"] == "ok" for op in operations),
+                "diagnoses": {
+                    d: sum(op["diagnosis"] == d for op in operations)
+                    for d in sorted({op["diagnosis"] for op in operations})
+                },
                 "ms_per_reproduction": round(sum(times) / len(times), 1) if times else None,
             }
         return data
@@ -88,13 +100,17 @@ class HouseRoof(Task):
         return (failed_fixed or results)[0].seed
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
-        lines = ["| frame | successes | success rate | operations ok | diagnoses | ms per reproduction |",
-                 "|---|---|---|---|---|---|"]
+        lines = [
+            "| frame | successes | success rate | operations ok | diagnoses | ms per reproduction |",
+            "|---|---|---|---|---|---|",
+        ]
         for frame in FRAMES:
             f = data[f"{frame}_frame"]
             diagnoses = ", ".join(f"{k}: {v}" for k, v in f["diagnoses"].items())
-            lines.append(f"| {frame} | {f['successes']}/{data['trials']} | {100 * f['success_rate']:.1f} % | "
-                         f"{f['operations_ok']}/{f['operations']} | {diagnoses} | {f['ms_per_reproduction']} |")
+            lines.append(
+                f"| {frame} | {f['successes']}/{data['trials']} | {100 * f['success_rate']:.1f} % | "
+                f"{f['operations_ok']}/{f['operations']} | {diagnoses} | {f['ms_per_reproduction']} |"
+            )
         return lines + [""]
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
@@ -103,16 +119,25 @@ class HouseRoof(Task):
 
 def _failure(adaptive: dict) -> str:
     """Which operations of the adaptive reproduction failed, and why."""
-    return "; ".join(f"operation {i}: {op['diagnosis']}" for i, op in enumerate(adaptive["operations"], start=1)
-                     if op["diagnosis"] != "ok") or "goal not reached"
+    return (
+        "; ".join(
+            f"operation {i}: {op['diagnosis']}"
+            for i, op in enumerate(adaptive["operations"], start=1)
+            if op["diagnosis"] != "ok"
+        )
+        or "goal not reached"
+    )
 
 
 def _figures(folder: Path, demonstration, reproductions: dict) -> dict:
     from vslsp.vision.image import write_image
 
     (folder / "images").mkdir(parents=True, exist_ok=True)
-    files = {"demonstration": "images/demonstration.png", "final_worlds": "images/final_worlds.png",
-             "trajectory": "images/trajectory.png"}
+    files = {
+        "demonstration": "images/demonstration.png",
+        "final_worlds": "images/final_worlds.png",
+        "trajectory": "images/trajectory.png",
+    }
     write_image(folder / files["demonstration"], _demonstration_picture(demonstration))
     for frame in FRAMES:
         files[f"matches_{frame}"] = f"images/matches_{frame}.png"
@@ -127,15 +152,26 @@ def _demonstration_picture(demo) -> np.ndarray:
     import cv2
 
     from vslsp.vsl.house_roof import pick_frame, place_frames
+
     rows = []
     for k, op in enumerate(demo.demonstration.operations, start=1):
         pre, pre_place, post = op.pre_observation.copy(), demo.pre_place[k - 1].copy(), op.post_observation.copy()
         square(pre, (op.pose_pre.x, op.pose_pre.y), pick_frame(op.object_size), PICK)
         square(pre_place, (op.pose_post.x, op.pose_post.y), place_frames("fixed", op.object_size)[0], PLACE)
-        cv2.arrowedLine(post, point((op.pose_pre.x, op.pose_pre.y)), point((op.pose_post.x, op.pose_post.y)), PICK, 2,
-                        cv2.LINE_AA, tipLength=0.05)
-        panels = [label(small(pre), f"op {k}: pre-pick"), label(small(pre_place), f"op {k}: pre-place"),
-                  label(small(post), f"op {k}: post (turn {np.degrees(demo.turns[k - 1]):.0f} deg)")]
+        cv2.arrowedLine(
+            post,
+            point((op.pose_pre.x, op.pose_pre.y)),
+            point((op.pose_post.x, op.pose_post.y)),
+            PICK,
+            2,
+            cv2.LINE_AA,
+            tipLength=0.05,
+        )
+        panels = [
+            label(small(pre), f"op {k}: pre-pick"),
+            label(small(pre_place), f"op {k}: pre-place"),
+            label(small(post), f"op {k}: post (turn {np.degrees(demo.turns[k - 1]):.0f} deg)"),
+        ]
         rows.append(np.hstack(panels))
     return np.vstack(rows)
 
@@ -146,10 +182,14 @@ def _matches_picture(demo, reproduction, frame: str) -> np.ndarray:
     import cv2
 
     from vslsp.vsl.house_roof import frame_box, pick_frame
+
     panels = []
     for k, (op, result) in enumerate(zip(demo.demonstration.operations, reproduction.operations), start=1):
-        image = (reproduction.pre_place_worlds[k - 1] if k - 1 < len(reproduction.pre_place_worlds)
-                 else reproduction.world_before.render()).copy()
+        image = (
+            reproduction.pre_place_worlds[k - 1]
+            if k - 1 < len(reproduction.pre_place_worlds)
+            else reproduction.world_before.render()
+        ).copy()
         if result.pick is not None:
             corners = frame_box(result.pick, pick_frame(op.object_size), (op.pose_pre.x, op.pose_pre.y))
             cv2.polylines(image, [np.round(corners).astype(np.int32)], True, PICK, 2, cv2.LINE_AA)
@@ -158,8 +198,10 @@ def _matches_picture(demo, reproduction, frame: str) -> np.ndarray:
             corners = frame_box(result.place, result.place.frame, (op.pose_post.x, op.pose_post.y))
             cv2.polylines(image, [np.round(corners).astype(np.int32)], True, PLACE, 3, cv2.LINE_AA)
             cv2.drawMarker(image, point((result.place.x, result.place.y)), PLACE, cv2.MARKER_CROSS, 20, 2)
-            text += (f", frame {result.place.frame} px, score {result.place.score:.2f}"
-                     f"{' (ambiguous)' if result.place.ambiguous else ''}")
+            text += (
+                f", frame {result.place.frame} px, score {result.place.score:.2f}"
+                f"{' (ambiguous)' if result.place.ambiguous else ''}"
+            )
         panels.append(label(small(image), text))
     return label(np.hstack(panels), f"{frame} frame", (8, 58))
 
@@ -193,14 +235,19 @@ def _trajectory_figure(path: Path, reproduction) -> None:
         if result.trajectory is None:
             continue
         t, xyz, theta = result.trajectory.t + clock, result.trajectory.xyz, result.trajectory.theta
-        line, = top.plot(xyz[:, 0], xyz[:, 1], lw=2, label=f"op {k}: {result.diagnosis}")
+        (line,) = top.plot(xyz[:, 0], xyz[:, 1], lw=2, label=f"op {k}: {result.diagnosis}")
         top.plot(*xyz[result.trajectory.segments[1], :2], "o", color=line.get_color())
         top.plot(*xyz[result.trajectory.segments[2], :2], "s", color=line.get_color())
         z_axis.plot(t, xyz[:, 2], color=line.get_color())
         theta_axis.plot(t, np.degrees(theta), color=line.get_color())
         clock = t[-1]
-    top.set(xlim=(0, width * PIXEL_SIZE), ylim=((height + 120) * PIXEL_SIZE, 0), xlabel="x (m)", ylabel="y (m)",
-            title="hand paths rest → pick (o) → place (□) → rest")
+    top.set(
+        xlim=(0, width * PIXEL_SIZE),
+        ylim=((height + 120) * PIXEL_SIZE, 0),
+        xlabel="x (m)",
+        ylabel="y (m)",
+        title="hand paths rest → pick (o) → place (□) → rest",
+    )
     top.legend(loc="lower left", fontsize=8)
     z_axis.set(ylabel="height z (m)", title="height profile h[1 − |atanh(h0(s − 0.5))/atanh(h0/2)|^κ]")
     theta_axis.set(xlabel="t (s)", ylabel="hand rotation θ (deg)", title="trapezoidal rotation profile")

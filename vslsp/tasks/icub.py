@@ -63,27 +63,45 @@ class IcubExperiment(Task):
         from vslsp.loop.experiments import run_trial
         from vslsp.skills.library import SkillLibrary
 
-        trial = run_trial(self.name, seed, SkillLibrary.load(self.library_path),
-                          faults=bool(self.option(Option.FAULTS, False)),
-                          planner=self.option(Option.PLANNER, DEFAULT_PLANNER), gui=gui, on_stage=on_stage,
-                          predicates=self.predicates())
+        trial = run_trial(
+            self.name,
+            seed,
+            SkillLibrary.load(self.library_path),
+            faults=bool(self.option(Option.FAULTS, False)),
+            planner=self.option(Option.PLANNER, DEFAULT_PLANNER),
+            gui=gui,
+            on_stage=on_stage,
+            predicates=self.predicates(),
+        )
         record = trial.to_dict()
         operations = [{"operation": i, **step.to_dict()} for i, step in enumerate(trial.steps, start=1)]
         details = {k: v for k, v in record.items() if k not in ("experiment", "seed", "success", "error", "time_s")}
-        return TrialResult(self.name, seed, trial.success, trial.error, operations=operations, details=details,
-                           artefacts=trial if keep else None)
+        return TrialResult(
+            self.name,
+            seed,
+            trial.success,
+            trial.error,
+            operations=operations,
+            details=details,
+            artefacts=trial if keep else None,
+        )
 
     def summary(self, results: list[TrialResult]) -> dict:
-        return {"faults": bool(self.option(Option.FAULTS, False)),
-                "replans": sum(r.details.get("replans", 0) for r in results),
-                "failed_steps": sum(r.details.get("failed_steps", 0) for r in results)}
+        return {
+            "faults": bool(self.option(Option.FAULTS, False)),
+            "replans": sum(r.details.get("replans", 0) for r in results),
+            "failed_steps": sum(r.details.get("failed_steps", 0) for r in results),
+        }
 
     def shown_seed(self, results: list[TrialResult]) -> int:
         return results[0].seed  # kept by the run (keep_first)
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
-        return [f"{data['replans']} replans, {data['failed_steps']} failed steps"
-                f"{', faults injected' if data['faults'] else ''}.", ""]
+        return [
+            f"{data['replans']} replans, {data['failed_steps']} failed steps"
+            f"{', faults injected' if data['faults'] else ''}.",
+            "",
+        ]
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         trial = shown.artefacts
@@ -97,24 +115,30 @@ class IcubExperiment(Task):
 class SimpleVslTask(IcubExperiment):
     name = "simple-vsl-task"
     paper_section = "VSL-SP Results: simple VSL task"
-    description = ("Three cubes, one demonstrated sequence, reproduced by VSL's own planner (match finding with "
-                   "adaptive frames, no PDDL) in a reshuffled scene.")
+    description = (
+        "Three cubes, one demonstrated sequence, reproduced by VSL's own planner (match finding with "
+        "adaptive frames, no PDDL) in a reshuffled scene."
+    )
 
 
 @register
 class KeepAllNear(IcubExperiment):
     name = "keep-all-near"
     paper_section = "VSL-SP Results: keep all objects near"
-    description = ("Three demonstrations teach the rule 'no block is far', which then solves scenes with other "
-                   "numbers and colours of objects (PDDL + Fast Downward).")
+    description = (
+        "Three demonstrations teach the rule 'no block is far', which then solves scenes with other "
+        "numbers and colours of objects (PDDL + Fast Downward)."
+    )
 
 
 @register
 class PullInOrder(IcubExperiment):
     name = "pull-in-order"
     paper_section = "VSL-SP Results: pull in order"
-    description = ("The ordered set <orange, green, yellow>, reproduced with VSL from a single demonstration and with "
-                   "VSL-SP through sometime-before constraints.")
+    description = (
+        "The ordered set <orange, green, yellow>, reproduced with VSL from a single demonstration and with "
+        "VSL-SP through sometime-before constraints."
+    )
 
 
 def _write_artefacts(folder: Path, trial) -> dict:
@@ -132,9 +156,15 @@ def _write_artefacts(folder: Path, trial) -> dict:
         (raw := images / "raw").mkdir(exist_ok=True)
         write_image(raw / f"{stem}_pre.png", pre)  # the camera's own images, for `vslsp ground PRE POST`
         write_image(raw / f"{stem}_post.png", post)
-        files["images"].append({"title": title, "file": f"images/{name}", "pre": f"images/raw/{stem}_pre.png",
-                                "post": f"images/raw/{stem}_post.png",
-                                "grounding": grounding.to_dict() if grounding is not None else None})
+        files["images"].append(
+            {
+                "title": title,
+                "file": f"images/{name}",
+                "pre": f"images/raw/{stem}_pre.png",
+                "post": f"images/raw/{stem}_post.png",
+                "grounding": grounding.to_dict() if grounding is not None else None,
+            }
+        )
     if trial.domain is not None:
         (folder / "domain.pddl").write_text(trial.domain.to_pddl())
         files["domain"] = "domain.pddl"
@@ -179,11 +209,16 @@ def _plot_trajectories(path: Path, trial) -> None:
         top.plot(p[-1, 1], p[-1, 0], "o", color=colour)
         top.annotate(str(k), (p[-1, 1], p[-1, 0]), textcoords="offset points", xytext=(4, 4), fontsize=8)
         side.plot(step.trajectory.t, p[:, 2] - p[:, 2].min(), style, color=colour, lw=1.5)
-    handles = [Line2D([], [], color="k", ls="-", label="VSL-SP (planned step)"),
-               Line2D([], [], color="k", ls="--", label="VSL (match finding)"),
-               Line2D([], [], color="k", ls="", marker="o", label="end of a path (step number)")]
-    handles += [Line2D([], [], color=COLOURS[c], lw=4, label=f"{c} cube")
-                for c in dict.fromkeys(step.obj.split("_")[0] for step in trial.steps) if c in COLOURS]
+    handles = [
+        Line2D([], [], color="k", ls="-", label="VSL-SP (planned step)"),
+        Line2D([], [], color="k", ls="--", label="VSL (match finding)"),
+        Line2D([], [], color="k", ls="", marker="o", label="end of a path (step number)"),
+    ]
+    handles += [
+        Line2D([], [], color=COLOURS[c], lw=4, label=f"{c} cube")
+        for c in dict.fromkeys(step.obj.split("_")[0] for step in trial.steps)
+        if c in COLOURS
+    ]
     top.set(xlabel="y (m, robot's left)", ylabel="x (m, away from the robot)", title="executed hand paths, top view")
     top.invert_xaxis()
     top.set_aspect("equal")

@@ -56,12 +56,14 @@ def check_ray(address: str | None = None) -> ModuleType:
         raise InputError(f"--backend ray needs Ray, which is not installed: {INSTALL}") from None
     if address is None or address == "auto":
         return ray
-    target = address[len("ray://"):] if address.startswith("ray://") else address
+    target = address[len("ray://") :] if address.startswith("ray://") else address
     match = _HOST_PORT.match(target)
     if match is None or not 0 < int(match["port"]) < 65536:
-        raise InputError(f"--address {address!r} is not a Ray cluster address: give 'auto' (the cluster this "
-                         "machine joined with `ray start`), HOST:PORT (the head's port, 6379 by default) or "
-                         "ray://HOST:PORT (Ray client, port 10001 by default)")
+        raise InputError(
+            f"--address {address!r} is not a Ray cluster address: give 'auto' (the cluster this "
+            "machine joined with `ray start`), HOST:PORT (the head's port, 6379 by default) or "
+            "ray://HOST:PORT (Ray client, port 10001 by default)"
+        )
     if address.startswith("ray://"):
         try:
             import grpc  # noqa: F401  (the Ray client's transport: ray[client])
@@ -80,8 +82,14 @@ def worker_env() -> dict[str, str]:
     return env
 
 
-def run_on_ray(task: Task, seeds: Sequence[int], keep: set[int], workers: int, address: str | None,
-               finished: Callable[[TrialResult], None]) -> None:
+def run_on_ray(
+    task: Task,
+    seeds: Sequence[int],
+    keep: set[int],
+    workers: int,
+    address: str | None,
+    finished: Callable[[TrialResult], None],
+) -> None:
     """Run the trial of every seed in ``seeds`` as a Ray task, at most ``workers`` at a time, and
     call ``finished(result)`` once per seed as the results come back (in any order).
 
@@ -97,8 +105,9 @@ def run_on_ray(task: Task, seeds: Sequence[int], keep: set[int], workers: int, a
     pending: dict[Any, int] = {}
     try:
         task_ref = ray.put(task)  # once: the workers fetch it from the object store
-        trial = ray.remote(_trial).options(num_cpus=1, max_retries=RETRIES, retry_exceptions=False,
-                                           runtime_env={"env_vars": worker_env()})
+        trial = ray.remote(_trial).options(
+            num_cpus=1, max_retries=RETRIES, retry_exceptions=False, runtime_env={"env_vars": worker_env()}
+        )
         queue = deque(seeds)
         while queue or pending:
             while queue and len(pending) < workers:
@@ -128,8 +137,7 @@ def _connect(ray: ModuleType, address: str | None, workers: int) -> bool:
     quiet = {"log_to_driver": False, "logging_level": logging.ERROR}
     if address is None:
         try:
-            ray.init(address="local", num_cpus=workers, _node_ip_address="127.0.0.1", include_dashboard=False,
-                     **quiet)
+            ray.init(address="local", num_cpus=workers, _node_ip_address="127.0.0.1", include_dashboard=False, **quiet)
         except BaseException:  # Ctrl-C while it starts: leave nothing running
             ray.shutdown()
             raise
@@ -139,33 +147,39 @@ def _connect(ray: ModuleType, address: str | None, workers: int) -> bool:
         ray.init(address=address, **quiet)
     except (ConnectionError, TimeoutError, RuntimeError, ValueError, ray.exceptions.RayError) as error:
         reason = " ".join(str(error).split())[:400] or type(error).__name__
-        raise InputError(f"cannot connect to the Ray cluster at --address {address}: {reason}; start its head with "
-                         "`ray start --head --port 6379` (and workers with `ray start --address HEAD:6379`), "
-                         "or leave --address out for a local Ray instance") from None
+        raise InputError(
+            f"cannot connect to the Ray cluster at --address {address}: {reason}; start its head with "
+            "`ray start --head --port 6379` (and workers with `ray start --address HEAD:6379`), "
+            "or leave --address out for a local Ray instance"
+        ) from None
     return False
 
 
 def _probe(ray: ModuleType, address: str) -> None:
     """Refuse an address where no Ray cluster answers (``ray.init`` would retry for ever)."""
-    target = address[len("ray://"):] if address.startswith("ray://") else address
+    target = address[len("ray://") :] if address.startswith("ray://") else address
     if address == "auto":
         try:
             found = ray._private.services.canonicalize_bootstrap_address(address)
         except (AttributeError, ConnectionError, ValueError):  # Ray's own lookup; let ray.init say the rest
             return
         if found is None:
-            raise InputError("--address auto: no Ray cluster was started on this machine (`ray start --head "
-                             "--port 6379`, or `ray start --address HEAD:6379` to join one); or leave --address "
-                             "out for a local Ray instance")
+            raise InputError(
+                "--address auto: no Ray cluster was started on this machine (`ray start --head "
+                "--port 6379`, or `ray start --address HEAD:6379` to join one); or leave --address "
+                "out for a local Ray instance"
+            )
         target = found
     host, _, port = target.rpartition(":")
     try:
         socket.create_connection((host.strip("[]"), int(port)), timeout=PROBE_S).close()
     except OSError as error:
         via = f" (found by 'auto': {target})" if address == "auto" else ""
-        raise InputError(f"no Ray cluster answers at --address {address}{via}: {error.strerror or error}; start "
-                         "its head with `ray start --head --port 6379`, or leave --address out for a local Ray "
-                         "instance") from None
+        raise InputError(
+            f"no Ray cluster answers at --address {address}{via}: {error.strerror or error}; start "
+            "its head with `ray start --head --port 6379`, or leave --address out for a local Ray "
+            "instance"
+        ) from None
 
 
 def _outcome(ray: ModuleType, ref: Any, name: str, seed: int) -> TrialResult:
@@ -174,10 +188,19 @@ def _outcome(ray: ModuleType, ref: Any, name: str, seed: int) -> TrialResult:
     try:
         result: TrialResult = ray.get(ref)
         return result
-    except (errors.WorkerCrashedError, errors.NodeDiedError, errors.OutOfMemoryError,
-            errors.LocalRayletDiedError) as error:
-        return TrialResult(name, seed, False, f"worker died: its process ended during the trial {RETRIES + 1} "
-                                              f"times ({type(error).__name__}: crash, out of memory or node lost)")
+    except (
+        errors.WorkerCrashedError,
+        errors.NodeDiedError,
+        errors.OutOfMemoryError,
+        errors.LocalRayletDiedError,
+    ) as error:
+        return TrialResult(
+            name,
+            seed,
+            False,
+            f"worker died: its process ended during the trial {RETRIES + 1} "
+            f"times ({type(error).__name__}: crash, out of memory or node lost)",
+        )
     except errors.RayError as error:
         first = (str(error).strip().splitlines() or [""])[0][:300]
         return TrialResult(name, seed, False, f"ray: {type(error).__name__}: {first}")

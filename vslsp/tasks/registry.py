@@ -16,8 +16,13 @@ from typing import TypeVar
 from vslsp.errors import InputError
 from vslsp.tasks.base import Task
 
-BUILTIN = ("vslsp.tasks.house_roof", "vslsp.tasks.tabletop", "vslsp.tasks.table_cleaning", "vslsp.tasks.stacking",
-           "vslsp.tasks.icub")
+BUILTIN = (
+    "vslsp.tasks.house_roof",
+    "vslsp.tasks.tabletop",
+    "vslsp.tasks.table_cleaning",
+    "vslsp.tasks.stacking",
+    "vslsp.tasks.icub",
+)
 
 _TASKS: dict[str, type[Task]] = {}
 _loaded = False
@@ -52,8 +57,9 @@ def task_class(name: str) -> type[Task]:
     """The registered task class ``name`` (an :class:`InputError` naming the choices otherwise)."""
     _load()
     if name not in _TASKS:
-        raise InputError(f"unknown experiment {name!r}; choose one of {', '.join(sorted(_TASKS))} "
-                         "(vslsp experiment --list)")
+        raise InputError(
+            f"unknown experiment {name!r}; choose one of {', '.join(sorted(_TASKS))} (vslsp experiment --list)"
+        )
     return _TASKS[name]
 
 
@@ -66,8 +72,10 @@ def get_task(name: str, **options: object) -> Task:
     if unknown:
         option = sorted(unknown)[0]
         systems = dict.fromkeys(c.system.value for c in list_tasks() if option in {o.value for o in c.options})
-        raise InputError(f"--{option} applies to the {' and '.join(systems) or 'no'} experiments; {name} takes "
-                         f"{', '.join('--' + o.value for o in sorted(cls.options)) or 'no task options'}")
+        raise InputError(
+            f"--{option} applies to the {' and '.join(systems) or 'no'} experiments; {name} takes "
+            f"{', '.join('--' + o.value for o in sorted(cls.options)) or 'no task options'}"
+        )
     task = cls(**options)
     task.check()
     return task

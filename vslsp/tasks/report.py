@@ -76,12 +76,18 @@ def markdown(task: Task, data: dict) -> str:
     if task.description:
         lines += [task.description, ""]
     if data.get("partial"):
-        lines += [f"**Partial run**: interrupted ({data['interrupted']}) after {data['trials']} of "
-                  f"{data['trials_requested']} trials; the figures below are those of the finished trials.", ""]
-    lines += ["| trials | succeeded | success rate | failures by cause | mean time per trial |",
-              "|---|---|---|---|---|",
-              f"| {data['trials']} (seeds {data['seed']}-{data['seed'] + max(data['trials'] - 1, 0)}) | "
-              f"{data['successes']} | {100 * data['success_rate']:.1f} % | {causes} | {data['mean_time_s']} s |", ""]
+        lines += [
+            f"**Partial run**: interrupted ({data['interrupted']}) after {data['trials']} of "
+            f"{data['trials_requested']} trials; the figures below are those of the finished trials.",
+            "",
+        ]
+    lines += [
+        "| trials | succeeded | success rate | failures by cause | mean time per trial |",
+        "|---|---|---|---|---|",
+        f"| {data['trials']} (seeds {data['seed']}-{data['seed'] + max(data['trials'] - 1, 0)}) | "
+        f"{data['successes']} | {100 * data['success_rate']:.1f} % | {causes} | {data['mean_time_s']} s |",
+        "",
+    ]
     lines += task.markdown(data)
     if data["failures"]:
         lines += ["## Failures", ""] + [f"- seed {f['seed']}: {f['error']}" for f in data["failures"][:30]]
@@ -106,8 +112,9 @@ def markdown(task: Task, data: dict) -> str:
         lines.append("")
     lines += ["## Trials", "", "| seed | result | time (s) | notes |", "|---|---|---|---|"]
     for record in data["results"]:
-        lines.append(f"| {record['seed']} | {'ok' if record['success'] else 'FAILED'} | {record['time_s']} | "
-                     f"{_note(record)} |")
+        lines.append(
+            f"| {record['seed']} | {'ok' if record['success'] else 'FAILED'} | {record['time_s']} | {_note(record)} |"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -115,8 +122,11 @@ def _note(record: dict) -> str:
     if record.get("error"):
         return str(record["error"]).replace("|", "/")[:200]
     operations = record.get("operations") or []
-    diagnoses = Counter(str(op.get("diagnosis", "ok" if op.get("success", True) else "failed")) for op in operations
-                        if isinstance(op, dict))
+    diagnoses = Counter(
+        str(op.get("diagnosis", "ok" if op.get("success", True) else "failed"))
+        for op in operations
+        if isinstance(op, dict)
+    )
     return ", ".join(f"{k}: {v}" for k, v in diagnoses.items()) if diagnoses else ""
 
 

@@ -54,9 +54,16 @@ def check_counts(trials: int, workers: int) -> None:
         raise InputError(f"--workers must be at least 1, got {workers}")
 
 
-def run_trials(task: Task, seeds: Sequence[int], *, workers: int = 1, backend: str = "local",
-               address: str | None = None, on_done: Callable[[TrialResult], None] | None = None,
-               on_interrupt: Callable[[str], None] | None = None) -> Run:
+def run_trials(
+    task: Task,
+    seeds: Sequence[int],
+    *,
+    workers: int = 1,
+    backend: str = "local",
+    address: str | None = None,
+    on_done: Callable[[TrialResult], None] | None = None,
+    on_interrupt: Callable[[str], None] | None = None,
+) -> Run:
     """Run the trials of ``seeds`` on ``backend`` with ``workers`` in parallel.
 
     ``on_done(result)`` is called as each trial finishes (in any order: progress);
@@ -125,8 +132,9 @@ def _new_pool(workers: int) -> ProcessPoolExecutor:
     # One thread per worker for torch/OpenMP: the workers already share the cores (spawned
     # children take the environment as it is when they start).
     os.environ.setdefault("OMP_NUM_THREADS", "1")
-    return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                               initializer=_worker_init)
+    return ProcessPoolExecutor(
+        max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_worker_init
+    )
 
 
 def _end_pool(pool: ProcessPoolExecutor) -> None:
@@ -142,8 +150,9 @@ def _end_pool(pool: ProcessPoolExecutor) -> None:
             process.kill()
 
 
-def _run_pool(task: Task, seeds: list[int], keep: set[int], workers: int,
-              finished: Callable[[TrialResult], None]) -> None:
+def _run_pool(
+    task: Task, seeds: list[int], keep: set[int], workers: int, finished: Callable[[TrialResult], None]
+) -> None:
     """Trials on a process pool, at most ``workers`` in flight (so that when a worker dies,
     the trials it may have been running are known and retried once in a fresh pool)."""
     queue = list(seeds)
@@ -153,8 +162,11 @@ def _run_pool(task: Task, seeds: list[int], keep: set[int], workers: int,
     try:
         while queue or running:
             # A retried trial runs alone, so that a second death is its own and no other trial's.
-            while queue and len(running) < workers and not (running and (queue[0] in retried or
-                                                                          any(s in retried for s in running.values()))):
+            while (
+                queue
+                and len(running) < workers
+                and not (running and (queue[0] in retried or any(s in retried for s in running.values())))
+            ):
                 seed = queue.pop(0)
                 running[pool.submit(run_one, task, seed, seed in keep)] = seed
             completed, _ = wait(list(running), return_when=FIRST_COMPLETED)
@@ -173,8 +185,14 @@ def _run_pool(task: Task, seeds: list[int], keep: set[int], workers: int,
                 pool = _new_pool(workers)
                 for seed in lost:
                     if seed in retried:
-                        finished(TrialResult(task.name, seed, False, "worker died: its process ended during the "
-                                                                     "trial twice (crash or out of memory)"))
+                        finished(
+                            TrialResult(
+                                task.name,
+                                seed,
+                                False,
+                                "worker died: its process ended during the trial twice (crash or out of memory)",
+                            )
+                        )
                     else:
                         retried.add(seed)
                         queue.insert(0, seed)

@@ -25,10 +25,12 @@ class Stacking(Task):
     name = "stacking"
     system = System.VSL_3D
     paper_section = "VSL-3D: Stacking Objects"
-    description = ("The tutor stacks a duck and a teddy on two boxes (dynamic landmarks); objects and boxes are "
-                   "moved to new random places and turns and the Franka Panda reproduces the stacks from the "
-                   "RGB-D point clouds (success: each object within 1.5 cm and 15 deg of its demonstrated pose "
-                   "on its box, up to the box's symmetry).")
+    description = (
+        "The tutor stacks a duck and a teddy on two boxes (dynamic landmarks); objects and boxes are "
+        "moved to new random places and turns and the Franka Panda reproduces the stacks from the "
+        "RGB-D point clouds (success: each object within 1.5 cm and 15 deg of its demonstrated pose "
+        "on its box, up to the box's symmetry)."
+    )
     options = frozenset({Option.METHOD})
 
     def check(self) -> None:
@@ -45,17 +47,26 @@ class Stacking(Task):
         outcome, pictures = run_stacking(seed, self.method)
         operations = [op.to_dict() for op in outcome]
         success = all(op["success"] for op in operations)
-        return TrialResult(self.name, seed, success, "; ".join(operation_failures(operations)) or None,
-                           operations=operations, details={"method": self.method},
-                           artefacts=pictures if keep else None)
+        return TrialResult(
+            self.name,
+            seed,
+            success,
+            "; ".join(operation_failures(operations)) or None,
+            operations=operations,
+            details={"method": self.method},
+            artefacts=pictures if keep else None,
+        )
 
     def summary(self, results: list[TrialResult]) -> dict:
         return {"method": self.method, **operation_summary(results)}
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
-        return [f"Stacks (executed by the robot): {data['operations_succeeded']}/{data['operations']} succeeded, "
-                f"{data['retried_grasps']} after a retried grasp; median final error {data['median_error_mm']} mm, "
-                f"{data['median_error_deg']} deg relative to the box (method {data['method']}).", ""]
+        return [
+            f"Stacks (executed by the robot): {data['operations_succeeded']}/{data['operations']} succeeded, "
+            f"{data['retried_grasps']} after a retried grasp; median final error {data['median_error_mm']} mm, "
+            f"{data['median_error_deg']} deg relative to the box (method {data['method']}).",
+            "",
+        ]
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         return vsl3d_figures(folder, shown.artefacts)

@@ -26,19 +26,27 @@ def operation_summary(results: list[TrialResult]) -> dict:
     operations = [op for r in results for op in (r.operations or [])]
     errors_mm = sorted(op["final_error_mm"] for op in operations if op["success"])
     errors_deg = sorted(op["final_error_deg"] for op in operations if op["success"])
-    return {"operations": len(operations),
-            "operations_succeeded": sum(op["success"] for op in operations),
-            "retried_grasps": sum(len(op.get("grasp_outcome") or []) > 1 for op in operations),
-            "median_error_mm": float(errors_mm[len(errors_mm) // 2]) if errors_mm else None,
-            "median_error_deg": float(errors_deg[len(errors_deg) // 2]) if errors_deg else None}
+    return {
+        "operations": len(operations),
+        "operations_succeeded": sum(op["success"] for op in operations),
+        "retried_grasps": sum(len(op.get("grasp_outcome") or []) > 1 for op in operations),
+        "median_error_mm": float(errors_mm[len(errors_mm) // 2]) if errors_mm else None,
+        "median_error_deg": float(errors_deg[len(errors_deg) // 2]) if errors_deg else None,
+    }
 
 
 def operation_failures(operations: list[dict]) -> list[str]:
     """One line per failed operation: its diagnosis, or how far from the goal it ended."""
-    return [f"operation {op['index']} ({op['moved']}): "
-            + (op.get("error") or f"ended {op['final_error_mm']} mm / {op['final_error_deg']} deg from the "
-                                  f"demonstrated pose (held {op['picked']})")
-            for op in operations if not op["success"]]
+    return [
+        f"operation {op['index']} ({op['moved']}): "
+        + (
+            op.get("error")
+            or f"ended {op['final_error_mm']} mm / {op['final_error_deg']} deg from the "
+            f"demonstrated pose (held {op['picked']})"
+        )
+        for op in operations
+        if not op["success"]
+    ]
 
 
 def vsl3d_figures(folder: Path, pictures: dict) -> dict[str, Any]:
@@ -54,8 +62,11 @@ def vsl3d_figures(folder: Path, pictures: dict) -> dict[str, Any]:
         write_image(folder / files[key], label(image, caption))
 
     for index, image in enumerate(pictures["demonstration"], start=1):
-        write(f"demonstration_{index}", image, f"demonstration {index}: pre-action (found object, red) | "
-                                               "post-action (green)")
+        write(
+            f"demonstration_{index}",
+            image,
+            f"demonstration {index}: pre-action (found object, red) | post-action (green)",
+        )
     for index, image in enumerate(pictures["matched"], start=1):
         write(f"reproduction_{index}", image, f"reproduction {index}: matched observation (red), grasp (yellow)")
     write("cloud", pictures["cloud"], "the reproduction's point cloud, one colour per segment")
@@ -70,9 +81,11 @@ class TableCleaning(Task):
     name = "table-cleaning"
     system = System.VSL_3D
     paper_section = "VSL-3D: Table Cleaning"
-    description = ("The tutor puts two objects into the box and the third in front of it; the objects are "
-                   "reshuffled and the Franka Panda reproduces the task from the RGB-D point clouds "
-                   "(success: each object within 1.5 cm and 15 deg of its demonstrated pose).")
+    description = (
+        "The tutor puts two objects into the box and the third in front of it; the objects are "
+        "reshuffled and the Franka Panda reproduces the task from the RGB-D point clouds "
+        "(success: each object within 1.5 cm and 15 deg of its demonstrated pose)."
+    )
     options = frozenset({Option.METHOD})
 
     def check(self) -> None:
@@ -88,17 +101,26 @@ class TableCleaning(Task):
 
         outcome, pictures = run_table_cleaning(seed, self.method)
         operations = [op.to_dict() for op in outcome.operations]
-        return TrialResult(self.name, seed, outcome.success, "; ".join(operation_failures(operations)) or None,
-                           operations=operations, details={"method": self.method},
-                           artefacts=pictures if keep else None)
+        return TrialResult(
+            self.name,
+            seed,
+            outcome.success,
+            "; ".join(operation_failures(operations)) or None,
+            operations=operations,
+            details={"method": self.method},
+            artefacts=pictures if keep else None,
+        )
 
     def summary(self, results: list[TrialResult]) -> dict:
         return {"method": self.method, **operation_summary(results)}
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
-        return [f"Operations (executed by the robot): {data['operations_succeeded']}/{data['operations']} "
-                f"succeeded, {data['retried_grasps']} after a retried grasp; median final error "
-                f"{data['median_error_mm']} mm, {data['median_error_deg']} deg (method {data['method']}).", ""]
+        return [
+            f"Operations (executed by the robot): {data['operations_succeeded']}/{data['operations']} "
+            f"succeeded, {data['retried_grasps']} after a retried grasp; median final error "
+            f"{data['median_error_mm']} mm, {data['median_error_deg']} deg (method {data['method']}).",
+            "",
+        ]
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         return vsl3d_figures(folder, shown.artefacts)

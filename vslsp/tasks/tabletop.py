@@ -27,7 +27,7 @@ REPRODUCTION_SEED = 1_000_003
 
 
 class TabletopExperiment(Task):
-    """A tabletop task of :data:`vslsp.vsl.tabletop_tasks.TASKS` as a registered experiment."""
+    """A tabletop task of :data:`vslsp.vsl.paper_tasks.TASKS` as a registered experiment."""
 
     system = System.VSL
     paper_section = "Real-world Experiments (Table 1)"
@@ -45,29 +45,43 @@ class TabletopExperiment(Task):
             try:
                 demo = task.demonstrate(world, rng)
             except InputError as unseen:
-                return TrialResult(self.name, seed, False, f"demonstration: {unseen}", operations=[],
-                                   details={"variant": variant})
+                return TrialResult(
+                    self.name, seed, False, f"demonstration: {unseen}", operations=[], details={"variant": variant}
+                )
             goal = look(world) if keep else None
         rng = np.random.default_rng(seed + REPRODUCTION_SEED)
         with TabletopWorld(task.layout(rng, "reproduction"), seed) as world:
             before = look(world) if keep else None
             outcomes = task.reproduce(world, demo, rng, keep)
             success = task.goal(world, demo, outcomes)
-            finals = {"demonstration goal": goal, "reproduction start": before, "reproduction end": look(world)} \
-                if keep else {}
+            finals = (
+                {"demonstration goal": goal, "reproduction start": before, "reproduction end": look(world)}
+                if keep
+                else {}
+            )
         operations = [o.to_dict() for o in outcomes]
         error = None if success else _failure(operations)
-        return TrialResult(self.name, seed, success, error, operations=operations, details={"variant": variant},
-                           artefacts=(demo, outcomes, finals) if keep else None)
+        return TrialResult(
+            self.name,
+            seed,
+            success,
+            error,
+            operations=operations,
+            details={"variant": variant},
+            artefacts=(demo, outcomes, finals) if keep else None,
+        )
 
     def summary(self, results: list[TrialResult]) -> dict:
         """The robot's operations: how many, how many succeeded, the diagnoses of the others."""
         robot = [op for r in results for op in (r.operations or []) if op["actor"] == "robot"]
         ok = sum(op["diagnosis"] == "ok" for op in robot)
         data: dict[str, Any] = {
-            "operations": len(robot), "operations_ok": ok,
+            "operations": len(robot),
+            "operations_ok": ok,
             "operation_success_rate": ok / len(robot) if robot else 0.0,
-            "diagnoses": {d: sum(op["diagnosis"] == d for op in robot) for d in sorted({op["diagnosis"] for op in robot})},
+            "diagnoses": {
+                d: sum(op["diagnosis"] == d for op in robot) for d in sorted({op["diagnosis"] for op in robot})
+            },
             "s_per_trial": round(sum(r.time_s for r in results) / len(results), 2) if results else None,
         }
         for variant in sorted({r.details["variant"] for r in results if r.details.get("variant")}):
@@ -76,12 +90,19 @@ class TabletopExperiment(Task):
         return data
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
-        lines = ["| robot operations ok | operation success | diagnoses |", "|---|---|---|",
-                 f"| {data['operations_ok']}/{data['operations']} | {100 * data['operation_success_rate']:.1f} % | "
-                 f"{', '.join(f'{k}: {v}' for k, v in data['diagnoses'].items())} |", ""]
+        lines = [
+            "| robot operations ok | operation success | diagnoses |",
+            "|---|---|---|",
+            f"| {data['operations_ok']}/{data['operations']} | {100 * data['operation_success_rate']:.1f} % | "
+            f"{', '.join(f'{k}: {v}' for k, v in data['diagnoses'].items())} |",
+            "",
+        ]
         if "intervention" in data:
-            lines += [f"User intervention (odd seeds): {data['intervention']['successes']}/"
-                      f"{data['intervention']['trials']} trials reached the tower on the third base.", ""]
+            lines += [
+                f"User intervention (odd seeds): {data['intervention']['successes']}/"
+                f"{data['intervention']['trials']} trials reached the tower on the third base.",
+                "",
+            ]
         return lines
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
@@ -90,7 +111,7 @@ class TabletopExperiment(Task):
 
 def make_task(name: str, seed: int):
     """The tabletop task NAME for the trial of ``seed`` (Hanoi: the user intervenes on odd seeds)."""
-    from vslsp.vsl.tabletop_tasks import TASKS
+    from vslsp.vsl.paper_tasks import TASKS
 
     if name not in TASKS:
         raise InputError(f"unknown task {name!r}; choose one of {', '.join(TASKS)}")
@@ -98,8 +119,14 @@ def make_task(name: str, seed: int):
 
 
 def _failure(operations: list[dict]) -> str:
-    return "; ".join(f"operation {op['operation']} ({op['actor']}, {op['item']}): {op['diagnosis']}"
-                     for op in operations if op["diagnosis"] != "ok") or "goal not reached"
+    return (
+        "; ".join(
+            f"operation {op['operation']} ({op['actor']}, {op['item']}): {op['diagnosis']}"
+            for op in operations
+            if op["diagnosis"] != "ok"
+        )
+        or "goal not reached"
+    )
 
 
 @register
@@ -117,8 +144,10 @@ class AnimalPuzzle(TabletopExperiment):
 @register
 class TowerOfHanoi(TabletopExperiment):
     name = "tower-of-hanoi"
-    description = ("Three disks moved in seven moves (stacking); on odd seeds the user makes the first move and the "
-                   "robot goes on from there.")
+    description = (
+        "Three disks moved in seven moves (stacking); on odd seeds the user makes the first move and the "
+        "robot goes on from there."
+    )
 
 
 @register
@@ -139,38 +168,62 @@ def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:
     from vslsp.vision.image import write_image
 
     (folder / "images").mkdir(parents=True, exist_ok=True)
-    files = {"demonstration": "images/demonstration.png", "matches": "images/matches.png",
-             "worlds": "images/worlds.png", "trajectory": "images/trajectory.png"}
+    files = {
+        "demonstration": "images/demonstration.png",
+        "matches": "images/matches.png",
+        "worlds": "images/worlds.png",
+        "trajectory": "images/trajectory.png",
+    }
     demo = task_demo.demonstration
     rows = []
     for k, op in enumerate(demo.operations):
         pre, pre_place = op.pre_pick.copy(), op.pre_place.copy()
         square(pre, op.pick_point, int(demo.pick_frame), PICK)
         square(pre_place, op.place_point, int(demo.place_frame), PLACE)
-        rows.append(np.hstack([label(small(pre), f"op {k + 1}: pre-pick ({task_demo.items[k]})"),
-                               label(small(pre_place), f"op {k + 1}: pre-place"),
-                               label(small(op.post_place), f"op {k + 1}: post-place")]))
+        rows.append(
+            np.hstack(
+                [
+                    label(small(pre), f"op {k + 1}: pre-pick ({task_demo.items[k]})"),
+                    label(small(pre_place), f"op {k + 1}: pre-place"),
+                    label(small(op.post_place), f"op {k + 1}: post-place"),
+                ]
+            )
+        )
     write_image(folder / files["demonstration"], np.vstack(rows))
     panels = []
     for outcome in outcomes:
         if outcome.observation is None or outcome.planned is None:
             continue
         image, op = outcome.observation.copy(), demo.operations[outcome.index]
-        for match, point, side, colour in ((outcome.planned.pick_match, op.pick_point, demo.pick_frame, PICK),
-                                           (outcome.planned.place_match, op.place_point,
-                                            outcome.planned.place_match.frame, PLACE)):
+        for match, point, side, colour in (
+            (outcome.planned.pick_match, op.pick_point, demo.pick_frame, PICK),
+            (outcome.planned.place_match, op.place_point, outcome.planned.place_match.frame, PLACE),
+        ):
             half = side / 2.0
-            corners = np.array([[[point[0] - half, point[1] - half], [point[0] + half, point[1] - half],
-                                 [point[0] + half, point[1] + half], [point[0] - half, point[1] + half]]], np.float32)
+            corners = np.array(
+                [
+                    [
+                        [point[0] - half, point[1] - half],
+                        [point[0] + half, point[1] - half],
+                        [point[0] + half, point[1] + half],
+                        [point[0] - half, point[1] + half],
+                    ]
+                ],
+                np.float32,
+            )
             box = cv2.perspectiveTransform(corners, match.transform)[0]
             cv2.polylines(image, [np.round(box).astype(np.int32)], True, colour, 3, cv2.LINE_AA)
             cv2.drawMarker(image, (int(match.x), int(match.y)), colour, cv2.MARKER_CROSS, 24, 3)
-        panels.append(label(small(image), f"op {outcome.index + 1} ({outcome.item}): {outcome.diagnosis}, "
-                                            f"place score {outcome.planned.place_match.score:.2f}"))
+        panels.append(
+            label(
+                small(image),
+                f"op {outcome.index + 1} ({outcome.item}): {outcome.diagnosis}, "
+                f"place score {outcome.planned.place_match.score:.2f}",
+            )
+        )
     if panels:
         write_image(folder / files["matches"], grid(panels, 3))
-    write_image(folder / files["worlds"], np.hstack([label(small(image), title)
-                                                     for title, image in finals.items()]))
+    write_image(folder / files["worlds"], np.hstack([label(small(image), title) for title, image in finals.items()]))
     _trajectory_figure(folder / files["trajectory"], outcomes)
     return files
 
@@ -190,16 +243,21 @@ def _trajectory_figure(path: Path, outcomes: list) -> None:
             continue
         hand = outcome.result.hand_path
         t = clock + np.linspace(0.0, outcome.result.duration_s, len(hand))
-        line, = top.plot(hand[:, 1], hand[:, 0], lw=2, label=f"op {outcome.index + 1} {outcome.item}: "
-                                                              f"{outcome.diagnosis}")
+        (line,) = top.plot(
+            hand[:, 1], hand[:, 0], lw=2, label=f"op {outcome.index + 1} {outcome.item}: {outcome.diagnosis}"
+        )
         top.plot(outcome.planned.pick[1], outcome.planned.pick[0], "o", color=line.get_color())
         top.plot(outcome.planned.place[1], outcome.planned.place[0], "s", color=line.get_color())
         z_axis.plot(t, hand[:, 2], color=line.get_color())
         theta_axis.plot(t, np.degrees(hand[:, 3]), color=line.get_color())
         clock = t[-1]
     top.invert_xaxis()
-    top.set(xlabel="y (m, robot's left)", ylabel="x (m, away from the robot)", aspect="equal",
-            title="hand paths rest → pick (o) → place (□) → rest")
+    top.set(
+        xlabel="y (m, robot's left)",
+        ylabel="x (m, away from the robot)",
+        aspect="equal",
+        title="hand paths rest → pick (o) → place (□) → rest",
+    )
     top.legend(loc="lower left", fontsize=7)
     z_axis.set(ylabel="hand height z (m)", title="height profile (traj3) with guarded descents")
     theta_axis.set(xlabel="t (s, simulated)", ylabel="closing axis θ (deg)", title="trapezoidal rotation profile")

@@ -17,6 +17,10 @@ def run_one(task: Task, seed: int, keep: bool = False) -> TrialResult:
         result = timed(task, seed, keep)
     except Exception as error:  # noqa: BLE001  (a trial that raises is recorded, never lost)
         where = traceback.extract_tb(error.__traceback__)[-1]
-        return TrialResult(task.name, seed, False,
-                           f"{type(error).__name__}: {error} (at {where.filename.split('/')[-1]}:{where.lineno})")
+        return TrialResult(
+            task.name,
+            seed,
+            False,
+            f"{type(error).__name__}: {error} (at {where.filename.split('/')[-1]}:{where.lineno})",
+        )
     return result if keep else result.without_artefacts()

@@ -14,7 +14,17 @@ from vslsp.vision.landmark import Line, find_landmark
 from vslsp.vision.objects import DetectedObject, detect_objects
 
 __all__ = [
-    "COLOUR_NAMES", "GENERIC", "Change", "DetectedObject", "Features", "Line", "colour_name",
-    "detect_change", "detect_objects", "extract_features", "find_landmark", "read_image",
+    "COLOUR_NAMES",
+    "GENERIC",
+    "Change",
+    "DetectedObject",
+    "Features",
+    "Line",
+    "colour_name",
+    "detect_change",
+    "detect_objects",
+    "extract_features",
+    "find_landmark",
+    "read_image",
     "write_image",
 ]

@@ -53,8 +53,8 @@ def moved_labels(seg: Segmentation, changed: np.ndarray) -> list[int]:
     moved = []
     for label in seg.object_labels:
         x, y, w, h, area = seg.stats[label]
-        region = seg.labels[y:y + h, x:x + w] == label
-        if np.count_nonzero(changed[y:y + h, x:x + w][region]) > CHANGED_FRACTION * area:
+        region = seg.labels[y : y + h, x : x + w] == label
+        if np.count_nonzero(changed[y : y + h, x : x + w][region]) > CHANGED_FRACTION * area:
             moved.append(label)
     return moved
 

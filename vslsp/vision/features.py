@@ -40,8 +40,10 @@ class Features:
 
     @classmethod
     def from_arrays(cls, arrays, prefix: str) -> Features:
-        return cls(np.asarray(arrays[f"{prefix}_keypoints"], np.float32),
-                   np.asarray(arrays[f"{prefix}_descriptors"], np.float32))
+        return cls(
+            np.asarray(arrays[f"{prefix}_keypoints"], np.float32),
+            np.asarray(arrays[f"{prefix}_descriptors"], np.float32),
+        )
 
 
 def extract_features(image: np.ndarray, mask: np.ndarray | None = None) -> Features:

@@ -22,16 +22,23 @@ WORKING_SIZE = 320
 # and at most MAX_ASPECT times wider than high (or the reverse): a camera's picture.
 MIN_SIDE, MAX_SIDE, MAX_PIXELS, MAX_ASPECT = 32, 8192, 40_000_000, 8.0
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg")
-SIZE_LIMITS = (f"at least {MIN_SIDE} and at most {MAX_SIDE} pixels a side, at most {MAX_PIXELS // 1_000_000} "
-               f"megapixels and at most {MAX_ASPECT:.0f}:1 between the sides")
+SIZE_LIMITS = (
+    f"at least {MIN_SIDE} and at most {MAX_SIDE} pixels a side, at most {MAX_PIXELS // 1_000_000} "
+    f"megapixels and at most {MAX_ASPECT:.0f}:1 between the sides"
+)
 
 
 def check_size(width: int, height: int, what: str = "image") -> None:
     """An InputError when a ``width`` x ``height`` image is outside the limits perception takes."""
-    if (min(width, height) < MIN_SIDE or max(width, height) > MAX_SIDE or width * height > MAX_PIXELS
-            or max(width, height) > MAX_ASPECT * min(width, height)):
-        raise InputError(f"{what} is {width}x{height} pixels; perception takes images of {SIZE_LIMITS} "
-                         "(resize it, e.g. to 640x480)")
+    if (
+        min(width, height) < MIN_SIDE
+        or max(width, height) > MAX_SIDE
+        or width * height > MAX_PIXELS
+        or max(width, height) > MAX_ASPECT * min(width, height)
+    ):
+        raise InputError(
+            f"{what} is {width}x{height} pixels; perception takes images of {SIZE_LIMITS} (resize it, e.g. to 640x480)"
+        )
 
 
 def as_rgb(image: np.ndarray, what: str = "image") -> np.ndarray:
@@ -41,8 +48,10 @@ def as_rgb(image: np.ndarray, what: str = "image") -> np.ndarray:
     if image.ndim != 3 or image.shape[2] != 3:
         raise InputError(f"{what} must have shape (H, W, 3) RGB, got shape {image.shape}")
     if image.dtype != np.uint8:
-        raise InputError(f"{what} must be uint8 (0-255), got {image.dtype}; convert it with "
-                         "(image * 255).astype(np.uint8) if it holds floats in 0..1")
+        raise InputError(
+            f"{what} must be uint8 (0-255), got {image.dtype}; convert it with "
+            "(image * 255).astype(np.uint8) if it holds floats in 0..1"
+        )
     check_size(image.shape[1], image.shape[0], what)
     return np.ascontiguousarray(image)
 
@@ -64,8 +73,9 @@ def header_size(path: str | Path) -> tuple[int, int] | None:
             kind, length = marker[1], int.from_bytes(marker[2:4], "big")
             if 0xC0 <= kind <= 0xCF and kind not in (0xC4, 0xC8, 0xCC):
                 frame = file.read(5)
-                return (int.from_bytes(frame[3:5], "big"), int.from_bytes(frame[1:3], "big")) if len(frame) == 5 \
-                    else None
+                return (
+                    (int.from_bytes(frame[3:5], "big"), int.from_bytes(frame[1:3], "big")) if len(frame) == 5 else None
+                )
             file.seek(length - 2, 1)
 
 
@@ -123,8 +133,7 @@ def to_working(image: np.ndarray) -> tuple[np.ndarray, int]:
     """The image (H/s, W/s, 3) at the working scale, smoothed against sensor noise, and s."""
     scale = working_scale(image.shape)
     if scale > 1:
-        image = cv2.resize(image, (image.shape[1] // scale, image.shape[0] // scale),
-                           interpolation=cv2.INTER_AREA)
+        image = cv2.resize(image, (image.shape[1] // scale, image.shape[0] // scale), interpolation=cv2.INTER_AREA)
     return cv2.GaussianBlur(image, (5, 5), 0), scale
 
 

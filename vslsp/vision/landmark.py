@@ -50,8 +50,7 @@ class Line:
         return float((np.degrees(np.arctan2(dy, dx)) + 90.0) % 180.0 - 90.0)
 
     def to_dict(self) -> dict:
-        return {"p1": [round(self.p1[0], 2), round(self.p1[1], 2)],
-                "p2": [round(self.p2[0], 2), round(self.p2[1], 2)]}
+        return {"p1": [round(self.p1[0], 2), round(self.p1[1], 2)], "p2": [round(self.p2[0], 2), round(self.p2[1], 2)]}
 
     @classmethod
     def from_dict(cls, data: dict) -> Line:

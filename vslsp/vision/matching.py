@@ -62,8 +62,15 @@ class Match:
     decomposition: Decomposition
 
     def to_dict(self) -> dict:
-        return {"x": self.x, "y": self.y, "theta": self.theta, "score": self.score, "frame": self.frame,
-                "ambiguous": self.ambiguous, "candidates": self.candidates}
+        return {
+            "x": self.x,
+            "y": self.y,
+            "theta": self.theta,
+            "score": self.score,
+            "frame": self.frame,
+            "ambiguous": self.ambiguous,
+            "candidates": self.candidates,
+        }
 
 
 class FrameMode(enum.StrEnum):
@@ -140,8 +147,9 @@ def find_best_match(
     transform = _refine(candidate, model)
     x, y = cv2.perspectiveTransform(np.array([[point]], np.float32), transform)[0, 0]
     decomposition = decompose(transform)
-    return Match(float(x), float(y), decomposition.theta, candidate.score, int(size), not unique, count,
-                 transform, decomposition)
+    return Match(
+        float(x), float(y), decomposition.theta, candidate.score, int(size), not unique, count, transform, decomposition
+    )
 
 
 def _frame_box(point: tuple[float, float], size: int, shape: tuple[int, ...]) -> tuple[int, int, int, int]:
@@ -155,20 +163,31 @@ def _frame_box(point: tuple[float, float], size: int, shape: tuple[int, ...]) ->
 def _candidates(obs: Features, world: Features, box, matcher, grey_obs, grey_world) -> list[Candidate]:
     """Candidate placements of the frame ``box`` in the world, best first."""
     x0, y0, x1, y1 = box
-    inside = ((obs.keypoints[:, 0] >= x0) & (obs.keypoints[:, 0] < x1)
-              & (obs.keypoints[:, 1] >= y0) & (obs.keypoints[:, 1] < y1))
+    inside = (
+        (obs.keypoints[:, 0] >= x0)
+        & (obs.keypoints[:, 0] < x1)
+        & (obs.keypoints[:, 1] >= y0)
+        & (obs.keypoints[:, 1] < y1)
+    )
     if inside.sum() < 2 or len(world) < 2:
         return []
     query = obs.keypoints[inside, :2]
     knn = matcher.knnMatch(obs.descriptors[inside], world.descriptors, k=min(_NEIGHBOURS, len(world)))
-    pairs = np.array([(query[m.queryIdx], world.keypoints[m.trainIdx, :2])
-                      for row in knn for m in row if m.distance <= _ALTERNATIVE * row[0].distance],
-                     np.float32)  # (M, 2, 2)
+    pairs = np.array(
+        [
+            (query[m.queryIdx], world.keypoints[m.trainIdx, :2])
+            for row in knn
+            for m in row
+            if m.distance <= _ALTERNATIVE * row[0].distance
+        ],
+        np.float32,
+    )  # (M, 2, 2)
     candidates: list[Candidate] = []
     cv2.setRNGSeed(0)  # deterministic RANSAC
     while len(pairs) >= 3 and len(candidates) < _MAX_CANDIDATES:
-        model, mask = cv2.estimateAffinePartial2D(_c(pairs[:, 0]), _c(pairs[:, 1]), method=cv2.RANSAC,
-                                                  ransacReprojThreshold=3.0)
+        model, mask = cv2.estimateAffinePartial2D(
+            _c(pairs[:, 0]), _c(pairs[:, 1]), method=cv2.RANSAC, ransacReprojThreshold=3.0
+        )
         if model is None or mask is None or mask.sum() < 3:
             break
         mask = mask.ravel().astype(bool)
@@ -202,8 +221,14 @@ def _correlation(grey_obs: np.ndarray, grey_world: np.ndarray, box, transform: n
     shift = np.array([[1.0, 0.0, x0], [0.0, 1.0, y0], [0.0, 0.0, 1.0]])
     to_world = (transform @ shift)[:2]  # frame pixel -> world pixel
     size = (x1 - x0, y1 - y0)
-    seen = cv2.warpAffine(grey_world, to_world, size, flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
-                          borderMode=cv2.BORDER_CONSTANT, borderValue=-1.0)
+    seen = cv2.warpAffine(
+        grey_world,
+        to_world,
+        size,
+        flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+        borderMode=cv2.BORDER_CONSTANT,
+        borderValue=-1.0,
+    )
     frame = grey_obs[y0:y1, x0:x1]
     valid = seen >= 0.0
     if valid.sum() < 0.5 * valid.size:

@@ -41,8 +41,14 @@ class DetectedObject:
     features: Features | None = None
 
     def to_dict(self) -> dict:
-        return {"name": self.name, "x": self.centroid[0], "y": self.centroid[1],
-                "box": list(self.box), "orientation": self.orientation, "area": self.area}
+        return {
+            "name": self.name,
+            "x": self.centroid[0],
+            "y": self.centroid[1],
+            "box": list(self.box),
+            "orientation": self.orientation,
+            "area": self.area,
+        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,8 +67,10 @@ class Segmentation:
 def dark_mask(work: np.ndarray) -> np.ndarray:
     """Pixels (h, w) uint8 {0, 255} dark and grey: the black landmark line."""
     value = channel_max(work)
-    return cv2.bitwise_and(cv2.compare(value, DARK_VALUE, cv2.CMP_LT),
-                           cv2.compare(cv2.subtract(value, channel_min(work)), DARK_CHROMA, cv2.CMP_LT))
+    return cv2.bitwise_and(
+        cv2.compare(value, DARK_VALUE, cv2.CMP_LT),
+        cv2.compare(cv2.subtract(value, channel_min(work)), DARK_CHROMA, cv2.CMP_LT),
+    )
 
 
 def object_mask(work: np.ndarray, table: np.ndarray, dark: np.ndarray) -> np.ndarray:
@@ -102,17 +110,18 @@ def segment(image: np.ndarray) -> Segmentation:
     return Segmentation(work, scale, table, labels, dark, tuple(kept), np.array(all_stats))
 
 
-def _split_by_colour(work: np.ndarray, labels: np.ndarray, label: int, all_stats: list[np.ndarray],
-                     min_area: float) -> list[tuple[int, int]]:
+def _split_by_colour(
+    work: np.ndarray, labels: np.ndarray, label: int, all_stats: list[np.ndarray], min_area: float
+) -> list[tuple[int, int]]:
     """Split region ``label`` of ``labels`` (h, w) by colour class where it holds several
     colours, relabelling ``labels`` in place and appending the parts' stats to ``all_stats``.
 
     Returns (label, colour class) for each part; a region of one colour is its own part.
     """
     x, y, bw, bh, _ = all_stats[label]
-    region = labels[y:y + bh, x:x + bw]
+    region = labels[y : y + bh, x : x + bw]
     inside = region == label
-    classes = colour_classes(work[y:y + bh, x:x + bw])
+    classes = colour_classes(work[y : y + bh, x : x + bw])
     classes[~inside] = 0
     counts = np.bincount(classes.ravel(), minlength=GREY_CLASS + 1)
     major = np.nonzero(counts[1:] >= min_area)[0] + 1
@@ -142,7 +151,7 @@ def describe(seg: Segmentation, label: int, image: np.ndarray | None = None) -> 
     """The :class:`DetectedObject` of one label; SIFT features too when ``image`` is given."""
     s = seg.scale
     x, y, bw, bh, area = (int(v) for v in seg.stats[label])
-    ys, xs = np.nonzero(seg.labels[y:y + bh, x:x + bw] == label)
+    ys, xs = np.nonzero(seg.labels[y : y + bh, x : x + bw] == label)
     ys, xs = ys + y, xs + x
     box = (x * s, y * s, bw * s, bh * s)
     features = object_features(image, box) if image is not None else None

@@ -34,6 +34,7 @@ class Decomposition:
 
     def matrices(self) -> dict[str, np.ndarray]:
         """The 3×3 factors T, R_theta, R_minus_phi, S_v, R_phi, P of the paper's equation."""
+
         def lift(block: np.ndarray) -> np.ndarray:
             m = np.eye(3)
             m[:2, :2] = block
@@ -43,8 +44,14 @@ class Decomposition:
         translation[:2, 2] = self.translation
         projective = np.eye(3)
         projective[2, :2] = self.projective
-        return {"T": translation, "R_theta": lift(self.rotation), "R_minus_phi": lift(self.axes.T),
-                "S_v": lift(np.diag(self.scales)), "R_phi": lift(self.axes), "P": projective}
+        return {
+            "T": translation,
+            "R_theta": lift(self.rotation),
+            "R_minus_phi": lift(self.axes.T),
+            "S_v": lift(np.diag(self.scales)),
+            "R_phi": lift(self.axes),
+            "P": projective,
+        }
 
     def compose(self) -> np.ndarray:
         """α T_sift (3, 3) rebuilt from the factors: T R_θ R_−φ S_v R_φ P."""

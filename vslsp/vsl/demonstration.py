@@ -108,23 +108,31 @@ class Demonstration:
             write_image(folder / pre_file, op.pre_observation)
             write_image(folder / post_file, op.post_observation)
             arrays.update(op.features.to_arrays(f"op{i:02d}"))
-            records.append({
-                "grounding": op.grounding.to_dict(),
-                "pose_pre": op.pose_pre.to_dict(),
-                "pose_post": op.pose_post.to_dict(),
-                "object_size": op.object_size,
-                "pre_observation": pre_file,
-                "post_observation": post_file,
-            })
+            records.append(
+                {
+                    "grounding": op.grounding.to_dict(),
+                    "pose_pre": op.pose_pre.to_dict(),
+                    "pose_post": op.pose_post.to_dict(),
+                    "object_size": op.object_size,
+                    "pre_observation": pre_file,
+                    "post_observation": post_file,
+                }
+            )
         np.savez(folder / "features.npz", **arrays)  # type: ignore[arg-type]
         path = folder / "demonstration.json"
-        path.write_text(json.dumps({
-            "format": FORMAT,
-            "robot_side": self.robot_side,
-            "landmark": self.landmark.to_dict(),
-            "policy": list(self.policy),
-            "operations": records,
-        }, indent=2) + "\n")
+        path.write_text(
+            json.dumps(
+                {
+                    "format": FORMAT,
+                    "robot_side": self.robot_side,
+                    "landmark": self.landmark.to_dict(),
+                    "policy": list(self.policy),
+                    "operations": records,
+                },
+                indent=2,
+            )
+            + "\n"
+        )
         return path
 
     @classmethod
@@ -151,8 +159,10 @@ class Demonstration:
                 )
             return cls(Line.from_dict(data["landmark"]), operations, data["robot_side"])
         except (OSError, ValueError, KeyError, TypeError) as error:
-            raise InputError(f"cannot read the demonstration in {folder}: {error}; "
-                             "record it again with DemonstrationRecorder(...).demonstration().save()") from error
+            raise InputError(
+                f"cannot read the demonstration in {folder}: {error}; "
+                "record it again with DemonstrationRecorder(...).demonstration().save()"
+            ) from error
 
 
 class DemonstrationRecorder:
@@ -173,8 +183,10 @@ class DemonstrationRecorder:
         grounding = ground(pre, post, self.robot_side)
         before, after = grounding.pre_object, grounding.post_object
         if before is None or after is None:
-            raise InputError("the moved object is not seen both before and after the operation; let the tutor "
-                             "move one object at a time, in the camera's view")
+            raise InputError(
+                "the moved object is not seen both before and after the operation; let the tutor "
+                "move one object at a time, in the camera's view"
+            )
         operation = Operation(
             pre_observation=np.array(pre, copy=True),
             post_observation=np.array(post, copy=True),

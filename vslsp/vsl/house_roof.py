@@ -120,8 +120,10 @@ def _object_patch(image: np.ndarray, without: np.ndarray) -> tuple[np.ndarray, n
     changed = cv2.morphologyEx(changed, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
     ys, xs = np.nonzero(changed)
     if len(xs) < 50:
-        raise InputError("the moved object is not seen in the demonstration's observations; "
-                         "keep it in view and let it differ from the board")
+        raise InputError(
+            "the moved object is not seen in the demonstration's observations; "
+            "keep it in view and let it differ from the board"
+        )
     shift = np.array([[1.0, 0.0, _PATCH / 2.0 - xs.mean()], [0.0, 1.0, _PATCH / 2.0 - ys.mean()]])
     grey = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY).astype(np.float32)
     patch = cv2.warpAffine(grey, shift, (_PATCH, _PATCH), flags=cv2.INTER_LINEAR)
@@ -155,7 +157,8 @@ class OperationResult:
             "diagnosis": self.diagnosis,
             "pick": None if self.pick is None else self.pick.to_dict(),
             "place": None if self.place is None else self.place.to_dict(),
-            "theta_pick": round(self.theta_pick, 5), "theta_place": round(self.theta_place, 5),
+            "theta_pick": round(self.theta_pick, 5),
+            "theta_place": round(self.theta_place, 5),
             "grasped_roof": self.grasped,
             "landed": None if self.landed is None else pose_dict(self.landed),
             "body": None if self.slot is None else self.slot[0],
@@ -181,10 +184,13 @@ class Reproduction:
         return self.world_after.goal_reached()
 
     def to_dict(self) -> dict:
-        return {"frame": FrameMode(self.frame).value, "success": self.success,
-                "operations": [op.to_dict() for op in self.operations],
-                "houses": {str(k): v for k, v in self.world_after.houses().items()},
-                "world_after": self.world_after.to_dict()}
+        return {
+            "frame": FrameMode(self.frame).value,
+            "success": self.success,
+            "operations": [op.to_dict() for op in self.operations],
+            "houses": {str(k): v for k, v in self.world_after.houses().items()},
+            "world_after": self.world_after.to_dict(),
+        }
 
 
 class ObservationFeatures:
@@ -195,8 +201,12 @@ class ObservationFeatures:
         self.pre_place = [extract_features(image) for image in demo.pre_place]
 
 
-def reproduce(demo: HouseRoofDemonstration, world: HouseWorld, frame: FrameMode | str = FrameMode.ADAPTIVE,
-              features: ObservationFeatures | None = None) -> Reproduction:
+def reproduce(
+    demo: HouseRoofDemonstration,
+    world: HouseWorld,
+    frame: FrameMode | str = FrameMode.ADAPTIVE,
+    features: ObservationFeatures | None = None,
+) -> Reproduction:
     """Algorithm 1 part II in ``world``: for each recorded operation, find the pre-pick and
     pre-place observations (``frame`` "adaptive" or "fixed", see :func:`place_frames`), move
     the hand along the pick-and-place trajectory, and let the grasped roof land where it ends."""
@@ -207,8 +217,14 @@ def reproduce(demo: HouseRoofDemonstration, world: HouseWorld, frame: FrameMode 
     start, results, pre_place_worlds = world, [], []
     for k, operation in enumerate(demo.demonstration.operations):
         seen = world.render()
-        pick = find_best_match(operation.pre_observation, seen, (operation.pose_pre.x, operation.pose_pre.y),
-                               operation.object_size, [pick_frame(operation.object_size)], features.pre_pick[k])
+        pick = find_best_match(
+            operation.pre_observation,
+            seen,
+            (operation.pose_pre.x, operation.pose_pre.y),
+            operation.object_size,
+            [pick_frame(operation.object_size)],
+            features.pre_pick[k],
+        )
         if isinstance(pick, NoMatch):
             results.append(OperationResult(None, None, 0.0, 0.0, None, None, None, None, "no match"))
             continue
@@ -216,17 +232,30 @@ def reproduce(demo: HouseRoofDemonstration, world: HouseWorld, frame: FrameMode 
         lifted = world if grasped is None else world.with_roof(grasped, None)
         seen = lifted.render()
         pre_place_worlds.append(seen)
-        place = match_place(demo.pre_place[k], seen, (operation.pose_post.x, operation.pose_post.y),
-                            operation.object_size, place_frames(frame, operation.object_size), features.pre_place[k])
+        place = match_place(
+            demo.pre_place[k],
+            seen,
+            (operation.pose_post.x, operation.pose_post.y),
+            operation.object_size,
+            place_frames(frame, operation.object_size),
+            features.pre_place[k],
+        )
         if isinstance(place, NoMatch):
             results.append(OperationResult(pick, None, pick.theta, 0.0, None, grasped, None, None, "no match"))
             continue
         theta_place = pick.theta + wrap(place.theta + demo.turns[k] - pick.theta)  # the shorter turn
-        trajectory = pick_and_place(_hand_point(REST[:2], REST[2]), _hand_point((pick.x, pick.y)),
-                                    _hand_point((place.x, place.y)), pick.theta, theta_place, TRAJECTORY)
+        trajectory = pick_and_place(
+            _hand_point(REST[:2], REST[2]),
+            _hand_point((pick.x, pick.y)),
+            _hand_point((place.x, place.y)),
+            pick.theta,
+            theta_place,
+            TRAJECTORY,
+        )
         if grasped is None:
-            results.append(OperationResult(pick, place, pick.theta, theta_place, trajectory, None, None, None,
-                                           "grasp failed"))
+            results.append(
+                OperationResult(pick, place, pick.theta, theta_place, trajectory, None, None, None, "grasp failed")
+            )
             continue
         hand_at_pick = (pick.x, pick.y, pick.theta)
         end = trajectory.segments[2]
@@ -239,8 +268,9 @@ def reproduce(demo: HouseRoofDemonstration, world: HouseWorld, frame: FrameMode 
         slot = world.slot_of(landed)
         fits = slot[2] <= POSITION_TOLERANCE and slot[3] <= ANGLE_TOLERANCE and slot[1] == DEMONSTRATED[k]
         diagnosis = "ok" if fits and not occupied[slot[0]] else "wrong place"
-        results.append(OperationResult(pick, place, pick.theta, theta_place, trajectory, grasped, landed, slot,
-                                       diagnosis))
+        results.append(
+            OperationResult(pick, place, pick.theta, theta_place, trajectory, grasped, landed, slot, diagnosis)
+        )
     return Reproduction(frame, start, world, tuple(results), tuple(pre_place_worlds))
 
 
@@ -263,8 +293,14 @@ def place_frames(frame: FrameMode | str, object_size: float) -> list[int]:
     return [size for size in sizes if size <= ADAPTIVE_LIMIT * object_size] or sizes[:1]
 
 
-def match_place(observation: np.ndarray, world: np.ndarray, point: tuple[float, float], object_size: float,
-                sizes: list[int], observation_features: Features) -> Match | NoMatch:
+def match_place(
+    observation: np.ndarray,
+    world: np.ndarray,
+    point: tuple[float, float],
+    object_size: float,
+    sizes: list[int],
+    observation_features: Features,
+) -> Match | NoMatch:
     """``findBestMatch`` of a pre-place observation (h, w, 3) in ``world`` (H, W, 3) with frames
     of the given ``sizes`` (px, growing): every copy of the place's surroundings is a candidate
     (found by ``find_best_match`` with the copies already found left out, and at each size), and
@@ -294,15 +330,21 @@ def match_place(observation: np.ndarray, world: np.ndarray, point: tuple[float, 
         if chosen is not None and scores[order[0]] < chosen.score - MARGIN:
             break  # the frame has grown past what the demonstration and this world share
         unique = len(candidates) == 1 or scores[order[0]] - scores[order[1]] >= MARGIN
-        chosen = replace(candidates[order[0]], score=float(scores[order[0]]), frame=int(size), ambiguous=not unique,
-                         candidates=len(candidates))
+        chosen = replace(
+            candidates[order[0]],
+            score=float(scores[order[0]]),
+            frame=int(size),
+            ambiguous=not unique,
+            candidates=len(candidates),
+        )
         if unique and chosen.score >= MIN_SCORE:
             break
     return chosen if chosen is not None else NoMatch("no frame size gave a placement of the pre-place observation")
 
 
-def frame_correlation(observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int,
-                      transform: np.ndarray) -> float:
+def frame_correlation(
+    observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, transform: np.ndarray
+) -> float:
     """Normalised cross-correlation (colour) of the square frame of side ``size`` around
     ``point`` in ``observation`` with the world seen through ``transform`` (3, 3)."""
     half = size / 2.0
@@ -312,8 +354,7 @@ def frame_correlation(observation: np.ndarray, world: np.ndarray, point: tuple[f
     to_world = transform @ np.array([[1.0, 0.0, x0], [0.0, 1.0, y0], [0.0, 0.0, 1.0]])
     flags = cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP
     seen = cv2.warpPerspective(world.astype(np.float32), to_world, (x1 - x0, y1 - y0), flags=flags)
-    inside = cv2.warpPerspective(np.ones(world.shape[:2], np.float32), to_world, (x1 - x0, y1 - y0),
-                                 flags=flags) > 0.99
+    inside = cv2.warpPerspective(np.ones(world.shape[:2], np.float32), to_world, (x1 - x0, y1 - y0), flags=flags) > 0.99
     if inside.sum() < 0.5 * inside.size:
         return -1.0
     a = observation[y0:y1, x0:x1].astype(np.float32)[inside]
@@ -332,7 +373,13 @@ def frame_box(match: Match, size: int, point: tuple[float, float]) -> np.ndarray
     """The corners (4, 2) px in the world of the square frame of side ``size`` around the
     recorded ``point``, mapped through the match's transform (for overlays)."""
     half = size / 2.0
-    corners = np.array([[point[0] - half, point[1] - half], [point[0] + half, point[1] - half],
-                        [point[0] + half, point[1] + half], [point[0] - half, point[1] + half]], np.float32)
+    corners = np.array(
+        [
+            [point[0] - half, point[1] - half],
+            [point[0] + half, point[1] - half],
+            [point[0] + half, point[1] + half],
+            [point[0] - half, point[1] + half],
+        ],
+        np.float32,
+    )
     return cv2.perspectiveTransform(corners[None], match.transform)[0]
-

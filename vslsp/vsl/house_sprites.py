@@ -30,8 +30,12 @@ def house_body(image: np.ndarray, top_left: tuple[int, int]) -> None:
     cv2.rectangle(image, (x + 24, y + 34), (x + 35, y + BODY_SIZE - 3), (120, 70, 30), -1)
 
 
-def roof(image: np.ndarray, bottom_left: tuple[int, int], fill: tuple[int, int, int] = (150, 80, 40),
-         tiles: tuple[int, int, int] = (90, 45, 20)) -> None:
+def roof(
+    image: np.ndarray,
+    bottom_left: tuple[int, int],
+    fill: tuple[int, int, int] = (150, 80, 40),
+    tiles: tuple[int, int, int] = (90, 45, 20),
+) -> None:
     """Draw a brown roof (60 px wide, 30 px high, with tiles) standing on (x, y); ``fill`` and
     ``tiles`` are its RGB colours."""
     x, y = bottom_left
@@ -44,8 +48,13 @@ def roof(image: np.ndarray, bottom_left: tuple[int, int], fill: tuple[int, int, 
     cv2.polylines(image, [triangle], True, tiles, 2)
 
 
-def houses_world(bodies: list[tuple[int, int]], roofs_on: list[int], loose_roofs: Sequence[tuple[int, int]] = (),
-                 size: tuple[int, int] = (480, 360), seed: int = 0) -> np.ndarray:
+def houses_world(
+    bodies: list[tuple[int, int]],
+    roofs_on: list[int],
+    loose_roofs: Sequence[tuple[int, int]] = (),
+    size: tuple[int, int] = (480, 360),
+    seed: int = 0,
+) -> np.ndarray:
     """The house-and-roof world (H, W, 3) uint8 RGB on a lightly textured board: house bodies
     with their top-left corners at ``bodies``, a roof on top of the bodies indexed by
     ``roofs_on``, and roofs lying at ``loose_roofs`` (bottom-left corners)."""
@@ -99,8 +108,9 @@ def _sprite(draw, shape: tuple[int, int], anchor: tuple[float, float]) -> Sprite
 def body_sprite() -> Sprite:
     """A house body (:func:`house_body`, 60×60 px) anchored at its centre."""
     m = _SPRITE_MARGIN
-    return _sprite(lambda image: house_body(image, (m, m)), (BODY_SIZE + 2 * m,) * 2,
-                   (m + BODY_SIZE / 2, m + BODY_SIZE / 2))
+    return _sprite(
+        lambda image: house_body(image, (m, m)), (BODY_SIZE + 2 * m,) * 2, (m + BODY_SIZE / 2, m + BODY_SIZE / 2)
+    )
 
 
 ROOF_HEIGHT = 31  # px, rows a roof covers
@@ -114,9 +124,11 @@ def roof_sprite() -> Sprite:
     """A roof (:func:`roof` in :data:`ROOF_PAINT`, 60 px wide, 31 rows high) anchored on its
     axis, 10 px above its base edge (near the triangle's centroid)."""
     m = _SPRITE_MARGIN
-    return _sprite(lambda image: roof(image, (m, m + ROOF_HEIGHT - 1), *ROOF_PAINT),
-                   (ROOF_HEIGHT + 2 * m, BODY_SIZE + 2 * m),
-                   (m + BODY_SIZE / 2, m + ROOF_HEIGHT - ROOF_ANCHOR_ABOVE_BASE))
+    return _sprite(
+        lambda image: roof(image, (m, m + ROOF_HEIGHT - 1), *ROOF_PAINT),
+        (ROOF_HEIGHT + 2 * m, BODY_SIZE + 2 * m),
+        (m + BODY_SIZE / 2, m + ROOF_HEIGHT - ROOF_ANCHOR_ABOVE_BASE),
+    )
 
 
 def sprite_transform(sprite: Sprite, pose: tuple[float, float, float]) -> np.ndarray:
@@ -133,8 +145,15 @@ def paste(image: np.ndarray, sprite: Sprite, pose: tuple[float, float, float]) -
     blending its anti-aliased edge."""
     height, width = image.shape[:2]
     matrix = sprite_transform(sprite, pose)
-    corners = np.array([[0, 0], [sprite.alpha.shape[1], 0], [0, sprite.alpha.shape[0]],
-                        [sprite.alpha.shape[1], sprite.alpha.shape[0]]], float)
+    corners = np.array(
+        [
+            [0, 0],
+            [sprite.alpha.shape[1], 0],
+            [0, sprite.alpha.shape[0]],
+            [sprite.alpha.shape[1], sprite.alpha.shape[0]],
+        ],
+        float,
+    )
     placed = corners @ matrix[:, :2].T + matrix[:, 2]
     x0, y0 = np.maximum(np.floor(placed.min(axis=0)).astype(int) - 1, 0)
     x1, y1 = np.minimum(np.ceil(placed.max(axis=0)).astype(int) + 2, (width, height))

@@ -53,8 +53,10 @@ class HouseWorld:
             for _ in range(10000):
                 x = rng.uniform(margin, WORLD_SIZE[0] - margin)
                 y = rng.uniform(margin, BASELINE[0][1] - below)
-                if all(np.hypot(x - px, y - py) >= _CLEARANCE[(kind, other) if kind <= other else (other, kind)]
-                       for other, px, py in placed):
+                if all(
+                    np.hypot(x - px, y - py) >= _CLEARANCE[(kind, other) if kind <= other else (other, kind)]
+                    for other, px, py in placed
+                ):
                     break
             else:  # pragma: no cover - the board has room for far more than six objects
                 raise RuntimeError("no room left on the board")
@@ -113,11 +115,15 @@ class HouseWorld:
         """Every body carries exactly one roof and the slots are the demonstrated ones."""
         houses = self.houses()
         return all(len(s) == 1 for s in houses.values()) and sorted(s[0] for s in houses.values()) == sorted(
-            demonstrated)
+            demonstrated
+        )
 
     def to_dict(self) -> dict:
-        return {"bodies": [pose_dict(p) for p in self.bodies],
-                "roofs": [None if p is None else pose_dict(p) for p in self.roofs], "texture": self.texture}
+        return {
+            "bodies": [pose_dict(p) for p in self.bodies],
+            "roofs": [None if p is None else pose_dict(p) for p in self.roofs],
+            "texture": self.texture,
+        }
 
 
 @lru_cache(maxsize=4)
@@ -131,4 +137,3 @@ def _empty_board(texture: int) -> np.ndarray:
 
 def pose_dict(pose: Pose2) -> dict:
     return {"x": round(pose[0], 2), "y": round(pose[1], 2), "theta": round(pose[2], 5)}
-

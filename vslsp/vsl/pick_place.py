@@ -55,8 +55,14 @@ class TableView:
     at the bottom (rows run against x), its left on the left (columns run against y). It is
     itself a :class:`TableCamera` for its own pixels (through the camera, at any height)."""
 
-    def __init__(self, camera: TableCamera, x_range: tuple[float, float] = (0.22, 0.84),
-                 y_range: tuple[float, float] = (-0.42, 0.42), px_per_m: float = 1500.0, z: float = 0.02) -> None:
+    def __init__(
+        self,
+        camera: TableCamera,
+        x_range: tuple[float, float] = (0.22, 0.84),
+        y_range: tuple[float, float] = (-0.42, 0.42),
+        px_per_m: float = 1500.0,
+        z: float = 0.02,
+    ) -> None:
         self.camera, self.x_range, self.y_range, self.px_per_m = camera, x_range, y_range, px_per_m
         self.size = (int(round((y_range[1] - y_range[0]) * px_per_m)), int(round((x_range[1] - x_range[0]) * px_per_m)))
         corners = [(x, y) for x in x_range for y in y_range]
@@ -70,8 +76,9 @@ class TableView:
 
     def rectify(self, image: np.ndarray) -> np.ndarray:
         """The camera's image (H, W, 3) as seen from above (h, w, 3)."""
-        return cv2.warpPerspective(image, self.homography, self.size, flags=cv2.INTER_LINEAR,
-                                   borderMode=cv2.BORDER_REPLICATE)
+        return cv2.warpPerspective(
+            image, self.homography, self.size, flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE
+        )
 
     def pixel_to_table(self, u: float, v: float, z: float = 0.0) -> tuple[float, float]:
         return self.camera.pixel_to_table(*apply(self.inverse, (u, v)), z)
@@ -111,16 +118,24 @@ class RecordedOperation:
             image = getattr(self, which)
             mask = np.zeros(image.shape[:2], np.uint8)
             half = side / 2.0 + 8.0  # SIFT needs a rim about a keypoint
-            mask[max(0, int(point[1] - half)):int(point[1] + half), max(0, int(point[0] - half)):int(point[0] + half)] = 1
+            mask[
+                max(0, int(point[1] - half)) : int(point[1] + half), max(0, int(point[0] - half)) : int(point[0] + half)
+            ] = 1
             self._cache[key] = extract_features(image, mask)
         return self._cache[key]
 
     def to_dict(self) -> dict:
-        return {"pick_point": [round(c, 2) for c in self.pick_point],
-                "place_point": [round(c, 2) for c in self.place_point],
-                "footprint_m": [round(c, 4) for c in self.footprint], "yaw": round(self.yaw, 4),
-                "turn": round(self.turn, 4), "object_size_px": round(self.object_size, 1),
-                "pick_z": round(self.pick_z, 4), "place_z": round(self.place_z, 4), "features": len(self.features)}
+        return {
+            "pick_point": [round(c, 2) for c in self.pick_point],
+            "place_point": [round(c, 2) for c in self.place_point],
+            "footprint_m": [round(c, 4) for c in self.footprint],
+            "yaw": round(self.yaw, 4),
+            "turn": round(self.turn, 4),
+            "object_size_px": round(self.object_size, 1),
+            "pick_z": round(self.pick_z, 4),
+            "place_z": round(self.place_z, 4),
+            "features": len(self.features),
+        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -147,8 +162,15 @@ class PickPlaceRecorder:
         self.camera = camera
         self.operations: list[RecordedOperation] = []
 
-    def record(self, pre_pick: np.ndarray, pre_place: np.ndarray, post_place: np.ndarray, pick_z: float,
-               place_z: float, height: float) -> RecordedOperation:
+    def record(
+        self,
+        pre_pick: np.ndarray,
+        pre_place: np.ndarray,
+        post_place: np.ndarray,
+        pick_z: float,
+        place_z: float,
+        height: float,
+    ) -> RecordedOperation:
         """Add one operation from its three observations (H, W, 3) uint8, the heights (m) of
         the object's top at the pick and at the place and its own ``height`` (m; the tutor's).
         Raises InputError when the object is not seen leaving or arriving, or its features do
@@ -160,18 +182,36 @@ class PickPlaceRecorder:
         pick_point = self.camera.table_to_pixel(centre[0], centre[1], pick_z)
         place_point = self.camera.table_to_pixel(placed[0], placed[1], place_z)
         features = extract_features(pre_pick, taken)
-        turn = self._turn(features, extract_features(post_place, put), pick_point, place_point, (pick_z, place_z),
-                          placed_yaw - yaw)
+        turn = self._turn(
+            features, extract_features(post_place, put), pick_point, place_point, (pick_z, place_z), placed_yaw - yaw
+        )
         x, y, w, h = cv2.boundingRect(cv2.findNonZero(taken))
-        operation = RecordedOperation(np.array(pre_pick, copy=True), np.array(pre_place, copy=True),
-                                      np.array(post_place, copy=True), (float(pick_point[0]), float(pick_point[1])),
-                                      (float(place_point[0]), float(place_point[1])), footprint, yaw, turn, float(max(w, h)),
-                                      float(pick_z), float(place_z), features)
+        operation = RecordedOperation(
+            np.array(pre_pick, copy=True),
+            np.array(pre_place, copy=True),
+            np.array(post_place, copy=True),
+            (float(pick_point[0]), float(pick_point[1])),
+            (float(place_point[0]), float(place_point[1])),
+            footprint,
+            yaw,
+            turn,
+            float(max(w, h)),
+            float(pick_z),
+            float(place_z),
+            features,
+        )
         self.operations.append(operation)
         return operation
 
-    def _turn(self, before: Features, after: Features, pick_point: tuple[float, float],
-              place_point: tuple[float, float], heights: tuple[float, float], boxes: float) -> float:
+    def _turn(
+        self,
+        before: Features,
+        after: Features,
+        pick_point: tuple[float, float],
+        place_point: tuple[float, float],
+        heights: tuple[float, float],
+        boxes: float,
+    ) -> float:
         """The turn (rad) the tutor gave the object: the boxes' yaws give it up to a quarter turn
         (``boxes``, their difference); the object's SIFT features matched from the pick to the
         place say which, from the first RANSAC placement that puts its centre where the object
@@ -182,8 +222,10 @@ class PickPlaceRecorder:
             if np.hypot(*(centre - target)) <= _AGREE:
                 seen = table_rotation(self.camera, transform, pick_point, *heights)
                 return wrap(boxes + np.pi / 2.0 * round((seen - boxes) / (np.pi / 2.0)))
-        raise InputError("the moved object's features do not match between pick and place; give it more "
-                         "texture, and let the tutor move one object at a time")
+        raise InputError(
+            "the moved object's features do not match between pick and place; give it more "
+            "texture, and let the tutor move one object at a time"
+        )
 
     def demonstration(self) -> PickPlaceDemonstration:
         if not self.operations:
@@ -204,16 +246,21 @@ def changed_region(image: np.ndarray, reference: np.ndarray, what: str = "moved"
         raise InputError(f"no object was {what}: the observations do not differ; keep the object in view")
     largest = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
     reach = 0.75 * max(stats[largest, cv2.CC_STAT_WIDTH], stats[largest, cv2.CC_STAT_HEIGHT])
-    keep = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= 0.05 * stats[largest, cv2.CC_STAT_AREA]
-            and np.hypot(*(centroids[k] - centroids[largest])) <= reach]
+    keep = [
+        k
+        for k in range(1, count)
+        if stats[k, cv2.CC_STAT_AREA] >= 0.05 * stats[largest, cv2.CC_STAT_AREA]
+        and np.hypot(*(centroids[k] - centroids[largest])) <= reach
+    ]
     points = np.vstack([cv2.findNonZero((labels == k).astype(np.uint8)) for k in keep])
     mask = np.zeros(changed.shape, np.uint8)
     cv2.fillConvexPoly(mask, cv2.convexHull(points), 255)
     return mask
 
 
-def footprint_on_table(mask: np.ndarray, camera: TableCamera, top: float, bottom: float) -> tuple[
-        np.ndarray, tuple[float, float], float]:
+def footprint_on_table(
+    mask: np.ndarray, camera: TableCamera, top: float, bottom: float
+) -> tuple[np.ndarray, tuple[float, float], float]:
     """The footprint of the box seen as ``mask`` (H, W): its silhouette unprojected onto the
     plane of its top (height ``top``, m) covers the top face and the visible sides seen from
     there; unprojected onto the plane of its bottom (``bottom``) it covers the bottom face and
@@ -285,8 +332,9 @@ def apply(transform: np.ndarray, point: tuple[float, float]) -> tuple[float, flo
     return float(u), float(v)
 
 
-def table_rotation(camera: TableCamera, transform: np.ndarray, point: tuple[float, float], z_from: float,
-                   z_to: float) -> float:
+def table_rotation(
+    camera: TableCamera, transform: np.ndarray, point: tuple[float, float], z_from: float, z_to: float
+) -> float:
     """The rotation (rad, counter-clockwise on the table) that the image ``transform`` (3, 3)
     applies about ``point`` (px, on a surface at height ``z_from``, mapped onto one at
     ``z_to``): the turn of two short offsets seen on the table, averaged."""

@@ -50,8 +50,7 @@ PLACE_GROWTH = 3.0
 _SQUARE = 0.15  # a footprint whose sides differ by less than this fraction is square (closed either way)
 
 
-def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features
-                 ) -> Match | NoMatch:
+def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match | NoMatch:
     """``findBestMatch`` of operation ``k``'s pre-pick observation in the pre-pick frame: the
     object's features φ_k against the world's, SIFT and RANSAC as in the paper. The score is
     the fraction of φ_k that are inliers; the match is ambiguous when a second placement
@@ -64,8 +63,17 @@ def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_
     x, y = apply(transform, op.pick_point)
     decomposition = decompose(transform)
     ambiguous = len(found) > 1 and found[1][1] >= _CLOSE * inliers
-    return Match(x, y, decomposition.theta, inliers / len(op.features), int(round(demo.pick_frame)), ambiguous,
-                 len(found), transform, decomposition)
+    return Match(
+        x,
+        y,
+        decomposition.theta,
+        inliers / len(op.features),
+        int(round(demo.pick_frame)),
+        ambiguous,
+        len(found),
+        transform,
+        decomposition,
+    )
 
 
 _CLOSE = 0.7  # a second placement with this share of the best one's inliers makes a match ambiguous
@@ -86,30 +94,47 @@ class PlannedOperation:
     yaw_target: float
 
     def to_dict(self) -> dict:
-        return {"pick": [round(c, 4) for c in self.pick], "place": [round(c, 4) for c in self.place],
-                "grasp_width": round(self.grasp_width, 4), "yaw_now": round(self.yaw_now, 4),
-                "yaw_target": round(self.yaw_target, 4), "pick_match": _match_dict(self.pick_match),
-                "place_match": _match_dict(self.place_match)}
+        return {
+            "pick": [round(c, 4) for c in self.pick],
+            "place": [round(c, 4) for c in self.place],
+            "grasp_width": round(self.grasp_width, 4),
+            "yaw_now": round(self.yaw_now, 4),
+            "yaw_target": round(self.yaw_target, 4),
+            "pick_match": _match_dict(self.pick_match),
+            "place_match": _match_dict(self.place_match),
+        }
 
 
 def _match_dict(match: Match) -> dict:
     return {k: round(v, 4) if isinstance(v, float) else v for k, v in match.to_dict().items()}
 
 
-def match_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features
-                ) -> Match | NoMatch:
+def match_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match | NoMatch:
     """``findBestMatch`` of operation ``k``'s pre-place observation in ``world`` (h, w, 3):
     frames from the pre-place frame, growing while ambiguous up to :data:`PLACE_GROWTH` times
     it. :class:`NoMatch` when nothing matches."""
     op, start = demo.operations[k], demo.place_frame
     sizes = [s for s in frame_sizes(start, world.shape) if s <= PLACE_GROWTH * start + 0.5] or [int(round(start))]
-    return find_best_match(op.pre_place, world, op.place_point, start, sizes,
-                           op.observation_features("pre_place", op.place_point, max(sizes)), world_features)
+    return find_best_match(
+        op.pre_place,
+        world,
+        op.place_point,
+        start,
+        sizes,
+        op.observation_features("pre_place", op.place_point, max(sizes)),
+        world_features,
+    )
 
 
-def plan_operation(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: TableCamera,
-                   world_features: Features | None = None, pick_match: Match | None = None,
-                   place_match: Match | None = None) -> PlannedOperation | NoMatch:
+def plan_operation(
+    demo: PickPlaceDemonstration,
+    k: int,
+    world: np.ndarray,
+    camera: TableCamera,
+    world_features: Features | None = None,
+    pick_match: Match | None = None,
+    place_match: Match | None = None,
+) -> PlannedOperation | NoMatch:
     """Algorithm 1 lines 13-15 for operation ``k`` in the observed ``world`` (H, W, 3): the
     pick and place matches (given, or found with :func:`match_object` and :func:`match_place`)
     turned into the hand's poses.
@@ -129,8 +154,9 @@ def plan_operation(demo: PickPlaceDemonstration, k: int, world: np.ndarray, came
     return _hand_poses(op, pick, place, pick_xy, place_xy, yaw_now, yaw_target)
 
 
-def _hand_poses(op: RecordedOperation, pick: Match, place: Match, pick_xy, place_xy, yaw_now: float,
-                yaw_target: float) -> PlannedOperation:
+def _hand_poses(
+    op: RecordedOperation, pick: Match, place: Match, pick_xy, place_xy, yaw_now: float, yaw_target: float
+) -> PlannedOperation:
     """The hand's pick and place poses for an object of ``op``'s footprint at ``pick_xy`` (m)
     turned ``yaw_now`` that must go to ``place_xy`` turned ``yaw_target``: the fingers close
     across its narrower side, on the branch that keeps the wrist's angles smallest."""
@@ -140,13 +166,25 @@ def _hand_poses(op: RecordedOperation, pick: Match, place: Match, pick_xy, place
     step = np.pi / 2.0 if abs(along - across) < _SQUARE * max(along, across) else np.pi
     choices = [axis + n * step for n in range(-4, 5)]
     theta = min(choices, key=lambda a: (max(abs(a), abs(a + turn)), abs(a)))
-    return PlannedOperation(pick, place, (float(pick_xy[0]), float(pick_xy[1]), float(theta)),
-                            (float(place_xy[0]), float(place_xy[1]), float(theta + turn)), float(min(along, across)),
-                            float(yaw_now), float(yaw_target))
+    return PlannedOperation(
+        pick,
+        place,
+        (float(pick_xy[0]), float(pick_xy[1]), float(theta)),
+        (float(place_xy[0]), float(place_xy[1]), float(theta + turn)),
+        float(min(along, across)),
+        float(yaw_now),
+        float(yaw_target),
+    )
 
 
-def correction(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: TableCamera,
-               planned: PlannedOperation, world_features: Features | None = None) -> PlannedOperation | None:
+def correction(
+    demo: PickPlaceDemonstration,
+    k: int,
+    world: np.ndarray,
+    camera: TableCamera,
+    planned: PlannedOperation,
+    world_features: Features | None = None,
+) -> PlannedOperation | None:
     """A last look after operation ``k`` (the loop closed through perception): the object
     found again in ``world`` (h, w, 3), at the height of its place; when its centre lies more
     than :data:`CORRECTION` from the planned place (the grasp slid it in the fingers, the
@@ -159,7 +197,7 @@ def correction(demo: PickPlaceDemonstration, k: int, world: np.ndarray, camera: 
         u, v = camera.table_to_pixel(planned.place[0], planned.place[1], op.place_z)
         half = LOOK_AROUND * op.object_size / 2.0
         around = np.zeros(world.shape[:2], np.uint8)
-        around[max(0, int(v - half)):max(0, int(v + half)), max(0, int(u - half)):max(0, int(u + half))] = 1
+        around[max(0, int(v - half)) : max(0, int(v + half)), max(0, int(u - half)) : max(0, int(u + half))] = 1
         world_features = extract_features(world, around)
     found = match_object(demo, k, world, world_features)
     if isinstance(found, NoMatch):
@@ -179,8 +217,9 @@ _SURE = 10  # RANSAC inliers of the object's features that must agree before the
 # (a count, not a share: an object seen turned half round keeps 10-15 % of its features)
 
 
-def identify(demo: PickPlaceDemonstration, world: np.ndarray, world_features: Features,
-             candidates: list[int] | None = None) -> tuple[int, Match] | None:
+def identify(
+    demo: PickPlaceDemonstration, world: np.ndarray, world_features: Features, candidates: list[int] | None = None
+) -> tuple[int, Match] | None:
     """Search the pre-pick dictionary (the paper's classification task): the operation among
     ``candidates`` (default all) whose object matches ``world`` best (the most RANSAC inliers
     relative to its features). None when none is found."""
@@ -194,8 +233,9 @@ def identify(demo: PickPlaceDemonstration, world: np.ndarray, world_features: Fe
     return best
 
 
-def identify_moved(demo: PickPlaceDemonstration, before: np.ndarray, after: np.ndarray,
-                   candidates: list[int]) -> int | None:
+def identify_moved(
+    demo: PickPlaceDemonstration, before: np.ndarray, after: np.ndarray, candidates: list[int]
+) -> int | None:
     """Which recorded operation's object someone else (the tutor) just moved, seen in the
     observations ``before`` and ``after`` (H, W, 3): the changed pixels hold the object twice,
     where it left (``before``) and where it arrived (``after``); each candidate's features φ

@@ -48,17 +48,21 @@ def baseline_arms() -> list[tuple[Item, Placement]]:
     """The static right-angle baseline: a long ruler along y at the far side and a short one
     along x on the robot's left, meeting at the corner where the letters start."""
     long, short = (0.025, 0.34, PLATE), (0.2, 0.025, PLATE)
-    return [(_item("baseline-long", long, textures.baseline(long[:2], "long"), False), Placement(0.6775, 0.0)),
-            (_item("baseline-short", short, textures.baseline(short[:2], "short"), False),
-             Placement(0.565, 0.1825))]
+    return [
+        (_item("baseline-long", long, textures.baseline(long[:2], "long"), False), Placement(0.6775, 0.0)),
+        (_item("baseline-short", short, textures.baseline(short[:2], "short"), False), Placement(0.565, 0.1825)),
+    ]
 
 
 LETTER_GOALS = {letter: (0.635, 0.13 - 0.07 * k, 0.0) for k, letter in enumerate("ABCD")}  # row by the baseline
 
 
 def puzzle_pieces() -> list[Item]:
-    return [_item(f"{animal}-{part}", PIECE, textures.puzzle_piece(animal, part, PIECE[:2]))
-            for animal in ("frog", "giraffe") for part in (0, 1)]
+    return [
+        _item(f"{animal}-{part}", PIECE, textures.puzzle_piece(animal, part, PIECE[:2]))
+        for animal in ("frog", "giraffe")
+        for part in (0, 1)
+    ]
 
 
 LABEL = (0.15, 0.09, PLATE)
@@ -79,16 +83,21 @@ BASE_POSES = {1: (0.53, 0.24, 0.0), 2: (0.53, 0.0, 0.0), 3: (0.53, -0.24, 0.0)} 
 
 
 def hanoi_bases() -> list[tuple[Item, Placement]]:
-    return [(_item(f"base-{k}", BASE, textures.hanoi_base(BASE[:2]), False), Placement(*pose))
-            for k, pose in BASE_POSES.items()]
+    return [
+        (_item(f"base-{k}", BASE, textures.hanoi_base(BASE[:2]), False), Placement(*pose))
+        for k, pose in BASE_POSES.items()
+    ]
 
 
 def hanoi_moves(disks: int = 3, source: int = 1, target: int = 2, spare: int = 3) -> list[tuple[int, int]]:
     """The shortest solution of the Tower of Hanoi: (disk, base it goes to) per move."""
     if disks == 0:
         return []
-    return (hanoi_moves(disks - 1, source, spare, target) + [(disks, target)]
-            + hanoi_moves(disks - 1, spare, target, source))
+    return (
+        hanoi_moves(disks - 1, source, spare, target)
+        + [(disks, target)]
+        + hanoi_moves(disks - 1, spare, target, source)
+    )
 
 
 SUBJECTS = tuple(textures.PICTURES)  # cat, fish (animals), car, gear (machines)
@@ -102,8 +111,10 @@ def pictures() -> list[Item]:
 
 
 def bins() -> list[tuple[Item, Placement]]:
-    return [(_item(f"bin-{word}", BIN, textures.bin_plate(word, BIN[:2]), False), Placement(*pose))
-            for word, pose in BIN_POSES.items()]
+    return [
+        (_item(f"bin-{word}", BIN, textures.bin_plate(word, BIN[:2]), False), Placement(*pose))
+        for word, pose in BIN_POSES.items()
+    ]
 
 
 DOMINOES = 5
@@ -116,8 +127,12 @@ def domino_pieces() -> list[Item]:
 
 
 # -- layouts --------------------------------------------------------------------------------------
-def scatter(rng: np.random.Generator, items: list[Item], taken: list[tuple[float, float, float]] | None = None,
-            region: tuple[tuple[float, float], tuple[float, float]] = (SCATTER_X, SCATTER_Y)) -> list[Placement]:
+def scatter(
+    rng: np.random.Generator,
+    items: list[Item],
+    taken: list[tuple[float, float, float]] | None = None,
+    region: tuple[tuple[float, float], tuple[float, float]] = (SCATTER_X, SCATTER_Y),
+) -> list[Placement]:
     """Random placements (any yaw) of ``items`` in ``region`` ((x0, x1), (y0, y1)), apart from
     each other and from the ``taken`` discs (x, y, radius) by :data:`CLEARANCE`."""
     discs = list(taken or [])

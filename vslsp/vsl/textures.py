@@ -21,16 +21,34 @@ import numpy as np
 
 PX_PER_M = 2400  # texture resolution: 2.4 px per mm
 _FONT = cv2.FONT_HERSHEY_DUPLEX
-_PALETTE = np.array([(220, 40, 40), (30, 150, 60), (40, 70, 220), (240, 190, 20), (150, 50, 180), (20, 170, 190),
-                     (245, 120, 30), (60, 60, 60), (250, 250, 250), (120, 80, 40)], np.uint8)
+_PALETTE = np.array(
+    [
+        (220, 40, 40),
+        (30, 150, 60),
+        (40, 70, 220),
+        (240, 190, 20),
+        (150, 50, 180),
+        (20, 170, 190),
+        (245, 120, 30),
+        (60, 60, 60),
+        (250, 250, 250),
+        (120, 80, 40),
+    ],
+    np.uint8,
+)
 
 
 def _seed(name: str) -> int:
     return zlib.crc32(name.encode("utf-8"))
 
 
-def _canvas(size: tuple[float, float], name: str, background: tuple[int, int, int], density: float = 1.0,
-            border: tuple[int, int, int] | None = (40, 40, 40)) -> np.ndarray:
+def _canvas(
+    size: tuple[float, float],
+    name: str,
+    background: tuple[int, int, int],
+    density: float = 1.0,
+    border: tuple[int, int, int] | None = (40, 40, 40),
+) -> np.ndarray:
     """A (H, W, 3) canvas for an item of ``size`` (x, y) m: ``background`` with seeded confetti
     (``density`` shapes per cm²) and a border line."""
     width, height = max(32, int(round(size[0] * PX_PER_M))), max(32, int(round(size[1] * PX_PER_M)))
@@ -59,8 +77,15 @@ def _canvas(size: tuple[float, float], name: str, background: tuple[int, int, in
     return image
 
 
-def _text(image: np.ndarray, text: str, centre: tuple[float, float], height: float,
-          colour=(20, 20, 20), outline=(255, 255, 255), angle: float = 0.0) -> None:
+def _text(
+    image: np.ndarray,
+    text: str,
+    centre: tuple[float, float],
+    height: float,
+    colour=(20, 20, 20),
+    outline=(255, 255, 255),
+    angle: float = 0.0,
+) -> None:
     """Draw ``text`` about ``centre`` (px), ``height`` px tall, outlined, turned by ``angle`` deg."""
     scale = height / 22.0
     thickness = max(2, int(round(height / 9)))
@@ -93,13 +118,21 @@ def _frog(image: np.ndarray) -> None:
     green, dark = (40, 160, 60), (20, 80, 30)
     cv2.ellipse(image, (w // 2, int(h * 0.58)), (int(w * 0.32), int(h * 0.3)), 0, 0, 360, green, -1, cv2.LINE_AA)
     for side in (-1, 1):
-        cv2.ellipse(image, (w // 2 + side * int(w * 0.3), int(h * 0.78)), (int(w * 0.14), int(h * 0.1)),
-                    side * 30, 0, 360, dark, -1, cv2.LINE_AA)
+        cv2.ellipse(
+            image,
+            (w // 2 + side * int(w * 0.3), int(h * 0.78)),
+            (int(w * 0.14), int(h * 0.1)),
+            side * 30,
+            0,
+            360,
+            dark,
+            -1,
+            cv2.LINE_AA,
+        )
         eye = (w // 2 + side * int(w * 0.14), int(h * 0.3))
         cv2.circle(image, eye, int(h * 0.09), (250, 250, 250), -1, cv2.LINE_AA)
         cv2.circle(image, eye, int(h * 0.04), (10, 10, 10), -1, cv2.LINE_AA)
-    cv2.ellipse(image, (w // 2, int(h * 0.5)), (int(w * 0.16), int(h * 0.06)), 0, 0, 180, (200, 40, 40), 6,
-                cv2.LINE_AA)
+    cv2.ellipse(image, (w // 2, int(h * 0.5)), (int(w * 0.16), int(h * 0.06)), 0, 0, 180, (200, 40, 40), 6, cv2.LINE_AA)
 
 
 def _giraffe(image: np.ndarray, seed: int) -> None:
@@ -108,8 +141,9 @@ def _giraffe(image: np.ndarray, seed: int) -> None:
     body = np.array([(0.2, 0.62), (0.75, 0.6), (0.8, 0.8), (0.2, 0.82)]) * (w, h)
     neck = np.array([(0.62, 0.62), (0.74, 0.6), (0.62, 0.15), (0.55, 0.17)]) * (w, h)
     cv2.fillPoly(image, [body.astype(np.int32), neck.astype(np.int32)], yellow, cv2.LINE_AA)
-    cv2.ellipse(image, (int(w * 0.6), int(h * 0.14)), (int(w * 0.09), int(h * 0.05)), -20, 0, 360, yellow, -1,
-                cv2.LINE_AA)
+    cv2.ellipse(
+        image, (int(w * 0.6), int(h * 0.14)), (int(w * 0.09), int(h * 0.05)), -20, 0, 360, yellow, -1, cv2.LINE_AA
+    )
     for x in (0.25, 0.35, 0.65, 0.75):
         cv2.line(image, (int(w * x), int(h * 0.8)), (int(w * x), int(h * 0.95)), yellow, 10, cv2.LINE_AA)
     rng = np.random.default_rng(seed)
@@ -126,11 +160,16 @@ def puzzle_piece(animal: str, part: int, size: tuple[float, float] = (0.05, 0.05
     animal is drawn across two tiles side by side; each piece is one half."""
     if animal not in ("frog", "giraffe") or part not in (0, 1):
         raise ValueError(f"no puzzle piece {animal!r} {part!r}; animals: frog, giraffe; parts: 0, 1")
-    whole = _canvas((2 * size[0], size[1]), f"puzzle-{animal}", (190, 225, 245) if animal == "frog"
-                    else (215, 240, 200), density=0.5, border=None)
+    whole = _canvas(
+        (2 * size[0], size[1]),
+        f"puzzle-{animal}",
+        (190, 225, 245) if animal == "frog" else (215, 240, 200),
+        density=0.5,
+        border=None,
+    )
     _frog(whole) if animal == "frog" else _giraffe(whole, _seed(animal))
     half = whole.shape[1] // 2
-    piece = np.ascontiguousarray(whole[:, part * half:(part + 1) * half])
+    piece = np.ascontiguousarray(whole[:, part * half : (part + 1) * half])
     cv2.rectangle(piece, (0, 0), (piece.shape[1] - 1, piece.shape[0] - 1), (40, 40, 40), 4)
     return piece
 
@@ -142,26 +181,58 @@ def _drawing(image: np.ndarray, subject: str) -> None:
     if subject == "cat":
         cv2.circle(image, c, int(s * 0.25), (240, 140, 40), -1, cv2.LINE_AA)
         for side in (-1, 1):
-            ear = np.array([(c[0] + side * s * 0.22, c[1] - s * 0.1), (c[0] + side * s * 0.08, c[1] - s * 0.2),
-                            (c[0] + side * s * 0.22, c[1] - s * 0.36)], np.int32)
+            ear = np.array(
+                [
+                    (c[0] + side * s * 0.22, c[1] - s * 0.1),
+                    (c[0] + side * s * 0.08, c[1] - s * 0.2),
+                    (c[0] + side * s * 0.22, c[1] - s * 0.36),
+                ],
+                np.int32,
+            )
             cv2.fillPoly(image, [ear], (240, 140, 40), cv2.LINE_AA)
             cv2.circle(image, (c[0] + side * int(s * 0.1), c[1] - int(s * 0.05)), int(s * 0.04), (20, 90, 20), -1)
-            cv2.line(image, (c[0] + side * int(s * 0.05), c[1] + int(s * 0.08)),
-                     (c[0] + side * int(s * 0.3), c[1] + int(s * 0.05)), (30, 30, 30), 3, cv2.LINE_AA)
+            cv2.line(
+                image,
+                (c[0] + side * int(s * 0.05), c[1] + int(s * 0.08)),
+                (c[0] + side * int(s * 0.3), c[1] + int(s * 0.05)),
+                (30, 30, 30),
+                3,
+                cv2.LINE_AA,
+            )
     elif subject == "fish":
         cv2.ellipse(image, c, (int(s * 0.3), int(s * 0.15)), 0, 0, 360, (40, 120, 220), -1, cv2.LINE_AA)
-        tail = np.array([(c[0] + s * 0.26, c[1]), (c[0] + s * 0.42, c[1] - s * 0.14),
-                         (c[0] + s * 0.42, c[1] + s * 0.14)], np.int32)
+        tail = np.array(
+            [(c[0] + s * 0.26, c[1]), (c[0] + s * 0.42, c[1] - s * 0.14), (c[0] + s * 0.42, c[1] + s * 0.14)], np.int32
+        )
         cv2.fillPoly(image, [tail], (220, 60, 60), cv2.LINE_AA)
         cv2.circle(image, (c[0] - int(s * 0.17), c[1] - int(s * 0.03)), int(s * 0.04), (255, 255, 255), -1)
         for k in range(3):
-            cv2.ellipse(image, (c[0] - int(s * 0.05) + k * int(s * 0.09), c[1]), (int(s * 0.04), int(s * 0.1)), 0,
-                        -60, 60, (250, 220, 60), 3, cv2.LINE_AA)
+            cv2.ellipse(
+                image,
+                (c[0] - int(s * 0.05) + k * int(s * 0.09), c[1]),
+                (int(s * 0.04), int(s * 0.1)),
+                0,
+                -60,
+                60,
+                (250, 220, 60),
+                3,
+                cv2.LINE_AA,
+            )
     elif subject == "car":
-        cv2.rectangle(image, (c[0] - int(s * 0.35), c[1] - int(s * 0.05)), (c[0] + int(s * 0.35), c[1] + int(s * 0.15)),
-                      (210, 30, 30), -1)
-        cv2.rectangle(image, (c[0] - int(s * 0.18), c[1] - int(s * 0.2)), (c[0] + int(s * 0.15), c[1] - int(s * 0.05)),
-                      (170, 210, 240), -1)
+        cv2.rectangle(
+            image,
+            (c[0] - int(s * 0.35), c[1] - int(s * 0.05)),
+            (c[0] + int(s * 0.35), c[1] + int(s * 0.15)),
+            (210, 30, 30),
+            -1,
+        )
+        cv2.rectangle(
+            image,
+            (c[0] - int(s * 0.18), c[1] - int(s * 0.2)),
+            (c[0] + int(s * 0.15), c[1] - int(s * 0.05)),
+            (170, 210, 240),
+            -1,
+        )
         for side in (-1, 1):
             cv2.circle(image, (c[0] + side * int(s * 0.2), c[1] + int(s * 0.16)), int(s * 0.09), (20, 20, 20), -1)
             cv2.circle(image, (c[0] + side * int(s * 0.2), c[1] + int(s * 0.16)), int(s * 0.04), (200, 200, 200), -1)
@@ -172,8 +243,13 @@ def _drawing(image: np.ndarray, subject: str) -> None:
             cv2.line(image, c, tip, (90, 90, 110), int(s * 0.08), cv2.LINE_AA)
         cv2.circle(image, c, int(s * 0.25), (120, 120, 140), -1, cv2.LINE_AA)
         cv2.circle(image, c, int(s * 0.09), (240, 240, 240), -1, cv2.LINE_AA)
-        cv2.rectangle(image, (c[0] - int(s * 0.02), c[1] - int(s * 0.12)), (c[0] + int(s * 0.02), c[1] - int(s * 0.08)),
-                      (30, 30, 30), -1)
+        cv2.rectangle(
+            image,
+            (c[0] - int(s * 0.02), c[1] - int(s * 0.12)),
+            (c[0] + int(s * 0.02), c[1] - int(s * 0.08)),
+            (30, 30, 30),
+            -1,
+        )
     else:
         raise ValueError(f"no drawing of {subject!r}; subjects: {', '.join(PICTURES)}")
 
@@ -196,7 +272,7 @@ def domino_piece(index: int, size: tuple[float, float] = (0.08, 0.04)) -> np.nda
     end complete the pictures (paper, "Domino": two pieces fit together to form an object)."""
     pictures = [_domino_picture(k, size) for k in (index - 1, index)]
     half = pictures[0].shape[1] // 2
-    piece = np.hstack([pictures[0][:, half:2 * half], pictures[1][:, :half]])
+    piece = np.hstack([pictures[0][:, half : 2 * half], pictures[1][:, :half]])
     cv2.line(piece, (half, 0), (half, piece.shape[0] - 1), (30, 30, 30), 5, cv2.LINE_AA)
     cv2.rectangle(piece, (0, 0), (piece.shape[1] - 1, piece.shape[0] - 1), (30, 30, 30), 6)
     return piece
@@ -205,8 +281,7 @@ def domino_piece(index: int, size: tuple[float, float] = (0.08, 0.04)) -> np.nda
 def _domino_picture(k: int, size: tuple[float, float]) -> np.ndarray:
     """Picture ``k`` that two domino halves share, as big as a piece."""
     tint = 160 + _PALETTE[k % len(_PALETTE)] // 3
-    image = _canvas(size, f"domino-picture-{k}", (int(tint[0]), int(tint[1]), int(tint[2])),
-                    density=0.9, border=None)
+    image = _canvas(size, f"domino-picture-{k}", (int(tint[0]), int(tint[1]), int(tint[2])), density=0.9, border=None)
     h, w = image.shape[:2]
     cv2.circle(image, (w // 2, h // 2), int(0.42 * h), tuple(int(c) for c in _PALETTE[(k + 5) % 8]), 5, cv2.LINE_AA)
     _text(image, str(k), (w / 2.0, h / 2.0), 0.55 * h, colour=tuple(int(c) for c in _PALETTE[(k + 3) % 8]))
@@ -257,8 +332,9 @@ def label(word: str, size: tuple[float, float] = (0.1, 0.07)) -> np.ndarray:
     image = _canvas(size, f"label-{word}", background, density=0.5)
     h, w = image.shape[:2]
     if word == "pond":
-        cv2.ellipse(image, (w // 2, int(h * 0.4)), (int(w * 0.3), int(h * 0.18)), 0, 0, 360, (40, 90, 200), -1,
-                    cv2.LINE_AA)
+        cv2.ellipse(
+            image, (w // 2, int(h * 0.4)), (int(w * 0.3), int(h * 0.18)), 0, 0, 360, (40, 90, 200), -1, cv2.LINE_AA
+        )
         for k in range(3):
             cv2.ellipse(image, (int(w * (0.35 + 0.15 * k)), int(h * 0.4)), (18, 6), 0, 0, 180, (220, 240, 255), 3)
     elif word == "tree":

@@ -10,6 +10,17 @@ from vslsp.vsl3d.registration import Registration
 from vslsp.vsl3d.vsl import CloudObservation, MovedObject, WorldCloud, get_object
 
 __all__ = [
-    "CloudObservation", "DepthCamera", "Frame", "KDTree", "Match", "MovedObject", "Neighbours",
-    "Registration", "WorldCloud", "find_best_match", "get_object", "pass_through", "voxel_downsample",
+    "CloudObservation",
+    "DepthCamera",
+    "Frame",
+    "KDTree",
+    "Match",
+    "MovedObject",
+    "Neighbours",
+    "Registration",
+    "WorldCloud",
+    "find_best_match",
+    "get_object",
+    "pass_through",
+    "voxel_downsample",
 ]

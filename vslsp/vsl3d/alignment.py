@@ -40,8 +40,9 @@ MAX_SEEN_THROUGH = 0.1  # a true pose floats in front of the sensor's surfaces o
 FLOATING_WEIGHT = 3.0
 
 
-def describe(points: np.ndarray, viewpoint: np.ndarray, voxel: float = FEATURE_VOXEL
-             ) -> tuple[np.ndarray, np.ndarray, KDTree]:
+def describe(
+    points: np.ndarray, viewpoint: np.ndarray, voxel: float = FEATURE_VOXEL
+) -> tuple[np.ndarray, np.ndarray, KDTree]:
     """The cloud voxelised at ``voxel`` (M, 3), its FPFH descriptors (M, 33) and its tree."""
     sparse = voxel_downsample(points, voxel)
     tree = KDTree(sparse)
@@ -63,11 +64,20 @@ def _turned_starts(source: np.ndarray, target_centre: np.ndarray, turns: int) ->
     return starts
 
 
-def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, target_viewpoint: np.ndarray,
-          *, method: str = "prerejective_ransac", voxel: float = FEATURE_VOXEL, seed: int = 0,
-          turns: int = 0, target_centre: np.ndarray | None = None,
-          seen_through: Callable[[np.ndarray], np.ndarray] | None = None,
-          min_fitness: float = MIN_FITNESS) -> Registration:
+def align(
+    source: np.ndarray,
+    target: np.ndarray,
+    source_viewpoint: np.ndarray,
+    target_viewpoint: np.ndarray,
+    *,
+    method: str = "prerejective_ransac",
+    voxel: float = FEATURE_VOXEL,
+    seed: int = 0,
+    turns: int = 0,
+    target_centre: np.ndarray | None = None,
+    seen_through: Callable[[np.ndarray], np.ndarray] | None = None,
+    min_fitness: float = MIN_FITNESS,
+) -> Registration:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
     matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
 
@@ -83,8 +93,10 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     if len(source) < 10 or len(target) < 10:
-        raise TaskFailed(f"too few points to align ({len(source)} onto {len(target)}); "
-                         "is the object inside the workspace and in view?")
+        raise TaskFailed(
+            f"too few points to align ({len(source)} onto {len(target)}); "
+            "is the object inside the workspace and in view?"
+        )
     sparse_source, sparse_target = voxel_downsample(source, voxel), voxel_downsample(target, voxel)
     sparse_tree = KDTree(sparse_target)
     starts: list[tuple[np.ndarray, str]] = []
@@ -95,16 +107,28 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
         sparse_target, target_features, sparse_tree = describe(target, target_viewpoint, voxel)
         find = prerejective_ransac if method == "prerejective_ransac" else sac_ia
         try:
-            coarse = find(sparse_source, sparse_target, source_features, target_features, 1.5 * voxel,
-                          seed=seed, target_tree=sparse_tree)
+            coarse = find(
+                sparse_source,
+                sparse_target,
+                source_features,
+                target_features,
+                1.5 * voxel,
+                seed=seed,
+                target_tree=sparse_tree,
+            )
             starts.append((coarse.transform, coarse.method))
         except TaskFailed:
             if not turns:
                 raise
     if turns:
         centre = target.mean(axis=0) if target_centre is None else np.asarray(target_centre, dtype=float)
-        turned = icp_batch(sparse_source, sparse_target, np.stack(_turned_starts(source, centre, turns)),
-                           max_distance=3.0 * voxel, target_tree=sparse_tree)
+        turned = icp_batch(
+            sparse_source,
+            sparse_target,
+            np.stack(_turned_starts(source, centre, turns)),
+            max_distance=3.0 * voxel,
+            target_tree=sparse_tree,
+        )
         starts.extend((transform, "multi-start-icp") for transform in turned)
 
     def floating(transform: np.ndarray, points: np.ndarray) -> float:
@@ -116,20 +140,26 @@ def align(source: np.ndarray, target: np.ndarray, source_viewpoint: np.ndarray, 
         return evaluate(sparse_source, sparse_tree, start[0], 1.5 * voxel)[0] - floating(start[0], sparse_source)
 
     best_starts = sorted(starts, key=sparse_score, reverse=True)[:3]
-    refined = [r for r in (_refine(source, target, target_viewpoint, initial, name, voxel)
-                           for initial, name in best_starts) if r is not None]
+    refined = [
+        r
+        for r in (_refine(source, target, target_viewpoint, initial, name, voxel) for initial, name in best_starts)
+        if r is not None
+    ]
     best = max(refined, key=lambda r: (r.fitness - floating(r.transform, source), -r.rmse), default=None)
     if best is None:
         raise TaskFailed(f"{best_starts[0][1]} put the observation where the world has no points")
     if best.fitness < min_fitness:
-        raise TaskFailed(f"{best.method} fits only {best.fitness:.0%} of the observation within "
-                         f"{FINAL_DISTANCE * 1000:.0f} mm (needs {min_fitness:.0%}); the object is not "
-                         "in this world or too little of it is visible")
+        raise TaskFailed(
+            f"{best.method} fits only {best.fitness:.0%} of the observation within "
+            f"{FINAL_DISTANCE * 1000:.0f} mm (needs {min_fitness:.0%}); the object is not "
+            "in this world or too little of it is visible"
+        )
     return best
 
 
-def _refine(source: np.ndarray, target: np.ndarray, target_viewpoint: np.ndarray, initial: np.ndarray,
-            name: str, voxel: float) -> Registration | None:
+def _refine(
+    source: np.ndarray, target: np.ndarray, target_viewpoint: np.ndarray, initial: np.ndarray, name: str, voxel: float
+) -> Registration | None:
     """Point-to-plane ICP from ``initial`` on the full-resolution target near it (None when no
     target point is near)."""
     near = Frame.around(transform_points(initial, source), 4.0 * voxel).contains(target)
@@ -139,7 +169,6 @@ def _refine(source: np.ndarray, target: np.ndarray, target_viewpoint: np.ndarray
     tree = KDTree(fine)
     normals = estimate_normals(fine, FINE_RADIUS, target_viewpoint, tree).normals
     result = icp(source, fine, initial, max_distance=2.0 * voxel, target_normals=normals, target_tree=tree)
-    result = icp(source, fine, result.transform, max_distance=FINAL_DISTANCE, target_normals=normals,
-                 target_tree=tree)
+    result = icp(source, fine, result.transform, max_distance=FINAL_DISTANCE, target_normals=normals, target_tree=tree)
     fitness, rmse = evaluate(source, tree, result.transform, FINAL_DISTANCE)
     return Registration(result.transform, fitness, rmse, f"{name}+icp")

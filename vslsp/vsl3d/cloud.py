@@ -53,8 +53,10 @@ class DepthCamera:
         pixel indices (N,) into the (H, W) image (``row * W + col``)."""
         depth = np.asarray(depth, dtype=float)
         if depth.shape != (self.height, self.width):
-            raise InputError(f"depth image is {depth.shape}, the camera is {self.height}x{self.width}; "
-                             "pass the depth image rendered by this camera")
+            raise InputError(
+                f"depth image is {depth.shape}, the camera is {self.height}x{self.width}; "
+                "pass the depth image rendered by this camera"
+            )
         flat = depth.ravel()
         pixels = np.flatnonzero(np.isfinite(flat) & (flat > 0.0) & (flat < max_depth))
         rows, cols = np.divmod(pixels, self.width)
@@ -132,8 +134,7 @@ def voxel_downsample(points: np.ndarray, leaf: float) -> np.ndarray:
     extent = cells.max(axis=0) + 1
     keys = (cells[:, 0] * extent[1] + cells[:, 1]) * extent[2] + cells[:, 2]
     _, voxel, counts = np.unique(keys, return_inverse=True, return_counts=True)
-    sums = np.column_stack([np.bincount(voxel, weights=points[:, axis], minlength=len(counts))
-                            for axis in range(3)])
+    sums = np.column_stack([np.bincount(voxel, weights=points[:, axis], minlength=len(counts)) for axis in range(3)])
     return sums / counts[:, None]
 
 

@@ -29,8 +29,9 @@ BINS = 11
 DIMENSION = 3 * BINS
 
 
-def pair_features(source: np.ndarray, source_normals: np.ndarray, target: np.ndarray,
-                  target_normals: np.ndarray) -> np.ndarray:
+def pair_features(
+    source: np.ndarray, source_normals: np.ndarray, target: np.ndarray, target_normals: np.ndarray
+) -> np.ndarray:
     """(alpha, phi, theta) (P, 3) of point pairs given as points and unit normals (P, 3) each.
     A pair whose line is parallel to the source normal gets (0, 0, 0)."""
     # Component by component: 1-D arrays keep the ~10^6 pairs of a cloud fast.
@@ -50,8 +51,9 @@ def pair_features(source: np.ndarray, source_normals: np.ndarray, target: np.nda
     v = v / np.maximum(v_norm, 1e-12)
     w = np.array([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]])
     alpha = v[0] * other[0] + v[1] * other[1] + v[2] * other[2]
-    theta = np.arctan2(w[0] * other[0] + w[1] * other[1] + w[2] * other[2],
-                       u[0] * other[0] + u[1] * other[1] + u[2] * other[2])
+    theta = np.arctan2(
+        w[0] * other[0] + w[1] * other[1] + w[2] * other[2], u[0] * other[0] + u[1] * other[1] + u[2] * other[2]
+    )
     features = np.column_stack([alpha, phi, theta])
     features[(v_norm < 1e-12) | (length < 1e-12)] = 0.0
     return features
@@ -59,13 +61,15 @@ def pair_features(source: np.ndarray, source_normals: np.ndarray, target: np.nda
 
 def _bins(features: np.ndarray) -> np.ndarray:
     """Bin indices (P, 3) in 0..32: alpha in 0..10, phi in 11..21, theta in 22..32."""
-    scaled = np.column_stack([(features[:, 0] + 1.0) / 2.0, (features[:, 1] + 1.0) / 2.0,
-                              (features[:, 2] + np.pi) / (2.0 * np.pi)])
+    scaled = np.column_stack(
+        [(features[:, 0] + 1.0) / 2.0, (features[:, 1] + 1.0) / 2.0, (features[:, 2] + np.pi) / (2.0 * np.pi)]
+    )
     return np.clip(np.floor(scaled * BINS).astype(np.int64), 0, BINS - 1) + np.arange(3) * BINS
 
 
-def compute_fpfh(points: np.ndarray, normals: SurfaceNormals, radius: float,
-                 tree: KDTree | None = None, max_neighbours: int = 100) -> np.ndarray:
+def compute_fpfh(
+    points: np.ndarray, normals: SurfaceNormals, radius: float, tree: KDTree | None = None, max_neighbours: int = 100
+) -> np.ndarray:
     """FPFH descriptors (N, 33) of ``points`` (N, 3) with their ``normals`` over the (at most
     ``max_neighbours`` nearest) neighbours within ``radius`` m. A point without a valid
     neighbour gets a zero descriptor."""
@@ -89,8 +93,12 @@ def compute_fpfh(points: np.ndarray, normals: SurfaceNormals, radius: float,
     # FPFH: own SPFH + the neighbours' SPFH weighted by 1 / (k * distance), as one sparse
     # (N, N) @ (N, 33) product (sparse COO).
     weights = 1.0 / (np.maximum(counts[pairs.query], 1) * pairs.distance)
-    neighbourhood = torch.sparse_coo_tensor(torch.from_numpy(np.stack([pairs.query, pairs.index])),
-                                            torch.from_numpy(weights), size=(n, n), check_invariants=False)
+    neighbourhood = torch.sparse_coo_tensor(
+        torch.from_numpy(np.stack([pairs.query, pairs.index])),
+        torch.from_numpy(weights),
+        size=(n, n),
+        check_invariants=False,
+    )
     fpfh = spfh + torch.sparse.mm(neighbourhood, torch.from_numpy(spfh)).numpy()
     sums = fpfh.reshape(n, 3, BINS).sum(axis=2, keepdims=True)
     scale = np.where(sums > 0.0, 100.0 / np.maximum(sums, 1e-300), 0.0)

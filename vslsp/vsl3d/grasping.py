@@ -45,8 +45,12 @@ class Grasp:
     top: float
 
     def to_dict(self) -> dict:
-        return {"point": np.round(self.point, 4).tolist(), "theta_deg": round(float(np.degrees(self.theta)), 2),
-                "width_m": round(self.width, 4), "top_m": round(self.top, 4)}
+        return {
+            "point": np.round(self.point, 4).tolist(),
+            "theta_deg": round(float(np.degrees(self.theta)), 2),
+            "width_m": round(self.width, 4),
+            "top_m": round(self.top, 4),
+        }
 
 
 def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
@@ -61,9 +65,13 @@ def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
     widest = 2.0 * (FINGER_OPEN - FINGER_ROOM)
     narrowest = np.inf
     # Lowest first: a grip near the middle holds a tall object without letting it pivot.
-    for tip in sorted({float(np.clip(bottom + f * (top - bottom) + higher, bottom + TIP_CLEARANCE, top - MIN_GRIP))
-                       for f in GRIP_HEIGHTS} | {min(max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE) + higher,
-                                                     top - MIN_GRIP)}):
+    for tip in sorted(
+        {
+            float(np.clip(bottom + f * (top - bottom) + higher, bottom + TIP_CLEARANCE, top - MIN_GRIP))
+            for f in GRIP_HEIGHTS
+        }
+        | {min(max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE) + higher, top - MIN_GRIP)}
+    ):
         above = points[points[:, 2] >= tip - BAND / 2][:, :2]  # all that passes between the fingers
         if len(above) < 10:
             continue
@@ -79,8 +87,10 @@ def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
                 _, other, other_middle = extents[1 - index]
                 middle_point = centre + middle * axis + other_middle * other
                 return Grasp(np.array([*middle_point, tip]), float(np.arctan2(axis[1], axis[0])), width, top)
-    raise TaskFailed(f"ungraspable: the object is {narrowest * 100:.1f} cm wide at its narrowest side, "
-                     f"the gripper opens {widest * 100:.1f} cm")
+    raise TaskFailed(
+        f"ungraspable: the object is {narrowest * 100:.1f} cm wide at its narrowest side, "
+        f"the gripper opens {widest * 100:.1f} cm"
+    )
 
 
 def place_for(grasp: Grasp, motion: np.ndarray) -> tuple[np.ndarray, float]:
@@ -94,7 +104,8 @@ def pick_and_place(world, grasp: Grasp, motion: np.ndarray, movable: list[int]) 
     """Execute ``grasp`` and its place under ``motion`` (4, 4) with ``world``'s Panda; the
     fingers close on one of the ``movable`` bodies."""
     place, theta_place = place_for(grasp, motion)
-    theta_pick, theta_place = wrist_branch(np.array([*grasp.point[:2], grasp.theta]),
-                                           np.array([*place[:2], theta_place]))
+    theta_pick, theta_place = wrist_branch(
+        np.array([*grasp.point[:2], grasp.theta]), np.array([*place[:2], theta_place])
+    )
     each = FINGER_OPEN  # a single view underestimates the width across it: open fully
     return execute_between(world, grasp.point, place, theta_pick, theta_place, each, movable)

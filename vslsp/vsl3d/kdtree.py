@@ -51,8 +51,9 @@ class KDTree:
     def __len__(self) -> int:
         return len(self.points)
 
-    def query(self, queries: np.ndarray, k: int = 1,
-              max_distance: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def query(
+        self, queries: np.ndarray, k: int = 1, max_distance: float | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """The ``k`` nearest points of each query (Q, 3): distances (Q, k) ascending and point
         indices (Q, k). A query that is a point of the tree finds itself first (distance 0).
 
@@ -69,16 +70,16 @@ class KDTree:
         index[index >= len(self)] = -1
         return distance, index
 
-    def query_radius(self, queries: np.ndarray, radius: float,
-                     max_neighbours: int | None = None) -> Neighbours:
+    def query_radius(self, queries: np.ndarray, radius: float, max_neighbours: int | None = None) -> Neighbours:
         """All points within ``radius`` (m, inclusive) of each query (Q, 3), at most the
         ``max_neighbours`` nearest when given."""
         queries = self._check(queries)
         if not radius > 0.0:
             raise InputError(f"search radius must be > 0 m, got {radius}")
         if max_neighbours is None:
-            counts = self._tree.query_ball_point(queries, radius * (1.0 + SLACK) + 1e-15, return_length=True,
-                                                 workers=_WORKERS)
+            counts = self._tree.query_ball_point(
+                queries, radius * (1.0 + SLACK) + 1e-15, return_length=True, workers=_WORKERS
+            )
             max_neighbours = int(np.max(counts)) if len(counts) else 1
         k = max(1, min(int(max_neighbours), len(self)))
         distance, index = self.query(queries, k, radius)
@@ -103,12 +104,15 @@ def brute_force_knn(points: np.ndarray, queries: np.ndarray, k: int = 1) -> tupl
     step = max(1, 2_000_000 // max(len(points), 1))
     squared = np.einsum("ij,ij->i", points, points)
     for begin in range(0, len(queries), step):
-        chunk = queries[begin:begin + step]
+        chunk = queries[begin : begin + step]
         d2 = np.einsum("ij,ij->i", chunk, chunk)[:, None] + squared[None, :] - 2.0 * chunk @ points.T
-        nearest = np.argpartition(d2, k - 1, axis=1)[:, :k] if k < len(points) else np.tile(
-            np.arange(len(points)), (len(chunk), 1))
+        nearest = (
+            np.argpartition(d2, k - 1, axis=1)[:, :k]
+            if k < len(points)
+            else np.tile(np.arange(len(points)), (len(chunk), 1))
+        )
         exact = np.sum((points[nearest] - chunk[:, None, :]) ** 2, axis=2)
         ranked = np.argsort(exact, axis=1, kind="stable")
-        indices[begin:begin + len(chunk)] = np.take_along_axis(nearest, ranked, axis=1)
-        distances[begin:begin + len(chunk)] = np.sqrt(np.take_along_axis(exact, ranked, axis=1))
+        indices[begin : begin + len(chunk)] = np.take_along_axis(nearest, ranked, axis=1)
+        distances[begin : begin + len(chunk)] = np.sqrt(np.take_along_axis(exact, ranked, axis=1))
     return distances, indices

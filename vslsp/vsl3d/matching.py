@@ -44,8 +44,9 @@ class Match:
         return self.points.mean(axis=0)
 
 
-def find_best_match(world: WorldCloud, observation: CloudObservation, *, method: str = "prerejective_ransac",
-                    seed: int = 0) -> Match:
+def find_best_match(
+    world: WorldCloud, observation: CloudObservation, *, method: str = "prerejective_ransac", seed: int = 0
+) -> Match:
     """Find ``observation`` in ``world`` and its pose there. Raises :class:`TaskFailed` when no
     verified pose puts enough of the observation onto the world."""
     if len(observation.points) < 10:
@@ -53,8 +54,15 @@ def find_best_match(world: WorldCloud, observation: CloudObservation, *, method:
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     try:
-        registration = align(observation.points, world.points, observation.viewpoint, world.camera.position,
-                             method=method, seed=seed, seen_through=world.seen_through)
+        registration = align(
+            observation.points,
+            world.points,
+            observation.viewpoint,
+            world.camera.position,
+            method=method,
+            seed=seed,
+            seen_through=world.seen_through,
+        )
         return _verified(world, observation, registration)
     except TaskFailed as error:
         global_failure = str(error)
@@ -63,9 +71,17 @@ def find_best_match(world: WorldCloud, observation: CloudObservation, *, method:
     for window, centre in object_windows(world.points, observation.points):
         windows += 1
         try:
-            registration = align(observation.points, window, observation.viewpoint, world.camera.position,
-                                 method=method, seed=seed, turns=TURNS, target_centre=centre,
-                                 seen_through=world.seen_through)
+            registration = align(
+                observation.points,
+                window,
+                observation.viewpoint,
+                world.camera.position,
+                method=method,
+                seed=seed,
+                turns=TURNS,
+                target_centre=centre,
+                seen_through=world.seen_through,
+            )
             match = _verified(world, observation, registration)
         except TaskFailed:
             continue
@@ -99,7 +115,9 @@ def _verified(world: WorldCloud, observation: CloudObservation, registration: Re
     moved = transform_points(registration.transform, observation.points)
     floating = float(world.seen_through(moved).mean())
     if floating > MAX_SEEN_THROUGH:
-        raise TaskFailed(f"the best match ({registration.method}, fitness {registration.fitness:.0%}) puts "
-                         f"{floating:.0%} of the observation where the sensor sees free space; the object "
-                         "is not in this world or too little of it is visible")
+        raise TaskFailed(
+            f"the best match ({registration.method}, fitness {registration.fitness:.0%}) puts "
+            f"{floating:.0%} of the observation where the sensor sees free space; the object "
+            "is not in this world or too little of it is visible"
+        )
     return Match(registration, moved, Frame.around(moved, FRAME_MARGIN))

@@ -35,8 +35,9 @@ class SurfaceNormals:
         return np.isfinite(self.curvature)
 
 
-def estimate_normals(points: np.ndarray, radius: float, viewpoint: np.ndarray,
-                     tree: KDTree | None = None, max_neighbours: int = 60) -> SurfaceNormals:
+def estimate_normals(
+    points: np.ndarray, radius: float, viewpoint: np.ndarray, tree: KDTree | None = None, max_neighbours: int = 60
+) -> SurfaceNormals:
     """PCA normals of ``points`` (N, 3) over the (at most ``max_neighbours`` nearest) points
     within ``radius`` m, oriented towards ``viewpoint`` (3,)."""
     points = np.asarray(points, dtype=float)
@@ -45,8 +46,7 @@ def estimate_normals(points: np.ndarray, radius: float, viewpoint: np.ndarray,
     return normals_from_neighbours(points, neighbours, viewpoint)
 
 
-def normals_from_neighbours(points: np.ndarray, neighbours: Neighbours,
-                            viewpoint: np.ndarray) -> SurfaceNormals:
+def normals_from_neighbours(points: np.ndarray, neighbours: Neighbours, viewpoint: np.ndarray) -> SurfaceNormals:
     """PCA normals of ``points`` (N, 3) over the given neighbour pairs (each point among its
     own neighbours), oriented towards ``viewpoint`` (3,)."""
     n = len(points)
@@ -54,8 +54,9 @@ def normals_from_neighbours(points: np.ndarray, neighbours: Neighbours,
     centred = points[neighbours.index] - points[neighbours.query]  # about the query: stabler sums
     outer = centred[:, :, None] * centred[:, None, :]
     sums = np.stack([np.bincount(neighbours.query, weights=centred[:, a], minlength=n) for a in range(3)], axis=1)
-    second = np.stack([np.bincount(neighbours.query, weights=outer[:, a, b], minlength=n)
-                       for a in range(3) for b in range(3)], axis=1).reshape(n, 3, 3)
+    second = np.stack(
+        [np.bincount(neighbours.query, weights=outer[:, a, b], minlength=n) for a in range(3) for b in range(3)], axis=1
+    ).reshape(n, 3, 3)
     safe = np.maximum(counts, 1.0)
     mean = sums / safe[:, None]
     covariance = second / safe[:, None, None] - mean[:, :, None] * mean[:, None, :]

@@ -14,14 +14,33 @@ from vslsp.vsl3d.grasping import Grasp
 from vslsp.vsl3d.vsl import euclidean_clusters
 
 SEGMENT_GAP = 0.01  # points closer than this are one segment in the cloud picture
-PALETTE = np.array([[230, 25, 75], [60, 180, 75], [0, 130, 200], [245, 130, 48], [145, 30, 180],
-                    [70, 240, 240], [240, 50, 230], [210, 245, 60], [128, 128, 0], [0, 0, 128]], dtype=np.uint8)
+PALETTE = np.array(
+    [
+        [230, 25, 75],
+        [60, 180, 75],
+        [0, 130, 200],
+        [245, 130, 48],
+        [145, 30, 180],
+        [70, 240, 240],
+        [240, 50, 230],
+        [210, 245, 60],
+        [128, 128, 0],
+        [0, 0, 128],
+    ],
+    dtype=np.uint8,
+)
 
 
 def draw_frame(rgb: np.ndarray, camera: DepthCamera, frame: Frame, colour: tuple[int, int, int]) -> np.ndarray:
     """The RGB image (H, W, 3) with the frame's cuboid drawn on it."""
-    corners = np.array([[x, y, z] for x in (frame.lower[0], frame.upper[0]) for y in (frame.lower[1], frame.upper[1])
-                        for z in (frame.lower[2], frame.upper[2])])
+    corners = np.array(
+        [
+            [x, y, z]
+            for x in (frame.lower[0], frame.upper[0])
+            for y in (frame.lower[1], frame.upper[1])
+            for z in (frame.lower[2], frame.upper[2])
+        ]
+    )
     uv, _ = camera.project(corners)
     image = np.ascontiguousarray(rgb.copy())
     for a in range(8):
@@ -31,8 +50,9 @@ def draw_frame(rgb: np.ndarray, camera: DepthCamera, frame: Frame, colour: tuple
     return image
 
 
-def draw_grasp(rgb: np.ndarray, camera: DepthCamera, grasp: Grasp, colour: tuple[int, int, int] = (255, 200, 0)
-               ) -> np.ndarray:
+def draw_grasp(
+    rgb: np.ndarray, camera: DepthCamera, grasp: Grasp, colour: tuple[int, int, int] = (255, 200, 0)
+) -> np.ndarray:
     """The RGB image (H, W, 3) with the grasp drawn: the two fingertips across the object's
     width along the closing axis, joined, and the grasp point."""
     axis = np.array([np.cos(grasp.theta), np.sin(grasp.theta), 0.0])
@@ -69,5 +89,5 @@ def cloud_view(points: np.ndarray, size: tuple[int, int] = (480, 640), elevation
     cols = np.clip(((u - (u.max() + u.min()) / 2) * scale + width / 2).astype(int), 0, width - 2)
     rows = np.clip((height / 2 - (v - (v.max() + v.min()) / 2) * scale).astype(int), 0, height - 2)
     for k in np.argsort(-depth, kind="stable"):  # far first
-        image[rows[k]:rows[k] + 2, cols[k]:cols[k] + 2] = colours[k]
+        image[rows[k] : rows[k] + 2, cols[k] : cols[k] + 2] = colours[k]
     return image

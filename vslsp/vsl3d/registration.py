@@ -84,8 +84,9 @@ def _kabsch(source: np.ndarray, target: np.ndarray, weights: np.ndarray | None =
     return transform
 
 
-def evaluate(source: np.ndarray, target_tree: KDTree, transform: np.ndarray,
-             max_distance: float) -> tuple[float, float]:
+def evaluate(
+    source: np.ndarray, target_tree: KDTree, transform: np.ndarray, max_distance: float
+) -> tuple[float, float]:
     """(fitness, inlier RMSE) of ``transform`` moving ``source`` (N, 3) onto the tree's cloud."""
     distance, _ = target_tree.query(transform_points(transform, source), 1, max_distance)
     inlier = distance[:, 0] <= max_distance
@@ -101,11 +102,11 @@ def feature_neighbours(source_features: np.ndarray, target_features: np.ndarray,
     result = np.empty((len(source_features), k), dtype=np.int64)
     step = max(1, 4_000_000 // max(len(target_features), 1))
     for begin in range(0, len(source_features), step):
-        chunk = source_features[begin:begin + step]
+        chunk = source_features[begin : begin + step]
         d2 = target_sq[None, :] - 2.0 * chunk @ target_features.T
         nearest = np.argpartition(d2, k - 1, axis=1)[:, :k] if k < d2.shape[1] else np.argsort(d2, axis=1)
         order = np.argsort(np.take_along_axis(d2, nearest, axis=1), axis=1)
-        result[begin:begin + len(chunk)] = np.take_along_axis(nearest, order, axis=1)
+        result[begin : begin + len(chunk)] = np.take_along_axis(nearest, order, axis=1)
     return result
 
 
@@ -114,8 +115,9 @@ def _move(transforms: np.ndarray, points: np.ndarray) -> np.ndarray:
     return np.einsum("bij,nj->bni", transforms[:, :3, :3], points) + transforms[:, None, :3, 3]
 
 
-def _sample_triples(rng: np.random.Generator, n_source: int, candidates: np.ndarray,
-                    count: int) -> tuple[np.ndarray, np.ndarray]:
+def _sample_triples(
+    rng: np.random.Generator, n_source: int, candidates: np.ndarray, count: int
+) -> tuple[np.ndarray, np.ndarray]:
     """``count`` triples of distinct source indices (count, 3) and, for each, one of its
     candidate target indices at random (count, 3)."""
     source = rng.integers(0, n_source, (count, 3))
@@ -130,12 +132,22 @@ def _edges(points: np.ndarray) -> np.ndarray:
     return np.linalg.norm(points - points[:, [1, 2, 0]], axis=2)
 
 
-def prerejective_ransac(source: np.ndarray, target: np.ndarray, source_features: np.ndarray,
-                        target_features: np.ndarray, max_distance: float, *, iterations: int = 20000,
-                        similarity: float = 0.9, correspondences: int = 3, validate: int = 20,
-                        screening_points: int = 100,
-                        min_fitness: float = 0.25, seed: int = 0,
-                        target_tree: KDTree | None = None) -> Registration:
+def prerejective_ransac(
+    source: np.ndarray,
+    target: np.ndarray,
+    source_features: np.ndarray,
+    target_features: np.ndarray,
+    max_distance: float,
+    *,
+    iterations: int = 20000,
+    similarity: float = 0.9,
+    correspondences: int = 3,
+    validate: int = 20,
+    screening_points: int = 100,
+    min_fitness: float = 0.25,
+    seed: int = 0,
+    target_tree: KDTree | None = None,
+) -> Registration:
     """Pre-rejective RANSAC (Buch et al. 2013) from ``source`` (Ns, 3) to ``target`` (Nt, 3)
     with their FPFH descriptors. Raises :class:`TaskFailed` when no pose puts at least
     ``min_fitness`` of the source within ``max_distance`` of the target."""
@@ -147,25 +159,45 @@ def prerejective_ransac(source: np.ndarray, target: np.ndarray, source_features:
     ratio = np.minimum(source_edges, target_edges) / np.maximum(np.maximum(source_edges, target_edges), 1e-12)
     alike = np.all(ratio >= similarity, axis=1) & np.all(source_edges >= 2.0 * max_distance, axis=1)
     if not alike.any():
-        raise TaskFailed("pre-rejective RANSAC: no sampled correspondences passed the edge test; "
-                         "the observation and the world share no similar geometry")
+        raise TaskFailed(
+            "pre-rejective RANSAC: no sampled correspondences passed the edge test; "
+            "the observation and the world share no similar geometry"
+        )
     transforms = _kabsch(source[picked_source[alike]], target[picked_target[alike]])
     # Buch's inlier fraction: rank every hypothesis on a fixed subset of the source points by
     # nearest-neighbour search, then validate the best few on the whole source.
     subset = source[rng.choice(len(source), min(screening_points, len(source)), replace=False)]
-    inliers = np.concatenate([
-        np.sum(tree.query(_move(transforms[begin:begin + 512], subset).reshape(-1, 3), 1, max_distance)[0]
-               .reshape(-1, len(subset))
-               <= max_distance, axis=1)
-        for begin in range(0, len(transforms), 512)])
+    inliers = np.concatenate(
+        [
+            np.sum(
+                tree.query(_move(transforms[begin : begin + 512], subset).reshape(-1, 3), 1, max_distance)[0].reshape(
+                    -1, len(subset)
+                )
+                <= max_distance,
+                axis=1,
+            )
+            for begin in range(0, len(transforms), 512)
+        ]
+    )
     ranked = np.argsort(-inliers, kind="stable")[:validate]
     return _best_by_fitness(source, tree, transforms[ranked], max_distance, min_fitness, "prerejective-ransac")
 
 
-def sac_ia(source: np.ndarray, target: np.ndarray, source_features: np.ndarray,
-           target_features: np.ndarray, max_distance: float, *, min_sample_distance: float = 0.02,
-           iterations: int = 1000, correspondences: int = 3, evaluation_points: int = 200,
-           min_fitness: float = 0.25, seed: int = 0, target_tree: KDTree | None = None) -> Registration:
+def sac_ia(
+    source: np.ndarray,
+    target: np.ndarray,
+    source_features: np.ndarray,
+    target_features: np.ndarray,
+    max_distance: float,
+    *,
+    min_sample_distance: float = 0.02,
+    iterations: int = 1000,
+    correspondences: int = 3,
+    evaluation_points: int = 200,
+    min_fitness: float = 0.25,
+    seed: int = 0,
+    target_tree: KDTree | None = None,
+) -> Registration:
     """SAC-IA (Rusu et al. 2009) from ``source`` (Ns, 3) to ``target`` (Nt, 3) with their FPFH
     descriptors: the hypothesis with the smallest Huber-penalised error over a fixed random
     subset of ``evaluation_points`` source points wins."""
@@ -176,34 +208,45 @@ def sac_ia(source: np.ndarray, target: np.ndarray, source_features: np.ndarray,
     spread = np.all(_edges(source[picked_source]) >= min_sample_distance, axis=1)
     picked_source, picked_target = picked_source[spread][:iterations], picked_target[spread][:iterations]
     if len(picked_source) == 0:
-        raise TaskFailed(f"SAC-IA: no three source points lie {min_sample_distance} m apart; "
-                         "lower min_sample_distance or use a larger observation")
+        raise TaskFailed(
+            f"SAC-IA: no three source points lie {min_sample_distance} m apart; "
+            "lower min_sample_distance or use a larger observation"
+        )
     transforms = _kabsch(source[picked_source], target[picked_target])
     subset = source[rng.choice(len(source), min(evaluation_points, len(source)), replace=False)]
     distance, _ = tree.query(_move(transforms, subset).reshape(-1, 3), 1)
     distance = distance.reshape(len(transforms), len(subset))
-    huber = np.where(distance <= max_distance, 0.5 * distance ** 2,
-                     max_distance * (distance - 0.5 * max_distance))
+    huber = np.where(distance <= max_distance, 0.5 * distance**2, max_distance * (distance - 0.5 * max_distance))
     ranked = np.argsort(huber.sum(axis=1), kind="stable")[:1]
     return _best_by_fitness(source, tree, transforms[ranked], max_distance, min_fitness, "sac-ia")
 
 
-def _best_by_fitness(source: np.ndarray, tree: KDTree, transforms: np.ndarray, max_distance: float,
-                     min_fitness: float, method: str) -> Registration:
-    scored = [(*evaluate(source, tree, transform, max_distance), index)
-              for index, transform in enumerate(transforms)]
+def _best_by_fitness(
+    source: np.ndarray, tree: KDTree, transforms: np.ndarray, max_distance: float, min_fitness: float, method: str
+) -> Registration:
+    scored = [(*evaluate(source, tree, transform, max_distance), index) for index, transform in enumerate(transforms)]
     fitness, rmse, index = max(scored, key=lambda item: (item[0], -item[1]))
     if fitness < min_fitness:
-        raise TaskFailed(f"{method}: the best pose fits only {fitness:.0%} of the observation within "
-                         f"{max_distance * 1000:.0f} mm (needs {min_fitness:.0%}); the object is not in this world "
-                         "or too little of it is visible")
+        raise TaskFailed(
+            f"{method}: the best pose fits only {fitness:.0%} of the observation within "
+            f"{max_distance * 1000:.0f} mm (needs {min_fitness:.0%}); the object is not in this world "
+            "or too little of it is visible"
+        )
     return Registration(transforms[index], fitness, rmse, method)
 
 
-def icp(source: np.ndarray, target: np.ndarray, initial: np.ndarray | None = None, *,
-        max_distance: float = 0.01, iterations: int = 50, method: str = "point_to_plane",
-        target_normals: np.ndarray | None = None, tolerance: float = 1e-6,
-        target_tree: KDTree | None = None) -> Registration:
+def icp(
+    source: np.ndarray,
+    target: np.ndarray,
+    initial: np.ndarray | None = None,
+    *,
+    max_distance: float = 0.01,
+    iterations: int = 50,
+    method: str = "point_to_plane",
+    target_normals: np.ndarray | None = None,
+    tolerance: float = 1e-6,
+    target_tree: KDTree | None = None,
+) -> Registration:
     """Refine ``initial`` (4, 4; identity if None) by ICP from ``source`` (Ns, 3) to ``target``
     (Nt, 3): ``method`` "point_to_point" or "point_to_plane" (needs ``target_normals`` (Nt, 3)).
     Pairs farther apart than ``max_distance`` are ignored."""
@@ -234,8 +277,15 @@ def icp(source: np.ndarray, target: np.ndarray, initial: np.ndarray | None = Non
     return Registration(transform, fitness, rmse, f"icp-{method.replace('_', '-')}")
 
 
-def icp_batch(source: np.ndarray, target: np.ndarray, starts: np.ndarray, *, max_distance: float,
-              iterations: int = 30, target_tree: KDTree | None = None) -> np.ndarray:
+def icp_batch(
+    source: np.ndarray,
+    target: np.ndarray,
+    starts: np.ndarray,
+    *,
+    max_distance: float,
+    iterations: int = 30,
+    target_tree: KDTree | None = None,
+) -> np.ndarray:
     """Point-to-point ICP from each of ``starts`` (B, 4, 4) at once (one tree query per
     iteration for all of them): the refined transforms (B, 4, 4)."""
     tree = target_tree if target_tree is not None else KDTree(target)

@@ -38,8 +38,10 @@ def world_of(image: RGBDImage) -> WorldCloud:
 def check_world(world: WorldCloud) -> None:
     """Raise :class:`VslspError` with a diagnosis when the capture shows nothing to work on."""
     if len(world.points) < MIN_WORLD_POINTS:
-        raise TaskFailed(f"empty capture: only {len(world.points)} points above the table in the workspace "
-                         "(all background); is the sensor looking at the table and are the objects on it?")
+        raise TaskFailed(
+            f"empty capture: only {len(world.points)} points above the table in the workspace "
+            "(all background); is the sensor looking at the table and are the objects on it?"
+        )
 
 
 @dataclass
@@ -69,16 +71,26 @@ class Reproduction:
     def to_dict(self) -> dict:
         last = self.last
         match = last.match if last is not None else None
-        return {"executed_by": "robot", "attempts": len(self.attempts),
-                "grasp_outcome": [a.outcome or a.error for a in self.attempts],
-                "match_fitness": round(match.registration.fitness, 4) if match is not None else None,
-                "found_at": np.round(match.position, 4).tolist() if match is not None else None,
-                "grasp": last.grasp.to_dict() if last is not None and last.grasp is not None else None,
-                "diagnosis": self.diagnosis}
+        return {
+            "executed_by": "robot",
+            "attempts": len(self.attempts),
+            "grasp_outcome": [a.outcome or a.error for a in self.attempts],
+            "match_fitness": round(match.registration.fitness, 4) if match is not None else None,
+            "found_at": np.round(match.position, 4).tolist() if match is not None else None,
+            "grasp": last.grasp.to_dict() if last is not None and last.grasp is not None else None,
+            "diagnosis": self.diagnosis,
+        }
 
 
-def reproduce(scene: CloudScene, observation: CloudObservation, motion_for: Callable[[Match, WorldCloud], np.ndarray],
-              *, method: str, seed: int, movable: list[int]) -> Reproduction:
+def reproduce(
+    scene: CloudScene,
+    observation: CloudObservation,
+    motion_for: Callable[[Match, WorldCloud], np.ndarray],
+    *,
+    method: str,
+    seed: int,
+    movable: list[int],
+) -> Reproduction:
     """Find ``observation`` in ``scene``'s capture and move the object there by
     ``motion_for(match, world)`` (4, 4) with the robot, retrying once after a failed grasp."""
     record = Reproduction()

@@ -52,17 +52,46 @@ class StackResult:
 
     @property
     def success(self) -> bool:
-        return (self.error is None and self.picked == self.moved and self.final_error_mm is not None
-                and self.final_error_deg is not None and self.final_error_mm < TOLERANCE_M * 1000
-                and self.final_error_deg < TOLERANCE_DEG)
+        return (
+            self.error is None
+            and self.picked == self.moved
+            and self.final_error_mm is not None
+            and self.final_error_deg is not None
+            and self.final_error_mm < TOLERANCE_M * 1000
+            and self.final_error_deg < TOLERANCE_DEG
+        )
 
     def to_dict(self) -> dict:
-        execution = self.execution or {"executed_by": "robot", "attempts": 0, "grasp_outcome": [],
-                                       "match_fitness": None, "grasp": None, "diagnosis": self.error}
-        data = {k: getattr(self, k) for k in ("index", "moved", "box", "demonstration", "landmark_fitness", "picked",
-                                              "final_error_mm", "final_error_deg", "final_rotation_deg", "error")}
-        return {**data, **execution, "tolerance_mm": TOLERANCE_M * 1000, "tolerance_deg": TOLERANCE_DEG,
-                "success": self.success}
+        execution = self.execution or {
+            "executed_by": "robot",
+            "attempts": 0,
+            "grasp_outcome": [],
+            "match_fitness": None,
+            "grasp": None,
+            "diagnosis": self.error,
+        }
+        data = {
+            k: getattr(self, k)
+            for k in (
+                "index",
+                "moved",
+                "box",
+                "demonstration",
+                "landmark_fitness",
+                "picked",
+                "final_error_mm",
+                "final_error_deg",
+                "final_rotation_deg",
+                "error",
+            )
+        }
+        return {
+            **data,
+            **execution,
+            "tolerance_mm": TOLERANCE_M * 1000,
+            "tolerance_deg": TOLERANCE_DEG,
+            "success": self.success,
+        }
 
 
 def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
@@ -70,8 +99,13 @@ def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
     the tutor put it on (raises :class:`TaskFailed` when nothing is there)."""
     post = moved.post
     lower, upper = post.frame.lower, post.frame.upper
-    below = ((pre.points[:, 0] >= lower[0]) & (pre.points[:, 0] <= upper[0]) & (pre.points[:, 1] >= lower[1])
-             & (pre.points[:, 1] <= upper[1]) & (pre.points[:, 2] < post.points[:, 2].min() + 0.005))
+    below = (
+        (pre.points[:, 0] >= lower[0])
+        & (pre.points[:, 0] <= upper[0])
+        & (pre.points[:, 1] >= lower[1])
+        & (pre.points[:, 1] <= upper[1])
+        & (pre.points[:, 2] < post.points[:, 2].min() + 0.005)
+    )
     if below.sum() < 50:
         raise TaskFailed("no landmark under the placed object: the tutor put it on the table, not on a box")
     labels = euclidean_clusters(pre.points, SEGMENT_GAP)
@@ -80,8 +114,9 @@ def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
     return CloudObservation(points, Frame.around(points, FRAME_MARGIN), pre.camera.position)
 
 
-def relative_error(scene: CloudScene, name: str, box: str, goal_object: np.ndarray, goal_box: np.ndarray
-                   ) -> tuple[float, float, float]:
+def relative_error(
+    scene: CloudScene, name: str, box: str, goal_object: np.ndarray, goal_box: np.ndarray
+) -> tuple[float, float, float]:
     """The object's pose on its box against the demonstrated one, up to the box's symmetry
     (:func:`~vslsp.vsl3d.table_cleaning.pose_error`'s mm, turn and rotation)."""
     lower, upper = scene.bounds(name)
@@ -95,8 +130,9 @@ def relative_error(scene: CloudScene, name: str, box: str, goal_object: np.ndarr
     return min(errors, key=lambda e: e[0] / (TOLERANCE_M * 1000) + e[1] / TOLERANCE_DEG)
 
 
-def run_stacking(seed: int = 0, method: str = "prerejective_ransac", absent: tuple[str, ...] = ()
-                 ) -> tuple[tuple[StackResult, ...], dict]:
+def run_stacking(
+    seed: int = 0, method: str = "prerejective_ransac", absent: tuple[str, ...] = ()
+) -> tuple[tuple[StackResult, ...], dict]:
     """Demonstrate the two stacks in a seeded random scene, move everything, reproduce with the
     robot. ``absent`` names objects or boxes left out of the new scene (bad input: each is
     diagnosed, the other operations still run). Returns the results and the report's pictures."""
@@ -124,16 +160,29 @@ def run_stacking(seed: int = 0, method: str = "prerejective_ransac", absent: tup
                 landmark = landmark_under(pre, moved)
                 demonstrated.append((moved, landmark))
                 camera = DepthCamera.of(pre_image.camera)
-                images.append(np.hstack([draw_frame(draw_frame(pre_image.rgb, camera, moved.pre.frame, (255, 0, 0)),
-                                                    camera, landmark.frame, (0, 0, 255)),
-                                         draw_frame(post_image.rgb, camera, moved.post.frame, (0, 160, 0))]))
+                images.append(
+                    np.hstack(
+                        [
+                            draw_frame(
+                                draw_frame(pre_image.rgb, camera, moved.pre.frame, (255, 0, 0)),
+                                camera,
+                                landmark.frame,
+                                (0, 0, 255),
+                            ),
+                            draw_frame(post_image.rgb, camera, moved.post.frame, (0, 160, 0)),
+                        ]
+                    )
+                )
             except VslspError as error:
                 demonstrated.append(f"demonstration: {error}")
         scene.park()
         demonstrated_final = scene.capture().rgb
     moved_layout = random_layout(names, seed + 1, tray=False)
-    objects = {name: (*moved_layout[name][:2], layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN))
-               for name, _ in OPERATIONS if name not in absent}
+    objects = {
+        name: (*moved_layout[name][:2], layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN))
+        for name, _ in OPERATIONS
+        if name not in absent
+    }
     boxes = {box: moved_layout[box] for box in BOXES if box not in absent}
     results: list[StackResult] = []
     matched, cloud = [], None
@@ -162,17 +211,37 @@ def run_stacking(seed: int = 0, method: str = "prerejective_ransac", absent: tup
                 cloud = cloud_view(record.last.world.points)
         scene.park()
         final = np.hstack([demonstrated_final, scene.capture().rgb])
-    pictures = {"demonstration": images, "matched": matched, "cloud": cloud if cloud is not None else final,
-                "final": final}
+    pictures = {
+        "demonstration": images,
+        "matched": matched,
+        "cloud": cloud if cloud is not None else final,
+        "final": final,
+    }
     return tuple(results), pictures
 
 
-def judge(scene: CloudScene, index: int, name: str, box: str, summary: dict, record: Reproduction,
-          goal: tuple[np.ndarray, np.ndarray], fitness: float | None) -> StackResult:
+def judge(
+    scene: CloudScene,
+    index: int,
+    name: str,
+    box: str,
+    summary: dict,
+    record: Reproduction,
+    goal: tuple[np.ndarray, np.ndarray],
+    fitness: float | None,
+) -> StackResult:
     picked = next((a.held for a in reversed(record.attempts) if a.held is not None), None)
     errors: tuple[float | None, float | None, float | None] = (None, None, None)
     if record.attempts and name in scene.bodies and box in scene.bodies:
         errors = relative_error(scene, name, box, *goal)
-    return StackResult(index, name, box, summary, record.to_dict(), None if fitness is None else round(fitness, 4),
-                       picked, *errors, error=record.diagnosis)
-
+    return StackResult(
+        index,
+        name,
+        box,
+        summary,
+        record.to_dict(),
+        None if fitness is None else round(fitness, 4),
+        picked,
+        *errors,
+        error=record.diagnosis,
+    )

@@ -31,13 +31,22 @@ from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.reproduce import WORKSPACE, Reproduction, reproduce, world_of
 from vslsp.vsl3d.vsl import MovedObject, get_object
 
-__all__ = ["OPERATIONS", "TOLERANCE_DEG", "TOLERANCE_M", "WORKSPACE", "OperationResult", "TableCleaningResult",
-           "run_table_cleaning"]
+__all__ = [
+    "OPERATIONS",
+    "TOLERANCE_DEG",
+    "TOLERANCE_M",
+    "WORKSPACE",
+    "OperationResult",
+    "TableCleaningResult",
+    "run_table_cleaning",
+]
 
 # The demonstration: two objects into the box, the last in front of it (nearer the sensor).
-OPERATIONS = (("duck", (TRAY_POSITION[0], TRAY_POSITION[1] - 0.055), True),
-              ("teddy", (TRAY_POSITION[0], TRAY_POSITION[1] + 0.055), True),
-              ("duckling", (TRAY_POSITION[0] - 0.20, TRAY_POSITION[1] - 0.03), False))
+OPERATIONS = (
+    ("duck", (TRAY_POSITION[0], TRAY_POSITION[1] - 0.055), True),
+    ("teddy", (TRAY_POSITION[0], TRAY_POSITION[1] + 0.055), True),
+    ("duckling", (TRAY_POSITION[0] - 0.20, TRAY_POSITION[1] - 0.03), False),
+)
 MAX_TURN = np.radians(60.0)  # a single view records one side: reshuffles keep it in view
 TOLERANCE_M, TOLERANCE_DEG = 0.015, 15.0
 
@@ -58,17 +67,33 @@ class OperationResult:
     error: str | None = None
 
     def to_dict(self) -> dict:
-        execution = self.execution or {"executed_by": "robot", "attempts": 0, "grasp_outcome": [],
-                                       "match_fitness": None, "grasp": None, "diagnosis": self.error}
+        execution = self.execution or {
+            "executed_by": "robot",
+            "attempts": 0,
+            "grasp_outcome": [],
+            "match_fitness": None,
+            "grasp": None,
+            "diagnosis": self.error,
+        }
         data = {key: value for key, value in asdict(self).items() if key != "execution"}
-        return {**data, **execution, "tolerance_mm": TOLERANCE_M * 1000, "tolerance_deg": TOLERANCE_DEG,
-                "success": self.success}
+        return {
+            **data,
+            **execution,
+            "tolerance_mm": TOLERANCE_M * 1000,
+            "tolerance_deg": TOLERANCE_DEG,
+            "success": self.success,
+        }
 
     @property
     def success(self) -> bool:
-        return (self.error is None and self.picked == self.moved and self.final_error_mm is not None
-                and self.final_error_deg is not None and self.final_error_mm < TOLERANCE_M * 1000
-                and self.final_error_deg < TOLERANCE_DEG)
+        return (
+            self.error is None
+            and self.picked == self.moved
+            and self.final_error_mm is not None
+            and self.final_error_deg is not None
+            and self.final_error_mm < TOLERANCE_M * 1000
+            and self.final_error_deg < TOLERANCE_DEG
+        )
 
 
 @dataclass(frozen=True)
@@ -82,8 +107,13 @@ class TableCleaningResult:
         return all(operation.success for operation in self.operations)
 
     def to_dict(self) -> dict:
-        return {"experiment": "table-cleaning", "seed": self.seed, "method": self.method, "success": self.success,
-                "operations": [op.to_dict() for op in self.operations]}
+        return {
+            "experiment": "table-cleaning",
+            "seed": self.seed,
+            "method": self.method,
+            "success": self.success,
+            "operations": [op.to_dict() for op in self.operations],
+        }
 
 
 def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[float, float, float]:
@@ -97,8 +127,9 @@ def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[
     return round(offset * 1000, 3), round(float(turn), 3), round(angle, 3)
 
 
-def demonstrate(scene: CloudScene, layout: dict, rng: np.random.Generator, method: str, seed: int
-                ) -> tuple[list[tuple[MovedObject | None, str | None]], dict[str, np.ndarray], list[np.ndarray]]:
+def demonstrate(
+    scene: CloudScene, layout: dict, rng: np.random.Generator, method: str, seed: int
+) -> tuple[list[tuple[MovedObject | None, str | None]], dict[str, np.ndarray], list[np.ndarray]]:
     """The tutor's operations in ``scene``: per operation getObject's result (or why it failed),
     the true goal poses, and the pre|post RGB pictures with the found frames."""
     demonstrated: list[tuple[MovedObject | None, str | None]] = []
@@ -117,15 +148,22 @@ def demonstrate(scene: CloudScene, layout: dict, rng: np.random.Generator, metho
             moved = get_object(world_of(pre_image), world_of(post_image), method=method, seed=seed)
             demonstrated.append((moved, None))
             camera = DepthCamera.of(pre_image.camera)
-            images.append(np.hstack([draw_frame(pre_image.rgb, camera, moved.pre.frame, (255, 0, 0)),
-                                     draw_frame(post_image.rgb, camera, moved.post.frame, (0, 160, 0))]))
+            images.append(
+                np.hstack(
+                    [
+                        draw_frame(pre_image.rgb, camera, moved.pre.frame, (255, 0, 0)),
+                        draw_frame(post_image.rgb, camera, moved.post.frame, (0, 160, 0)),
+                    ]
+                )
+            )
         except VslspError as error:
             demonstrated.append((None, f"demonstration: {error}"))
     return demonstrated, goals, images
 
 
-def judge(scene: CloudScene, index: int, name: str, summary: dict, record: Reproduction,
-          goal: np.ndarray) -> OperationResult:
+def judge(
+    scene: CloudScene, index: int, name: str, summary: dict, record: Reproduction, goal: np.ndarray
+) -> OperationResult:
     """The operation's result from the robot's record and the truth."""
     picked = next((a.held for a in reversed(record.attempts) if a.held is not None), None)
     errors: tuple[float | None, float | None, float | None] = (None, None, None)
@@ -135,8 +173,9 @@ def judge(scene: CloudScene, index: int, name: str, summary: dict, record: Repro
     return OperationResult(index, name, summary, record.to_dict(), picked, *errors, error=record.diagnosis)
 
 
-def run_table_cleaning(seed: int = 0, method: str = "prerejective_ransac"
-                       ) -> tuple[TableCleaningResult, dict[str, Any]]:
+def run_table_cleaning(
+    seed: int = 0, method: str = "prerejective_ransac"
+) -> tuple[TableCleaningResult, dict[str, Any]]:
     """Demonstrate the table cleaning in a seeded random scene, reshuffle, reproduce with the
     robot. Returns the outcome and the report's pictures: ``demonstration`` (per operation the
     pre|post RGB (H, 2W, 3) with the found object's frame), ``matched`` (the reproduction's RGB
@@ -151,8 +190,9 @@ def run_table_cleaning(seed: int = 0, method: str = "prerejective_ransac"
         scene.park()
         demonstrated_final = scene.capture().rgb
     reshuffled = random_layout(names, seed + 1)
-    reshuffled = {name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN))
-                  for name, (x, y, _) in reshuffled.items()}
+    reshuffled = {
+        name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()
+    }
     results, matched, cloud = [], [], None
     with CloudScene(reshuffled, robot=True) as scene:
         movable = list(scene.bodies.values())
@@ -171,8 +211,12 @@ def run_table_cleaning(seed: int = 0, method: str = "prerejective_ransac"
                 cloud = cloud_view(record.last.world.points)
         scene.park()
         final = np.hstack([demonstrated_final, scene.capture().rgb])
-    pictures = {"demonstration": images, "matched": matched, "cloud": cloud if cloud is not None else final,
-                "final": final}
+    pictures = {
+        "demonstration": images,
+        "matched": matched,
+        "cloud": cloud if cloud is not None else final,
+        "final": final,
+    }
     return TableCleaningResult(seed, method, tuple(results)), pictures
 
 

@@ -97,8 +97,13 @@ class CloudObservation:
 
     def save(self, path: str | Path) -> None:
         """Write to an ``.npz`` file (no pickle)."""
-        np.savez_compressed(path, points=self.points, lower=np.asarray(self.frame.lower),
-                            upper=np.asarray(self.frame.upper), viewpoint=self.viewpoint)
+        np.savez_compressed(
+            path,
+            points=self.points,
+            lower=np.asarray(self.frame.lower),
+            upper=np.asarray(self.frame.upper),
+            viewpoint=self.viewpoint,
+        )
 
     @classmethod
     def load(cls, path: str | Path) -> CloudObservation:
@@ -106,8 +111,9 @@ class CloudObservation:
             with np.load(path, allow_pickle=False) as data:
                 points, lower, upper, viewpoint = (data[key] for key in ("points", "lower", "upper", "viewpoint"))
         except (OSError, KeyError, ValueError) as error:
-            raise InputError(f"cannot read a VSL-3D observation from {path}: {error}; "
-                             "pass a file written by CloudObservation.save") from error
+            raise InputError(
+                f"cannot read a VSL-3D observation from {path}: {error}; pass a file written by CloudObservation.save"
+            ) from error
         return cls(points, Frame(tuple(lower), tuple(upper)), viewpoint)
 
 
@@ -127,12 +133,20 @@ class MovedObject:
     def to_dict(self) -> dict:
         _, angle = transform_error(self.transform, np.eye(4), self.pre.centroid)
         return {
-            "pre": {"frame": self.pre.frame.to_dict(), "centroid": self.pre.centroid.tolist(),
-                    "points": len(self.pre.points)},
-            "post": {"frame": self.post.frame.to_dict(), "centroid": self.post.centroid.tolist(),
-                     "points": len(self.post.points)},
-            "transform": self.transform.tolist(), "rotation_deg": float(angle),
-            "fitness": self.registration.fitness, "rmse": self.registration.rmse,
+            "pre": {
+                "frame": self.pre.frame.to_dict(),
+                "centroid": self.pre.centroid.tolist(),
+                "points": len(self.pre.points),
+            },
+            "post": {
+                "frame": self.post.frame.to_dict(),
+                "centroid": self.post.centroid.tolist(),
+                "points": len(self.post.points),
+            },
+            "transform": self.transform.tolist(),
+            "rotation_deg": float(angle),
+            "fitness": self.registration.fitness,
+            "rmse": self.registration.rmse,
             "method": self.registration.method,
         }
 
@@ -171,9 +185,15 @@ def euclidean_clusters(points: np.ndarray, distance: float) -> np.ndarray:
     return rank[labels]
 
 
-def get_object(pre: WorldCloud, post: WorldCloud, *, threshold: float = CHANGE_THRESHOLD,
-               min_points: int = MIN_CLUSTER_POINTS, method: str = "prerejective_ransac",
-               seed: int = 0) -> MovedObject:
+def get_object(
+    pre: WorldCloud,
+    post: WorldCloud,
+    *,
+    threshold: float = CHANGE_THRESHOLD,
+    min_points: int = MIN_CLUSTER_POINTS,
+    method: str = "prerejective_ransac",
+    seed: int = 0,
+) -> MovedObject:
     """The one object the tutor moved between the ``pre`` and ``post`` captures, its pre- and
     post-action observations and its 6-DoF motion. Raises :class:`TaskFailed` when nothing or
     more than one object moved."""
@@ -182,32 +202,51 @@ def get_object(pre: WorldCloud, post: WorldCloud, *, threshold: float = CHANGE_T
     points = np.vstack([left, arrived])
     side = np.r_[np.zeros(len(left), dtype=bool), np.ones(len(arrived), dtype=bool)]
     labels = euclidean_clusters(points, CLUSTER_DISTANCE)
-    regions = [label for label in range(labels.max() + 1 if len(labels) else 0)
-               if np.sum(labels == label) >= min_points]
+    regions = [
+        label for label in range(labels.max() + 1 if len(labels) else 0) if np.sum(labels == label) >= min_points
+    ]
     if not regions:
-        raise TaskFailed(f"nothing moved: no region of more than {min_points} points changed by "
-                         f"{threshold * 100:.0f} cm between the pre- and post-action clouds; "
-                         "capture the post-action cloud after the tutor has moved an object")
+        raise TaskFailed(
+            f"nothing moved: no region of more than {min_points} points changed by "
+            f"{threshold * 100:.0f} cm between the pre- and post-action clouds; "
+            "capture the post-action cloud after the tutor has moved an object"
+        )
     leaving = [r for r in regions if np.sum((labels == r) & ~side) >= min_points]
     arriving = [r for r in regions if np.sum((labels == r) & side) >= min_points]
     if len(leaving) > 1 or len(arriving) > 1:
-        where = "; ".join(f"{'left' if r in leaving else ''}{'/' if r in leaving and r in arriving else ''}"
-                          f"{'arrived' if r in arriving else ''} at {_centre(points[labels == r])}"
-                          for r in regions)
-        raise TaskFailed(f"several objects moved ({where}); VSL-3D learns one object per operation: "
-                         "demonstrate one move at a time")
+        where = "; ".join(
+            f"{'left' if r in leaving else ''}{'/' if r in leaving and r in arriving else ''}"
+            f"{'arrived' if r in arriving else ''} at {_centre(points[labels == r])}"
+            for r in regions
+        )
+        raise TaskFailed(
+            f"several objects moved ({where}); VSL-3D learns one object per operation: demonstrate one move at a time"
+        )
     if not leaving or not arriving:
         missing = "left its place" if not leaving else "arrived anywhere"
-        raise TaskFailed(f"an object changed at {_centre(points[np.isin(labels, regions)])} but nothing "
-                         f"{missing} in view; keep the moved object inside the workspace and in view")
+        raise TaskFailed(
+            f"an object changed at {_centre(points[np.isin(labels, regions)])} but nothing "
+            f"{missing} in view; keep the moved object inside the workspace and in view"
+        )
     before = points[(labels == leaving[0]) & ~side]
     after = points[(labels == arriving[0]) & side]
     viewpoint = pre.camera.position
-    registration = align(before, after, viewpoint, post.camera.position, method=method, seed=seed, turns=TURNS,
-                         seen_through=post.seen_through, min_fitness=MOTION_MIN_FITNESS)
-    return MovedObject(CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
-                       CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
-                       registration)
+    registration = align(
+        before,
+        after,
+        viewpoint,
+        post.camera.position,
+        method=method,
+        seed=seed,
+        turns=TURNS,
+        seen_through=post.seen_through,
+        min_fitness=MOTION_MIN_FITNESS,
+    )
+    return MovedObject(
+        CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
+        CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
+        registration,
+    )
 
 
 def _centre(points: np.ndarray) -> str:
