@@ -15,6 +15,13 @@ class PhysicsClient:
 
     client: int | None = None
 
+    @property
+    def live_client(self) -> int:
+        """The pybullet client id; an error once the world is closed."""
+        if self.client is None:
+            raise RuntimeError(f"{type(self).__name__} is closed: build a new world")
+        return self.client
+
     def close(self) -> None:
         if self.client is not None:
             pb.disconnect(self.client)

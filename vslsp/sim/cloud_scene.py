@@ -265,7 +265,7 @@ class CloudScene(PhysicsClient):
     def capture(self) -> RGBDImage:
         """What the RGB-D sensor sees now; with ``noise`` the depth carries the sensor's axial
         noise (seeded)."""
-        rgb, depth = self.camera.render(self.client)
+        rgb, depth = self.camera.render(self.live_client)
         depth = depth.astype(np.float64)
         depth[depth > 2.9] = 0.0  # beyond the far plane: no return
         if self.noise:

@@ -75,18 +75,19 @@ class PickPlaceResult:
         }
 
 
-def check_pose(label: str, pose: tuple[float, float, float]) -> np.ndarray:
-    pose = np.asarray(pose, dtype=float).reshape(-1)
-    if pose.shape != (3,) or not np.all(np.isfinite(pose)):
-        raise InputError(f"the {label} pose must be three finite numbers (x m, y m, theta rad), got {pose!r}")
-    return pose
+def check_pose(label: str, pose: tuple[float, float, float] | np.ndarray) -> np.ndarray:
+    """The pose (x m, y m, theta rad) as a (3,) array; an InputError unless three finite numbers."""
+    array = np.asarray(pose, dtype=float).reshape(-1)
+    if array.shape != (3,) or not np.all(np.isfinite(array)):
+        raise InputError(f"the {label} pose must be three finite numbers (x m, y m, theta rad), got {array!r}")
+    return array
 
 
 def wrist_branch(pick: np.ndarray, place: np.ndarray) -> tuple[float, float]:
     """θ_pick and θ_place shifted by the same multiple of π (the fingers close alike) so that
     joint 7 stays furthest inside its limits; the item turns by θ_place − θ_pick (mod 2π)."""
     turn = float(np.angle(np.exp(1j * (place[2] - pick[2]))))
-    best = None
+    best: tuple[float, float, float] | None = None
     for k in range(-2, 3):
         theta_pick = float(pick[2] + k * np.pi)
         theta_place = theta_pick + turn
@@ -96,6 +97,7 @@ def wrist_branch(pick: np.ndarray, place: np.ndarray) -> tuple[float, float]:
         )
         if best is None or margin > best[0]:
             best = (margin, theta_pick, theta_place)
+    assert best is not None
     return best[1], best[2]
 
 
@@ -230,13 +232,13 @@ def execute_pick_and_place(
     world, pick: tuple[float, float, float], place: tuple[float, float, float], grasp_width: float | None = None
 ) -> PickPlaceResult:
     """See :meth:`vslsp.sim.tabletop.TabletopWorld.pick_and_place`."""
-    pick, place = check_pose("pick", pick), check_pose("place", place)
+    pick_pose, place_pose = check_pose("pick", pick), check_pose("place", place)
     if grasp_width is not None and not (np.isfinite(grasp_width) and grasp_width > 0.0):
         raise InputError(f"grasp_width must be a positive width in metres, got {grasp_width!r}")
     world.panda.reset(PARK)  # out of the depth probe's way
-    theta_pick, theta_place = wrist_branch(pick, place)
+    theta_pick, theta_place = wrist_branch(pick_pose, place_pose)
     each = FINGER_OPEN if grasp_width is None else float(np.clip(grasp_width / 2.0 + 0.01, 0.005, FINGER_OPEN))
-    pick_point, place_point = key_points(world, pick, place, theta_pick, theta_place, each)
+    pick_point, place_point = key_points(world, pick_pose, place_pose, theta_pick, theta_place, each)
     movable = [world.bodies[n] for n, item in world.specs.items() if item.movable]
     return execute_between(world, pick_point, place_point, theta_pick, theta_place, each, movable)
 

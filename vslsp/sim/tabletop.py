@@ -92,7 +92,7 @@ def tabletop_camera() -> Camera:
     eye = (tx - CAMERA_DISTANCE * np.sin(CAMERA_TILT), ty, tz + CAMERA_DISTANCE * np.cos(CAMERA_TILT))
     return Camera(
         "tabletop",
-        eye=tuple(float(v) for v in eye),
+        eye=(float(eye[0]), float(eye[1]), float(eye[2])),
         target=CAMERA_TARGET,
         up=(0.0, 0.0, 1.0),
         width=TabletopWorld.WIDTH,
@@ -163,7 +163,7 @@ class TabletopWorld(PhysicsClient):
         """The table. Headless, its top is drawn as the camera's :class:`Backdrop` (the colour
         the renderer gives it, read from a small render of the table alone) instead of being
         rasterised with every image: a view renders in about half the time, the same pixels."""
-        c, centre = self.client, [*TABLE_CENTRE, -TABLE_HALF[2]]
+        c, centre = self.live_client, [*TABLE_CENTRE, -TABLE_HALF[2]]
         visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR, physicsClientId=c)
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, physicsClientId=c)
         if gui:
@@ -178,7 +178,7 @@ class TabletopWorld(PhysicsClient):
                 0.0,
                 (TABLE_CENTRE[0] - TABLE_HALF[0], TABLE_CENTRE[0] + TABLE_HALF[0]),
                 (TABLE_CENTRE[1] - TABLE_HALF[1], TABLE_CENTRE[1] + TABLE_HALF[1]),
-                tuple(int(v) for v in colour),
+                (int(colour[0]), int(colour[1]), int(colour[2])),
             )
             # a body without a visual shape would be drawn from its collision box: give the
             # table a speck of a visual far above the camera instead, which it never sees
@@ -262,7 +262,7 @@ class TabletopWorld(PhysicsClient):
     def observe(self) -> np.ndarray:
         """The camera's RGB image (960, 1280, 3) uint8, with the arm parked out of view."""
         self.panda.reset(PARK)
-        return self.camera.render(self.client, self.backdrop)[0]
+        return self.camera.render(self.live_client, self.backdrop)[0]
 
     def pixel_to_table(self, u: float, v: float, z: float = 0.0) -> tuple[float, float]:
         """The point (x, y) at height ``z`` above the table seen at pixel (u, v)."""

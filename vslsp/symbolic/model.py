@@ -86,7 +86,7 @@ Effect = Atom | Not | When
 def _effect_from_list(data: list) -> Effect:
     if data and data[0] == "when":
         return When(
-            formula_from_list(data[2]),
+            formula_from_list(data[2]),  # type: ignore[arg-type]
             tuple(formula_from_list(e) for e in data[3]),  # type: ignore[arg-type, misc]
             tuple((str(n), str(t)) for n, t in data[1]),
         )

@@ -9,6 +9,8 @@ Clouds are plain ``(N, 3)`` float64 arrays of points in metres in the world fram
 
 from __future__ import annotations
 
+from typing import Any
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,7 +37,7 @@ class DepthCamera:
             raise InputError("a depth camera needs 3x3 intrinsics and a 4x4 pose")
 
     @classmethod
-    def of(cls, camera: object) -> DepthCamera:
+    def of(cls, camera: Any) -> DepthCamera:
         """The depth camera of a simulator camera (:class:`vslsp.sim.camera.Camera`: its
         ``intrinsics()``, ``axes()`` (right, down, forward), ``eye``, ``width``, ``height``)."""
         pose = np.eye(4)
@@ -98,7 +100,7 @@ class Frame:
             raise InputError("cannot put a frame around an empty cloud")
         lower = points.min(axis=0) - margin
         upper = points.max(axis=0) + margin
-        return cls(tuple(map(float, lower)), tuple(map(float, upper)))
+        return cls(_xyz(lower), _xyz(upper))
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Boolean mask (N,) of the points inside the cuboid (bounds included)."""
@@ -110,7 +112,7 @@ class Frame:
 
     @classmethod
     def from_dict(cls, data: dict) -> Frame:
-        return cls(tuple(map(float, data["lower"])), tuple(map(float, data["upper"])))
+        return cls(_xyz(data["lower"]), _xyz(data["upper"]))
 
 
 def pass_through(points: np.ndarray, frame: Frame) -> np.ndarray:
@@ -143,3 +145,9 @@ def _as_cloud(points: np.ndarray) -> np.ndarray:
     if points.ndim != 2 or points.shape[1] != 3:
         raise InputError(f"a point cloud is an (N, 3) array, got shape {points.shape}")
     return points
+
+
+def _xyz(values) -> tuple[float, float, float]:
+    """Three coordinates as floats."""
+    x, y, z = values
+    return float(x), float(y), float(z)

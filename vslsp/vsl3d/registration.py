@@ -268,6 +268,7 @@ def icp(
         if method == "point_to_point":
             step = rigid_transform(moved[inlier], matched)
         else:
+            assert target_normals is not None  # checked above
             step = _point_to_plane_step(moved[inlier], matched, target_normals[index[inlier, 0]])
         transform = step @ transform
         if abs(previous - error) < tolerance:
