@@ -5,8 +5,8 @@ Cost (issue "Fast trials"): seconds per trial of every experiment, and that figu
 fixed pybullet workload timed in the same process (a KUKA iiwa among cubes for a fixed number
 of physics steps, plus a few 640x480 TinyRenderer views), so that figures compare across
 machines and across loads of a shared machine. Trials run one after another in this process;
-each seed runs ``--repeat`` times and counts with its quickest run, the workload with the
-quickest of its runs (one before every trial). Target: each iCub experiment <= 1/3 of the
+each trial run is divided by the workload timed just before and after it, and each seed runs
+``--repeat`` times and counts with its quickest run. Target: each iCub experiment <= 1/3 of the
 figure before the speed work (pull-in-order: 5.2-5.3 workloads per trial before).
 
 Success (issue "VSL-SP end to end"): >= 99 % over 100 trials per experiment without faults,
@@ -80,26 +80,32 @@ def workload() -> float:
 
 
 def speed(experiments: list[str], trials: int, repeat: int, seed: int, library: SkillLibrary) -> tuple[float, list]:
-    """The workload's seconds (quickest run) and, per experiment, seconds per trial (each
-    seed's quickest of ``repeat`` runs, averaged over ``trials`` seeds) and successes."""
-    references = [workload()]
+    """The workload's seconds (quickest run) and, per experiment, seconds per trial and
+    workloads per trial, averaged over ``trials`` seeds.
+
+    Every trial run is paired with the workload timed just before and just after it (their
+    mean: the machine's speed at that time), so a shared machine's changing load cancels out;
+    each seed counts with its quickest of ``repeat`` runs, in seconds and in workloads."""
+    before = workload()
+    references = [before]
     rows = []
     for name in experiments:
-        per_seed, successes = [], 0
+        seconds, ratios, successes = [], [], 0
         for k in range(trials):
             runs = []
             for _ in range(repeat):
-                references.append(workload())
                 trial = run_trial(name, seed + k, library)
-                runs.append(trial.time_s)
+                after = workload()
+                references.append(after)
+                runs.append((trial.time_s, trial.time_s / (0.5 * (before + after))))
+                before = after
             successes += trial.success
-            per_seed.append(min(runs))
+            seconds.append(min(s for s, _ in runs))
+            ratios.append(min(r for _, r in runs))
         rows.append({"experiment": name, "trials": trials, "repeat": repeat, "successes": successes,
-                     "s_per_trial": float(np.mean(per_seed)), "s_per_seed": [round(s, 2) for s in per_seed]})
-    reference = min(references)
-    for row in rows:
-        row["workloads_per_trial"] = row["s_per_trial"] / reference
-    return reference, rows
+                     "s_per_trial": float(np.mean(seconds)), "workloads_per_trial": float(np.mean(ratios)),
+                     "s_per_seed": [round(s, 2) for s in seconds], "workloads_per_seed": [round(r, 2) for r in ratios]})
+    return min(references), rows
 
 
 def demo_time() -> tuple[float, int]:
@@ -156,11 +162,11 @@ def main() -> None:
     library = SkillLibrary.load(default_library_path())
     reference, cost = speed(args.experiments, args.speed_trials, args.repeat, args.seed, library)
     print(f"fixed workload (KUKA among cubes, {WORKLOAD_STEPS} steps + {WORKLOAD_VIEWS} 640x480 views): "
-          f"{reference:.3f} s (quickest run)")
+          f"{reference:.3f} s (quickest run; each trial is divided by the runs just before and after it)")
     for row in cost:
         print(f"{row['experiment']:16s} {row['s_per_trial']:6.2f} s/trial = {row['workloads_per_trial']:5.2f} workloads "
               f"({row['trials']} seeds x {row['repeat']} runs, {row['successes']}/{row['trials']} succeeded; "
-              f"per seed {row['s_per_seed']})", flush=True)
+              f"per seed {row['s_per_seed']} s, {row['workloads_per_seed']} workloads)", flush=True)
     rates = [] if args.no_success else success(args.experiments, args.trials, args.seed, args.workers,
                                                 not args.no_faults)
     seconds, code = (None, None) if args.no_demo else demo_time()

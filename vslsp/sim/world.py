@@ -1,4 +1,4 @@
-"""The simulated tabletop world: the iCub at a table, coloured cubes and a landmark line.
+"""The simulated tabletop world: the iCub at a table, coloured, textured cubes and a landmark line.
 
 Paper section "Implementation" of VSL-SP: the iCub pushes and pulls cubes across a black
 borderline drawn on the table, watching the scene through its eyes. pybullet runs headless
@@ -18,6 +18,7 @@ from vslsp.sim.camera import Backdrop, Camera
 from vslsp.sim.robot import TIME_STEP
 from vslsp.sim.client import PhysicsClient
 from vslsp.sim.quiet import quiet
+from vslsp.sim.textures import cube_atlas, cube_mesh, texture_file
 from vslsp.sim.scene import COLOURS, LINE_WIDTH, TABLE_Z, CubeSpec, SceneSpec
 
 with quiet():
@@ -56,11 +57,12 @@ class World(PhysicsClient):
     """A pybullet world built from a :class:`SceneSpec`; close it (or use ``with``) when done."""
 
     def __init__(self, spec: SceneSpec | None = None, *, seed: int = 0, gui: bool = False,
-                 robot: bool = True) -> None:
+                 robot: bool = True, textured: bool = True) -> None:
         from vslsp.sim.robot import ICub  # robot imports the world's constants
         from vslsp.sim.tutor import Tutor
 
         self.spec = spec if spec is not None else SceneSpec.random(seed)
+        self.textured = textured
         with quiet():
             self.client = pb.connect(pb.GUI if gui else pb.DIRECT)
         pb.resetSimulation(physicsClientId=self.client)
@@ -116,14 +118,23 @@ class World(PhysicsClient):
         c = self.client
         half = [cube.size / 2.0] * 3
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
-        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=(*COLOURS[cube.colour], 1.0),
-                                      physicsClientId=c)
+        if self.textured:  # the colour is the symbol; the texture gives match finding its keypoints
+            vertices, indices, uvs, normals = cube_mesh(cube.size)
+            visual = pb.createVisualShape(pb.GEOM_MESH, vertices=vertices, indices=indices, uvs=uvs,
+                                          normals=normals, rgbaColor=[1, 1, 1, 1], physicsClientId=c)
+        else:
+            visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=(*COLOURS[cube.colour], 1.0),
+                                          physicsClientId=c)
         body = pb.createMultiBody(
             CUBE_MASS, shape, visual, [cube.x, cube.y, TABLE_Z + cube.size / 2.0],
             pb.getQuaternionFromEuler([0, 0, cube.yaw]), physicsClientId=c,
         )
         pb.changeDynamics(body, -1, lateralFriction=CUBE_FRICTION, spinningFriction=0.001,
                           physicsClientId=c)
+        if self.textured:
+            texture = pb.loadTexture(str(texture_file(cube_atlas(COLOURS[cube.colour], cube.name))),
+                                     physicsClientId=c)
+            pb.changeVisualShape(body, -1, textureUniqueId=texture, physicsClientId=c)
         return body
 
     # -- running ------------------------------------------------------------------------
