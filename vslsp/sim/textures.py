@@ -25,7 +25,8 @@ FACE_PX = 48  # texture pixels along a face's side: about what the head camera s
 # textures without filtering, so a finer texture only aliases)
 SHADES = (0.3, 0.5, 1.5)  # the confetti's shades of the cube's colour (see _shade)
 ATLAS = (2, 3)  # rows, columns of faces in a cube's texture atlas
-CONFETTI = 16  # shapes per face
+CONFETTI = 8  # shapes per face: a few large blobs, which SIFT finds again from another view
+SHAPE_SCALE = 2.5  # the shapes' size (radius 5-11 px of a 48 px face)
 
 
 def _shade(colour: tuple[float, float, float], factor: float) -> tuple[int, int, int]:
@@ -44,7 +45,7 @@ def cube_face(colour: tuple[float, float, float], name: str, size: int | None = 
     rng = np.random.default_rng(zlib.crc32(name.encode("utf-8")))
     face = np.empty((size, size, 3), np.uint8)
     face[:] = _shade(colour, 1.0)
-    unit = size / 96.0
+    unit = size / 96.0 * SHAPE_SCALE
     for _ in range(CONFETTI):
         shade = _shade(colour, float(rng.choice(SHADES)))
         x, y = int(rng.integers(size)), int(rng.integers(size))
