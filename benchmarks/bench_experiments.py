@@ -164,7 +164,8 @@ def main() -> None:
     print(f"fixed workload (KUKA among cubes, {WORKLOAD_STEPS} steps + {WORKLOAD_VIEWS} 640x480 views): "
           f"{reference:.3f} s (quickest run; each trial is divided by the runs just before and after it)")
     for row in cost:
-        print(f"{row['experiment']:16s} {row['s_per_trial']:6.2f} s/trial = {row['workloads_per_trial']:5.2f} workloads "
+        print(f"{row['experiment']:16s} {row['s_per_trial']:6.2f} s/trial = "
+              f"{row['workloads_per_trial']:5.2f} workloads "
               f"({row['trials']} seeds x {row['repeat']} runs, {row['successes']}/{row['trials']} succeeded; "
               f"per seed {row['s_per_seed']} s, {row['workloads_per_seed']} workloads)", flush=True)
     rates = [] if args.no_success else success(args.experiments, args.trials, args.seed, args.workers,

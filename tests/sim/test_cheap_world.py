@@ -22,7 +22,7 @@ def _reference_span(landmark: LandmarkSpec, far: np.ndarray, across: np.ndarray)
     """The span as first written: every cube on its own grid, through _placeable."""
     grid = np.linspace(-0.2, 0.2, 81)
     low, high = -np.inf, np.inf
-    for f, a in zip(far, across):
+    for f, a in zip(far, across, strict=True):
         centres = landmark.point + np.outer(grid, landmark.direction) + a * landmark.normal
         ok = grid[_placeable(landmark, np.full(len(grid), f), centres)]
         if len(ok) == 0:
@@ -52,7 +52,7 @@ def test_the_simulated_robot_keeps_the_kinematics():
         kinematics = robot.kinematics
         for _ in range(5):
             q = rng.uniform(kinematics.ik_lower, kinematics.ik_upper)
-            for index, value in zip(robot.ik_indices, q):
+            for index, value in zip(robot.ik_indices, q, strict=True):
                 pb.resetJointState(robot.body, index, value, physicsClientId=world.client)
             kinematics.set_ik_joints(q)
             position, rotation = robot.hand_pose()

@@ -9,8 +9,8 @@ installed mesh folder. The result has 32 revolute joints and weighs about 28 kg.
 The copy that the world simulates is lighter still (:func:`simulated_urdf_text`): only the
 joints the robot moves stay revolute (every other joint is frozen at its posture, baked into
 the joint's origin), only the links that touch the cubes keep a collision shape, and headless
-worlds drop the meshes the cameras never see (all but the right arm's). Physics steps, renders and loads are cheaper; the
-kinematics is unchanged.
+worlds drop the meshes the cameras never see (all but the right arm's, the chest's and the
+right leg's). Physics steps, renders and loads are cheaper; the kinematics is unchanged.
 """
 
 from __future__ import annotations
@@ -119,8 +119,9 @@ def simulated_urdf_text(source: Path, moving: Iterable[str], posture: Mapping[st
             origin = ET.SubElement(joint, "origin")
         rpy = np.array([float(v) for v in origin.get("rpy", "0 0 0").split()])
         axis_element = joint.find("axis")
-        axis = np.array([float(v) for v in (axis_element.get("xyz") if axis_element is not None else "1 0 0").split()])
-        rotation = _rpy_matrix(rpy) @ _axis_rotation(axis, float(posture.get(joint.get("name"), 0.0)))
+        axis_text = axis_element.get("xyz", "1 0 0") if axis_element is not None else "1 0 0"
+        axis = np.array([float(v) for v in axis_text.split()])
+        rotation = _rpy_matrix(rpy) @ _axis_rotation(axis, float(posture.get(joint.get("name", ""), 0.0)))
         origin.set("rpy", " ".join(repr(float(v)) for v in _matrix_rpy(rotation)))
         joint.set("type", "fixed")
         for tag in ("axis", "limit", "dynamics", "safety_controller"):

@@ -266,7 +266,7 @@ def _along_span(landmark: LandmarkSpec, far: np.ndarray, across: np.ndarray) -> 
     # a tie that rounding could decide either way: _placeable, the reference, decides it.
     least = margins.min(axis=1)  # (n, 81)
     ok = least >= 0.0
-    for k, i in zip(*np.nonzero(np.abs(least) < _TIE)):
+    for k, i in np.argwhere(np.abs(least) < _TIE):
         centre = landmark.point + _GRID[i] * landmark.direction + across[k] * landmark.normal
         ok[k, i] = _placeable(landmark, far[k:k + 1], centre[None])[0]
     if not ok.any(axis=1).all():

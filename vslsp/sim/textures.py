@@ -35,7 +35,8 @@ def _shade(colour: tuple[float, float, float], factor: float) -> tuple[int, int,
     stays, the saturation drops)."""
     rgb = np.asarray(colour, dtype=float) * 255.0
     rgb = rgb * factor if factor <= 1.0 else rgb + (255.0 - rgb) * (factor - 1.0)
-    return tuple(int(v) for v in np.clip(np.round(rgb), 0, 255))
+    r, g, b = (int(v) for v in np.clip(np.round(rgb), 0, 255))
+    return r, g, b
 
 
 def cube_face(colour: tuple[float, float, float], name: str, size: int | None = None) -> np.ndarray:

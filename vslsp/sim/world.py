@@ -15,11 +15,11 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.sim.camera import Backdrop, Camera
-from vslsp.sim.robot import TIME_STEP
 from vslsp.sim.client import PhysicsClient
 from vslsp.sim.quiet import quiet
-from vslsp.sim.textures import cube_atlas, cube_mesh, texture_file
+from vslsp.sim.robot import TIME_STEP
 from vslsp.sim.scene import COLOURS, LINE_WIDTH, TABLE_Z, CubeSpec, SceneSpec
+from vslsp.sim.textures import cube_atlas, cube_mesh, texture_file
 
 with quiet():
     import pybullet as pb
@@ -48,9 +48,9 @@ def _table_backdrop(client: int, visual: int, centre: list[float]) -> Backdrop:
                    width=8, height=6, fov=45.0)
     colour = small.render(client)[0][small.height // 2, small.width // 2]
     pb.removeBody(look, physicsClientId=client)
+    r, g, b = (int(v) for v in colour)
     return Backdrop(TABLE_Z, (TABLE_CENTRE[0] - TABLE_HALF[0], TABLE_CENTRE[0] + TABLE_HALF[0]),
-                    (TABLE_CENTRE[1] - TABLE_HALF[1], TABLE_CENTRE[1] + TABLE_HALF[1]),
-                    tuple(int(v) for v in colour), solid=True)
+                    (TABLE_CENTRE[1] - TABLE_HALF[1], TABLE_CENTRE[1] + TABLE_HALF[1]), (r, g, b), solid=True)
 
 
 class World(PhysicsClient):
@@ -90,8 +90,8 @@ class World(PhysicsClient):
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, physicsClientId=c)
         visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR,
                                       physicsClientId=c)
-        self.backdrop = None
-        if gui:
+        self.backdrop: Backdrop | None = None
+        if gui or c is None:
             body = pb.createMultiBody(0, shape, visual, centre, physicsClientId=c)
         else:
             self.backdrop = _table_backdrop(c, visual, centre)
