@@ -27,8 +27,8 @@ from vslsp.errors import InputError, TaskFailed, VslspError
 from vslsp.execution import PerceivedState, StepResult, execute_step, perceive
 from vslsp.parallel import run_jobs
 from vslsp.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
-from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.skills.library import SkillLibrary
+from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.symbolic import Domain, Task, learn_task
 from vslsp.vision.matching import find_best_match
 from vslsp.vision.objects import dark_mask
