@@ -56,8 +56,10 @@ def test_textured_push_pull_and_null_are_grounded(before, after, far, action, co
     assert grounding.name == colour
     assert (grounding.far_pre, grounding.far_post) == far
     assert grounding.action == action
-    assert np.hypot(*np.subtract(grounding.pre, before)) < 2.0
-    assert np.hypot(*np.subtract(grounding.post, after)) < 2.0
+    # the pale confetti leave small holes in the object mask: the centroid moves by up to ~3 px
+    # (1.5 px on plain squares, tests/vsl/test_grounding.py), far from deciding which side it is on
+    assert np.hypot(*np.subtract(grounding.pre, before)) < 3.5
+    assert np.hypot(*np.subtract(grounding.post, after)) < 3.5
 
 
 def test_every_textured_object_of_one_observation_is_grounded():
