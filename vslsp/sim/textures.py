@@ -24,7 +24,7 @@ import numpy as np
 FACE_PX = 48  # texture pixels along a face's side: about what the head camera sees (TinyRenderer samples
 # textures without filtering, so a finer texture only aliases)
 SHADES = (0.3, 0.5, 1.5)  # the confetti's shades of the cube's colour (see _shade). Contrast is what SIFT
-# needs (shades 0.45/1.3 matched 84 % of VSL's steps, these 94 %); the pale ones (1.5 mixes in half white)
+# needs (shades 0.45/1.3 matched 84 % of VSL's steps, these 93 %); the pale ones (1.5 mixes in half white)
 # leave small holes in the object mask, so its centroid moves by up to about 3 px, and on a shaded face the
 # darkest green and purple spots read as landmark grey: far, colour names and change detection absorb both
 # (tests/vsl/test_grounding_textured.py, tests/vsl/test_grounding_sim.py)
