@@ -42,7 +42,8 @@ def main() -> None:
         steps = timed(lambda: world.step(240))
         print(f"physics with the iCub and 3 cubes: {240 / steps:,.0f} steps/s ({240 / steps / 240:.1f}x real time)")
         for width, height in [(320, 240), (640, 480), (1280, 960)]:
-            render = timed(lambda: world.observe("head", width, height), 3)
+            view = world.camera("head", width, height)  # observe() would reuse the view of an unchanged world
+            render = timed(lambda view=view: view.render(world.client, world.backdrop), 3)
             print(f"render head camera {width}x{height}: {render * 1000:.0f} ms/frame")
 
     rng = np.random.default_rng(0)

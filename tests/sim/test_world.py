@@ -67,7 +67,7 @@ def test_pixel_table_pixel_round_trip_within_a_pixel(table_world, camera):
 def test_the_camera_model_matches_the_render(camera):
     """The top face of a cube is seen where the camera model projects it."""
     spec = SceneSpec((CubeSpec("green", "green", 0.24, -0.05),), LandmarkSpec(0.2, 0.0))
-    with World(spec, robot=False) as world:
+    with World(spec, robot=False, textured=False) as world:  # a plain face: its centre pixel is green
         observation = world.observe(camera)
         rgb = observation.rgb.astype(int)
         mask = (rgb[:, :, 1] > 120) & (rgb[:, :, 0] < 80) & (rgb[:, :, 2] < 100)

@@ -19,6 +19,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
+import cv2
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed, VslspError
@@ -31,6 +32,7 @@ from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, Task, learn_task
 from vslsp.vision.matching import Match, find_best_match
+from vslsp.vision.objects import dark_mask
 from vslsp.vsl.demonstration import DemonstrationRecorder
 
 EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order")
@@ -215,10 +217,17 @@ def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
     """The object of demonstrated operation ``op`` in the current scene, and how it was found.
 
     Match finding (SIFT + RANSAC with adaptive frames) on the recorded pre-action observation
-    comes first; plain-coloured cubes give few keypoints, so when the match lands on no object
-    (or on one of another colour) the object's symbol (its colour name) decides.
+    comes first, on both images without the landmark line (the line is no object, and where it
+    crosses the frame its strong edges would align the line rather than the object's texture);
+    when the match lands on no object (or on one of another colour) the object's symbol (its
+    colour name) decides.
     """
-    match = find_best_match(op.pre_observation, state.image, (op.pose_pre.x, op.pose_pre.y), op.object_size)
+    match = find_best_match(
+        _without_landmark(op.pre_observation),
+        _without_landmark(state.image),
+        (op.pose_pre.x, op.pose_pre.y),
+        op.object_size,
+    )
     if isinstance(match, Match):
         best, distance = None, np.inf
         for name, obj in state.objects.items():
@@ -230,6 +239,15 @@ def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
     if op.symbol in state.objects:
         return op.symbol, "symbol"
     return None
+
+
+def _without_landmark(image: np.ndarray) -> np.ndarray:
+    """The image (H, W, 3) with the landmark's dark grey pixels painted in the table's colour
+    (the image's median colour)."""
+    dark = cv2.dilate(dark_mask(image), np.ones((3, 3), np.uint8)) > 0
+    clean = image.copy()
+    clean[dark] = np.median(image.reshape(-1, 3), axis=0).astype(np.uint8)
+    return clean
 
 
 # --- the three experiments ----------------------------------------------------------------------

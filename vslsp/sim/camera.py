@@ -95,6 +95,8 @@ class Camera:
             return np.asarray(rgba, dtype=np.uint8).reshape(self.height, self.width, 4)[:, :, :3].copy(), depth
         plane_depth, seen = self._plane(backdrop)
         empty = seen & (buffer >= 1.0 - 1e-6)
+        if backdrop.solid:  # the plane hides what lies behind it, as the body it stands for would
+            empty |= seen & (depth > plane_depth)
         pixels = np.array(rgba, dtype=np.uint8).reshape(self.height, self.width, 4)
         colour = np.array([*backdrop.colour, 255], np.uint8).view(np.uint32)[0]
         np.copyto(pixels.view(np.uint32)[:, :, 0], colour, where=empty)  # one word per pixel: quicker
@@ -126,10 +128,13 @@ class Backdrop:
     (RGB uint8, as the renderer lights it), drawn behind every body without being rasterised:
     TinyRenderer spends about 0.25 s filling a table that covers a 1280×960 view, this mask
     a few milliseconds. The image is the same but for a few pixels where a body's edge meets
-    the plane and the rasteriser's depth test was a tie (tests/sim/test_tabletop.py)."""
+    the plane and the rasteriser's depth test was a tie (tests/sim/test_tabletop.py). A
+    ``solid`` backdrop also covers what lies behind the plane (below a table top seen from
+    above, e.g. the robot's legs)."""
 
     z: float
     x_range: tuple[float, float]
     y_range: tuple[float, float]
     colour: tuple[int, int, int]
+    solid: bool = False  # also drawn over the bodies behind the plane (under a table top)
 

@@ -14,9 +14,17 @@ import numpy as np
 
 from vslsp.errors import UnreachableError
 from vslsp.sim.icub import (
-    BASE_Z, HEAD_POSE, IK_JOINTS, LEFT_ARM_PARK, RIGHT_ARM_PARK, KinematicICub, _load_robot,
-    check_reached, palm_down_rotation,
+    BASE_Z,
+    HEAD_POSE,
+    IK_JOINTS,
+    LEFT_ARM_PARK,
+    RIGHT_ARM_PARK,
+    KinematicICub,
+    _load_robot,
+    check_reached,
+    palm_down_rotation,
 )
+from vslsp.sim.icub_model import simulated_urdf_path
 from vslsp.sim.quiet import quiet
 
 with quiet():
@@ -28,6 +36,13 @@ HAND_YAW = np.radians(30.0)  # fingers yawed toward the body's midline, as a per
 MAX_SPEED = 0.15  # m/s of the hand along a path
 JOINT_FORCE = 200.0
 CUBE_CONTACT_LINKS = ("r_hand", "r_wrist_1")  # the links that touch the cubes
+# The links a camera can see: the parked right arm, the chest and the right leg, at the head
+# camera's lower right corner.
+VISIBLE_LINKS = (
+    "root_link", "torso_1", "torso_2", "chest",
+    "r_hip_1", "r_hip_2", "r_hip_3", "r_upper_leg", "r_lower_leg", "r_ankle_1", "r_ankle_2", "r_foot",
+    "r_shoulder_1", "r_shoulder_2", "r_shoulder_3", "r_upper_arm", "r_elbow_1", "r_forearm", "r_wrist_1", "r_hand",
+)
 APPROACH_HEIGHT = 0.05  # the hand comes down onto a path from this far above its start
 # Between parked and ready the arm is lifted out to the side, so it never sweeps the table.
 ARM_ASIDE = {**RIGHT_ARM_PARK, "r_shoulder_roll": 1.3, "r_elbow": 0.6}
@@ -56,28 +71,29 @@ class HandTrajectory:
 class ICub:
     """The iCub of a :class:`~vslsp.sim.world.World`."""
 
-    def __init__(self, world) -> None:
+    def __init__(self, world, visuals: bool = True) -> None:
+        """The robot at ``world``'s table; ``visuals`` False leaves out the meshes no camera
+        sees (headless worlds: all but the right arm's, which shows at the head camera's lower
+        right corner when parked; the rest of the body is behind the cameras)."""
         self.world = world
         self.client = world.client
-        self.body = _load_robot(self.client)
+        # Only the torso and the right arm move: every other joint is frozen at its posture in
+        # the simulated model, and only the hand touches the cubes (see below), so the other
+        # links carry no collision shape.
+        self.body = _load_robot(self.client, path=simulated_urdf_path(
+            IK_JOINTS, tuple(sorted({**LEFT_ARM_PARK, **HEAD_POSE}.items())), CUBE_CONTACT_LINKS,
+            None if visuals else VISIBLE_LINKS))
         self.kinematics = KinematicICub()
         self.joint_index = dict(self.kinematics.joint_index)
         self.ik_indices = [self.joint_index[name] for name in IK_JOINTS]
-        for link in range(-1, pb.getNumJoints(self.body, physicsClientId=self.client)):
-            # The table is static and the hand stays above it: robot-table contacts would only
-            # be the legs under the table top.
-            pb.setCollisionFilterPair(self.body, world.table, link, -1, 0, physicsClientId=self.client)
         # The model's shoulder sits low over the table, so with the palm down the forearm and
         # upper arm lie just above the table top (the wrist cannot pitch enough to lift them).
         # A person or an iCub at a lower table would pass over the other cubes: only the hand
         # touches them, so that pushing one cube does not drag its neighbours with the forearm.
-        hand_links = {self.kinematics.link_index[name] for name in CUBE_CONTACT_LINKS}
+        # The table is static and the hand stays above it: no robot-table contacts.
         for link in range(-1, pb.getNumJoints(self.body, physicsClientId=self.client)):
-            if link not in hand_links:
-                for cube in world.cubes.values():
-                    pb.setCollisionFilterPair(self.body, cube, link, -1, 0, physicsClientId=self.client)
-        posture = {**LEFT_ARM_PARK, **HEAD_POSE, **RIGHT_ARM_PARK}
-        for name, value in posture.items():
+            pb.setCollisionFilterPair(self.body, world.table, link, -1, 0, physicsClientId=self.client)
+        for name, value in RIGHT_ARM_PARK.items():
             pb.resetJointState(self.body, self.joint_index[name], value, physicsClientId=self.client)
         self.kinematics.set_joints({**LEFT_ARM_PARK, **HEAD_POSE})
         self._hold_all()
@@ -116,8 +132,8 @@ class ICub:
 
     # -- control ----------------------------------------------------------------------------
     def _hold_all(self) -> None:
-        """Position-hold every joint at its current value (the legs, head and left arm too)."""
-        indices = sorted(self.joint_index.values())
+        """Position-hold every moving joint at its current value."""
+        indices = sorted(self.ik_indices)
         targets = [pb.getJointState(self.body, i, physicsClientId=self.client)[0] for i in indices]
         pb.setJointMotorControlArray(self.body, indices, pb.POSITION_CONTROL, targetPositions=targets,
                                      forces=[JOINT_FORCE] * len(indices), physicsClientId=self.client)

@@ -10,6 +10,7 @@ the x axis; ``far`` is the side the normal points to, away from the robot.
 
 from __future__ import annotations
 
+import functools
 import json
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -269,17 +270,61 @@ def _placeable(landmark: LandmarkSpec, far: np.ndarray, centres: np.ndarray) -> 
     )
 
 
+def _margins(landmark: LandmarkSpec, far: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """The constraints of :func:`_placeable` as margins (n, 17), each >= 0 where it holds.
+
+    Every margin is affine in the centre (the ``max(0, ...)`` bounds are split into their
+    linear pieces), so along a line each is affine in the distance along it."""
+    contacts = centres - np.outer(np.where(far, -0.10, 0.07), landmark.normal) \
+        - np.outer(np.where(far, 0.04, 0.0), landmark.direction)
+    across = (centres - landmark.point) @ landmark.normal
+    landed = centres - np.outer(across + np.where(far, 0.065, -PUSH_OVERSHOOT), landmark.normal)
+    lx, ly, cx, cy, kx, ky = landed[:, 0], landed[:, 1], centres[:, 0], centres[:, 1], contacts[:, 0], contacts[:, 1]
+    return np.column_stack([
+        lx - 0.10, lx - 0.10 - 0.6 * (ly + 0.05), lx - 0.10 - 0.8 * (-0.2 - ly), 0.37 - lx,
+        ly - (WORKSPACE_Y[0] - 0.03), WORKSPACE_Y[1] - ly,
+        cx - WORKSPACE_X[0], WORKSPACE_X[1] - cx, cy - WORKSPACE_Y[0], WORKSPACE_Y[1] - cy,
+        kx - HAND_REACH_X[0], HAND_REACH_X[1] - kx, ky - HAND_REACH_Y[0], HAND_REACH_Y[1] - ky,
+        -0.01 + 0.5 * (kx - HAND_REACH_X[0]) - ky, ky - HAND_REACH_Y[0] - 1.5 * (0.15 - kx),
+    ])
+
+
+_GRID = np.linspace(-0.2, 0.2, 81)
+_TIE = 1e-9  # m: a margin this close to 0 on a grid point is decided by _placeable itself
+
+
+@functools.lru_cache(maxsize=64)
+def _line_forms(landmark: LandmarkSpec, far: tuple[bool, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The margins (n, 17) of cubes on the line's point, and their change per metre across
+    the line and per metre along it (both (n, 17))."""
+    n, sides = len(far), np.array(far * 3)
+    base = np.repeat(landmark.point[None], n, axis=0)
+    ends = _margins(landmark, sides, np.vstack([base, base + landmark.normal, base + landmark.direction]))
+    return ends[:n], ends[n:2 * n] - ends[:n], ends[2 * n:] - ends[:n]
+
+
 def _along_span(landmark: LandmarkSpec, far: np.ndarray, across: np.ndarray) -> tuple[float, float] | None:
     """The stretch of the line (m along it) where every cube, at its distance ``across`` from
-    the line, would be placeable; None when there is none."""
-    grid = np.linspace(-0.2, 0.2, 81)
-    low, high = -np.inf, np.inf
-    for f, a in zip(far, across):
-        centres = landmark.point + np.outer(grid, landmark.direction) + a * landmark.normal
-        ok = grid[_placeable(landmark, np.full(len(grid), f), centres)]
-        if len(ok) == 0:
-            return None
-        low, high = max(low, ok.min()), min(high, ok.max())
+    the line, would be placeable (on a grid of 81 points, 5 mm apart); None when there is none.
+
+    The scene sampler asks this thousands of times per scene, so the constraints are
+    evaluated as margins affine along the line for all cubes and grid points at once; the
+    rare grid point that lies on a constraint's boundary is decided by :func:`_placeable`."""
+    far = np.asarray(far)
+    at_line, per_across, slope = _line_forms(landmark, tuple(bool(f) for f in far))
+    margins = (at_line + np.asarray(across, dtype=float)[:, None] * per_across)[:, :, None] \
+        + slope[:, :, None] * _GRID  # (n, 17, 81)
+    # A point is placeable where its least margin is >= 0; a least margin within _TIE of 0 is
+    # a tie that rounding could decide either way: _placeable, the reference, decides it.
+    least = margins.min(axis=1)  # (n, 81)
+    ok = least >= 0.0
+    for k, i in np.argwhere(np.abs(least) < _TIE):
+        centre = landmark.point + _GRID[i] * landmark.direction + across[k] * landmark.normal
+        ok[k, i] = _placeable(landmark, far[k:k + 1], centre[None])[0]
+    if not ok.any(axis=1).all():
+        return None
+    low = _GRID[ok.argmax(axis=1)].max()  # the grid ascends: the first and last placeable points
+    high = _GRID[len(_GRID) - 1 - ok[:, ::-1].argmax(axis=1)].min()
     return (float(low), float(high)) if low < high else None
 
 

@@ -1,4 +1,4 @@
-"""The simulated tabletop world: the iCub at a table, coloured cubes and a landmark line.
+"""The simulated tabletop world: the iCub at a table, coloured, textured cubes and a landmark line.
 
 Paper section "Implementation" of VSL-SP: the iCub pushes and pulls cubes across a black
 borderline drawn on the table, watching the scene through its eyes. pybullet runs headless
@@ -14,11 +14,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from vslsp.errors import InputError
-from vslsp.sim.camera import Camera
-from vslsp.sim.robot import TIME_STEP
+from vslsp.sim.camera import Backdrop, Camera
 from vslsp.sim.client import PhysicsClient
 from vslsp.sim.quiet import quiet
+from vslsp.sim.robot import TIME_STEP
 from vslsp.sim.scene import COLOURS, LINE_WIDTH, TABLE_Z, CubeSpec, SceneSpec
+from vslsp.sim.textures import cube_atlas, cube_mesh, texture_file
 
 with quiet():
     import pybullet as pb
@@ -40,15 +41,28 @@ class Observation:
     camera: Camera
 
 
+def _table_backdrop(client: int, visual: int, centre: list[float]) -> Backdrop:
+    """The table top as a solid backdrop, in the colour the renderer gives its visual."""
+    look = pb.createMultiBody(0, -1, visual, centre, physicsClientId=client)
+    small = Camera("look", eye=(0.27, -0.07, TABLE_Z + 0.5), target=(0.27, -0.07, TABLE_Z), up=(1.0, 0.0, 0.0),
+                   width=8, height=6, fov=45.0)
+    colour = small.render(client)[0][small.height // 2, small.width // 2]
+    pb.removeBody(look, physicsClientId=client)
+    r, g, b = (int(v) for v in colour)
+    return Backdrop(TABLE_Z, (TABLE_CENTRE[0] - TABLE_HALF[0], TABLE_CENTRE[0] + TABLE_HALF[0]),
+                    (TABLE_CENTRE[1] - TABLE_HALF[1], TABLE_CENTRE[1] + TABLE_HALF[1]), (r, g, b), solid=True)
+
+
 class World(PhysicsClient):
     """A pybullet world built from a :class:`SceneSpec`; close it (or use ``with``) when done."""
 
     def __init__(self, spec: SceneSpec | None = None, *, seed: int = 0, gui: bool = False,
-                 robot: bool = True) -> None:
+                 robot: bool = True, textured: bool = True) -> None:
         from vslsp.sim.robot import ICub  # robot imports the world's constants
         from vslsp.sim.tutor import Tutor
 
         self.spec = spec if spec is not None else SceneSpec.random(seed)
+        self.textured = textured
         with quiet():
             self.client = pb.connect(pb.GUI if gui else pb.DIRECT)
         pb.resetSimulation(physicsClientId=self.client)
@@ -57,23 +71,35 @@ class World(PhysicsClient):
         pb.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=self.client)
         if gui:
             pb.configureDebugVisualizer(pb.COV_ENABLE_GUI, 0, physicsClientId=self.client)
-        self.table = self._make_table()
+        self._seen: dict[tuple, tuple[tuple, Observation]] = {}
+        self.table = self._make_table(gui)
         self.landmark_body = self._make_landmark()
         self.cubes: dict[str, int] = {}
         for cube in self.spec.cubes:
             self.cubes[cube.name] = self._make_cube(cube)
-        self.robot = ICub(self) if robot else None
+        self.robot = ICub(self, visuals=gui) if robot else None
         self.tutor = Tutor(self)
         self.settle()
 
     # -- building -----------------------------------------------------------------------
-    def _make_table(self) -> int:
-        c = self.client
+    def _make_table(self, gui: bool) -> int:
+        """The table. Headless, its top is drawn as the cameras' solid :class:`Backdrop` (the
+        colour the renderer gives it, read from a small render of the table alone) instead of
+        being rasterised with every image: the same pixels but for ties at bodies' edges."""
+        c, centre = self.client, [*TABLE_CENTRE, TABLE_Z - TABLE_HALF[2]]
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, physicsClientId=c)
         visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR,
                                       physicsClientId=c)
-        body = pb.createMultiBody(0, shape, visual, [*TABLE_CENTRE, TABLE_Z - TABLE_HALF[2]],
-                                  physicsClientId=c)
+        self.backdrop: Backdrop | None = None
+        if gui or c is None:
+            body = pb.createMultiBody(0, shape, visual, centre, physicsClientId=c)
+        else:
+            self.backdrop = _table_backdrop(c, visual, centre)
+            # a body without a visual shape would be drawn from its collision box: give the
+            # table a speck of a visual far above the cameras instead, which they never see
+            speck = pb.createVisualShape(pb.GEOM_SPHERE, radius=1e-3, visualFramePosition=[0.0, 0.0, 50.0],
+                                         rgbaColor=TABLE_COLOUR, physicsClientId=c)
+            body = pb.createMultiBody(0, shape, speck, centre, physicsClientId=c)
         pb.changeDynamics(body, -1, lateralFriction=CUBE_FRICTION, physicsClientId=c)
         return body
 
@@ -92,14 +118,23 @@ class World(PhysicsClient):
         c = self.client
         half = [cube.size / 2.0] * 3
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
-        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=(*COLOURS[cube.colour], 1.0),
-                                      physicsClientId=c)
+        if self.textured:  # the colour is the symbol; the texture gives match finding its keypoints
+            vertices, indices, uvs, normals = cube_mesh(cube.size)
+            visual = pb.createVisualShape(pb.GEOM_MESH, vertices=vertices, indices=indices, uvs=uvs,
+                                          normals=normals, rgbaColor=[1, 1, 1, 1], physicsClientId=c)
+        else:
+            visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=(*COLOURS[cube.colour], 1.0),
+                                          physicsClientId=c)
         body = pb.createMultiBody(
             CUBE_MASS, shape, visual, [cube.x, cube.y, TABLE_Z + cube.size / 2.0],
             pb.getQuaternionFromEuler([0, 0, cube.yaw]), physicsClientId=c,
         )
         pb.changeDynamics(body, -1, lateralFriction=CUBE_FRICTION, spinningFriction=0.001,
                           physicsClientId=c)
+        if self.textured:
+            texture = pb.loadTexture(str(texture_file(cube_atlas(COLOURS[cube.colour], cube.name))),
+                                     physicsClientId=c)
+            pb.changeVisualShape(body, -1, textureUniqueId=texture, physicsClientId=c)
         return body
 
     # -- running ------------------------------------------------------------------------
@@ -164,9 +199,26 @@ class World(PhysicsClient):
         raise InputError(f"unknown camera {name!r}; use one of {', '.join(CAMERA_NAMES)}")
 
     def observe(self, camera: str = "head", width: int = 640, height: int = 480) -> Observation:
-        """Render what ``camera`` sees now (the arm is parked out of view first)."""
+        """Render what ``camera`` sees now (the arm is parked out of view first).
+
+        A view of a world in which nothing moved since the camera last looked is that same
+        view: the image is a function of the bodies' poses, so it is not rendered again."""
         if self.robot is not None:
             self.robot.park()
         view = self.camera(camera, width, height)
-        rgb, depth = view.render(self.client)
-        return Observation(rgb=rgb, depth=depth, camera=view)
+        state = self._poses()
+        seen = self._seen.get((camera, width, height))
+        if seen is None or seen[0] != state or seen[1].camera != view:
+            rgb, depth = view.render(self.client, self.backdrop)
+            seen = (state, Observation(rgb=rgb, depth=depth, camera=view))
+            self._seen[(camera, width, height)] = seen
+        return Observation(rgb=seen[1].rgb.copy(), depth=seen[1].depth.copy(), camera=view)
+
+    def _poses(self) -> tuple:
+        """Every movable body's pose and the robot's joint positions, exactly as pybullet has them."""
+        c = self.client
+        poses = tuple(pb.getBasePositionAndOrientation(body, physicsClientId=c) for body in self.cubes.values())
+        if self.robot is None:
+            return poses
+        joints = pb.getJointStates(self.robot.body, self.robot.ik_indices, physicsClientId=c)
+        return poses + tuple(joint[0] for joint in joints)
