@@ -64,19 +64,22 @@ def workload() -> tuple[float, float]:
         with quiet():
             arm = pb.loadURDF("kuka_iiwa/model.urdf", [0, 0, 0], useFixedBase=True, physicsClientId=client)
         box = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[0.025] * 3, physicsClientId=client)
-        look = pb.createVisualShape(pb.GEOM_BOX, halfExtents=[0.025] * 3, rgbaColor=[0.9, 0.4, 0.1, 1],
-                                    physicsClientId=client)
+        look = pb.createVisualShape(
+            pb.GEOM_BOX, halfExtents=[0.025] * 3, rgbaColor=[0.9, 0.4, 0.1, 1], physicsClientId=client
+        )
         for k in range(12):
             angle = 2 * np.pi * k / 12
-            pb.createMultiBody(0.1, box, look, [0.55 * np.cos(angle), 0.55 * np.sin(angle), 0.025],
-                               physicsClientId=client)
+            pb.createMultiBody(
+                0.1, box, look, [0.55 * np.cos(angle), 0.55 * np.sin(angle), 0.025], physicsClientId=client
+            )
         joints = list(range(pb.getNumJoints(arm, physicsClientId=client)))
         for step in range(WORKLOAD_STEPS):
             if step % 10 == 0:
                 phase = step / 240.0
                 targets = [0.8 * np.sin(phase + j) for j in joints]
-                pb.setJointMotorControlArray(arm, joints, pb.POSITION_CONTROL, targetPositions=targets,
-                                             physicsClientId=client)
+                pb.setJointMotorControlArray(
+                    arm, joints, pb.POSITION_CONTROL, targetPositions=targets, physicsClientId=client
+                )
             pb.stepSimulation(physicsClientId=client)
         projection = pb.computeProjectionMatrixFOV(60, 640 / 480, 0.05, 5.0)
         for k in range(WORKLOAD_VIEWS):
@@ -116,10 +119,19 @@ def speed(experiments: list[str], trials: int, repeat: int, seed: int) -> tuple[
             seconds.append(min(r[0] for r in runs))
             ratios.append(min(r[1] for r in runs))
             cpus.append(min(r[2] for r in runs))
-        rows.append({"experiment": name, "trials": trials, "repeat": repeat, "successes": successes,
-                     "s_per_trial": float(np.mean(seconds)), "workloads_per_trial": float(np.mean(ratios)),
-                     "cpu_s_per_trial": float(np.mean(cpus)),
-                     "s_per_seed": [round(s, 2) for s in seconds], "workloads_per_seed": [round(r, 2) for r in ratios]})
+        rows.append(
+            {
+                "experiment": name,
+                "trials": trials,
+                "repeat": repeat,
+                "successes": successes,
+                "s_per_trial": float(np.mean(seconds)),
+                "workloads_per_trial": float(np.mean(ratios)),
+                "cpu_s_per_trial": float(np.mean(cpus)),
+                "s_per_seed": [round(s, 2) for s in seconds],
+                "workloads_per_seed": [round(r, 2) for r in ratios],
+            }
+        )
     reference = {"wall_s": min(r[0] for r in references), "cpu_s": min(r[1] for r in references)}
     for row in rows:
         row["cpu_workloads_per_trial"] = row["cpu_s_per_trial"] / reference["cpu_s"]
@@ -146,20 +158,31 @@ def success(experiments: list[str], trials: int, seed: int, workers: int, with_f
             wall = time.perf_counter() - start
             rate = sum(t.success for t in results) / len(results)
             matched = [how for t in results for how in t.details.get("matched_by", [])]
-            rows.append({
-                "experiment": name, "faults": faults, "trials": len(results), "success_rate": rate,
-                "target": TARGETS[faults], "met": rate >= TARGETS[faults],
-                "replans": sum(t.details.get("replans", 0) for t in results),
-                "failed_steps": sum(t.details.get("failed_steps", 0) for t in results),
-                "s_per_trial": float(np.mean([t.time_s for t in results])), "wall_s": wall,
-                "matched_by_match": matched.count("match"), "matched_by_symbol": matched.count("symbol"),
-                "failures": [(t.seed, t.error) for t in results if not t.success],
-            })
+            rows.append(
+                {
+                    "experiment": name,
+                    "faults": faults,
+                    "trials": len(results),
+                    "success_rate": rate,
+                    "target": TARGETS[faults],
+                    "met": rate >= TARGETS[faults],
+                    "replans": sum(t.details.get("replans", 0) for t in results),
+                    "failed_steps": sum(t.details.get("failed_steps", 0) for t in results),
+                    "s_per_trial": float(np.mean([t.time_s for t in results])),
+                    "wall_s": wall,
+                    "matched_by_match": matched.count("match"),
+                    "matched_by_symbol": matched.count("symbol"),
+                    "failures": [(t.seed, t.error) for t in results if not t.success],
+                }
+            )
             row = rows[-1]
             share = f", match finding {row['matched_by_match']}/{len(matched)}" if matched else ""
-            print(f"{name:16s} faults={str(faults):5s} {rate * 100:5.1f} % of {len(results)} "
-                  f"(target {TARGETS[faults] * 100:.0f} %: {'met' if row['met'] else 'MISSED'}), "
-                  f"{row['replans']} replans{share}, {row['s_per_trial']:.1f} s/trial, wall {wall:.0f} s", flush=True)
+            print(
+                f"{name:16s} faults={str(faults):5s} {rate * 100:5.1f} % of {len(results)} "
+                f"(target {TARGETS[faults] * 100:.0f} %: {'met' if row['met'] else 'MISSED'}), "
+                f"{row['replans']} replans{share}, {row['s_per_trial']:.1f} s/trial, wall {wall:.0f} s",
+                flush=True,
+            )
             for failed_seed, error in row["failures"][:5]:
                 print(f"    seed {failed_seed}: {error}")
     return rows
@@ -172,8 +195,12 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=100, help="trials per experiment for the success rates")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--experiments", nargs="*", default=[cls.name for cls in list_tasks()],
-                        help="registered experiments (default: all; vslsp experiment --list)")
+    parser.add_argument(
+        "--experiments",
+        nargs="*",
+        default=[cls.name for cls in list_tasks()],
+        help="registered experiments (default: all; vslsp experiment --list)",
+    )
     parser.add_argument("--no-success", action="store_true", help="only the cost figures")
     parser.add_argument("--no-faults", action="store_true", help="skip the fault-injected runs")
     parser.add_argument("--no-demo", action="store_true", help="skip timing `vslsp demo`")
@@ -181,22 +208,29 @@ def main() -> None:
     args = parser.parse_args()
 
     reference, cost = speed(args.experiments, args.speed_trials, args.repeat, args.seed)
-    print(f"fixed workload (KUKA among cubes, {WORKLOAD_STEPS} steps + {WORKLOAD_VIEWS} 640x480 views): "
-          f"{reference['wall_s']:.3f} s, {reference['cpu_s']:.3f} CPU s (quickest runs)")
+    print(
+        f"fixed workload (KUKA among cubes, {WORKLOAD_STEPS} steps + {WORKLOAD_VIEWS} 640x480 views): "
+        f"{reference['wall_s']:.3f} s, {reference['cpu_s']:.3f} CPU s (quickest runs)"
+    )
     for row in cost:
-        print(f"{row['experiment']:16s} {row['s_per_trial']:6.2f} s/trial = {row['workloads_per_trial']:5.2f} wl; "
-              f"{row['cpu_s_per_trial']:6.2f} CPU s/trial = {row['cpu_workloads_per_trial']:5.2f} workloads "
-              f"({row['trials']} seeds x {row['repeat']} runs, {row['successes']}/{row['trials']} succeeded; "
-              f"per seed {row['s_per_seed']} s, {row['workloads_per_seed']} workloads)", flush=True)
-    rates = [] if args.no_success else success(args.experiments, args.trials, args.seed, args.workers,
-                                                not args.no_faults)
+        print(
+            f"{row['experiment']:16s} {row['s_per_trial']:6.2f} s/trial = {row['workloads_per_trial']:5.2f} wl; "
+            f"{row['cpu_s_per_trial']:6.2f} CPU s/trial = {row['cpu_workloads_per_trial']:5.2f} workloads "
+            f"({row['trials']} seeds x {row['repeat']} runs, {row['successes']}/{row['trials']} succeeded; "
+            f"per seed {row['s_per_seed']} s, {row['workloads_per_seed']} workloads)",
+            flush=True,
+        )
+    rates = (
+        [] if args.no_success else success(args.experiments, args.trials, args.seed, args.workers, not args.no_faults)
+    )
     seconds, code = (None, None) if args.no_demo else demo_time()
     if seconds is not None:
-        print(f"vslsp demo cold start to finish: {seconds:.1f} s (exit {code}; target <= 60 s: "
-              f"{'met' if seconds <= 60 and code == 0 else 'MISSED'}; {seconds / 60:.2f} of the budget)")
+        print(
+            f"vslsp demo cold start to finish: {seconds:.1f} s (exit {code}; target <= 60 s: "
+            f"{'met' if seconds <= 60 and code == 0 else 'MISSED'}; {seconds / 60:.2f} of the budget)"
+        )
     if args.json:
-        print(json.dumps({"workload": reference, "cost": cost, "success": rates, "demo_s": seconds,
-                          "demo_exit": code}))
+        print(json.dumps({"workload": reference, "cost": cost, "success": rates, "demo_s": seconds, "demo_exit": code}))
 
 
 if __name__ == "__main__":

@@ -35,8 +35,10 @@ def main() -> None:
     pb.disconnect(client)
     kinematics = KinematicICub()
     reduced = timed(lambda: KinematicICub().close(), 3)
-    print(f"iCub load: reduced model {reduced * 1000:.0f} ms (incl. Jacobian calibration), "
-          f"as shipped {shipped * 1000:.0f} ms, ratio {shipped / reduced:.2f}x")
+    print(
+        f"iCub load: reduced model {reduced * 1000:.0f} ms (incl. Jacobian calibration), "
+        f"as shipped {shipped * 1000:.0f} ms, ratio {shipped / reduced:.2f}x"
+    )
 
     with World(seed=0) as world:
         steps = timed(lambda: world.step(240))
@@ -47,7 +49,9 @@ def main() -> None:
             print(f"render head camera {width}x{height}: {render * 1000:.0f} ms/frame")
 
     rng = np.random.default_rng(0)
-    targets = np.column_stack([rng.uniform(0.15, 0.40, 100), rng.uniform(-0.22, 0.0, 100), np.full(100, TABLE_Z + 0.02)])
+    targets = np.column_stack(
+        [rng.uniform(0.15, 0.40, 100), rng.uniform(-0.22, 0.0, 100), np.full(100, TABLE_Z + 0.02)]
+    )
     rotation = palm_down_rotation(HAND_YAW)
     errors, start = [], time.perf_counter()
     for target in targets:
@@ -65,16 +69,22 @@ def main() -> None:
     start = time.perf_counter()
     theirs_errors = []
     for target in targets:
-        solution = pb.calculateInverseKinematics(kinematics.body, hand, target, maxNumIterations=200,
-                                                 physicsClientId=kinematics.client)
+        solution = pb.calculateInverseKinematics(
+            kinematics.body, hand, target, maxNumIterations=200, physicsClientId=kinematics.client
+        )
         theirs_errors.append(np.nan if solution is None else 0.0)
     theirs = (time.perf_counter() - start) / len(targets)
-    print(f"IK (torso + arm, position + palm-down orientation) from a neutral seed: {ours * 1000:.2f} ms/call, "
-          f"error median {np.median(errors):.3f} mm, 95th pct {np.percentile(errors, 95):.3f} mm, max {errors.max():.3f} mm "
-          f"over {len(targets)} table targets")
+    print(
+        f"IK (torso + arm, position + palm-down orientation) from a neutral seed: {ours * 1000:.2f} ms/call, "
+        f"error median {np.median(errors):.3f} mm, 95th pct {np.percentile(errors, 95):.3f} mm, "
+        f"max {errors.max():.3f} mm "
+        f"over {len(targets)} table targets"
+    )
     print(f"IK warm-started along a 5 mm path: {warm * 1000:.2f} ms/call")
-    print(f"pybullet calculateInverseKinematics (all 32 joints, position only): {theirs * 1000:.2f} ms/call; "
-          f"ours/theirs time ratio {ours / theirs:.1f}")
+    print(
+        f"pybullet calculateInverseKinematics (all 32 joints, position only): {theirs * 1000:.2f} ms/call; "
+        f"ours/theirs time ratio {ours / theirs:.1f}"
+    )
     kinematics.close()
 
 

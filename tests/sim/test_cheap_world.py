@@ -65,8 +65,11 @@ def test_the_simulated_robot_keeps_the_kinematics():
         sim = pb.getLinkState(robot.body, head, computeForwardKinematics=True, physicsClientId=world.client)
         kin = pb.getLinkState(kinematics.body, head, computeForwardKinematics=True, physicsClientId=kinematics.client)
         assert np.allclose(sim[4], kin[4], atol=1e-9) and np.allclose(sim[5], kin[5], atol=1e-9)
-        movable = [i for i in range(pb.getNumJoints(robot.body, physicsClientId=world.client))
-                   if pb.getJointInfo(robot.body, i, physicsClientId=world.client)[2] != pb.JOINT_FIXED]
+        movable = [
+            i
+            for i in range(pb.getNumJoints(robot.body, physicsClientId=world.client))
+            if pb.getJointInfo(robot.body, i, physicsClientId=world.client)[2] != pb.JOINT_FIXED
+        ]
         assert sorted(movable) == sorted(robot.ik_indices) and len(movable) == len(IK_JOINTS)
 
 
@@ -91,13 +94,14 @@ def test_cube_textures_are_seeded_by_name():
     assert np.array_equal(cube_atlas(red, "red"), cube_atlas(red, "red"))
     assert not np.array_equal(cube_atlas(red, "red"), cube_atlas(red, "red_2"))
     atlas = cube_atlas(red, "red")
-    faces = [atlas[r * 48:(r + 1) * 48, c * 48:(c + 1) * 48] for r in range(2) for c in range(3)]
-    assert all(not np.array_equal(a, b) for i, a in enumerate(faces) for b in faces[i + 1:])
+    faces = [atlas[r * 48 : (r + 1) * 48, c * 48 : (c + 1) * 48] for r in range(2) for c in range(3)]
+    assert all(not np.array_equal(a, b) for i, a in enumerate(faces) for b in faces[i + 1 :])
 
 
 @pytest.mark.slow
 def test_a_trial_does_not_depend_on_the_trials_before_it():
     from vslsp.experiments import run_trial
+
     from vslsp.skills import SkillLibrary, default_library_path
 
     library = SkillLibrary.load(default_library_path())

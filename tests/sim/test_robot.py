@@ -19,9 +19,13 @@ def world():
 def test_ik_reaches_targets_over_the_table_within_1_cm():
     kinematics = KinematicICub()
     rng = np.random.default_rng(0)
-    targets = np.column_stack([
-        rng.uniform(0.12, 0.42, 40), rng.uniform(-0.24, 0.02, 40), np.full(40, TABLE_Z + 0.02),
-    ])
+    targets = np.column_stack(
+        [
+            rng.uniform(0.12, 0.42, 40),
+            rng.uniform(-0.24, 0.02, 40),
+            np.full(40, TABLE_Z + 0.02),
+        ]
+    )
     errors = [kinematics.solve(t, palm_down_rotation(HAND_YAW), _reach_seed()).position_error for t in targets]
     kinematics.close()
     assert np.max(errors) < 0.01

@@ -11,8 +11,16 @@ import pytest
 
 from vslsp.errors import InputError
 from vslsp.sim.quiet import quiet
-from vslsp.sim.tabletop import (TABLE_CENTRE, TABLE_COLOUR, TABLE_HALF, WORKSPACE_X, WORKSPACE_Y, Item, Placement,
-                                 TabletopWorld)
+from vslsp.sim.tabletop import (
+    TABLE_CENTRE,
+    TABLE_COLOUR,
+    TABLE_HALF,
+    WORKSPACE_X,
+    WORKSPACE_Y,
+    Item,
+    Placement,
+    TabletopWorld,
+)
 
 with quiet():
     import pybullet as pb
@@ -28,7 +36,9 @@ def picture(seed: int, size: tuple[int, int] = (128, 128)) -> np.ndarray:
         x, y = rng.integers(0, size[1] - 20), rng.integers(0, size[0] - 20)
         colour = tuple(int(c) for c in rng.integers(0, 200, 3))
         if rng.random() < 0.5:
-            cv2.rectangle(image, (int(x), int(y)), (int(x + rng.integers(8, 30)), int(y + rng.integers(8, 30))), colour, -1)
+            cv2.rectangle(
+                image, (int(x), int(y)), (int(x + rng.integers(8, 30)), int(y + rng.integers(8, 30))), colour, -1
+            )
         else:
             cv2.circle(image, (int(x + 10), int(y + 10)), int(rng.integers(4, 12)), colour, -1)
     return image
@@ -63,8 +73,11 @@ def test_the_parked_arm_is_out_of_view_and_the_table_fills_the_image():
 
 
 def test_the_table_drawn_as_a_backdrop_looks_like_the_rasterised_table():
-    layout = [(tile("A", 1), Placement(0.40, 0.10, 0.3)), (tile("B", 2), Placement(0.55, -0.10, 0.0)),
-              (tile("C", 3), Placement(0.55, -0.10, 0.5, on="B"))]
+    layout = [
+        (tile("A", 1), Placement(0.40, 0.10, 0.3)),
+        (tile("B", 2), Placement(0.55, -0.10, 0.0)),
+        (tile("C", 3), Placement(0.55, -0.10, 0.5, on="B")),
+    ]
     with TabletopWorld(layout) as world:
         image = world.observe()
         depth = world.camera.render(world.client, world.backdrop)[1]
@@ -89,8 +102,14 @@ def test_pixel_and_table_coordinates_round_trip_over_the_workspace_with_the_robo
         left, right = world.table_to_pixel(0.5, WORKSPACE_Y[1]), world.table_to_pixel(0.5, WORKSPACE_Y[0])
         assert near[1] > far[1] and left[0] < right[0]  # robot at the bottom, its left on the left
         # Oblique, not perpendicular: the workspace's far edge looks shorter than its near edge.
-        far_width = world.table_to_pixel(WORKSPACE_X[1], WORKSPACE_Y[0])[0] - world.table_to_pixel(WORKSPACE_X[1], WORKSPACE_Y[1])[0]
-        near_width = world.table_to_pixel(WORKSPACE_X[0], WORKSPACE_Y[0])[0] - world.table_to_pixel(WORKSPACE_X[0], WORKSPACE_Y[1])[0]
+        far_width = (
+            world.table_to_pixel(WORKSPACE_X[1], WORKSPACE_Y[0])[0]
+            - world.table_to_pixel(WORKSPACE_X[1], WORKSPACE_Y[1])[0]
+        )
+        near_width = (
+            world.table_to_pixel(WORKSPACE_X[0], WORKSPACE_Y[0])[0]
+            - world.table_to_pixel(WORKSPACE_X[0], WORKSPACE_Y[1])[0]
+        )
         assert far_width < 0.9 * near_width
 
 
@@ -140,8 +159,11 @@ def test_pick_and_place_turns_the_item_the_long_way_round_when_asked():
 def test_items_stack_with_placement_on_and_with_pick_and_place_onto_another_item():
     base = Item("base", (0.16, 0.12, 0.01), picture(3), movable=False)
     disk = Item("disk", (0.09, 0.05, 0.02), picture(4), mass=0.08)
-    layout = [(base, Placement(0.60, 0.15)), (disk, Placement(0.60, 0.15, 0.0, on="base")),
-              (Item("cube", (0.05, 0.05, 0.05), picture(5)), Placement(0.40, -0.15, 0.3))]
+    layout = [
+        (base, Placement(0.60, 0.15)),
+        (disk, Placement(0.60, 0.15, 0.0, on="base")),
+        (Item("cube", (0.05, 0.05, 0.05), picture(5)), Placement(0.40, -0.15, 0.3)),
+    ]
     with TabletopWorld(layout) as world:
         assert world.pose("disk")[2] == pytest.approx(0.01, abs=1e-3)
         # The disk is grasped across its 5 cm side and put on the cube.
@@ -154,8 +176,11 @@ def test_items_stack_with_placement_on_and_with_pick_and_place_onto_another_item
 
 
 def test_a_grasp_with_a_given_width_takes_a_cube_from_between_close_neighbours():
-    layout = [(Item("cube", (0.05, 0.05, 0.05), picture(9)), Placement(0.50, 0.0)),
-              (tile("L", 1), Placement(0.50, 0.075)), (tile("R", 2), Placement(0.50, -0.075))]
+    layout = [
+        (Item("cube", (0.05, 0.05, 0.05), picture(9)), Placement(0.50, 0.0)),
+        (tile("L", 1), Placement(0.50, 0.075)),
+        (tile("R", 2), Placement(0.50, -0.075)),
+    ]
     with TabletopWorld(layout) as world:
         result = world.pick_and_place((0.50, 0.0, np.pi / 2), (0.40, 0.20, np.pi / 2), grasp_width=0.05)
         assert result.ok and result.held == "cube"
@@ -230,11 +255,14 @@ def test_tutor_place_moves_an_item_and_the_world_settles():
         assert world.items() == ("A", "B")
 
 
-@pytest.mark.parametrize("layout, words", [
-    ([(tile("A"), Placement(0.4, 0.0)), (tile("A"), Placement(0.5, 0.0))], "two items are named"),
-    ([(tile("A"), Placement(0.4, 0.0, on="B"))], "cannot go on"),
-    ([(tile("A"), Placement(float("nan"), 0.0))], "finite"),
-])
+@pytest.mark.parametrize(
+    "layout, words",
+    [
+        ([(tile("A"), Placement(0.4, 0.0)), (tile("A"), Placement(0.5, 0.0))], "two items are named"),
+        ([(tile("A"), Placement(0.4, 0.0, on="B"))], "cannot go on"),
+        ([(tile("A"), Placement(float("nan"), 0.0))], "finite"),
+    ],
+)
 def test_a_bad_layout_is_an_input_error(layout, words):
     with pytest.raises(InputError, match=words):
         TabletopWorld(layout).close()

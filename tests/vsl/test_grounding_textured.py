@@ -7,12 +7,12 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
+from vslsp.vision.synthetic import PAINTS, Square, tabletop_image
+from vslsp.vsl.grounding import ground, ground_scene
 
 from vslsp.sim import COLOURS, World
 from vslsp.sim.textures import cube_face
 from vslsp.vision.colour import colour_name
-from vslsp.vision.synthetic import PAINTS, Square, tabletop_image
-from vslsp.vsl.grounding import ground, ground_scene
 
 LINE = ((0, 300), (640, 260))  # far is above it in the image (the robot is at the bottom)
 
@@ -29,8 +29,13 @@ def textured_image(squares: list[Square], seed: int, line=LINE) -> np.ndarray:
         size = face.shape[0]
         source = np.float32([[0, size], [0, 0], [size, 0]])
         warp = cv2.getAffineTransform(source, corners[:3])
-        drawn = cv2.warpAffine(face / np.maximum(paint, 1.0), warp, (image.shape[1], image.shape[0]),
-                               flags=cv2.INTER_LINEAR, borderValue=(1.0, 1.0, 1.0))
+        drawn = cv2.warpAffine(
+            face / np.maximum(paint, 1.0),
+            warp,
+            (image.shape[1], image.shape[0]),
+            flags=cv2.INTER_LINEAR,
+            borderValue=(1.0, 1.0, 1.0),
+        )
         mask = np.zeros(image.shape[:2], np.uint8)
         cv2.fillConvexPoly(mask, np.round(corners).astype(np.int32), 1)
         inside = mask.astype(bool)
@@ -42,12 +47,15 @@ def textured_image(squares: list[Square], seed: int, line=LINE) -> np.ndarray:
 STILL = Square("blue", (500, 420), angle=20)
 
 
-@pytest.mark.parametrize("before, after, far, action", [
-    ((200, 400), (210, 150), (False, True), "push"),
-    ((200, 150), (230, 400), (True, False), "pull"),
-    ((200, 150), (400, 120), (True, True), None),
-    ((120, 420), (320, 400), (False, False), None),
-])
+@pytest.mark.parametrize(
+    "before, after, far, action",
+    [
+        ((200, 400), (210, 150), (False, True), "push"),
+        ((200, 150), (230, 400), (True, False), "pull"),
+        ((200, 150), (400, 120), (True, True), None),
+        ((120, 420), (320, 400), (False, False), None),
+    ],
+)
 @pytest.mark.parametrize("colour", ["red", "orange", "yellow", "green", "purple"])
 def test_textured_push_pull_and_null_are_grounded(before, after, far, action, colour):
     pre = textured_image([Square(colour, before), STILL], seed=1)
@@ -63,8 +71,13 @@ def test_textured_push_pull_and_null_are_grounded(before, after, far, action, co
 
 
 def test_every_textured_object_of_one_observation_is_grounded():
-    squares = [Square("red", (100, 150)), Square("orange", (300, 420), angle=30), Square("green", (520, 120)),
-               Square("purple", (420, 400), angle=-15), Square("yellow", (250, 140), angle=40)]
+    squares = [
+        Square("red", (100, 150)),
+        Square("orange", (300, 420), angle=30),
+        Square("green", (520, 120)),
+        Square("purple", (420, 400), angle=-15),
+        Square("yellow", (250, 140), angle=40),
+    ]
     scene = ground_scene(textured_image(squares, seed=3), robot_side="bottom")
     assert scene.far_by_name() == {"red": True, "orange": False, "green": True, "purple": False, "yellow": True}
 

@@ -72,9 +72,16 @@ class Trial:
             self.on_stage(what)
 
     def to_dict(self) -> dict:
-        return {"experiment": self.experiment, "seed": self.seed, "success": self.success, "error": self.error,
-                "replans": self.replans, "failed_steps": self.failed_steps, "time_s": round(self.time_s, 2),
-                **self.details}
+        return {
+            "experiment": self.experiment,
+            "seed": self.seed,
+            "success": self.success,
+            "error": self.error,
+            "replans": self.replans,
+            "failed_steps": self.failed_steps,
+            "time_s": round(self.time_s, 2),
+            **self.details,
+        }
 
 
 def scene_for(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None = None) -> SceneSpec:
@@ -87,8 +94,17 @@ def scene_for(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None 
     raise InputError(f"no scene found for {len(colours)} cubes with seed {seed}")
 
 
-def run_trial(experiment: str, seed: int, library: SkillLibrary, *, faults: bool = False,
-              planner: str = "fast-downward", gui: bool = False, on_stage=None, predicates: tuple = ()) -> Trial:
+def run_trial(
+    experiment: str,
+    seed: int,
+    library: SkillLibrary,
+    *,
+    faults: bool = False,
+    planner: str = "fast-downward",
+    gui: bool = False,
+    on_stage=None,
+    predicates: tuple = (),
+) -> Trial:
     """Run one trial of ``experiment``; user errors propagate, task failures are recorded.
 
     ``predicates``: the user's (:func:`vslsp.grounding.load_predicates`), grounded with ``far``
@@ -101,8 +117,9 @@ def run_trial(experiment: str, seed: int, library: SkillLibrary, *, faults: bool
     fault_plan = {int(rng.integers(0, 2)): str(rng.choice(FAULTS))} if faults else {}
     if faults:
         trial.details["faults"] = {str(k): v for k, v in fault_plan.items()}
-    runner = {"simple-vsl-task": _simple_vsl_task, "keep-all-near": _keep_all_near,
-              "pull-in-order": _pull_in_order}[experiment]
+    runner = {"simple-vsl-task": _simple_vsl_task, "keep-all-near": _keep_all_near, "pull-in-order": _pull_in_order}[
+        experiment
+    ]
     try:
         runner(trial, rng, library, fault_plan, planner)
     except TaskFailed as failure:
@@ -130,8 +147,14 @@ def _model_lines(action) -> list[str]:
 
 # --- watching the tutor ----------------------------------------------------------------------
 
-def _watch(world: World, trial: Trial, operations: list[tuple[str, str]], title: str,
-           recorder: DemonstrationRecorder | None = None) -> list:
+
+def _watch(
+    world: World,
+    trial: Trial,
+    operations: list[tuple[str, str]],
+    title: str,
+    recorder: DemonstrationRecorder | None = None,
+) -> list:
     """The tutor performs ``operations``; the robot grounds each pre/post pair into a Step."""
     steps = []
     state = perceive(world)
@@ -166,16 +189,19 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
                 exploration = explore_skill(world, library, action, predicates=trial.predicates)
             explorations.append(exploration)
             grounding, (pre, post) = exploration.groundings[0], exploration.images[0]
-            trial.observations.append((f"the robot tries {action}" + (f" ({r + 1})" if rounds > 1 else ""), pre,
-                                       post, grounding))
+            trial.observations.append(
+                (f"the robot tries {action}" + (f" ({r + 1})" if rounds > 1 else ""), pre, post, grounding)
+            )
     trial.domain = learn_models(explorations)
     return trial.domain
 
 
-
 # --- VSL reproduction (Algorithm 1, part II) ----------------------------------------------------
 
-def _reproduce_vsl(world: World, trial: Trial, library: SkillLibrary, demonstration, faults: dict[int, str]) -> list[str]:
+
+def _reproduce_vsl(
+    world: World, trial: Trial, library: SkillLibrary, demonstration, faults: dict[int, str]
+) -> list[str]:
     """Reproduce a recorded demonstration by match finding: for each operation, find the
     demonstrated object in the current scene (SIFT + RANSAC, adaptive frame) and bring it to
     the demonstrated side of the line. A last look checks every object against its final
@@ -252,6 +278,7 @@ def _without_landmark(image: np.ndarray) -> np.ndarray:
 
 # --- the three experiments ----------------------------------------------------------------------
 
+
 def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=3, replace=False))
     with World(scene_for(trial.seed, colours), gui=trial.gui) as world:
@@ -270,8 +297,15 @@ def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
         acted = _reproduce_vsl(world, trial, library, demonstration, faults)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     trial.success = final == goal
-    trial.details.update({"demonstrated": [f"{a} {c}" for c, a in operations], "goal_far": goal,
-                          "initial_far": initial, "final_far": final, "acted": acted})
+    trial.details.update(
+        {
+            "demonstrated": [f"{a} {c}" for c, a in operations],
+            "goal_far": goal,
+            "initial_far": initial,
+            "final_far": final,
+            "acted": acted,
+        }
+    )
     if not trial.success:
         trial.error = f"final far {final} differs from the demonstrated {goal}"
 
@@ -289,7 +323,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
             # The paper's rule holds for any block because the tutor pulled blocks of several
             # colours; demonstrations that only ever pull one colour teach that colour alone.
             other = next(k for k, c in enumerate(colours) if c not in pulled)
-            far = far[:other] + (True,) + far[other + 1:]
+            far = far[:other] + (True,) + far[other + 1 :]
         with World(scene_for(trial.seed * 7 + i, colours, far), gui=trial.gui) as world:
             pulls = [(c, a) for c, a in _tutor_task(world.spec, rng, world) if a == "pull"]
             pulled |= {c for c, _ in pulls}
@@ -303,13 +337,15 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
     with World(scene_for(trial.seed + 1_000_003, colours, far), gui=trial.gui) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         assert trial.domain is not None and trial.task is not None  # learned above
-        run = execute_task(world, library, trial.domain, trial.task, planner=planner, faults=faults,
-                           predicates=trial.predicates)
+        run = execute_task(
+            world, library, trial.domain, trial.task, planner=planner, faults=faults, predicates=trial.predicates
+        )
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
     trial.success = run.success and not any(final.values())
-    trial.details.update({"goal": "no block is far", "test_objects": list(colours), "initial_far": initial,
-                          "final_far": final})
+    trial.details.update(
+        {"goal": "no block is far", "test_objects": list(colours), "initial_far": initial, "final_far": final}
+    )
     if not trial.success and trial.error is None:
         trial.error = f"objects still far in the simulator: {[c for c, f in final.items() if f]}"
 
@@ -335,8 +371,16 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
                     became_near.append(cube.colour)
 
         assert trial.domain is not None and trial.task is not None  # learned above
-        run = execute_task(world, library, trial.domain, trial.task, planner=planner, faults=faults,
-                           on_step=watch_truth, predicates=trial.predicates)
+        run = execute_task(
+            world,
+            library,
+            trial.domain,
+            trial.task,
+            planner=planner,
+            faults=faults,
+            on_step=watch_truth,
+            predicates=trial.predicates,
+        )
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
     # VSL: the same test scene, reproduced from the single demonstration by match finding.
@@ -348,12 +392,21 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
     sp_ok = run.success and not any(final_sp.values()) and became_near == list(ORDERED_COLOURS)
     vsl_ok = not any(final_vsl.values()) and acted == list(ORDERED_COLOURS)
     trial.success = sp_ok and vsl_ok
-    trial.details.update({"demonstrated_order": list(ORDERED_COLOURS), "vsl_sp_order": became_near,
-                          "vsl_sp_success": sp_ok, "vsl_order": acted, "vsl_success": vsl_ok,
-                          "plan": run.plans[0].lines() if run.plans else []})
+    trial.details.update(
+        {
+            "demonstrated_order": list(ORDERED_COLOURS),
+            "vsl_sp_order": became_near,
+            "vsl_sp_success": sp_ok,
+            "vsl_order": acted,
+            "vsl_success": vsl_ok,
+            "plan": run.plans[0].lines() if run.plans else [],
+        }
+    )
     if not trial.success and trial.error is None:
-        trial.error = (f"VSL-SP order {became_near} (goal {'held' if run.success else 'failed'}), "
-                       f"VSL order {acted}; expected {list(ORDERED_COLOURS)}")
+        trial.error = (
+            f"VSL-SP order {became_near} (goal {'held' if run.success else 'failed'}), "
+            f"VSL order {acted}; expected {list(ORDERED_COLOURS)}"
+        )
 
 
 def _record(trial: Trial, run: Execution) -> None:
@@ -365,7 +418,8 @@ def _record(trial: Trial, run: Execution) -> None:
             grounding = ground(before.image, after.image)
         except VslspError:
             grounding = None  # nothing moved (a skipped step): the images still go in the report
-        trial.observations.append((f"execution step {i}: {step.action} {step.obj}", before.image, after.image,
-                                   grounding))
+        trial.observations.append(
+            (f"execution step {i}: {step.action} {step.obj}", before.image, after.image, grounding)
+        )
     if run.error and trial.error is None:
         trial.error = run.error

@@ -57,10 +57,12 @@ class Camera:
         right, down, forward = self.axes()
         relative = np.atleast_2d(points) - np.asarray(self.eye)
         depth = relative @ forward
-        return np.column_stack([
-            self.width / 2.0 + self.focal * (relative @ right) / depth,
-            self.height / 2.0 + self.focal * (relative @ down) / depth,
-        ])
+        return np.column_stack(
+            [
+                self.width / 2.0 + self.focal * (relative @ right) / depth,
+                self.height / 2.0 + self.focal * (relative @ down) / depth,
+            ]
+        )
 
     def table_to_pixel(self, x: float, y: float, z: float = TABLE_Z) -> tuple[float, float]:
         u, v = self.project(np.array([x, y, z]))[0]
@@ -85,9 +87,15 @@ class Camera:
         view = pb.computeViewMatrix(self.eye, self.target, self.up)
         projection = pb.computeProjectionMatrixFOV(self.fov, self.width / self.height, NEAR, FAR)
         _, _, rgba, depth_buffer, _ = pb.getCameraImage(
-            self.width, self.height, view, projection,
-            shadow=0, lightDirection=LIGHT_DIRECTION, renderer=pb.ER_TINY_RENDERER,
-            flags=pb.ER_NO_SEGMENTATION_MASK, physicsClientId=client,
+            self.width,
+            self.height,
+            view,
+            projection,
+            shadow=0,
+            lightDirection=LIGHT_DIRECTION,
+            renderer=pb.ER_TINY_RENDERER,
+            flags=pb.ER_NO_SEGMENTATION_MASK,
+            physicsClientId=client,
         )
         buffer = np.asarray(depth_buffer, dtype=np.float64).reshape(self.height, self.width)
         depth = (FAR * NEAR / (FAR - (FAR - NEAR) * buffer)).astype(np.float32)
@@ -114,8 +122,14 @@ class Camera:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (backdrop.z - self.eye[2]) / rays[:, :, 2]
         x, y = self.eye[0] + t * rays[:, :, 0], self.eye[1] + t * rays[:, :, 1]
-        seen = ((t > NEAR) & (t < FAR) & (x >= backdrop.x_range[0]) & (x <= backdrop.x_range[1])
-                & (y >= backdrop.y_range[0]) & (y <= backdrop.y_range[1]))
+        seen = (
+            (t > NEAR)
+            & (t < FAR)
+            & (x >= backdrop.x_range[0])
+            & (x <= backdrop.x_range[1])
+            & (y >= backdrop.y_range[0])
+            & (y <= backdrop.y_range[1])
+        )
         return np.where(seen, t, FAR).astype(np.float32), seen
 
 
@@ -137,4 +151,3 @@ class Backdrop:
     y_range: tuple[float, float]
     colour: tuple[int, int, int]
     solid: bool = False  # also drawn over the bodies behind the plane (under a table top)
-

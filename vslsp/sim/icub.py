@@ -26,8 +26,13 @@ with quiet():
 BASE_Z = 0.63
 TORSO_JOINTS = ("torso_pitch", "torso_roll", "torso_yaw")
 RIGHT_ARM_JOINTS = (
-    "r_shoulder_pitch", "r_shoulder_roll", "r_shoulder_yaw", "r_elbow",
-    "r_wrist_prosup", "r_wrist_pitch", "r_wrist_yaw",
+    "r_shoulder_pitch",
+    "r_shoulder_roll",
+    "r_shoulder_yaw",
+    "r_elbow",
+    "r_wrist_prosup",
+    "r_wrist_pitch",
+    "r_wrist_yaw",
 )
 IK_JOINTS = TORSO_JOINTS + RIGHT_ARM_JOINTS
 HAND_FRAME = "r_hand_dh_frame"
@@ -36,9 +41,16 @@ LEFT_ARM_PARK = {"l_shoulder_pitch": 0.17, "l_shoulder_roll": 0.12, "l_elbow": 0
 # Right arm out of the cameras' view, hanging beside the body (the covers are dark red, so
 # the arm must not be in view when the robot observes).
 RIGHT_ARM_PARK = {
-    "torso_pitch": 0.0, "torso_roll": 0.0, "torso_yaw": 0.0,
-    "r_shoulder_pitch": 0.17, "r_shoulder_roll": 0.12, "r_shoulder_yaw": 0.0,
-    "r_elbow": 0.27, "r_wrist_prosup": 0.0, "r_wrist_pitch": 0.0, "r_wrist_yaw": 0.0,
+    "torso_pitch": 0.0,
+    "torso_roll": 0.0,
+    "torso_yaw": 0.0,
+    "r_shoulder_pitch": 0.17,
+    "r_shoulder_roll": 0.12,
+    "r_shoulder_yaw": 0.0,
+    "r_elbow": 0.27,
+    "r_wrist_prosup": 0.0,
+    "r_wrist_pitch": 0.0,
+    "r_wrist_yaw": 0.0,
 }
 # Looking down at the table in front.
 HEAD_POSE = {"neck_pitch": -0.6, "neck_roll": 0.0, "neck_yaw": 0.0}
@@ -57,11 +69,13 @@ def rotation_error(current: np.ndarray, target: np.ndarray) -> np.ndarray:
     """Axis-angle vector (3,) rotating ``current`` onto ``target`` (both (3, 3), world frame)."""
     relative = target @ current.T
     angle = np.arccos(np.clip((np.trace(relative) - 1.0) / 2.0, -1.0, 1.0))
-    axis = np.array([
-        relative[2, 1] - relative[1, 2],
-        relative[0, 2] - relative[2, 0],
-        relative[1, 0] - relative[0, 1],
-    ])
+    axis = np.array(
+        [
+            relative[2, 1] - relative[1, 2],
+            relative[0, 2] - relative[2, 0],
+            relative[1, 0] - relative[0, 1],
+        ]
+    )
     norm = np.linalg.norm(axis)
     if norm < 1e-9:
         if angle < 1e-6:
@@ -142,8 +156,9 @@ class KinematicICub:
             self._positions[self.joint_index[name]] = float(value)
 
     def set_ik_joints(self, q: np.ndarray, force: bool = False) -> None:
-        changed = [(index, float(value)) for index, value, old in zip(self.ik_indices, q, self._q)
-                   if force or value != old]
+        changed = [
+            (index, float(value)) for index, value, old in zip(self.ik_indices, q, self._q) if force or value != old
+        ]
         if changed:
             indices, values = zip(*changed)
             pb.resetJointStatesMultiDof(self.body, list(indices), [[v] for v in values], physicsClientId=self.client)
@@ -152,8 +167,7 @@ class KinematicICub:
 
     def hand_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """Position (3,) and rotation (3, 3) of the hand frame at the current configuration."""
-        state = pb.getLinkState(self.body, self.hand_link, computeForwardKinematics=True,
-                                physicsClientId=self.client)
+        state = pb.getLinkState(self.body, self.hand_link, computeForwardKinematics=True, physicsClientId=self.client)
         rotation = np.array(pb.getMatrixFromQuaternion(state[5])).reshape(3, 3)
         return np.array(state[4]), rotation
 
@@ -162,7 +176,12 @@ class KinematicICub:
         positions = [self._positions[i] for i in self.movable]
         zeros = [0.0] * len(positions)
         linear, angular = pb.calculateJacobian(
-            self.body, self.hand_link, [0.0, 0.0, 0.0], positions, zeros, zeros,
+            self.body,
+            self.hand_link,
+            [0.0, 0.0, 0.0],
+            positions,
+            zeros,
+            zeros,
             physicsClientId=self.client,
         )
         frame = self._jacobian_frame
@@ -228,9 +247,7 @@ class KinematicICub:
                 jacobian = jacobian[:3]
             else:
                 jacobian = np.vstack([jacobian[:3], orientation_weight * jacobian[3:]])
-            step = jacobian.T @ np.linalg.solve(
-                jacobian @ jacobian.T + damping**2 * np.eye(len(error)), error
-            )
+            step = jacobian.T @ np.linalg.solve(jacobian @ jacobian.T + damping**2 * np.eye(len(error)), error)
             largest = np.max(np.abs(step))
             if largest > 0.2:  # keep each step inside the region where J is a good model
                 step *= 0.2 / largest

@@ -35,9 +35,7 @@ def _source_urdf() -> Path:
     try:
         import icub_models
     except ImportError as error:  # pragma: no cover - a broken install
-        raise VslspError(
-            "the iCub model is missing: install the package 'icub-models' (make install)"
-        ) from error
+        raise VslspError("the iCub model is missing: install the package 'icub-models' (make install)") from error
     return Path(icub_models.get_model_file(MODEL_NAME))
 
 
@@ -54,7 +52,7 @@ def reduced_urdf_text(source: Path, kinematic: bool = False) -> str:
     for link in list(root.findall("link")):
         has_body = any(link.find(tag) is not None for tag in ("inertial", "visual", "collision"))
         if has_body or link.get("name") in HAND_FRAMES:
-            kept.add(link.get("name"))
+            kept.add(str(link.get("name")))
         else:
             root.remove(link)
     if kinematic:
@@ -62,7 +60,8 @@ def reduced_urdf_text(source: Path, kinematic: bool = False) -> str:
             for element in link.findall("visual") + link.findall("collision"):
                 link.remove(element)
     for joint in list(root.findall("joint")):
-        if joint.find("child").get("link") not in kept or joint.find("parent").get("link") not in kept:
+        child, parent = joint.find("child"), joint.find("parent")
+        if child is None or parent is None or child.get("link") not in kept or parent.get("link") not in kept:
             root.remove(joint)
     for axis in root.iter("axis"):  # pybullet warns about (and renormalises) non-unit axes
         values = [float(v) for v in axis.get("xyz", "1 0 0").split()]
@@ -71,7 +70,7 @@ def reduced_urdf_text(source: Path, kinematic: bool = False) -> str:
     for mesh in root.iter("mesh"):
         filename = mesh.get("filename", "")
         if filename.startswith("package://iCub/"):
-            mesh.set("filename", str(package_root / filename[len("package://iCub/"):]))
+            mesh.set("filename", str(package_root / filename[len("package://iCub/") :]))
     for element in list(root):
         if element.tag == "gazebo":
             root.remove(element)
@@ -81,9 +80,13 @@ def reduced_urdf_text(source: Path, kinematic: bool = False) -> str:
 def _rpy_matrix(rpy: np.ndarray) -> np.ndarray:
     """URDF's fixed-axis roll-pitch-yaw (3,) as a rotation (3, 3): Rz(yaw) Ry(pitch) Rx(roll)."""
     (cr, cp, cy), (sr, sp, sy) = np.cos(rpy), np.sin(rpy)
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
+    return np.array(
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    )
 
 
 def _matrix_rpy(rotation: np.ndarray) -> np.ndarray:
@@ -98,8 +101,13 @@ def _axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
     return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
 
 
-def simulated_urdf_text(source: Path, moving: Iterable[str], posture: Mapping[str, float],
-                        contact_links: Iterable[str], visual_links: Iterable[str] | None) -> str:
+def simulated_urdf_text(
+    source: Path,
+    moving: Iterable[str],
+    posture: Mapping[str, float],
+    contact_links: Iterable[str],
+    visual_links: Iterable[str] | None,
+) -> str:
     """The reduced URDF of ``source`` as the world simulates it.
 
     Joints not in ``moving`` become fixed at their ``posture`` value (0 when not given): the
@@ -128,8 +136,9 @@ def simulated_urdf_text(source: Path, moving: Iterable[str], posture: Mapping[st
             for element in joint.findall(tag):
                 joint.remove(element)
     for link in root.findall("link"):
-        drop = ([] if link.get("name") in contact_links else link.findall("collision")) \
-            + ([] if seen is None or link.get("name") in seen else link.findall("visual"))
+        drop = ([] if link.get("name") in contact_links else link.findall("collision")) + (
+            [] if seen is None or link.get("name") in seen else link.findall("visual")
+        )
         for element in drop:
             link.remove(element)
     return ET.tostring(root, encoding="unicode")
@@ -153,8 +162,12 @@ def reduced_urdf_path(kinematic: bool = False) -> Path:
     return _cached(_reduced_text(kinematic))
 
 
-def simulated_urdf_path(moving: tuple[str, ...], posture: tuple[tuple[str, float], ...],
-                        contact_links: tuple[str, ...], visual_links: tuple[str, ...] | None) -> Path:
+def simulated_urdf_path(
+    moving: tuple[str, ...],
+    posture: tuple[tuple[str, float], ...],
+    contact_links: tuple[str, ...],
+    visual_links: tuple[str, ...] | None,
+) -> Path:
     """Path of the simulated URDF (see :func:`simulated_urdf_text`; ``posture`` as (name, value) pairs)."""
     return _cached(_simulated_text(moving, posture, contact_links, visual_links))
 
@@ -165,6 +178,10 @@ def _reduced_text(kinematic: bool) -> str:
 
 
 @functools.lru_cache(maxsize=4)
-def _simulated_text(moving: tuple[str, ...], posture: tuple[tuple[str, float], ...],
-                    contact_links: tuple[str, ...], visual_links: tuple[str, ...] | None) -> str:
+def _simulated_text(
+    moving: tuple[str, ...],
+    posture: tuple[tuple[str, float], ...],
+    contact_links: tuple[str, ...],
+    visual_links: tuple[str, ...] | None,
+) -> str:
     return simulated_urdf_text(_source_urdf(), moving, dict(posture), contact_links, visual_links)

@@ -39,9 +39,26 @@ CUBE_CONTACT_LINKS = ("r_hand", "r_wrist_1")  # the links that touch the cubes
 # The links a camera can see: the parked right arm, the chest and the right leg, at the head
 # camera's lower right corner.
 VISIBLE_LINKS = (
-    "root_link", "torso_1", "torso_2", "chest",
-    "r_hip_1", "r_hip_2", "r_hip_3", "r_upper_leg", "r_lower_leg", "r_ankle_1", "r_ankle_2", "r_foot",
-    "r_shoulder_1", "r_shoulder_2", "r_shoulder_3", "r_upper_arm", "r_elbow_1", "r_forearm", "r_wrist_1", "r_hand",
+    "root_link",
+    "torso_1",
+    "torso_2",
+    "chest",
+    "r_hip_1",
+    "r_hip_2",
+    "r_hip_3",
+    "r_upper_leg",
+    "r_lower_leg",
+    "r_ankle_1",
+    "r_ankle_2",
+    "r_foot",
+    "r_shoulder_1",
+    "r_shoulder_2",
+    "r_shoulder_3",
+    "r_upper_arm",
+    "r_elbow_1",
+    "r_forearm",
+    "r_wrist_1",
+    "r_hand",
 )
 APPROACH_HEIGHT = 0.05  # the hand comes down onto a path from this far above its start
 # Between parked and ready the arm is lifted out to the side, so it never sweeps the table.
@@ -80,9 +97,15 @@ class ICub:
         # Only the torso and the right arm move: every other joint is frozen at its posture in
         # the simulated model, and only the hand touches the cubes (see below), so the other
         # links carry no collision shape.
-        self.body = _load_robot(self.client, path=simulated_urdf_path(
-            IK_JOINTS, tuple(sorted({**LEFT_ARM_PARK, **HEAD_POSE}.items())), CUBE_CONTACT_LINKS,
-            None if visuals else VISIBLE_LINKS))
+        self.body = _load_robot(
+            self.client,
+            path=simulated_urdf_path(
+                IK_JOINTS,
+                tuple(sorted({**LEFT_ARM_PARK, **HEAD_POSE}.items())),
+                CUBE_CONTACT_LINKS,
+                None if visuals else VISIBLE_LINKS,
+            ),
+        )
         self.kinematics = KinematicICub()
         self.joint_index = dict(self.kinematics.joint_index)
         self.ik_indices = [self.joint_index[name] for name in IK_JOINTS]
@@ -100,8 +123,12 @@ class ICub:
         self.parked = True
         # The eyes sit 6.5 cm in front of and 9 cm above the neck's yaw axis (head upright).
         self.kinematics.set_joints({name: 0.0 for name in HEAD_POSE})
-        state = pb.getLinkState(self.kinematics.body, self.kinematics.link_index["head"],
-                                computeForwardKinematics=True, physicsClientId=self.kinematics.client)
+        state = pb.getLinkState(
+            self.kinematics.body,
+            self.kinematics.link_index["head"],
+            computeForwardKinematics=True,
+            physicsClientId=self.kinematics.client,
+        )
         upright = np.array(pb.getMatrixFromQuaternion(state[5])).reshape(3, 3)
         self._eye_offset = upright.T @ np.array([0.065, 0.0, 0.09])
         self.kinematics.set_joints(HEAD_POSE)
@@ -116,8 +143,9 @@ class ICub:
 
     def hand_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """Position (3,) and rotation (3, 3) of the right hand frame in the world."""
-        state = pb.getLinkState(self.body, self.kinematics.hand_link, computeForwardKinematics=True,
-                                physicsClientId=self.client)
+        state = pb.getLinkState(
+            self.body, self.kinematics.hand_link, computeForwardKinematics=True, physicsClientId=self.client
+        )
         return np.array(state[4]), np.array(pb.getMatrixFromQuaternion(state[5])).reshape(3, 3)
 
     def hand_position(self) -> np.ndarray:
@@ -125,8 +153,9 @@ class ICub:
 
     def eye_position(self) -> np.ndarray:
         """Between the eyes: a fixed point of the head link (the model has no camera frame)."""
-        state = pb.getLinkState(self.body, self.kinematics.link_index["head"], computeForwardKinematics=True,
-                                physicsClientId=self.client)
+        state = pb.getLinkState(
+            self.body, self.kinematics.link_index["head"], computeForwardKinematics=True, physicsClientId=self.client
+        )
         rotation = np.array(pb.getMatrixFromQuaternion(state[5])).reshape(3, 3)
         return np.array(state[4]) + rotation @ self._eye_offset
 
@@ -135,13 +164,24 @@ class ICub:
         """Position-hold every moving joint at its current value."""
         indices = sorted(self.ik_indices)
         targets = [pb.getJointState(self.body, i, physicsClientId=self.client)[0] for i in indices]
-        pb.setJointMotorControlArray(self.body, indices, pb.POSITION_CONTROL, targetPositions=targets,
-                                     forces=[JOINT_FORCE] * len(indices), physicsClientId=self.client)
+        pb.setJointMotorControlArray(
+            self.body,
+            indices,
+            pb.POSITION_CONTROL,
+            targetPositions=targets,
+            forces=[JOINT_FORCE] * len(indices),
+            physicsClientId=self.client,
+        )
 
     def _drive(self, q: np.ndarray, steps: int) -> None:
         pb.setJointMotorControlArray(
-            self.body, self.ik_indices, pb.POSITION_CONTROL, targetPositions=list(q),
-            forces=[JOINT_FORCE] * len(q), positionGains=[0.2] * len(q), physicsClientId=self.client,
+            self.body,
+            self.ik_indices,
+            pb.POSITION_CONTROL,
+            targetPositions=list(q),
+            forces=[JOINT_FORCE] * len(q),
+            positionGains=[0.2] * len(q),
+            physicsClientId=self.client,
         )
         self.world.step(steps)
 
@@ -151,8 +191,9 @@ class ICub:
                 return
             self._drive(q, 4)
 
-    def solve_path(self, path: np.ndarray, yaw: float = HAND_YAW, tolerance: float = 0.01,
-                   pitch: float = 0.0) -> np.ndarray:
+    def solve_path(
+        self, path: np.ndarray, yaw: float = HAND_YAW, tolerance: float = 0.01, pitch: float = 0.0
+    ) -> np.ndarray:
         """Joint solutions (N, 10) for Cartesian hand waypoints (N, 3), palm down.
 
         Raises :class:`UnreachableError` (before anything moves) if a waypoint is out of reach.
@@ -171,9 +212,16 @@ class ICub:
             solutions.append(q)
         return np.array(solutions)
 
-    def move_hand(self, path: np.ndarray, *, yaw: float = HAND_YAW, pitch: float = 0.0,
-                  speed: float = MAX_SPEED, record: bool = False,
-                  timed: np.ndarray | None = None) -> HandTrajectory | None:
+    def move_hand(
+        self,
+        path: np.ndarray,
+        *,
+        yaw: float = HAND_YAW,
+        pitch: float = 0.0,
+        speed: float = MAX_SPEED,
+        record: bool = False,
+        timed: np.ndarray | None = None,
+    ) -> HandTrajectory | None:
         """Move the hand through Cartesian waypoints (N, 3) at a bounded speed (m/s).
 
         The palm faces the table, fingers at ``yaw`` and tilted down by ``pitch`` (rad).
@@ -208,8 +256,13 @@ class ICub:
     def _follow(self, solutions: np.ndarray, steps: np.ndarray, samples: list[np.ndarray] | None) -> None:
         for q, n in zip(solutions, steps):
             pb.setJointMotorControlArray(
-                self.body, self.ik_indices, pb.POSITION_CONTROL, targetPositions=list(q),
-                forces=[JOINT_FORCE] * len(q), positionGains=[0.2] * len(q), physicsClientId=self.client,
+                self.body,
+                self.ik_indices,
+                pb.POSITION_CONTROL,
+                targetPositions=list(q),
+                forces=[JOINT_FORCE] * len(q),
+                positionGains=[0.2] * len(q),
+                physicsClientId=self.client,
             )
             for _ in range(int(n)):
                 self.world.step()
@@ -220,12 +273,12 @@ class ICub:
     def _cartesian(self, points: np.ndarray, yaw: float, speed: float, pitch: float = 0.0) -> None:
         """Straight lines through ``points`` (K, 3) in 5 mm steps."""
         start = self.hand_position()
-        waypoints = []
+        steps: list[np.ndarray] = []
         for point in points:
             n = max(1, int(np.ceil(np.linalg.norm(point - start) / 0.005)))
-            waypoints.extend(start + (point - start) * s for s in np.linspace(0, 1, n + 1)[1:])
+            steps.extend(start + (point - start) * s for s in np.linspace(0, 1, n + 1)[1:])
             start = point
-        waypoints = np.array(waypoints)
+        waypoints = np.array(steps)
         solutions = self.solve_path(waypoints, yaw, pitch=pitch)
         self._follow(solutions, self._steps_for(waypoints, self.hand_position(), speed), None)
 

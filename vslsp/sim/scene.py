@@ -48,6 +48,7 @@ COLOURS: dict[str, tuple[float, float, float]] = {
 PUSH_OVERSHOOT = 0.10  # m past the line a pushed cube may end
 SWEEP_BANDS = {"push": (-0.06, 0.11), "pull": (-0.115, 0.08)}
 
+
 @dataclass(frozen=True)
 class CubeSpec:
     """One cube: its symbol name, colour name, and pose on the table (x, y in m, yaw in rad)."""
@@ -61,10 +62,7 @@ class CubeSpec:
 
     def __post_init__(self) -> None:
         if self.colour not in COLOURS:
-            raise InputError(
-                f"cube {self.name!r} has unknown colour {self.colour!r}; "
-                f"use one of {', '.join(COLOURS)}"
-            )
+            raise InputError(f"cube {self.name!r} has unknown colour {self.colour!r}; use one of {', '.join(COLOURS)}")
         if not 0.02 <= self.size <= 0.1:
             raise InputError(f"cube {self.name!r} has size {self.size} m; use 0.02-0.1 m")
 
@@ -169,20 +167,24 @@ class SceneSpec:
             colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=n_cubes, replace=False))
         n_cubes = len(colours)
         fixed_far = far
+        landmark = fixed_landmark or LandmarkSpec(x=0.22, angle=0.0)  # drawn anew below
+        sides: tuple[bool, ...] = far if far is not None else (False,) * n_cubes
+        sign = np.ones(n_cubes)
         for attempt in range(30000):
             if attempt % 25 == 0:
                 landmark = fixed_landmark or LandmarkSpec(
-                    x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
+                    x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3))
+                )
                 if fixed_far is None:  # some sides cannot be laid out with some line poses
-                    far = tuple(bool(v) for v in rng.random(n_cubes) < 0.5)
-                sign = np.where(far, 1.0, -1.0)
+                    sides = tuple(bool(v) for v in rng.random(n_cubes) < 0.5)
+                sign = np.where(sides, 1.0, -1.0)
             across = rng.uniform(0.04, 0.08, size=n_cubes) * sign
-            span = _along_span(landmark, np.asarray(far), across)
-            along = None if span is None else _along_positions(rng, np.asarray(far), span)
+            span = _along_span(landmark, np.asarray(sides), across)
+            along = None if span is None else _along_positions(rng, np.asarray(sides), span)
             if along is None:
                 continue
             centres = landmark.point + np.outer(along, landmark.direction) + np.outer(across, landmark.normal)
-            inside = _placeable(landmark, np.asarray(far), centres)
+            inside = _placeable(landmark, np.asarray(sides), centres)
             if inside.all():
                 yaws = rng.uniform(-0.4, 0.4, size=n_cubes)
                 cubes = tuple(
@@ -206,8 +208,10 @@ def _check_scene_data(data: object) -> None:
     """Check a scene description read from a file: types, finite numbers, cubes whole on the table
     top; an :class:`InputError` names the field (``cubes[1].x``) and what is wrong."""
     if not isinstance(data, dict) or not isinstance(data.get("cubes"), list):
-        raise InputError('not a scene description: expected {"cubes": [{"name", "colour", "x", "y", "yaw"}, ...], '
-                         '"landmark": {"x", "angle"}}')
+        raise InputError(
+            'not a scene description: expected {"cubes": [{"name", "colour", "x", "y", "yaw"}, ...], '
+            '"landmark": {"x", "angle"}}'
+        )
     if len(data["cubes"]) > MAX_CUBES:
         raise InputError(f"cubes: {len(data['cubes'])} cubes, at most {MAX_CUBES} fit the table")
 
@@ -220,8 +224,9 @@ def _check_scene_data(data: object) -> None:
 
     for k, cube in enumerate(data["cubes"]):
         if not isinstance(cube, dict):
-            raise InputError(f"not a scene description: cubes[{k}] is {cube!r}, "
-                             "not an object with name, colour, x, y, yaw")
+            raise InputError(
+                f"not a scene description: cubes[{k}] is {cube!r}, not an object with name, colour, x, y, yaw"
+            )
         if not isinstance(cube.get("name"), str) or not cube["name"]:
             raise InputError(f"not a scene description: cubes[{k}].name is {cube.get('name')!r}, not a name")
         size = number(cube.get("size", CUBE_SIZE), f"cubes[{k}].size")
@@ -230,16 +235,19 @@ def _check_scene_data(data: object) -> None:
         for axis, (low, high) in (("x", TABLE_X), ("y", TABLE_Y)):
             value = number(cube.get(axis), f"cubes[{k}].{axis}")
             if not low + size / 2 <= value <= high - size / 2:
-                raise InputError(f"cubes[{k}].{axis} is {value} m: the cube {cube['name']!r} would be off the table "
-                                 f"({axis} from {low + size / 2:.3f} to {high - size / 2:.3f} m)")
+                raise InputError(
+                    f"cubes[{k}].{axis} is {value} m: the cube {cube['name']!r} would be off the table "
+                    f"({axis} from {low + size / 2:.3f} to {high - size / 2:.3f} m)"
+                )
         number(cube.get("yaw", 0.0), f"cubes[{k}].yaw")
     landmark = data.get("landmark", {})
     if not isinstance(landmark, dict):
         raise InputError(f"not a scene description: landmark is {landmark!r}, not an object with x and angle")
     x = number(landmark.get("x", LandmarkSpec.x), "landmark.x")
     if not TABLE_X[0] <= x <= TABLE_X[1]:
-        raise InputError(f"landmark.x is {x} m: the line would be off the table "
-                         f"(x from {TABLE_X[0]} to {TABLE_X[1]} m)")
+        raise InputError(
+            f"landmark.x is {x} m: the line would be off the table (x from {TABLE_X[0]} to {TABLE_X[1]} m)"
+        )
     number(landmark.get("angle", LandmarkSpec.angle), "landmark.angle")
 
 
@@ -247,8 +255,11 @@ def _placeable(landmark: LandmarkSpec, far: np.ndarray, centres: np.ndarray) -> 
     """Which cube centres (n, 2) are in view and leave the hand room to push (near cubes) or
     pull (far cubes) them."""
     # Where the hand starts a push (behind the cube) or a pull (beyond it, to its right).
-    contacts = centres - np.outer(np.where(far, -0.10, 0.07), landmark.normal) \
+    contacts = (
+        centres
+        - np.outer(np.where(far, -0.10, 0.07), landmark.normal)
         - np.outer(np.where(far, 0.04, 0.0), landmark.direction)
+    )
     # Where the cube lands after its push or pull (the tutor's: 5.5 cm beyond the line): the
     # head camera must still see it whole. Its view's lower edge cuts the table closer to the
     # robot on its right than on its left (measured: a cube is seen whole from x = 0.16 at
@@ -260,11 +271,16 @@ def _placeable(landmark: LandmarkSpec, far: np.ndarray, centres: np.ndarray) -> 
     return (
         (landed[:, 0] >= 0.10 + 0.6 * np.maximum(0.0, landed[:, 1] + 0.05) + 0.8 * np.maximum(0.0, -0.2 - landed[:, 1]))
         & (landed[:, 0] <= 0.37)
-        & (landed[:, 1] >= WORKSPACE_Y[0] - 0.03) & (landed[:, 1] <= WORKSPACE_Y[1])
-        & (centres[:, 0] >= WORKSPACE_X[0]) & (centres[:, 0] <= WORKSPACE_X[1])
-        & (centres[:, 1] >= WORKSPACE_Y[0]) & (centres[:, 1] <= WORKSPACE_Y[1])
-        & (contacts[:, 0] >= HAND_REACH_X[0]) & (contacts[:, 0] <= HAND_REACH_X[1])
-        & (contacts[:, 1] >= HAND_REACH_Y[0]) & (contacts[:, 1] <= HAND_REACH_Y[1])
+        & (landed[:, 1] >= WORKSPACE_Y[0] - 0.03)
+        & (landed[:, 1] <= WORKSPACE_Y[1])
+        & (centres[:, 0] >= WORKSPACE_X[0])
+        & (centres[:, 0] <= WORKSPACE_X[1])
+        & (centres[:, 1] >= WORKSPACE_Y[0])
+        & (centres[:, 1] <= WORKSPACE_Y[1])
+        & (contacts[:, 0] >= HAND_REACH_X[0])
+        & (contacts[:, 0] <= HAND_REACH_X[1])
+        & (contacts[:, 1] >= HAND_REACH_Y[0])
+        & (contacts[:, 1] <= HAND_REACH_Y[1])
         & (contacts[:, 1] <= -0.01 + 0.5 * (contacts[:, 0] - HAND_REACH_X[0]))
         & (contacts[:, 1] >= HAND_REACH_Y[0] + 1.5 * np.maximum(0.0, 0.15 - contacts[:, 0]))
     )
@@ -275,18 +291,34 @@ def _margins(landmark: LandmarkSpec, far: np.ndarray, centres: np.ndarray) -> np
 
     Every margin is affine in the centre (the ``max(0, ...)`` bounds are split into their
     linear pieces), so along a line each is affine in the distance along it."""
-    contacts = centres - np.outer(np.where(far, -0.10, 0.07), landmark.normal) \
+    contacts = (
+        centres
+        - np.outer(np.where(far, -0.10, 0.07), landmark.normal)
         - np.outer(np.where(far, 0.04, 0.0), landmark.direction)
+    )
     across = (centres - landmark.point) @ landmark.normal
     landed = centres - np.outer(across + np.where(far, 0.065, -PUSH_OVERSHOOT), landmark.normal)
     lx, ly, cx, cy, kx, ky = landed[:, 0], landed[:, 1], centres[:, 0], centres[:, 1], contacts[:, 0], contacts[:, 1]
-    return np.column_stack([
-        lx - 0.10, lx - 0.10 - 0.6 * (ly + 0.05), lx - 0.10 - 0.8 * (-0.2 - ly), 0.37 - lx,
-        ly - (WORKSPACE_Y[0] - 0.03), WORKSPACE_Y[1] - ly,
-        cx - WORKSPACE_X[0], WORKSPACE_X[1] - cx, cy - WORKSPACE_Y[0], WORKSPACE_Y[1] - cy,
-        kx - HAND_REACH_X[0], HAND_REACH_X[1] - kx, ky - HAND_REACH_Y[0], HAND_REACH_Y[1] - ky,
-        -0.01 + 0.5 * (kx - HAND_REACH_X[0]) - ky, ky - HAND_REACH_Y[0] - 1.5 * (0.15 - kx),
-    ])
+    return np.column_stack(
+        [
+            lx - 0.10,
+            lx - 0.10 - 0.6 * (ly + 0.05),
+            lx - 0.10 - 0.8 * (-0.2 - ly),
+            0.37 - lx,
+            ly - (WORKSPACE_Y[0] - 0.03),
+            WORKSPACE_Y[1] - ly,
+            cx - WORKSPACE_X[0],
+            WORKSPACE_X[1] - cx,
+            cy - WORKSPACE_Y[0],
+            WORKSPACE_Y[1] - cy,
+            kx - HAND_REACH_X[0],
+            HAND_REACH_X[1] - kx,
+            ky - HAND_REACH_Y[0],
+            HAND_REACH_Y[1] - ky,
+            -0.01 + 0.5 * (kx - HAND_REACH_X[0]) - ky,
+            ky - HAND_REACH_Y[0] - 1.5 * (0.15 - kx),
+        ]
+    )
 
 
 _GRID = np.linspace(-0.2, 0.2, 81)
@@ -300,7 +332,7 @@ def _line_forms(landmark: LandmarkSpec, far: tuple[bool, ...]) -> tuple[np.ndarr
     n, sides = len(far), np.array(far * 3)
     base = np.repeat(landmark.point[None], n, axis=0)
     ends = _margins(landmark, sides, np.vstack([base, base + landmark.normal, base + landmark.direction]))
-    return ends[:n], ends[n:2 * n] - ends[:n], ends[2 * n:] - ends[:n]
+    return ends[:n], ends[n : 2 * n] - ends[:n], ends[2 * n :] - ends[:n]
 
 
 def _along_span(landmark: LandmarkSpec, far: np.ndarray, across: np.ndarray) -> tuple[float, float] | None:
@@ -312,15 +344,16 @@ def _along_span(landmark: LandmarkSpec, far: np.ndarray, across: np.ndarray) -> 
     rare grid point that lies on a constraint's boundary is decided by :func:`_placeable`."""
     far = np.asarray(far)
     at_line, per_across, slope = _line_forms(landmark, tuple(bool(f) for f in far))
-    margins = (at_line + np.asarray(across, dtype=float)[:, None] * per_across)[:, :, None] \
-        + slope[:, :, None] * _GRID  # (n, 17, 81)
+    margins = (at_line + np.asarray(across, dtype=float)[:, None] * per_across)[:, :, None] + slope[
+        :, :, None
+    ] * _GRID  # (n, 17, 81)
     # A point is placeable where its least margin is >= 0; a least margin within _TIE of 0 is
     # a tie that rounding could decide either way: _placeable, the reference, decides it.
     least = margins.min(axis=1)  # (n, 81)
     ok = least >= 0.0
     for k, i in np.argwhere(np.abs(least) < _TIE):
         centre = landmark.point + _GRID[i] * landmark.direction + across[k] * landmark.normal
-        ok[k, i] = _placeable(landmark, far[k:k + 1], centre[None])[0]
+        ok[k, i] = _placeable(landmark, far[k : k + 1], centre[None])[0]
     if not ok.any(axis=1).all():
         return None
     low = _GRID[ok.argmax(axis=1)].max()  # the grid ascends: the first and last placeable points

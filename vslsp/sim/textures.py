@@ -65,8 +65,14 @@ def cube_face(colour: tuple[float, float, float], name: str, size: int | None = 
         else:
             angle = rng.uniform(0, np.pi)
             dx, dy = 2.0 * r * np.cos(angle), 2.0 * r * np.sin(angle)
-            cv2.line(face, (int(x - dx), int(y - dy)), (int(x + dx), int(y + dy)), shade,
-                     max(2, int(round(3 * unit))), cv2.LINE_AA)
+            cv2.line(
+                face,
+                (int(x - dx), int(y - dy)),
+                (int(x + dx), int(y + dy)),
+                shade,
+                max(2, int(round(3 * unit))),
+                cv2.LINE_AA,
+            )
     return face
 
 
@@ -75,7 +81,7 @@ def cube_atlas(colour: tuple[float, float, float], name: str, size: int | None =
     k // 3, column k % 3 (see :func:`cube_mesh`)."""
     rows, columns = ATLAS
     faces = [cube_face(colour, f"{name}/face{k}", size) for k in range(rows * columns)]
-    return np.vstack([np.hstack(faces[r * columns:(r + 1) * columns]) for r in range(rows)])
+    return np.vstack([np.hstack(faces[r * columns : (r + 1) * columns]) for r in range(rows)])
 
 
 def cube_mesh(size: float) -> tuple[list, list, list, list]:

@@ -44,20 +44,39 @@ class Observation:
 def _table_backdrop(client: int, visual: int, centre: list[float]) -> Backdrop:
     """The table top as a solid backdrop, in the colour the renderer gives its visual."""
     look = pb.createMultiBody(0, -1, visual, centre, physicsClientId=client)
-    small = Camera("look", eye=(0.27, -0.07, TABLE_Z + 0.5), target=(0.27, -0.07, TABLE_Z), up=(1.0, 0.0, 0.0),
-                   width=8, height=6, fov=45.0)
+    small = Camera(
+        "look",
+        eye=(0.27, -0.07, TABLE_Z + 0.5),
+        target=(0.27, -0.07, TABLE_Z),
+        up=(1.0, 0.0, 0.0),
+        width=8,
+        height=6,
+        fov=45.0,
+    )
     colour = small.render(client)[0][small.height // 2, small.width // 2]
     pb.removeBody(look, physicsClientId=client)
     r, g, b = (int(v) for v in colour)
-    return Backdrop(TABLE_Z, (TABLE_CENTRE[0] - TABLE_HALF[0], TABLE_CENTRE[0] + TABLE_HALF[0]),
-                    (TABLE_CENTRE[1] - TABLE_HALF[1], TABLE_CENTRE[1] + TABLE_HALF[1]), (r, g, b), solid=True)
+    return Backdrop(
+        TABLE_Z,
+        (TABLE_CENTRE[0] - TABLE_HALF[0], TABLE_CENTRE[0] + TABLE_HALF[0]),
+        (TABLE_CENTRE[1] - TABLE_HALF[1], TABLE_CENTRE[1] + TABLE_HALF[1]),
+        (r, g, b),
+        solid=True,
+    )
 
 
 class World(PhysicsClient):
     """A pybullet world built from a :class:`SceneSpec`; close it (or use ``with``) when done."""
 
-    def __init__(self, spec: SceneSpec | None = None, *, seed: int = 0, gui: bool = False,
-                 robot: bool = True, textured: bool = True) -> None:
+    def __init__(
+        self,
+        spec: SceneSpec | None = None,
+        *,
+        seed: int = 0,
+        gui: bool = False,
+        robot: bool = True,
+        textured: bool = True,
+    ) -> None:
         from vslsp.sim.robot import ICub  # robot imports the world's constants
         from vslsp.sim.tutor import Tutor
 
@@ -88,8 +107,7 @@ class World(PhysicsClient):
         being rasterised with every image: the same pixels but for ties at bodies' edges."""
         c, centre = self.client, [*TABLE_CENTRE, TABLE_Z - TABLE_HALF[2]]
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, physicsClientId=c)
-        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR,
-                                      physicsClientId=c)
+        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR, physicsClientId=c)
         self.backdrop: Backdrop | None = None
         if gui or c is None:
             body = pb.createMultiBody(0, shape, visual, centre, physicsClientId=c)
@@ -97,8 +115,13 @@ class World(PhysicsClient):
             self.backdrop = _table_backdrop(c, visual, centre)
             # a body without a visual shape would be drawn from its collision box: give the
             # table a speck of a visual far above the cameras instead, which they never see
-            speck = pb.createVisualShape(pb.GEOM_SPHERE, radius=1e-3, visualFramePosition=[0.0, 0.0, 50.0],
-                                         rgbaColor=TABLE_COLOUR, physicsClientId=c)
+            speck = pb.createVisualShape(
+                pb.GEOM_SPHERE,
+                radius=1e-3,
+                visualFramePosition=[0.0, 0.0, 50.0],
+                rgbaColor=TABLE_COLOUR,
+                physicsClientId=c,
+            )
             body = pb.createMultiBody(0, shape, speck, centre, physicsClientId=c)
         pb.changeDynamics(body, -1, lateralFriction=CUBE_FRICTION, physicsClientId=c)
         return body
@@ -106,12 +129,17 @@ class World(PhysicsClient):
     def _make_landmark(self) -> int:
         landmark = self.spec.landmark
         half = (LINE_WIDTH / 2.0, 0.40, 0.0005)
-        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=(0.02, 0.02, 0.02, 1.0),
-                                      physicsClientId=self.client)
+        visual = pb.createVisualShape(
+            pb.GEOM_BOX, halfExtents=half, rgbaColor=(0.02, 0.02, 0.02, 1.0), physicsClientId=self.client
+        )
         # Visual only: no collision shape, so it never disturbs the cubes.
         return pb.createMultiBody(
-            0, -1, visual, [*landmark.point, TABLE_Z + half[2]],
-            pb.getQuaternionFromEuler([0, 0, landmark.angle]), physicsClientId=self.client,
+            0,
+            -1,
+            visual,
+            [*landmark.point, TABLE_Z + half[2]],
+            pb.getQuaternionFromEuler([0, 0, landmark.angle]),
+            physicsClientId=self.client,
         )
 
     def _make_cube(self, cube: CubeSpec) -> int:
@@ -120,20 +148,30 @@ class World(PhysicsClient):
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
         if self.textured:  # the colour is the symbol; the texture gives match finding its keypoints
             vertices, indices, uvs, normals = cube_mesh(cube.size)
-            visual = pb.createVisualShape(pb.GEOM_MESH, vertices=vertices, indices=indices, uvs=uvs,
-                                          normals=normals, rgbaColor=[1, 1, 1, 1], physicsClientId=c)
+            visual = pb.createVisualShape(
+                pb.GEOM_MESH,
+                vertices=vertices,
+                indices=indices,
+                uvs=uvs,
+                normals=normals,
+                rgbaColor=[1, 1, 1, 1],
+                physicsClientId=c,
+            )
         else:
-            visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=(*COLOURS[cube.colour], 1.0),
-                                          physicsClientId=c)
+            visual = pb.createVisualShape(
+                pb.GEOM_BOX, halfExtents=half, rgbaColor=(*COLOURS[cube.colour], 1.0), physicsClientId=c
+            )
         body = pb.createMultiBody(
-            CUBE_MASS, shape, visual, [cube.x, cube.y, TABLE_Z + cube.size / 2.0],
-            pb.getQuaternionFromEuler([0, 0, cube.yaw]), physicsClientId=c,
+            CUBE_MASS,
+            shape,
+            visual,
+            [cube.x, cube.y, TABLE_Z + cube.size / 2.0],
+            pb.getQuaternionFromEuler([0, 0, cube.yaw]),
+            physicsClientId=c,
         )
-        pb.changeDynamics(body, -1, lateralFriction=CUBE_FRICTION, spinningFriction=0.001,
-                          physicsClientId=c)
+        pb.changeDynamics(body, -1, lateralFriction=CUBE_FRICTION, spinningFriction=0.001, physicsClientId=c)
         if self.textured:
-            texture = pb.loadTexture(str(texture_file(cube_atlas(COLOURS[cube.colour], cube.name))),
-                                     physicsClientId=c)
+            texture = pb.loadTexture(str(texture_file(cube_atlas(COLOURS[cube.colour], cube.name))), physicsClientId=c)
             pb.changeVisualShape(body, -1, textureUniqueId=texture, physicsClientId=c)
         return body
 
@@ -172,7 +210,7 @@ class World(PhysicsClient):
 
     def is_far(self, name: str) -> bool:
         """Ground truth of ``(far name)``: the cube's centre lies beyond the line."""
-        return self.spec.landmark.signed_distance(self.cube_pose(name)[:2]) > 0.0
+        return self.spec.landmark.signed_distance(np.asarray(self.cube_pose(name)[:2])) > 0.0
 
     def current_spec(self) -> SceneSpec:
         """The scene as it is now (cube poses from the simulation)."""
@@ -185,17 +223,26 @@ class World(PhysicsClient):
     # -- cameras --------------------------------------------------------------------------
     def camera(self, name: str, width: int = 640, height: int = 480) -> Camera:
         if name == "overhead":
-            return Camera("overhead", eye=(0.27, -0.07, TABLE_Z + 0.5), target=(0.27, -0.07, TABLE_Z),
-                          up=(1.0, 0.0, 0.0), width=width, height=height, fov=45.0)
+            return Camera(
+                "overhead",
+                eye=(0.27, -0.07, TABLE_Z + 0.5),
+                target=(0.27, -0.07, TABLE_Z),
+                up=(1.0, 0.0, 0.0),
+                width=width,
+                height=height,
+                fov=45.0,
+            )
         if name == "head":
             if self.robot is not None:
-                eye = tuple(float(v) for v in self.robot.eye_position())
+                x, y, z = self.robot.eye_position()
+                eye = (float(x), float(y), float(z))
             else:
                 from vslsp.sim.robot import DEFAULT_EYE
 
                 eye = DEFAULT_EYE
-            return Camera("head", eye=eye, target=(0.23, -0.07, TABLE_Z), up=(0.0, 0.0, 1.0),
-                          width=width, height=height, fov=60.0)
+            return Camera(
+                "head", eye=eye, target=(0.23, -0.07, TABLE_Z), up=(0.0, 0.0, 1.0), width=width, height=height, fov=60.0
+            )
         raise InputError(f"unknown camera {name!r}; use one of {', '.join(CAMERA_NAMES)}")
 
     def observe(self, camera: str = "head", width: int = 640, height: int = 480) -> Observation:
@@ -209,7 +256,7 @@ class World(PhysicsClient):
         state = self._poses()
         seen = self._seen.get((camera, width, height))
         if seen is None or seen[0] != state or seen[1].camera != view:
-            rgb, depth = view.render(self.client, self.backdrop)
+            rgb, depth = view.render(self.live_client, self.backdrop)
             seen = (state, Observation(rgb=rgb, depth=depth, camera=view))
             self._seen[(camera, width, height)] = seen
         return Observation(rgb=seen[1].rgb.copy(), depth=seen[1].depth.copy(), camera=view)

@@ -9,9 +9,8 @@ Clouds are plain ``(N, 3)`` float64 arrays of points in metres in the world fram
 
 from __future__ import annotations
 
-from typing import Any
-
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
