@@ -74,19 +74,14 @@ def vsl3d_figures(folder: Path, pictures: dict) -> dict[str, Any]:
     return files
 
 
-@register
-class TableCleaning(Task):
-    """Two objects into the box, the third in front of it, reproduced by the robot from point clouds."""
+class Vsl3dExperiment(Task):
+    """A VSL-3D experiment executed by the robot: the ``--method`` option, the trial record from the
+    operations' records, the summary over the operations and the pictures. Subclasses give
+    :meth:`reproduce` and the report's sentence (:attr:`summary_line`)."""
 
-    name = "table-cleaning"
     system = System.VSL_3D
-    paper_section = "VSL-3D: Table Cleaning"
-    description = (
-        "The tutor puts two objects into the box and the third in front of it; the objects are "
-        "reshuffled and the Franka Panda reproduces the task from the RGB-D point clouds "
-        "(success: each object within 1.5 cm and 15 deg of its demonstrated pose)."
-    )
     options = frozenset({Option.METHOD})
+    summary_line = "Operations"
 
     def check(self) -> None:
         if self.method not in METHODS:
@@ -96,15 +91,16 @@ class TableCleaning(Task):
     def method(self) -> str:
         return str(self.option(Option.METHOD, "prerejective_ransac"))
 
-    def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
-        from vslsp.vsl3d.table_cleaning import run_table_cleaning
+    def reproduce(self, seed: int) -> tuple[list[dict], dict]:
+        """Demonstrate and reproduce the trial of ``seed``: the operations' records and the pictures."""
+        raise NotImplementedError
 
-        outcome, pictures = run_table_cleaning(seed, self.method)
-        operations = [op.to_dict() for op in outcome.operations]
+    def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
+        operations, pictures = self.reproduce(seed)
         return TrialResult(
             self.name,
             seed,
-            outcome.success,
+            all(op["success"] for op in operations),
             "; ".join(operation_failures(operations)) or None,
             operations=operations,
             details={"method": self.method},
@@ -116,7 +112,7 @@ class TableCleaning(Task):
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
         return [
-            f"Operations (executed by the robot): {data['operations_succeeded']}/{data['operations']} "
+            f"{self.summary_line} (executed by the robot): {data['operations_succeeded']}/{data['operations']} "
             f"succeeded, {data['retried_grasps']} after a retried grasp; median final error "
             f"{data['median_error_mm']} mm, {data['median_error_deg']} deg (method {data['method']}).",
             "",
@@ -124,3 +120,22 @@ class TableCleaning(Task):
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         return vsl3d_figures(folder, shown.artefacts)
+
+
+@register
+class TableCleaning(Vsl3dExperiment):
+    """Two objects into the box, the third in front of it, reproduced by the robot from point clouds."""
+
+    name = "table-cleaning"
+    paper_section = "VSL-3D: Table Cleaning"
+    description = (
+        "The tutor puts two objects into the box and the third in front of it; the objects are "
+        "reshuffled and the Franka Panda reproduces the task from the RGB-D point clouds "
+        "(success: each object within 1.5 cm and 15 deg of its demonstrated pose)."
+    )
+
+    def reproduce(self, seed: int) -> tuple[list[dict], dict]:
+        from vslsp.vsl3d.table_cleaning import run_table_cleaning
+
+        outcome, pictures = run_table_cleaning(seed, self.method)
+        return [op.to_dict() for op in outcome.operations], pictures
