@@ -52,11 +52,15 @@ def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere
     environment = tmp_path / "venv"
     venv.create(environment, with_pip=True)  # no system site-packages: only what the wheel pulls in
     python = environment / "bin" / "python"
+    clean = {
+        k: v for k, v in os.environ.items() if k != "PYTHONPATH"
+    }  # a checkout on the path would count as installed
     install = subprocess.run(
         [str(python), "-m", "pip", "install", "-q", "-c", str(REPO / "constraints.txt"), str(wheel)],
         capture_output=True,
         text=True,
         timeout=3000,
+        env=clean,
     )
     assert install.returncode == 0, install.stderr[-3000:]
     elsewhere = tmp_path / "elsewhere"
@@ -66,6 +70,7 @@ def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere
     where = subprocess.run(
         [str(python), "-c", show], capture_output=True, text=True, cwd=elsewhere, env=env, timeout=600
     )
+    assert where.returncode == 0, where.stderr[-3000:]
     skills, pddl = (Path(line) for line in where.stdout.split())
     assert environment in skills.parents and environment in pddl.parents  # inside the installed package
     vslsp = str(environment / "bin" / "vslsp")

@@ -100,8 +100,7 @@ def test_cube_textures_are_seeded_by_name():
 
 @pytest.mark.slow
 def test_a_trial_does_not_depend_on_the_trials_before_it():
-    from vslsp.experiments import run_trial
-
+    from vslsp.loop.experiments import run_trial
     from vslsp.skills import SkillLibrary, default_library_path
 
     library = SkillLibrary.load(default_library_path())

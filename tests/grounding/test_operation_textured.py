@@ -7,9 +7,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
-from vslsp.vision.synthetic import PAINTS, Square, tabletop_image
-from vslsp.vsl.grounding import ground, ground_scene
 
+from vslsp.grounding.operation import ground, ground_scene
+from vslsp.grounding.synthetic import PAINTS, Square, tabletop_image
 from vslsp.sim import COLOURS, World
 from vslsp.sim.textures import cube_face
 from vslsp.vision.colour import colour_name
