@@ -88,19 +88,28 @@ class AlwaysDies(Task):
 
 
 class Slow(Task):
-    """Seed 0 is quick; the others write 'started', sleep, then write 'finished'."""
+    """Seed 0 is quick (it writes '0.done'); the others write 'started', wait for seed 0 to be
+    done (a worker may start late on a loaded machine), sleep, then write 'finished'."""
 
     name = "ray-test-slow"
     system = System.VSL
     paper_section = "test"
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
-        if seed:
-            folder = Path(self.settings["folder"])
+        folder = Path(self.settings["folder"])
+        if seed == 0:
+            (folder / "0.done").write_text("")
+        else:
             (folder / f"{seed}.started").write_text("")
-            time.sleep(4.0)
+            deadline = time.monotonic() + 60.0
+            while not (folder / "0.done").exists() and time.monotonic() < deadline:
+                time.sleep(0.05)
+            time.sleep(SLOW_S)
             (folder / f"{seed}.finished").write_text("")
         return TrialResult(self.name, seed, True)
+
+
+SLOW_S = 8.0  # a slow trial's time after seed 0 is done: the cancel must come before
 
 
 class WaitsForCtrlC(Task):
@@ -191,7 +200,7 @@ def test_sigterm_cancels_the_outstanding_trials_and_keeps_the_finished(cluster, 
     run = run_trials(Slow(folder=str(tmp_path)), [0, 1, 2, 3], workers=2, backend="ray", on_done=stop)
     assert run.interrupted == "SIGTERM" and run.partial
     assert [r.seed for r in run.results] == [0]
-    time.sleep(6.0)  # longer than a slow trial: a cancelled one never finishes
+    time.sleep(SLOW_S + 1.0)  # longer than a slow trial: a cancelled one never finishes
     assert not list(tmp_path.glob("*.finished"))
     assert not (tmp_path / "3.started").exists()  # never submitted: at most 2 in flight
 
