@@ -31,6 +31,7 @@ from vslsp.loop.watching import tutor_operation
 from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, Task, learn_task
+from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import Match, find_best_match
 from vslsp.vision.objects import dark_mask
 from vslsp.vsl.demonstration import DemonstrationRecorder
@@ -244,17 +245,19 @@ def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
 
     Match finding (SIFT + RANSAC with adaptive frames) on the recorded pre-action observation
     comes first, on both images without the landmark line (the line is no object, and where it
-    crosses the frame its strong edges would align the line rather than the object's texture);
-    when the match lands on no object (or on one of another colour) the object's symbol (its
-    colour name) decides.
+    crosses the frame its strong edges would align the line rather than the object's texture).
+    A placement that lands on no object or on one of another colour is rejected and the search
+    goes on without the features there (the next best placement, up to :data:`_PLACEMENTS`);
+    when none fits, the object's symbol (its colour name) decides.
     """
-    match = find_best_match(
-        _without_landmark(op.pre_observation),
-        _without_landmark(state.image),
-        (op.pose_pre.x, op.pose_pre.y),
-        op.object_size,
-    )
-    if isinstance(match, Match):
+    observation, world = _without_landmark(op.pre_observation), _without_landmark(state.image)
+    features = extract_features(world)
+    for _ in range(_PLACEMENTS):
+        match = find_best_match(
+            observation, world, (op.pose_pre.x, op.pose_pre.y), op.object_size, world_features=features
+        )
+        if not isinstance(match, Match):
+            break
         best, distance = None, np.inf
         for name, obj in state.objects.items():
             d = float(np.hypot(obj.pixel[0] - match.x, obj.pixel[1] - match.y))
@@ -262,9 +265,16 @@ def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
                 best, distance = name, d
         if best is not None and distance < op.object_size and best.split("_")[0] == op.symbol:
             return best, "match"
+        away = np.hypot(features.keypoints[:, 0] - match.x, features.keypoints[:, 1] - match.y) > op.object_size
+        if away.all():
+            break
+        features = Features(features.keypoints[away], features.descriptors[away])
     if op.symbol in state.objects:
         return op.symbol, "symbol"
     return None
+
+
+_PLACEMENTS = 3  # placements tried before the symbol decides
 
 
 def _without_landmark(image: np.ndarray) -> np.ndarray:
