@@ -10,6 +10,21 @@ with quiet():
     import pybullet as pb
 
 
+def mesh_visual(client: int, mesh: tuple[list, list, list, list]) -> int:
+    """A white visual shape from a textured ``mesh`` (vertices, indices, uvs, normals); the
+    texture is applied to the body afterwards with ``changeVisualShape``."""
+    vertices, indices, uvs, normals = mesh
+    return pb.createVisualShape(
+        pb.GEOM_MESH,
+        vertices=vertices,
+        indices=indices,
+        uvs=uvs,
+        normals=normals,
+        rgbaColor=[1, 1, 1, 1],
+        physicsClientId=client,
+    )
+
+
 class PhysicsClient:
     """A world that owns the pybullet client ``self.client`` (None once closed)."""
 

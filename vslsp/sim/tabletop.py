@@ -25,7 +25,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.sim.camera import Backdrop, Camera
-from vslsp.sim.client import PhysicsClient
+from vslsp.sim.client import PhysicsClient, mesh_visual
 from vslsp.sim.panda import PARK, Panda
 from vslsp.sim.pick_place import TIME_STEP, PickPlaceResult, execute_pick_and_place
 from vslsp.sim.quiet import quiet
@@ -194,23 +194,14 @@ class TabletopWorld(PhysicsClient):
         return body
 
     def _add(self, item: Item, placement: Placement) -> None:
-        c = self.client
+        c = self.live_client
         half = [s / 2.0 for s in item.size]
         texture = np.asarray(item.texture)
         strip = max(4, texture.shape[0] // 8)  # plain rows for the sides: the texture's mean colour
         atlas = np.concatenate(
             [texture, np.broadcast_to(texture.reshape(-1, 3).mean(0).astype(np.uint8), (strip, texture.shape[1], 3))]
         )
-        vertices, indices, uvs, normals = box_mesh(item.size, texture.shape[0] / atlas.shape[0])
-        visual = pb.createVisualShape(
-            pb.GEOM_MESH,
-            vertices=vertices,
-            indices=indices,
-            uvs=uvs,
-            normals=normals,
-            rgbaColor=[1, 1, 1, 1],
-            physicsClientId=c,
-        )
+        visual = mesh_visual(c, box_mesh(item.size, texture.shape[0] / atlas.shape[0]))
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
         body = pb.createMultiBody(item.mass if item.movable else 0.0, shape, visual, [0, 0, 0], physicsClientId=c)
         handle, path = tempfile.mkstemp(suffix=".png")

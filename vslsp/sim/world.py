@@ -15,7 +15,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.sim.camera import Backdrop, Camera
-from vslsp.sim.client import PhysicsClient
+from vslsp.sim.client import PhysicsClient, mesh_visual
 from vslsp.sim.quiet import quiet
 from vslsp.sim.robot import TIME_STEP
 from vslsp.sim.scene import COLOURS, LINE_WIDTH, TABLE_Z, CubeSpec, SceneSpec
@@ -143,20 +143,11 @@ class World(PhysicsClient):
         )
 
     def _make_cube(self, cube: CubeSpec) -> int:
-        c = self.client
+        c = self.live_client
         half = [cube.size / 2.0] * 3
         shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
         if self.textured:  # the colour is the symbol; the texture gives match finding its keypoints
-            vertices, indices, uvs, normals = cube_mesh(cube.size)
-            visual = pb.createVisualShape(
-                pb.GEOM_MESH,
-                vertices=vertices,
-                indices=indices,
-                uvs=uvs,
-                normals=normals,
-                rgbaColor=[1, 1, 1, 1],
-                physicsClientId=c,
-            )
+            visual = mesh_visual(c, cube_mesh(cube.size))
         else:
             visual = pb.createVisualShape(
                 pb.GEOM_BOX, halfExtents=half, rgbaColor=(*COLOURS[cube.colour], 1.0), physicsClientId=c

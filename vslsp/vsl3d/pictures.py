@@ -91,3 +91,21 @@ def cloud_view(points: np.ndarray, size: tuple[int, int] = (480, 640), elevation
     for k in np.argsort(-depth, kind="stable"):  # far first
         image[rows[k] : rows[k] + 2, cols[k] : cols[k] + 2] = colours[k]
     return image
+
+
+def trial_pictures(
+    demonstration: list[np.ndarray],
+    matched: list[np.ndarray],
+    cloud: np.ndarray | None,
+    demonstrated_final: np.ndarray,
+    reproduced_final: np.ndarray,
+) -> dict:
+    """A VSL-3D trial's pictures for the report: the demonstration's views, the matched views,
+    the cloud view (the final scene where no cloud was seen) and the final scenes side by side."""
+    final = np.hstack([demonstrated_final, reproduced_final])
+    return {
+        "demonstration": demonstration,
+        "matched": matched,
+        "cloud": cloud if cloud is not None else final,
+        "final": final,
+    }

@@ -23,7 +23,7 @@ from vslsp.errors import TaskFailed, VslspError
 from vslsp.sim.cloud_scene import BOXES, CloudScene, random_layout
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.matching import find_best_match
-from vslsp.vsl3d.pictures import cloud_view, draw_frame
+from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_pictures
 from vslsp.vsl3d.reproduce import Reproduction, reproduce, world_of
 from vslsp.vsl3d.table_cleaning import TOLERANCE_DEG, TOLERANCE_M, picture, pose_error
 from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCloud, euclidean_clusters, get_object
@@ -210,13 +210,7 @@ def run_stacking(
             if cloud is None and record.last is not None:
                 cloud = cloud_view(record.last.world.points)
         scene.park()
-        final = np.hstack([demonstrated_final, scene.capture().rgb])
-    pictures = {
-        "demonstration": images,
-        "matched": matched,
-        "cloud": cloud if cloud is not None else final,
-        "final": final,
-    }
+        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.capture().rgb)
     return tuple(results), pictures
 
 

@@ -26,7 +26,7 @@ import numpy as np
 from vslsp.errors import VslspError
 from vslsp.sim.cloud_scene import TRAY_POSITION, CloudScene, random_layout
 from vslsp.vsl3d.cloud import DepthCamera
-from vslsp.vsl3d.pictures import cloud_view, draw_frame, draw_grasp
+from vslsp.vsl3d.pictures import cloud_view, draw_frame, draw_grasp, trial_pictures
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.reproduce import WORKSPACE, Reproduction, reproduce, world_of
 from vslsp.vsl3d.vsl import MovedObject, get_object
@@ -210,13 +210,7 @@ def run_table_cleaning(
             if cloud is None and record.last is not None:
                 cloud = cloud_view(record.last.world.points)
         scene.park()
-        final = np.hstack([demonstrated_final, scene.capture().rgb])
-    pictures = {
-        "demonstration": images,
-        "matched": matched,
-        "cloud": cloud if cloud is not None else final,
-        "final": final,
-    }
+        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.capture().rgb)
     return TableCleaningResult(seed, method, tuple(results)), pictures
 
 
