@@ -247,12 +247,29 @@ class KinematicICub:
                 jacobian = jacobian[:3]
             else:
                 jacobian = np.vstack([jacobian[:3], orientation_weight * jacobian[3:]])
-            step = jacobian.T @ np.linalg.solve(jacobian @ jacobian.T + damping**2 * np.eye(len(error)), error)
+            q = np.clip(q + self._step(jacobian, error, q, damping), self.ik_lower, self.ik_upper)
+        return IKResult(q=q, position_error=position_error, orientation_error=orientation_error)
+
+    def _step(self, jacobian: np.ndarray, error: np.ndarray, q: np.ndarray, damping: float) -> np.ndarray:
+        """One damped-least-squares step (10,) for the task-space ``error`` (3,) or (6,) with the
+        joints at a limit that the step would push beyond held still (their columns of the
+        Jacobian (3|6, 10) left out, the step solved again): clipping such a step instead moves
+        the hand only part of the way and the solve converges linearly, about 0.7 per step, where
+        it otherwise takes two or three steps."""
+        free = np.ones(len(q), dtype=bool)
+        damped = damping**2 * np.eye(len(error))
+        while True:
+            active = jacobian * free
+            step = active.T @ np.linalg.solve(active @ active.T + damped, error)
             largest = np.max(np.abs(step))
             if largest > 0.2:  # keep each step inside the region where J is a good model
                 step *= 0.2 / largest
-            q = np.clip(q + step, self.ik_lower, self.ik_upper)
-        return IKResult(q=q, position_error=position_error, orientation_error=orientation_error)
+            beyond = (q + step < self.ik_lower) & (q <= self.ik_lower + 1e-9)
+            beyond |= (q + step > self.ik_upper) & (q >= self.ik_upper - 1e-9)
+            blocked = free & beyond
+            if not blocked.any():
+                return step
+            free &= ~blocked
 
 
 def check_reached(result: IKResult, target: np.ndarray, tolerance: float = 0.01) -> None:

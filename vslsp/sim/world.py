@@ -15,7 +15,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.sim.camera import Backdrop, Camera
-from vslsp.sim.client import PhysicsClient, mesh_visual
+from vslsp.sim.client import PhysicsClient, mesh_visual, strip_mesh
 from vslsp.sim.quiet import quiet
 from vslsp.sim.robot import TIME_STEP
 from vslsp.sim.scene import COLOURS, LINE_WIDTH, TABLE_Z, CubeSpec, SceneSpec
@@ -30,6 +30,7 @@ TABLE_CENTRE = (0.46, -0.05)
 CUBE_MASS = 0.08
 CUBE_FRICTION = 0.6
 CAMERA_NAMES = ("head", "overhead")
+LANDMARK_SEGMENTS = 16  # pieces of the landmark line's mesh (see strip_mesh)
 
 
 @dataclass(frozen=True)
@@ -129,8 +130,15 @@ class World(PhysicsClient):
     def _make_landmark(self) -> int:
         landmark = self.spec.landmark
         half = (LINE_WIDTH / 2.0, 0.40, 0.0005)
+        vertices, indices, uvs, normals = strip_mesh(half, LANDMARK_SEGMENTS)
         visual = pb.createVisualShape(
-            pb.GEOM_BOX, halfExtents=half, rgbaColor=(0.02, 0.02, 0.02, 1.0), physicsClientId=self.client
+            pb.GEOM_MESH,
+            vertices=vertices,
+            indices=indices,
+            uvs=uvs,
+            normals=normals,
+            rgbaColor=(0.02, 0.02, 0.02, 1.0),
+            physicsClientId=self.client,
         )
         # Visual only: no collision shape, so it never disturbs the cubes.
         return pb.createMultiBody(
