@@ -15,14 +15,13 @@ Success (issue "VSL-SP end to end"): >= 99 % over 100 trials per experiment with
 >= 95 % with faults injected; `vslsp demo` cold start to finish <= 60 s on the 2-core machine.
 
     python benchmarks/bench_experiments.py [--speed-trials N] [--repeat R] [--trials N] [--workers W]
-                                           [--no-success] [--no-faults] [--no-demo] [--json]
+                                           [--no-speed] [--no-success] [--no-faults] [--no-demo] [--json]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import os
 import subprocess
 import sys
 import tempfile
@@ -33,6 +32,7 @@ import pybullet_data
 
 from vslsp.sim.quiet import quiet
 from vslsp.tasks import Option, get_task, list_tasks, run_one, run_trials
+from vslsp.tasks.base import cpu_seconds
 
 with quiet():
     import pybullet as pb
@@ -40,13 +40,6 @@ with quiet():
 TARGETS = {False: 0.99, True: 0.95}
 WORKLOAD_STEPS = 2000
 WORKLOAD_VIEWS = 4
-
-
-def cpu_seconds() -> float:
-    """CPU seconds used so far by this process and its finished children (the planner runs as
-    a child): unlike wall-clock time, hardly changed by other programs loading the machine."""
-    times = os.times()
-    return times.user + times.system + times.children_user + times.children_system
 
 
 def workload() -> tuple[float, float]:
@@ -155,7 +148,7 @@ def success(experiments: list[str], trials: int, seed: int, workers: int, with_f
             task = get_task(name, faults=faults)
             start = time.perf_counter()
             results = run_trials(task, range(seed, seed + trials), workers=workers).results
-            wall = time.perf_counter() - start
+            wall, cpu = time.perf_counter() - start, sum(t.cpu_s for t in results)
             rate = sum(t.success for t in results) / len(results)
             matched = [how for t in results for how in t.details.get("matched_by", [])]
             rows.append(
@@ -170,6 +163,7 @@ def success(experiments: list[str], trials: int, seed: int, workers: int, with_f
                     "failed_steps": sum(t.details.get("failed_steps", 0) for t in results),
                     "s_per_trial": float(np.mean([t.time_s for t in results])),
                     "wall_s": wall,
+                    "cpu_s": cpu,
                     "matched_by_match": matched.count("match"),
                     "matched_by_symbol": matched.count("symbol"),
                     "failures": [(t.seed, t.error) for t in results if not t.success],
@@ -180,11 +174,19 @@ def success(experiments: list[str], trials: int, seed: int, workers: int, with_f
             print(
                 f"{name:16s} faults={str(faults):5s} {rate * 100:5.1f} % of {len(results)} "
                 f"(target {TARGETS[faults] * 100:.0f} %: {'met' if row['met'] else 'MISSED'}), "
-                f"{row['replans']} replans{share}, {row['s_per_trial']:.1f} s/trial, wall {wall:.0f} s",
+                f"{row['replans']} replans{share}, {row['s_per_trial']:.1f} s/trial, "
+                f"wall {wall:.0f} s, CPU {cpu:.0f} s",
                 flush=True,
             )
             for failed_seed, error in row["failures"][:5]:
                 print(f"    seed {failed_seed}: {error}")
+    if rows:
+        wall, cpu = sum(r["wall_s"] for r in rows), sum(r["cpu_s"] for r in rows)
+        print(
+            f"all {sum(r['trials'] for r in rows)} trials: wall {wall / 60:.1f} min, CPU {cpu / 60:.1f} min "
+            f"(= {cpu / 60 / workers:.1f} min on {workers} cores that nothing else uses)",
+            flush=True,
+        )
     return rows
 
 
@@ -201,17 +203,19 @@ def main() -> None:
         default=[cls.name for cls in list_tasks()],
         help="registered experiments (default: all; vslsp experiment --list)",
     )
+    parser.add_argument("--no-speed", action="store_true", help="skip the cost figures")
     parser.add_argument("--no-success", action="store_true", help="only the cost figures")
     parser.add_argument("--no-faults", action="store_true", help="skip the fault-injected runs")
     parser.add_argument("--no-demo", action="store_true", help="skip timing `vslsp demo`")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
 
-    reference, cost = speed(args.experiments, args.speed_trials, args.repeat, args.seed)
-    print(
-        f"fixed workload (KUKA among cubes, {WORKLOAD_STEPS} steps + {WORKLOAD_VIEWS} 640x480 views): "
-        f"{reference['wall_s']:.3f} s, {reference['cpu_s']:.3f} CPU s (quickest runs)"
-    )
+    reference, cost = ({}, []) if args.no_speed else speed(args.experiments, args.speed_trials, args.repeat, args.seed)
+    if reference:
+        print(
+            f"fixed workload (KUKA among cubes, {WORKLOAD_STEPS} steps + {WORKLOAD_VIEWS} 640x480 views): "
+            f"{reference['wall_s']:.3f} s, {reference['cpu_s']:.3f} CPU s (quickest runs)"
+        )
     for row in cost:
         print(
             f"{row['experiment']:16s} {row['s_per_trial']:6.2f} s/trial = {row['workloads_per_trial']:5.2f} wl; "

@@ -26,9 +26,10 @@ Writing a task::
 from __future__ import annotations
 
 import enum
+import os
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -69,6 +70,7 @@ class TrialResult:
     operations: list[dict] | None = None
     details: dict = field(default_factory=dict)
     artefacts: Any = field(default=None, repr=False, compare=False)
+    cpu_s: float = 0.0
 
     def to_dict(self) -> dict:
         """The trial's JSON record (``results`` of ``report.json``)."""
@@ -78,6 +80,7 @@ class TrialResult:
             "success": self.success,
             "error": self.error,
             "time_s": round(self.time_s, 3),
+            "cpu_s": round(self.cpu_s, 3),
         }
         if self.operations is not None:
             data["operations"] = self.operations
@@ -93,9 +96,7 @@ class TrialResult:
 
     def without_artefacts(self) -> TrialResult:
         """The same result with nothing kept for the report (what crosses processes)."""
-        return TrialResult(
-            self.experiment, self.seed, self.success, self.error, self.time_s, self.operations, self.details
-        )
+        return replace(self, artefacts=None)
 
 
 class Task:
@@ -156,9 +157,17 @@ class Task:
         }
 
 
+def cpu_seconds() -> float:
+    """CPU seconds used so far by this process and its finished children (the planner runs as
+    one): unlike wall-clock time, hardly changed by other programs loading the machine."""
+    times = os.times()
+    return times.user + times.system + times.children_user + times.children_system
+
+
 def timed(task: Task, seed: int, keep: bool) -> TrialResult:
-    """Run one trial and stamp its wall time."""
-    start = time.perf_counter()
+    """Run one trial and stamp its wall time and CPU time."""
+    start, cpu = time.perf_counter(), cpu_seconds()
     result = task.run_trial(seed, keep)
     result.time_s = time.perf_counter() - start
+    result.cpu_s = cpu_seconds() - cpu
     return result
