@@ -1,13 +1,8 @@
 """The command line's own behaviour: version, help, user errors without tracebacks."""
 
-import subprocess
-import sys
+from helpers.cli import vslsp_process as run_cli
 
 from vslsp import __version__
-
-
-def run_cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "vslsp", *args], capture_output=True, text=True)
 
 
 def test_version_prints_the_package_version():

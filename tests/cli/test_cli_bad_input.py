@@ -10,7 +10,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from cli_run import REPO, unwritable_folder, vslsp, vslsp_process
+from helpers.cli import REPO, unwritable_folder, vslsp, vslsp_process
 
 from vslsp.skills import default_library_path
 

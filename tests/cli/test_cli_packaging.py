@@ -11,7 +11,7 @@ import venv
 from pathlib import Path
 
 import pytest
-from cli_run import REPO
+from helpers.cli import REPO
 
 from vslsp.data import pddl_folder, shipped_folder, skills_folder
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 import pytest
-from cli_run import unwritable_folder
+from helpers.cli import unwritable_folder
 
 from vslsp.cli.params import (
     MAX_SEED,

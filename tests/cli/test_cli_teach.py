@@ -9,7 +9,7 @@ import shlex
 import shutil
 
 import pytest
-from cli_run import vslsp
+from helpers.cli import vslsp
 
 from vslsp.skills import SkillLibrary, default_library_path
 

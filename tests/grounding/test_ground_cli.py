@@ -2,20 +2,15 @@
 bad input (with an {"error": ...} object under --json), checked before any work."""
 
 import json
-import subprocess
-import sys
 import textwrap
 
 import cv2
 import numpy as np
 import pytest
+from helpers.cli import vslsp_process as _vslsp
 
 from vslsp.grounding.synthetic import Square, tabletop_image
 from vslsp.vision.image import read_image, write_image
-
-
-def _vslsp(*args):
-    return subprocess.run([sys.executable, "-m", "vslsp", *map(str, args)], capture_output=True, text=True, timeout=60)
 
 
 @pytest.fixture(scope="module")

@@ -3,8 +3,8 @@
 import json
 
 import pytest
+from helpers.cli import vslsp
 
-from vslsp.cli import main
 from vslsp.loop.experiments import ORDERED_COLOURS, run_trial
 
 pytestmark = pytest.mark.slow
@@ -42,10 +42,8 @@ def test_keep_all_near_generalises_to_other_objects_and_replans_after_a_fault(li
 
 
 def test_vslsp_demo_runs_pull_in_order_and_writes_the_report(tmp_path, capsys):
-    with pytest.raises(SystemExit) as done:
-        main(["demo", "--out", str(tmp_path)])
-    assert done.value.code == 0
-    assert "report" in capsys.readouterr().out
+    code, out, _ = vslsp(capsys, "demo", "--out", tmp_path)
+    assert code == 0 and "report" in out
     report = json.loads((tmp_path / "report.json").read_text())
     assert report["experiment"] == "pull-in-order" and report["success_rate"] == 1.0
     trial = report["results"][0]
@@ -58,14 +56,13 @@ def test_vslsp_demo_runs_pull_in_order_and_writes_the_report(tmp_path, capsys):
 
 
 def test_experiment_json_and_exit_codes(tmp_path, capsys):
-    with pytest.raises(SystemExit) as done:
-        main(["experiment", "keep-all-near", "--trials", "1", "--seed", "1", "--json", "--out", str(tmp_path)])
-    data = json.loads(capsys.readouterr().out)
+    code, out, _ = vslsp(
+        capsys, "experiment", "keep-all-near", "--trials", "1", "--seed", "1", "--json", "--out", tmp_path
+    )
+    data = json.loads(out)
     assert {"experiment", "trials", "successes", "success_rate", "mean_time_s", "failures", "results", "report"} <= set(
         data
     )
-    assert data["trials"] == 1 and data["successes"] == 1 and done.value.code == 0
+    assert data["trials"] == 1 and data["successes"] == 1 and code == 0
     assert data["results"][0]["operations"] and all(op["ok"] for op in data["results"][0]["operations"])
-    with pytest.raises(SystemExit) as done:
-        main(["experiment", "no-such-experiment"])
-    assert done.value.code == 2
+    assert vslsp(capsys, "experiment", "no-such-experiment")[0] == 2

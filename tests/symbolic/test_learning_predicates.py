@@ -2,6 +2,7 @@
 rules and goals over every grounded predicate, with what no skill changes kept out."""
 
 import pytest
+from helpers.cli import vslsp_process
 
 from vslsp.symbolic import Atom, Forall, Not, Step, learn_domain, learn_task, make_problem, solve
 
@@ -82,30 +83,21 @@ def test_rules_keep_what_the_demonstrations_share_and_what_the_skill_changes():
 @pytest.mark.slow
 def test_keep_all_near_with_the_example_predicates_end_to_end(tmp_path):
     import json
-    import subprocess
-    import sys
     from pathlib import Path
 
     predicates = Path(__file__).parents[2] / "examples/grounding/predicates.py"
-    result = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "vslsp",
-            "experiment",
-            "keep-all-near",
-            "--predicates",
-            str(predicates),
-            "--trials",
-            "1",
-            "--seed",
-            "5",
-            "--out",
-            str(tmp_path),
-            "--json",
-        ],
-        capture_output=True,
-        text=True,
+    result = vslsp_process(
+        "experiment",
+        "keep-all-near",
+        "--predicates",
+        predicates,
+        "--trials",
+        1,
+        "--seed",
+        5,
+        "--out",
+        tmp_path,
+        "--json",
         timeout=900,
     )
     assert result.returncode == 0, result.stderr

@@ -2,23 +2,12 @@
 0 (done), 1 (no plan / invalid plan), 2 (malformed input, FILE:LINE:COL on stderr)."""
 
 import json
-import subprocess
-import sys
 
 import pytest
+from helpers.cli import vslsp, vslsp_process
 from helpers.symbolic import PDDL
 
-from vslsp.cli import main
-
 DOMAIN = PDDL / "domain.pddl"
-
-
-def vslsp(capsys, *args) -> tuple[int, str, str]:
-    """Run the CLI in-process (the planner is a real subprocess of Fast Downward)."""
-    with pytest.raises(SystemExit) as done:
-        main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return done.value.code, out, err
 
 
 def test_plan_json_keeps_the_order_and_validates(capsys, tmp_path):
@@ -75,12 +64,7 @@ def test_pddl_check_summarises(capsys):
 
 
 def test_plan_runs_as_a_program():
-    result = subprocess.run(
-        [sys.executable, "-m", "vslsp", "plan", str(DOMAIN), str(PDDL / "simple-push-pull.pddl")],
-        capture_output=True,
-        text=True,
-        timeout=60,
-    )
+    result = vslsp_process("plan", DOMAIN, PDDL / "simple-push-pull.pddl", timeout=60)
     assert result.returncode == 0, result.stderr
     assert result.stdout.splitlines() == ["1. pull red", "2. push green"]
 

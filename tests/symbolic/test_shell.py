@@ -3,6 +3,7 @@ checked by the PDDL reader as they come, then planned, validated, saved and load
 
 import io
 
+from helpers.cli import vslsp_process
 from helpers.symbolic import PDDL
 
 from vslsp.symbolic import read_pddl
@@ -77,17 +78,7 @@ def test_load_and_complete_names():
 
 
 def test_vslsp_shell_is_the_pddl_shell_at_the_top_level(tmp_path):
-    import subprocess
-    import sys
-
-    script = "plan\nquit\n"
-    done = subprocess.run(
-        [sys.executable, "-m", "vslsp", "shell", str(PDDL / "domain.pddl"), str(PDDL / "pull-in-order.pddl")],
-        input=script,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
+    done = vslsp_process("shell", PDDL / "domain.pddl", PDDL / "pull-in-order.pddl", input="plan\nquit\n", timeout=120)
     assert done.returncode == 0, done.stderr
     assert "pull orange" in done.stdout and done.stdout.index("pull orange") < done.stdout.index("pull yellow")
 

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 from example_tasks import DiceBelowFive, Troublesome
+from helpers.cli import vslsp
 
-from vslsp.cli import main
 from vslsp.errors import InputError
 from vslsp.tasks import Run, get_task, list_tasks, run_trials, write_report
 
@@ -35,10 +35,9 @@ HERE = Path(__file__).parent
 
 
 def test_every_experiment_of_the_paper_is_registered_with_its_system(capsys):
-    with pytest.raises(SystemExit) as done:
-        main(["experiment", "--list", "--json"])
-    assert done.value.code == 0
-    listed = json.loads(capsys.readouterr().out)["experiments"]
+    code, out, _ = vslsp(capsys, "experiment", "--list", "--json")
+    assert code == 0
+    listed = json.loads(out)["experiments"]
     names = [entry["name"] for entry in listed]
     assert set(PAPER) <= set(names)
     systems = {entry["name"]: entry["system"] for entry in listed}
@@ -48,13 +47,14 @@ def test_every_experiment_of_the_paper_is_registered_with_its_system(capsys):
 
 
 def test_a_user_task_runs_through_the_command_with_the_common_report(tmp_path, capsys):
-    with pytest.raises(SystemExit) as done:
-        main(["experiment", "dice-below-five", "--trials", "6", "--seed", "3", "--json", "--out", str(tmp_path)])
-    data = json.loads(capsys.readouterr().out)
+    code, out, _ = vslsp(
+        capsys, "experiment", "dice-below-five", "--trials", "6", "--seed", "3", "--json", "--out", tmp_path
+    )
+    data = json.loads(out)
     rolls = [r["roll"] for r in data["results"]]
     assert [r["seed"] for r in data["results"]] == list(range(3, 9))
     assert data["successes"] == sum(roll < 5 for roll in rolls) and data["trials"] == 6
-    assert done.value.code == (0 if data["successes"] == 6 else 1)
+    assert code == (0 if data["successes"] == 6 else 1)
     for key in ("experiment", "trials", "successes", "success_rate", "mean_time_s", "failures", "results", "report"):
         assert key in data
     assert data["mean_roll"] == pytest.approx(sum(rolls) / 6)
@@ -143,14 +143,11 @@ def test_a_run_reports_partial_when_not_every_seed_finished():
     ],
 )
 def test_json_is_printed_for_bad_input_too(args, capsys):
-    with pytest.raises(SystemExit) as done:
-        main(args)
-    out = json.loads(capsys.readouterr().out)
-    assert done.value.code == 2 and out["exit_code"] == 2 and out["error"]
+    code, out, _ = vslsp(capsys, *args)
+    data = json.loads(out)
+    assert code == 2 and data["exit_code"] == 2 and data["error"]
 
 
 def test_an_unknown_planner_is_refused_before_any_trial(tmp_path, capsys):
-    with pytest.raises(SystemExit) as done:
-        main(["experiment", "pull-in-order", "--planner", "magic", "--json", "--out", str(tmp_path)])
-    out = json.loads(capsys.readouterr().out)
-    assert done.value.code == 2 and "magic" in out["error"] and not (tmp_path / "report.json").exists()
+    code, out, _ = vslsp(capsys, "experiment", "pull-in-order", "--planner", "magic", "--json", "--out", tmp_path)
+    assert code == 2 and "magic" in json.loads(out)["error"] and not (tmp_path / "report.json").exists()

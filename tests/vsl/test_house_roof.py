@@ -7,8 +7,8 @@ import json
 
 import numpy as np
 import pytest
+from helpers.cli import vslsp
 
-from vslsp.cli import main
 from vslsp.errors import InputError
 from vslsp.geometry.poses import compose, relative, wrap
 from vslsp.tasks import get_task
@@ -105,22 +105,11 @@ def test_a_fixed_small_frame_puts_the_third_roof_below_a_finished_house(seed):
 
 @pytest.mark.slow
 def test_the_command_writes_the_report_and_prints_json(tmp_path, capsys):
-    with pytest.raises(SystemExit) as done:
-        main(
-            [
-                "experiment",
-                "house-roof",
-                "--trials",
-                "1",
-                "--seed",
-                str(FIXED_FRAME_FAILS[0]),
-                "--json",
-                "--out",
-                str(tmp_path),
-            ]
-        )
-    data = json.loads(capsys.readouterr().out)
-    assert done.value.code == 0
+    code, out, _ = vslsp(
+        capsys, "experiment", "house-roof", "--trials", 1, "--seed", FIXED_FRAME_FAILS[0], "--json", "--out", tmp_path
+    )
+    data = json.loads(out)
+    assert code == 0
     assert data["experiment"] == "house-roof" and data["trials"] == 1 and data["success_rate"] == 1.0
     assert data["fixed_frame"]["successes"] == 0 and data["adaptive_frame"]["operations_ok"] == 3
     report = json.loads((tmp_path / "report.json").read_text())
@@ -132,11 +121,9 @@ def test_the_command_writes_the_report_and_prints_json(tmp_path, capsys):
 
 
 def test_bad_input_is_a_clear_error(capsys):
-    with pytest.raises(SystemExit) as done:
-        main(["experiment", "house-roof", "--trials", "0"])
-    assert done.value.code == 2 and "--trials" in capsys.readouterr().err
-    with pytest.raises(SystemExit) as done:
-        main(["experiment", "house-roof", "--faults"])
-    assert done.value.code == 2 and "--faults applies to the VSL-SP experiments" in capsys.readouterr().err
+    code, _, err = vslsp(capsys, "experiment", "house-roof", "--trials", "0")
+    assert code == 2 and "--trials" in err
+    code, _, err = vslsp(capsys, "experiment", "house-roof", "--faults")
+    assert code == 2 and "--faults applies to the VSL-SP experiments" in err
     with pytest.raises(InputError, match="--planner applies to the VSL-SP experiments"):
         get_task("house-roof", planner="fast-downward")

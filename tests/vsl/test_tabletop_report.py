@@ -2,8 +2,8 @@
 diagnoses (the benchmark's figure), and the command refuses bad input before any work."""
 
 import pytest
+from helpers.cli import vslsp
 
-from vslsp.cli import main
 from vslsp.errors import InputError
 from vslsp.tasks import Run, TrialResult, get_task, summary
 from vslsp.tasks.tabletop import make_task
@@ -43,13 +43,7 @@ def test_the_tower_of_hanoi_has_the_users_intervention_on_odd_seeds():
 def test_bad_input_is_refused_before_any_work(capsys):
     with pytest.raises(InputError, match="unknown experiment 'jigsaw'"):
         get_task("jigsaw")
-    with pytest.raises(SystemExit) as exit_info:
-        main(["experiment", "domino", "--workers", "0"])
-    assert exit_info.value.code == 2
-    with pytest.raises(SystemExit) as exit_info:
-        main(["experiment", "domino", "--trials", "0"])
-    assert exit_info.value.code == 2
-    with pytest.raises(SystemExit) as exit_info:
-        main(["experiment", "tower-of-hanoi", "--faults"])
-    assert exit_info.value.code == 2
-    assert "--faults applies to the VSL-SP experiments" in capsys.readouterr().err
+    assert vslsp(capsys, "experiment", "domino", "--workers", "0")[0] == 2
+    assert vslsp(capsys, "experiment", "domino", "--trials", "0")[0] == 2
+    code, _, err = vslsp(capsys, "experiment", "tower-of-hanoi", "--faults")
+    assert code == 2 and "--faults applies to the VSL-SP experiments" in err

@@ -4,18 +4,17 @@ command line: demonstrate, reshuffle, reproduce with the Panda, check against th
 import json
 
 import pytest
-from click.testing import CliRunner
+from helpers.cli import vslsp
 
-from vslsp.cli.vsl3d import vsl3d
 from vslsp.errors import InputError
 from vslsp.tasks.registry import get_task
 
 
 @pytest.mark.slow
-def test_table_cleaning_is_executed_by_the_robot(tmp_path):
-    result = CliRunner().invoke(vsl3d, ["table-cleaning", "--seed", "0", "--json", "--out", str(tmp_path)])
-    assert result.exit_code == 0, result.output
-    summary = json.loads(result.stdout)
+def test_table_cleaning_is_executed_by_the_robot(tmp_path, capsys):
+    code, out, err = vslsp(capsys, "vsl3d", "table-cleaning", "--seed", "0", "--json", "--out", tmp_path)
+    assert code == 0, out + err
+    summary = json.loads(out)
     assert summary["experiment"] == "table-cleaning" and summary["success_rate"] == 1.0
     assert summary["operations_succeeded"] == 3 and summary["median_error_mm"] < 15.0
     report = json.loads((tmp_path / "report.json").read_text())
@@ -46,8 +45,8 @@ def test_a_box_missing_from_the_new_scene_is_diagnosed_and_the_other_stack_still
     assert not results[1].success and "landmark box2 not found" in results[1].error
 
 
-def test_unknown_method_is_refused():
-    result = CliRunner().invoke(vsl3d, ["table-cleaning", "--method", "magic"])
-    assert isinstance(result.exception, InputError) and "magic" in str(result.exception)
+def test_unknown_method_is_refused(capsys):
+    code, _, err = vslsp(capsys, "vsl3d", "table-cleaning", "--method", "magic")
+    assert code == 2 and "magic" in err
     with pytest.raises(InputError, match="magic"):
         get_task("stacking", method="magic")

@@ -1,4 +1,6 @@
-"""Running the CLI in tests: in-process (fast, exit code and streams) or as a subprocess."""
+"""Running the CLI in tests, one way each: ``vslsp(capsys, ...)`` in this process (fast: exit
+code and streams), ``vslsp_process(...)`` as a program (what a user's shell sees: no traceback,
+standard input, the installed entry point's behaviour)."""
 
 from __future__ import annotations
 
@@ -23,11 +25,20 @@ def vslsp(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, 
     return (code if isinstance(code, int) else 1), out, err
 
 
-def vslsp_process(*args: object, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
-    """Run ``python -m vslsp ARGS`` as a subprocess (this checkout first on the path)."""
+def vslsp_process(
+    *args: object, cwd: Path | None = None, input: str | None = None, timeout: float = 600
+) -> subprocess.CompletedProcess[str]:
+    """Run ``python -m vslsp ARGS`` as a subprocess (this checkout first on the path), with
+    ``input`` on its standard input."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")])}
     return subprocess.run(
-        [sys.executable, "-m", "vslsp", *map(str, args)], capture_output=True, text=True, cwd=cwd, env=env, timeout=600
+        [sys.executable, "-m", "vslsp", *map(str, args)],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        env=env,
+        input=input,
+        timeout=timeout,
     )
 
 
