@@ -32,6 +32,7 @@ relative to a body), which perception never reads.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TypeVar
 
 import cv2
 import numpy as np
@@ -84,7 +85,10 @@ class HouseRoofDemonstration:
         return tuple(_recorded(op.turn) for op in self.demonstration.operations)
 
 
-def _recorded(value):
+_T = TypeVar("_T")
+
+
+def _recorded(value: _T | None) -> _T:
     assert value is not None  # :func:`demonstrate` records every operation with its pre-place observation
     return value
 
