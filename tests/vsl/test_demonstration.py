@@ -1,5 +1,6 @@
-"""The demonstration recorder (Algorithm 1, part I): dictionaries O^Pre, O^Post, symbols,
-poses, features and the policy Π, saved as JSON + PNG + npz and loaded back."""
+"""The demonstration recorder (Algorithm 1, part I) with the image-plane model: dictionaries
+O^Pre, O^Post, symbols, poses, features and the policy Π, saved as JSON + PNG + npz and loaded
+back; with a pre-place observation also the turn the tutor gave the object."""
 
 import json
 
@@ -8,7 +9,9 @@ import pytest
 
 from vslsp.errors import InputError
 from vslsp.grounding.synthetic import Square, tabletop_image
-from vslsp.vsl.demonstration import Demonstration, DemonstrationRecorder
+from vslsp.vsl.demonstration import Demonstration, ImagePlane
+from vslsp.vsl.house_world import HouseWorld
+from vslsp.vsl.recorder import Recorder
 
 SCENES = [
     [Square("red", (150, 400)), Square("blue", (450, 150), angle=20)],
@@ -20,7 +23,7 @@ SCENES = [
 @pytest.fixture(scope="module")
 def demonstration():
     images = [tabletop_image(scene, noise=3, seed=k) for k, scene in enumerate(SCENES)]
-    recorder = DemonstrationRecorder(images[0])
+    recorder = Recorder(ImagePlane(images[0]))
     for pre, post in zip(images, images[1:]):
         recorder.record(pre, post)
     return recorder.demonstration()
@@ -58,3 +61,24 @@ def test_loading_a_folder_that_is_not_a_demonstration_is_an_input_error(tmp_path
     (tmp_path / "demonstration.json").write_text('{"format": "something-else"}')
     with pytest.raises(InputError, match="format"):
         Demonstration.load(tmp_path)
+
+
+def test_a_pre_place_observation_gives_the_turn_and_is_saved_with_the_operation(tmp_path):
+    world = HouseWorld.random(2, body_turn=0.5)
+    recorder = Recorder(ImagePlane(world.render()))
+    roof = world.roofs[0]
+    assert roof is not None
+    lifted = world.with_roof(0, None)
+    moved = lifted.with_roof(0, (roof[0] + 40.0, roof[1] - 30.0, roof[2] + 0.6))
+    op = recorder.record(world.render(), moved.render(), lifted.render())
+    assert op.turn is not None and abs(op.turn - 0.6) < np.radians(0.5)
+    assert op.pre_place is not None and np.array_equal(op.pre_place, lifted.render())
+    recorder.demonstration().save(tmp_path / "demo")
+    (loaded,) = Demonstration.load(tmp_path / "demo").operations
+    assert loaded.turn == pytest.approx(op.turn) and np.array_equal(loaded.pre_place, op.pre_place)
+
+
+def test_an_empty_demonstration_is_an_input_error():
+    image = tabletop_image(SCENES[0], noise=3, seed=0)
+    with pytest.raises(InputError, match="no operations"):
+        Recorder(ImagePlane(image)).demonstration()

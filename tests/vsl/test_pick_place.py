@@ -11,7 +11,8 @@ from vslsp.geometry.poses import wrap
 from vslsp.sim.tabletop import Placement, TabletopWorld
 from vslsp.vision.features import Features, extract_features
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.pick_place import PickPlaceRecorder, TableView, apply, changed_region, object_candidates
+from vslsp.vsl.pick_place import TableModel, TableView, apply, changed_region, object_candidates
+from vslsp.vsl.recorder import Heights, Recorder
 from vslsp.vsl.reproduction import correction, identify, identify_moved, plan_operation
 
 LETTERS = {item.name: item for item in scenes.letters()}
@@ -30,13 +31,13 @@ def look(world: TabletopWorld) -> np.ndarray:
 def recorded():
     """The tutor moves A from FROM to TO; the recorder records it."""
     with world_with(FROM) as world:
-        recorder = PickPlaceRecorder(TableView(world))
+        recorder = Recorder(TableModel(TableView(world)))
         pre_pick = look(world)
         world.tutor_place("A", scenes.hold_placement(0))
         pre_place = look(world)
         world.tutor_place("A", TO)
         height = LETTERS["A"].size[2]
-        recorder.record(pre_pick, pre_place, look(world), height, height, height)
+        recorder.record(pre_pick, look(world), pre_place, Heights(height, height, height))
         return recorder.demonstration(), world.pose("A")
 
 
@@ -149,5 +150,10 @@ def test_the_dictionaries_are_searched_for_the_object_in_view_and_for_what_the_t
 def test_an_observation_pair_without_a_change_is_an_input_error():
     with world_with(FROM) as world:
         image = look(world)
+        recorder = Recorder(TableModel(TableView(world)))
     with pytest.raises(InputError, match="keep the object in view"):
         changed_region(image, image)
+    with pytest.raises(InputError, match="pre-place observation"):
+        recorder.record(image, image)  # the table model needs the pre-place view and the heights
+    with pytest.raises(InputError, match="no operations"):
+        recorder.demonstration()

@@ -31,10 +31,11 @@ from vslsp.loop.watching import tutor_operation
 from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, Task, learn_task
-from vslsp.vision.features import Features, extract_features
-from vslsp.vision.matching import Match, find_best_match
+from vslsp.vision.matching import Match
 from vslsp.vision.objects import dark_mask
-from vslsp.vsl.demonstration import DemonstrationRecorder
+from vslsp.vsl.demonstration import Demonstration, ImagePlane, Operation
+from vslsp.vsl.matcher import Search, match_observation
+from vslsp.vsl.recorder import Recorder
 
 EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order")
 ORDERED_COLOURS = ("orange", "green", "yellow")
@@ -154,7 +155,7 @@ def _watch(
     trial: Trial,
     operations: list[tuple[str, str]],
     title: str,
-    recorder: DemonstrationRecorder | None = None,
+    recorder: Recorder[Operation, Demonstration] | None = None,
 ) -> list:
     """The tutor performs ``operations``; the robot grounds each pre/post pair into a Step."""
     steps = []
@@ -240,38 +241,42 @@ def _bring(world: World, trial: Trial, library: SkillLibrary, op, faults: dict[i
     raise TaskFailed(f"VSL could not bring {op.symbol} to the demonstrated side after 3 attempts")
 
 
-def _find_object(state: PerceivedState, op) -> tuple[str, str] | None:
+def _find_object(state: PerceivedState, op: Operation) -> tuple[str, str] | None:
     """The object of demonstrated operation ``op`` in the current scene, and how it was found.
 
-    Match finding (SIFT + RANSAC with adaptive frames) on the recorded pre-action observation
-    comes first, on both images without the landmark line (the line is no object, and where it
-    crosses the frame its strong edges would align the line rather than the object's texture).
-    A placement that lands on no object or on one of another colour is rejected and the search
-    goes on without the features there (the next best placement, up to :data:`_PLACEMENTS`);
-    when none fits, the object's symbol (its colour name) decides.
+    Match finding (:func:`~vslsp.vsl.matcher.match_observation`: SIFT + RANSAC with adaptive
+    frames) of the recorded pre-action observation comes first, on both images without the
+    landmark line (the line is no object, and where it crosses the frame its strong edges
+    would align the line rather than the object's texture). The constraint it must fit: the
+    placement lands on an object of the recorded symbol (its colour); one that does not is
+    rejected and the search goes on without the features about it (the next best placement,
+    up to :data:`_PLACEMENTS`). When none fits, the object's symbol decides.
     """
     observation, world = _without_landmark(op.pre_observation), _without_landmark(state.image)
-    features = extract_features(world)
-    for _ in range(_PLACEMENTS):
-        match = find_best_match(
-            observation, world, (op.pose_pre.x, op.pose_pre.y), op.object_size, world_features=features
-        )
-        if not isinstance(match, Match):
-            break
-        best, distance = None, np.inf
-        for name, obj in state.objects.items():
-            d = float(np.hypot(obj.pixel[0] - match.x, obj.pixel[1] - match.y))
-            if d < distance:
-                best, distance = name, d
-        if best is not None and distance < op.object_size and best.split("_")[0] == op.symbol:
-            return best, "match"
-        away = np.hypot(features.keypoints[:, 0] - match.x, features.keypoints[:, 1] - match.y) > op.object_size
-        if away.all():
-            break
-        features = Features(features.keypoints[away], features.descriptors[away])
+
+    def fits(match: Match) -> bool:
+        found = _object_at(state, match, op.object_size)
+        return found is not None and found.split("_")[0] == op.symbol
+
+    search = Search.growing(None, _PLACEMENTS, op.object_size)
+    match = match_observation(observation, world, (op.pose_pre.x, op.pose_pre.y), op.object_size, search, fits=fits)
+    if isinstance(match, Match):
+        name = _object_at(state, match, op.object_size)
+        assert name is not None  # the match fits: an object lies under it
+        return name, "match"
     if op.symbol in state.objects:
         return op.symbol, "symbol"
     return None
+
+
+def _object_at(state: PerceivedState, match: Match, within: float) -> str | None:
+    """The object nearest the match, when its centre is closer than ``within`` px."""
+    best, distance = None, np.inf
+    for name, obj in state.objects.items():
+        d = float(np.hypot(obj.pixel[0] - match.x, obj.pixel[1] - match.y))
+        if d < distance:
+            best, distance = name, d
+    return best if distance < within else None
 
 
 _PLACEMENTS = 3  # placements tried before the symbol decides
@@ -294,7 +299,7 @@ def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
     with World(scene_for(trial.seed, colours), gui=trial.gui) as world:
         start_far = tuple(world.is_far(c.name) for c in world.spec.cubes)
         colours = tuple(c.colour for c in world.spec.cubes)
-        recorder = DemonstrationRecorder(world.observe("head").rgb)
+        recorder = Recorder(ImagePlane(world.observe("head").rgb))
         operations = _tutor_task(world.spec, rng, world)
         watched = _watch(world, trial, operations, "demonstration", recorder)
         demonstration = recorder.demonstration()
@@ -365,7 +370,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
     _explore(trial, rng, library)
     with World(scene_for(trial.seed, ORDERED_COLOURS, all_far), gui=trial.gui) as world:
         trial.stage("watching the tutor's demonstration")
-        recorder = DemonstrationRecorder(world.observe("head").rgb)
+        recorder = Recorder(ImagePlane(world.observe("head").rgb))
         steps = _watch(world, trial, [(c, "pull") for c in ORDERED_COLOURS], "demonstration", recorder)
         demonstration = recorder.demonstration()
     trial.stage("learning the task and its order; planning and executing (VSL-SP)")

@@ -35,7 +35,7 @@ from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import Match, NoMatch
 from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.vsl.pick_place import PickPlaceDemonstration
-from vslsp.vsl.reproduction import identify, identify_moved, match_object, match_place
+from vslsp.vsl.reproduction import find_place, identify, identify_moved, match_object
 from vslsp.vsl.tabletop_tasks import (
     OperationOutcome,
     TabletopTask,
@@ -270,7 +270,7 @@ def answer_place(
     reach = float(np.hypot(*np.subtract(demo.operations[answer].place_point, demo.operations[played].place_point)))
     half = reach + demo.pick_frame
     near = np.all(np.abs(features.keypoints[:, :2] - (piece.x, piece.y)) <= half, axis=1)
-    place = match_place(demo, answer, world, Features(features.keypoints[near], features.descriptors[near]))
+    place = find_place(demo, answer, world, Features(features.keypoints[near], features.descriptors[near]))
     return None if isinstance(place, NoMatch) else place
 
 

@@ -6,7 +6,8 @@ Observations are the camera's images seen from above (:class:`TableView`): an ob
 sees a box's top skewed differently wherever it lies, the top-down view does not, so a
 similarity (what SIFT-RANSAC fits) maps an object or a place from one observation to another.
 
-For each operation the tutor performs, the :class:`PickPlaceRecorder` keeps three observations:
+For each operation the tutor performs, the :class:`~vslsp.vsl.recorder.Recorder` with the
+:class:`TableModel` keeps three observations:
 pre-pick (the world before the tutor takes the object), pre-place (the world while the tutor
 holds it, out of view) and post-place. Image subtraction of pre-pick and pre-place finds the
 object (getObject): its silhouette, unprojected onto the planes of its top and of its bottom,
@@ -32,6 +33,7 @@ from vslsp.geometry.poses import wrap
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
 from vslsp.vision.matching import SCALE_RANGE
+from vslsp.vsl.recorder import Heights
 
 PLACE_FRAME = 2.0  # the pre-place frame's side, in sizes of the biggest object (the paper: two to three)
 CHANGE_THRESHOLD = 40  # grey levels: a pixel changed between two observations
@@ -155,41 +157,43 @@ class PickPlaceDemonstration:
         return PLACE_FRAME * self.pick_frame
 
 
-class PickPlaceRecorder:
-    """Records a pick-and-place demonstration operation by operation (Algorithm 1, part I)."""
+class TableModel:
+    """The observation model of a calibrated camera over a table (its images seen from above,
+    :class:`TableView`): the :class:`~vslsp.vsl.recorder.Recorder` asks it for each operation
+    (Algorithm 1 line 7), whose pre-place observation and heights it needs; the pick-and-place
+    tasks have no landmark line (their landmarks are static bodies that the frames see)."""
 
     def __init__(self, camera: TableCamera) -> None:
         self.camera = camera
-        self.operations: list[RecordedOperation] = []
 
-    def record(
-        self,
-        pre_pick: np.ndarray,
-        pre_place: np.ndarray,
-        post_place: np.ndarray,
-        pick_z: float,
-        place_z: float,
-        height: float,
+    def get_object(
+        self, pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None, heights: Heights | None
     ) -> RecordedOperation:
-        """Add one operation from its three observations (H, W, 3) uint8, the heights (m) of
-        the object's top at the pick and at the place and its own ``height`` (m; the tutor's).
-        Raises InputError when the object is not seen leaving or arriving, or its features do
-        not match from one to the other."""
-        taken = changed_region(pre_pick, pre_place, "taken from the pre-pick observation")
-        put = changed_region(post_place, pre_place, "put down in the post-place observation")
+        """One operation from its pre-pick, post-place and pre-place observations (H, W, 3)
+        uint8 and the tutor's ``heights``. Raises InputError when the pre-place observation or
+        the heights are missing, when the object is not seen leaving or arriving, or when its
+        features do not match from one to the other."""
+        if pre_place is None or heights is None:
+            raise InputError(
+                "a pick-and-place operation needs its pre-place observation (the world while the "
+                "tutor holds the object) and the tutor's heights; record them with each operation"
+            )
+        pick_z, place_z, height = heights.pick_z, heights.place_z, heights.height
+        taken = changed_region(pre, pre_place, "taken from the pre-pick observation")
+        put = changed_region(post, pre_place, "put down in the post-place observation")
         centre, footprint, yaw = footprint_on_table(taken, self.camera, pick_z, pick_z - height)
         placed, _, placed_yaw = footprint_on_table(put, self.camera, place_z, place_z - height)
         pick_point = self.camera.table_to_pixel(centre[0], centre[1], pick_z)
         place_point = self.camera.table_to_pixel(placed[0], placed[1], place_z)
-        features = extract_features(pre_pick, taken)
+        features = extract_features(pre, taken)
         turn = self._turn(
-            features, extract_features(post_place, put), pick_point, place_point, (pick_z, place_z), placed_yaw - yaw
+            features, extract_features(post, put), pick_point, place_point, (pick_z, place_z), placed_yaw - yaw
         )
         x, y, w, h = cv2.boundingRect(cv2.findNonZero(taken))
-        operation = RecordedOperation(
-            np.array(pre_pick, copy=True),
-            np.array(pre_place, copy=True),
-            np.array(post_place, copy=True),
+        return RecordedOperation(
+            pre,
+            pre_place,
+            post,
             (float(pick_point[0]), float(pick_point[1])),
             (float(place_point[0]), float(place_point[1])),
             footprint,
@@ -200,8 +204,6 @@ class PickPlaceRecorder:
             float(place_z),
             features,
         )
-        self.operations.append(operation)
-        return operation
 
     def _turn(
         self,
@@ -227,10 +229,8 @@ class PickPlaceRecorder:
             "texture, and let the tutor move one object at a time"
         )
 
-    def demonstration(self) -> PickPlaceDemonstration:
-        if not self.operations:
-            raise InputError("the demonstration has no operations; record at least one pick-and-place")
-        return PickPlaceDemonstration(tuple(self.operations))
+    def demonstration(self, operations: tuple[RecordedOperation, ...]) -> PickPlaceDemonstration:
+        return PickPlaceDemonstration(operations)
 
 
 def changed_region(image: np.ndarray, reference: np.ndarray, what: str = "moved") -> np.ndarray:

@@ -7,9 +7,10 @@ For each recorded operation (:mod:`vslsp.vsl.pick_place`), in the new world seen
 - pick (:func:`match_object`): the object's SIFT features φ matched against the world's and a
   RANSAC similarity fitted (the paper's SIFT-RANSAC), the best placement winning by its
   inliers; a second placement nearly as good makes the match ambiguous;
-- place (:func:`match_place`): ``find_best_match`` of the pre-place observation with frames from
+- place (:func:`find_place`): the pre-place observation found by the one matcher
+  (:func:`~vslsp.vsl.matcher.match_observation`) with frames from
   :data:`~vslsp.vsl.pick_place.PLACE_FRAME` times the biggest object (the paper's two to three), growing while the
-  match is ambiguous (adaptive frames) up to :data:`PLACE_GROWTH` times that;
+  match is ambiguous (adaptive frames) up to :data:`PLACE_GROWTH` times that (:func:`place_frames`);
 - :func:`plan_operation`: the transforms map the recorded pick and place points into the world,
   the camera maps them onto the table, and the rotation they apply there gives the object's yaw
   now and at the place; the gripper closes across the object's narrower side, on whichever of
@@ -31,8 +32,9 @@ import numpy as np
 from vslsp.geometry.poses import wrap
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
-from vslsp.vision.matching import Match, NoMatch, find_best_match, frame_sizes
+from vslsp.vision.matching import Match, NoMatch, frame_sizes
 from vslsp.vision.transform import decompose
+from vslsp.vsl.matcher import Search, match_observation
 from vslsp.vsl.pick_place import (
     CHANGE_THRESHOLD,
     PickPlaceDemonstration,
@@ -109,18 +111,24 @@ def _match_dict(match: Match) -> dict:
     return {k: round(v, 4) if isinstance(v, float) else v for k, v in match.to_dict().items()}
 
 
-def match_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match | NoMatch:
-    """``findBestMatch`` of operation ``k``'s pre-place observation in ``world`` (h, w, 3):
-    frames from the pre-place frame, growing while ambiguous up to :data:`PLACE_GROWTH` times
-    it. :class:`NoMatch` when nothing matches."""
-    op, start = demo.operations[k], demo.place_frame
-    sizes = [s for s in frame_sizes(start, world.shape) if s <= PLACE_GROWTH * start + 0.5] or [int(round(start))]
-    return find_best_match(
+def place_frames(demo: PickPlaceDemonstration, world_shape: tuple[int, ...]) -> list[int]:
+    """The Panda's pre-place frame sides (px) in a world of ``world_shape`` (H, W, ...): from
+    the pre-place frame, growing up to :data:`PLACE_GROWTH` times it."""
+    start = demo.place_frame
+    return [s for s in frame_sizes(start, world_shape) if s <= PLACE_GROWTH * start + 0.5] or [int(round(start))]
+
+
+def find_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match | NoMatch:
+    """``findBestMatch`` of operation ``k``'s pre-place observation in ``world`` (h, w, 3): one
+    placement, its frames (:func:`place_frames`) growing while it is ambiguous.
+    :class:`NoMatch` when nothing matches."""
+    op, sizes = demo.operations[k], place_frames(demo, world.shape)
+    return match_observation(
         op.pre_place,
         world,
         op.place_point,
-        start,
-        sizes,
+        demo.place_frame,
+        Search.growing(sizes),
         op.observation_features("pre_place", op.place_point, max(sizes)),
         world_features,
     )
@@ -136,13 +144,13 @@ def plan_operation(
     place_match: Match | None = None,
 ) -> PlannedOperation | NoMatch:
     """Algorithm 1 lines 13-15 for operation ``k`` in the observed ``world`` (H, W, 3): the
-    pick and place matches (given, or found with :func:`match_object` and :func:`match_place`)
+    pick and place matches (given, or found with :func:`match_object` and :func:`find_place`)
     turned into the hand's poses.
     :class:`NoMatch` when an observation is not found in the world."""
     op = demo.operations[k]
     world_features = world_features if world_features is not None else extract_features(world)
     pick = pick_match or match_object(demo, k, world, world_features)
-    place = place_match or match_place(demo, k, world, world_features)
+    place = place_match or find_place(demo, k, world, world_features)
     if isinstance(pick, NoMatch):
         return pick
     if isinstance(place, NoMatch):

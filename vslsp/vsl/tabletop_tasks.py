@@ -20,7 +20,8 @@ from vslsp.sim.tabletop import Item, PickPlaceResult, Placement, TabletopWorld
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import NoMatch
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.pick_place import PickPlaceDemonstration, PickPlaceRecorder, TableView
+from vslsp.vsl.pick_place import PickPlaceDemonstration, RecordedOperation, TableModel, TableView
+from vslsp.vsl.recorder import Heights, Recorder
 from vslsp.vsl.reproduction import (
     PlannedOperation,
     correction,
@@ -116,7 +117,7 @@ class TabletopTask:
 
     def demonstrate(self, world: TabletopWorld, rng: np.random.Generator) -> TaskDemonstration:
         """The tutor's demonstration in ``world``, recorded operation by operation."""
-        recorder = PickPlaceRecorder(TableView(world))
+        recorder = Recorder(TableModel(TableView(world)))
         items, anchors, relations, seen = [], [], [], None
         for name, where, anchor in self.moves(rng):
             seen = tutor_move(world, name, where(world), recorder, seen)
@@ -141,7 +142,7 @@ def tutor_move(
     world: TabletopWorld,
     name: str,
     placement: Placement,
-    recorder: PickPlaceRecorder | None,
+    recorder: Recorder[RecordedOperation, PickPlaceDemonstration] | None,
     pre_pick: np.ndarray | None = None,
 ) -> np.ndarray | None:
     """The tutor takes ``name`` (out of view: the pre-place observation) and puts it at
@@ -158,7 +159,7 @@ def tutor_move(
         return None
     height, post_place = world.specs[name].size[2], look(world)
     assert pre_pick is not None and pre_place is not None  # looked at above when recording
-    recorder.record(pre_pick, pre_place, post_place, pick_z, world.pose(name)[2] + height, height)
+    recorder.record(pre_pick, post_place, pre_place, Heights(pick_z, world.pose(name)[2] + height, height))
     return post_place
 
 

@@ -1,0 +1,75 @@
+"""VSL's one matcher (findBestMatch with adaptive frames) on rendered house-and-roof worlds: the
+compared search tells three identical bodies apart by what lies about them, a constraint that a
+placement does not fit sends the search on to the next placement, and the one-placement search
+is the adaptive-frame match itself. Judged on the generator's ground truth."""
+
+import numpy as np
+import pytest
+
+from vslsp.geometry.poses import compose
+from vslsp.vision.features import extract_features
+from vslsp.vision.matching import Match, NoMatch, find_best_match
+from vslsp.vsl.house_roof import demonstrate, pick_frame, place_search
+from vslsp.vsl.house_world import SLOTS, HouseWorld
+from vslsp.vsl.matcher import Round, Search, match_observation
+
+
+@pytest.fixture(scope="module")
+def demo():
+    return demonstrate(0)
+
+
+def _third_place(demo):
+    """Operation 3's pre-place observation, where it goes (below body 3), and a world in which
+    the first two houses have their roofs and the third roof is in the hand."""
+    op = demo.demonstration.operations[2]
+    world = HouseWorld.random(7)
+    for k in range(2):
+        world = world.with_roof(k, compose(world.bodies[k], SLOTS["top"]))
+    return op, world.with_roof(2, None)
+
+
+def test_the_compared_search_grows_the_frame_until_the_free_house_stands_out(demo):
+    op, world = _third_place(demo)
+    seen = world.render()
+    point = (op.pose_post.x, op.pose_post.y)
+    adaptive = match_observation(op.pre_place, seen, point, op.object_size, place_search("adaptive", op.object_size))
+    assert isinstance(adaptive, Match) and not adaptive.ambiguous and adaptive.candidates >= 2
+    target = compose(world.bodies[2], SLOTS["below"])
+    assert np.hypot(adaptive.x - target[0], adaptive.y - target[1]) < 6.0
+    fixed = match_observation(op.pre_place, seen, point, op.object_size, place_search("fixed", op.object_size))
+    assert isinstance(fixed, Match) and fixed.frame < adaptive.frame
+
+
+def test_a_placement_that_does_not_fit_the_constraint_is_passed_over_for_the_next(demo):
+    op, world = _third_place(demo)
+    seen = world.render()
+    point = (op.pose_post.x, op.pose_post.y)
+    below = [compose(body, SLOTS["below"]) for body in world.bodies]
+    search = Search.growing([int(2 * op.object_size)], tries=4, leave_out=op.object_size)
+    first = match_observation(op.pre_place, seen, point, op.object_size, search)
+    assert isinstance(first, Match)
+    nearest = min(range(3), key=lambda k: np.hypot(first.x - below[k][0], first.y - below[k][1]))
+
+    def elsewhere(match: Match) -> bool:
+        return bool(np.hypot(match.x - first.x, match.y - first.y) > op.object_size)
+
+    second = match_observation(op.pre_place, seen, point, op.object_size, search, fits=elsewhere)
+    assert isinstance(second, Match)
+    others = [k for k in range(3) if k != nearest]
+    assert min(np.hypot(second.x - below[k][0], second.y - below[k][1]) for k in others) < 6.0
+    nowhere = match_observation(op.pre_place, seen, point, op.object_size, search, fits=lambda match: False)
+    assert isinstance(nowhere, NoMatch) and not nowhere
+
+
+def test_the_one_placement_search_is_the_adaptive_frame_match_itself(demo):
+    op = demo.demonstration.operations[0]
+    seen = HouseWorld.random(7).render()
+    point, frames = (op.pose_pre.x, op.pose_pre.y), [pick_frame(op.object_size)]
+    features = extract_features(op.pre_observation)
+    ours = match_observation(op.pre_observation, seen, point, op.object_size, Search.growing(frames), features)
+    theirs = find_best_match(op.pre_observation, seen, point, op.object_size, frames, features)
+    assert isinstance(ours, Match) and isinstance(theirs, Match)
+    fields = ("x", "y", "theta", "score", "frame", "ambiguous", "candidates")
+    assert [getattr(ours, f) for f in fields] == [getattr(theirs, f) for f in fields]
+    assert Search.compared([100, 150], 4).rounds == (Round((100,), 4, 50.0), Round((150,), 1, 75.0))

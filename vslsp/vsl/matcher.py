@@ -1,0 +1,164 @@
+"""VSL's match finding: Algorithm 1 part II, lines 13-14, ``findBestMatch(W_R, O_j, φ_j, C_j, L)``
+with adaptive frames, written once for every task (the house-and-roof simulation, the Panda's
+tabletop tasks, the iCub's VSL reproduction).
+
+A recorded observation (pre-pick or pre-place) is found in the new world in two steps:
+
+1. candidates: placements found one after the other by
+   :func:`~vslsp.vision.matching.find_best_match` (SIFT, RANSAC copies, adaptive frames), each
+   with the world features about the placements already found left out; a placement that does
+   not fit the task's constraints (``fits``: C_j, e.g. the recorded symbol must be under it) is
+   no candidate, and one within half an object of an earlier candidate is the same place;
+2. disambiguation: with no comparison frames the first fitting placement is the match (its own
+   frames grew while it was ambiguous); with comparison frames every candidate's colour
+   correlation with the observation is measured as the frame grows, until one beats the others
+   by :data:`~vslsp.vision.matching.MARGIN` (the paper's adaptive frame telling identical
+   objects apart by their surroundings).
+
+What differs between the tasks is data, a :class:`Search`: the rounds of placements (their
+frame sides, how many, how far about each the world features are left out) and the comparison
+frames.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+
+import cv2
+import numpy as np
+
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.image import as_rgb
+from vslsp.vision.matching import MARGIN, MIN_SCORE, Match, NoMatch, find_best_match
+
+
+@dataclass(frozen=True)
+class Round:
+    """One round of the candidate search: up to ``tries`` placements, each found with frames of
+    sides ``frames`` (px, growing; None: from the object's size to the whole world), the world
+    features within ``leave_out`` px of each placement left out before the next one. Every
+    round starts from all the world features."""
+
+    frames: tuple[int, ...] | None
+    tries: int = 1
+    leave_out: float = 0.0
+
+
+@dataclass(frozen=True)
+class Search:
+    """How a task finds a recorded observation: the ``rounds`` of placements, in order, and the
+    frame sides (px, growing) at which the candidates are ``compare``-d (none: the first
+    placement that fits is the match)."""
+
+    rounds: tuple[Round, ...]
+    compare: tuple[int, ...] = ()
+
+    @classmethod
+    def growing(cls, frames: Sequence[int] | None = None, tries: int = 1, leave_out: float = 0.0) -> Search:
+        """One placement with frames growing while it is ambiguous (``tries`` of them, the
+        first that fits wins)."""
+        return cls((Round(None if frames is None else tuple(frames), tries, leave_out),))
+
+    @classmethod
+    def compared(cls, frames: Sequence[int], copies: int) -> Search:
+        """Up to ``copies`` placements at the first frame and the best one at each larger frame
+        (each leaving out half its frame about it), compared as the frame grows."""
+        sides = tuple(int(size) for size in frames)
+        rounds = tuple(Round((size,), copies if k == 0 else 1, size / 2.0) for k, size in enumerate(sides))
+        return cls(rounds, sides)
+
+
+def match_observation(
+    observation: np.ndarray,
+    world: np.ndarray,
+    point: tuple[float, float],
+    object_size: float,
+    search: Search,
+    observation_features: Features | None = None,
+    world_features: Features | None = None,
+    fits: Callable[[Match], bool] | None = None,
+) -> Match | NoMatch:
+    """``findBestMatch`` of the recorded ``observation`` (h, w, 3) about ``point`` (x, y px; the
+    object's centre in it, ``object_size`` px) in ``world`` (H, W, 3), both RGB uint8, as the
+    ``search`` says (see the module's docstring). Precomputed SIFT features of either image may
+    be passed. :class:`NoMatch` when no placement fits."""
+    observation, world = as_rgb(observation, "observation"), as_rgb(world, "world image")
+    if observation_features is None:
+        observation_features = extract_features(observation)
+    if world_features is None:
+        world_features = extract_features(world)
+    candidates = _candidates(observation, world, point, object_size, search, observation_features, world_features, fits)
+    if not candidates:
+        return NoMatch("no placement of the observation fits in the world at any frame size")
+    chosen = None
+    for size in search.compare:
+        scores = np.array([frame_correlation(observation, world, point, size, c.transform) for c in candidates])
+        order = np.argsort(-scores, kind="stable")
+        if chosen is not None and scores[order[0]] < chosen.score - MARGIN:
+            break  # the frame has grown past what the demonstration and this world share
+        unique = len(candidates) == 1 or scores[order[0]] - scores[order[1]] >= MARGIN
+        chosen = replace(
+            candidates[order[0]],
+            score=float(scores[order[0]]),
+            frame=int(size),
+            ambiguous=not unique,
+            candidates=len(candidates),
+        )
+        if unique and chosen.score >= MIN_SCORE:
+            break
+    return chosen if chosen is not None else candidates[0]
+
+
+def _candidates(
+    observation: np.ndarray,
+    world: np.ndarray,
+    point: tuple[float, float],
+    object_size: float,
+    search: Search,
+    observation_features: Features,
+    world_features: Features,
+    fits: Callable[[Match], bool] | None,
+) -> list[Match]:
+    """The placements that fit, round by round; without comparison frames the first one only."""
+    candidates: list[Match] = []
+    for round_ in search.rounds:
+        remaining = world_features
+        for _ in range(round_.tries):
+            match = find_best_match(
+                observation, world, point, object_size, round_.frames, observation_features, remaining
+            )
+            if isinstance(match, NoMatch):
+                break
+            if fits is None or fits(match):
+                if all(np.hypot(match.x - c.x, match.y - c.y) > object_size / 2.0 for c in candidates):
+                    candidates.append(match)
+                if not search.compare:
+                    return candidates
+            away = np.hypot(remaining.keypoints[:, 0] - match.x, remaining.keypoints[:, 1] - match.y) > round_.leave_out
+            if away.all():
+                break  # nothing about it to leave out: the next search would find it again
+            remaining = Features(remaining.keypoints[away], remaining.descriptors[away])
+    return candidates
+
+
+def frame_correlation(
+    observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, transform: np.ndarray
+) -> float:
+    """Normalised cross-correlation (colour) of the square frame of side ``size`` around
+    ``point`` in ``observation`` with the world seen through ``transform`` (3, 3)."""
+    half = size / 2.0
+    x0, y0 = int(max(0, round(point[0] - half))), int(max(0, round(point[1] - half)))
+    x1 = int(min(observation.shape[1], round(point[0] + half)))
+    y1 = int(min(observation.shape[0], round(point[1] + half)))
+    to_world = transform @ np.array([[1.0, 0.0, x0], [0.0, 1.0, y0], [0.0, 0.0, 1.0]])
+    flags = cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP
+    seen = cv2.warpPerspective(world.astype(np.float32), to_world, (x1 - x0, y1 - y0), flags=flags)
+    inside = cv2.warpPerspective(np.ones(world.shape[:2], np.float32), to_world, (x1 - x0, y1 - y0), flags=flags) > 0.99
+    if inside.sum() < 0.5 * inside.size:
+        return -1.0
+    a = observation[y0:y1, x0:x1].astype(np.float32)[inside]
+    b = seen[inside]
+    a, b = a - a.mean(axis=0), b - b.mean(axis=0)
+    denominator = float(np.sqrt((a * a).sum() * (b * b).sum()))
+    return float((a * b).sum() / denominator) if denominator > 1e-6 else 0.0
