@@ -31,6 +31,7 @@ from vslsp.loop.watching import tutor_operation
 from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, Task, learn_task
+from vslsp.vision.features import FeatureMemo
 from vslsp.vision.matching import Match
 from vslsp.vision.objects import dark_mask
 from vslsp.vsl.demonstration import Demonstration, ImagePlane, Operation
@@ -210,20 +211,29 @@ def _reproduce_vsl(
     demonstrated side and acts again on any that a later operation knocked back. Returns the
     objects acted on, in order."""
     acted: list[str] = []
+    memo = FeatureMemo()  # an unchanged world and a recorded observation seen again: SIFT once
     for op in demonstration.operations:
-        _bring(world, trial, library, op, faults, acted)
+        _bring(world, trial, library, op, faults, acted, memo)
     last = {op.symbol: op for op in demonstration.operations}  # each object's final demonstrated side
     for op in demonstration.operations:
         if last[op.symbol] is op:
-            _bring(world, trial, library, op, faults, acted)
+            _bring(world, trial, library, op, faults, acted, memo)
     return acted
 
 
-def _bring(world: World, trial: Trial, library: SkillLibrary, op, faults: dict[int, str], acted: list[str]) -> None:
+def _bring(
+    world: World,
+    trial: Trial,
+    library: SkillLibrary,
+    op: Operation,
+    faults: dict[int, str],
+    acted: list[str],
+    memo: FeatureMemo,
+) -> None:
     """Bring the object of operation ``op`` to its demonstrated side (up to 3 attempts)."""
     for _ in range(3):
         state = perceive(world)
-        found = _find_object(state, op)
+        found = _find_object(state, op, memo)
         target = op.grounding.far_post
         if found is None:
             raise TaskFailed(f"VSL finds no {op.symbol} object in the scene")
@@ -241,7 +251,7 @@ def _bring(world: World, trial: Trial, library: SkillLibrary, op, faults: dict[i
     raise TaskFailed(f"VSL could not bring {op.symbol} to the demonstrated side after 3 attempts")
 
 
-def _find_object(state: PerceivedState, op: Operation) -> tuple[str, str] | None:
+def _find_object(state: PerceivedState, op: Operation, memo: FeatureMemo | None = None) -> tuple[str, str] | None:
     """The object of demonstrated operation ``op`` in the current scene, and how it was found.
 
     Match finding (:func:`~vslsp.vsl.matcher.match_observation`: SIFT + RANSAC with adaptive
@@ -259,7 +269,11 @@ def _find_object(state: PerceivedState, op: Operation) -> tuple[str, str] | None
         return found is not None and found.split("_")[0] == op.symbol
 
     search = Search.growing(None, _PLACEMENTS, op.object_size)
-    match = match_observation(observation, world, (op.pose_pre.x, op.pose_pre.y), op.object_size, search, fits=fits)
+    memo = memo or FeatureMemo()
+    point = (op.pose_pre.x, op.pose_pre.y)
+    match = match_observation(
+        observation, world, point, op.object_size, search, memo(observation), memo(world), fits=fits
+    )
     if isinstance(match, Match):
         name = _object_at(state, match, op.object_size)
         assert name is not None  # the match fits: an object lies under it
