@@ -29,6 +29,7 @@ from vslsp.errors import VslspError
 
 MODEL_NAME = "iCubGazeboV2_5"
 HAND_FRAMES = ("r_hand_dh_frame", "l_hand_dh_frame")
+FRAME_MASS = 1e-4  # kg: a frame link in the simulated model (see simulated_urdf_text)
 
 
 def _source_urdf() -> Path:
@@ -114,7 +115,10 @@ def simulated_urdf_text(
     child frame ``T(xyz) R(rpy) R(axis, q)`` becomes the origin of a fixed joint. Only links in
     ``contact_links`` keep their collision elements, and only those in ``visual_links`` (all
     when None) their visual elements.
-    Link frames, masses and inertias are those of :func:`reduced_urdf_text`.
+    Link frames, masses and inertias are those of :func:`reduced_urdf_text`; a link with no
+    inertial element (a frame such as ``r_hand_dh_frame``) gets :data:`FRAME_MASS` and a
+    negligible inertia, where pybullet's importer would give it 1 kg and 1 kg m^2 (a phantom
+    weight four times the hand's, fixed to it).
     """
     root = ET.fromstring(reduced_urdf_text(source))
     moving, contact_links = set(moving), set(contact_links)
@@ -141,6 +145,10 @@ def simulated_urdf_text(
         )
         for element in drop:
             link.remove(element)
+        if link.find("inertial") is None:  # a frame (e.g. r_hand_dh_frame): pybullet would make it 1 kg, 1 kg m^2
+            inertial = ET.SubElement(link, "inertial")
+            ET.SubElement(inertial, "mass", value=repr(FRAME_MASS))
+            ET.SubElement(inertial, "inertia", ixx="1e-9", ixy="0", ixz="0", iyy="1e-9", iyz="0", izz="1e-9")
     return ET.tostring(root, encoding="unicode")
 
 
