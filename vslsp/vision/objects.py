@@ -21,6 +21,8 @@ from vslsp.vision.image import as_rgb, channel_max, channel_min, colour_distance
 OBJECT_CONTRAST = 45  # grey levels an object's colour differs from the table's, at least
 DARK_VALUE, DARK_CHROMA = 80, 40  # darker and greyer than this: the landmark, not an object
 MIN_AREA, MAX_AREA = 0.0008, 0.15  # object area as a fraction of the image
+# A region's patch of no named colour smaller than this share of its named colour is texture.
+TEXTURE_SHARE = 0.35
 _KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
 
 
@@ -116,7 +118,9 @@ def _split_by_colour(
     """Split region ``label`` of ``labels`` (h, w) by colour class where it holds several
     colours, relabelling ``labels`` in place and appending the parts' stats to ``all_stats``.
 
-    Returns (label, colour class) for each part; a region of one colour is its own part.
+    Returns (label, colour class) for each part; a region of one colour is its own part. A
+    patch of no named colour much smaller than the region's named colour (a mark of a cube's
+    texture, seen beside its colour) is no part: it would be a phantom object.
     """
     x, y, bw, bh, _ = all_stats[label]
     region = labels[y : y + bh, x : x + bw]
@@ -129,7 +133,10 @@ def _split_by_colour(
         return [(label, int(major[0]) if len(major) else int(np.argmax(counts[1:])) + 1)]
     region[inside] = 0
     parts = []
+    named = counts[1 : len(COLOUR_NAMES) + 1].max()
     for colour_class in major:
+        if colour_class > len(COLOUR_NAMES) and counts[colour_class] < TEXTURE_SHARE * named:
+            continue  # a patch of no named colour (a texture's mark) on a named object: no object of its own
         # Opening drops the thin fringe where an object's colour blends into another.
         members = cv2.morphologyEx((classes == colour_class).view(np.uint8), cv2.MORPH_OPEN, _KERNEL)
         n, part_labels, part_stats, _ = cv2.connectedComponentsWithStats(members, connectivity=8)
