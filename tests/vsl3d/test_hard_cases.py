@@ -23,7 +23,7 @@ def test_get_object_tells_the_true_turn_from_a_near_symmetric_flip(seed, name):
     where one of the two captures saw free space."""
     rng = np.random.default_rng(seed)
     names = [n for n, _, _ in table_cleaning.OPERATIONS] + ["blob"]
-    layout = random_layout(names, seed)
+    layout = table_cleaning.layout_of(names, seed)
     with CloudScene(layout, robot=True) as scene:
         before = scene.pose(name)
         centre = sum(scene.bounds(name)) / 2.0
