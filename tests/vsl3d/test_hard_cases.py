@@ -1,7 +1,8 @@
 """Hard cases of VSL-3D found in the seeded experiments, each on its real rendered scene: a
 near-symmetric flip of a partly hidden object in getObject, a view of the placed object that
 shares only a third of the recorded one, a landmark box the features match onto the other box,
-and a box matched tipped over with an edge sunk into the table."""
+a box matched tipped over with an edge sunk into the table, and point-to-plane ICP sliding a flat
+box off its place."""
 
 import numpy as np
 import pytest
@@ -76,12 +77,15 @@ def _stacking_demonstration(seed: int):
     return demonstrated, world, motions
 
 
-@pytest.mark.parametrize(("seed", "box"), [(5, "box1"), (8, "box2")])
+@pytest.mark.parametrize(("seed", "box"), [(5, "box1"), (8, "box2"), (52, "box1"), (81, "box1")])
 def test_stacking_demonstration_and_landmarks(seed, box):
     """Seed 8: the teddy put on box2 at the image's edge, turned, shows a third of the recorded
     view (getObject counts the fit against what the post capture could see); its box2 in the
     moved scene matched tipped over (an edge sunk into the table). Seed 5: box1, partly hidden
-    behind box2, was matched onto box2 (its points in free space) and not found."""
+    behind box2, was matched onto box2 (its points in free space) and not found. Seed 52: box1's
+    global match, its top face on box2, fitted 63 % without floating (the windows are searched
+    below 75 %). Seed 81: point-to-plane ICP slid box1 off its window from every start (point
+    pairs are tried when a refined pose fits less than half)."""
     demonstrated, world, motions = _stacking_demonstration(seed)
     for moved, truth, centre, _ in demonstrated:
         offset, angle = transform_error(moved.transform, truth, centre)

@@ -239,17 +239,22 @@ def _refine(
 ) -> list[Registration]:
     """ICP from ``initial`` onto the full-resolution target (its ``tree`` and ``normals`` (Nt,
     3)), first with the sparse source within 2 voxels, then with the full ``source`` within
-    :data:`FINAL_DISTANCE`: point-to-plane, and when that pose floats (``score``'s penalty)
-    point-to-point as well (on a box seen mostly from above the top face dominates and
-    point-to-plane slides along it, turning the walls away from their counterparts; point pairs
-    hold the outline). Empty when no target point is near."""
+    :data:`FINAL_DISTANCE`: point-to-plane, and when that pose floats (``score``'s penalty) or
+    fits less than :data:`MIN_FITNESS` point-to-point as well (on a box seen mostly from above
+    the top face dominates and point-to-plane slides along it, turning the walls away from their
+    counterparts or off the box; point pairs hold the outline). Empty when no target point is
+    near."""
     distance, _ = tree.query(transform_points(initial, sparse_source), 1, 4.0 * voxel)
     if np.sum(distance[:, 0] <= 4.0 * voxel) < 10:
         return []
     refined: list[Registration] = []
     for method in ("point_to_plane", "point_to_point"):
-        if refined and score(refined[0])[0] >= refined[0].fitness - FLOATING_WEIGHT * REFINE_FLOATING:
-            break  # the point-to-plane pose does not float: nothing for point pairs to correct
+        if (
+            refined
+            and refined[0].fitness >= MIN_FITNESS
+            and score(refined[0])[0] >= refined[0].fitness - FLOATING_WEIGHT * REFINE_FLOATING
+        ):
+            break  # the point-to-plane pose fits and does not float: nothing for point pairs to correct
         result = initial
         for points, max_distance, iterations in ((sparse_source, 2.0 * voxel, 40), (source, FINAL_DISTANCE, 20)):
             result = icp(
