@@ -31,6 +31,7 @@ WINDOW_MARGIN = 0.02
 # A global match fitting less than this may be a look-alike (the flat box's top face on the other
 # box): the windows are searched as well and the best fit wins.
 CONFIDENT_FITNESS = 0.75
+CLEARLY_BETTER = 0.05  # the fitness by which a window's match must beat a weak global one
 
 
 @dataclass(frozen=True, eq=False)
@@ -74,6 +75,9 @@ def find_best_match(
         global_failure = f"the best global match fits only {best.registration.fitness:.0%}"
     except TaskFailed as error:
         global_failure = str(error)
+    # A window's match replaces a verified global one only when it fits clearly better (the
+    # duckling's view fits the teddy's side about as well as the turned duckling itself).
+    bar = -np.inf if best is None else best.registration.fitness + CLEARLY_BETTER
     windows = 0
     for window, centre in object_windows(world.points, observation.points):
         windows += 1
@@ -92,8 +96,8 @@ def find_best_match(
             match = _verified(world, observation, registration)
         except TaskFailed:
             continue
-        if best is None or match.registration.fitness > best.registration.fitness:
-            best = match
+        if match.registration.fitness > bar:
+            best, bar = match, match.registration.fitness
     if best is None:
         raise TaskFailed(f"no match: {global_failure}; nor in any of {windows} object-sized windows of the world")
     return best
