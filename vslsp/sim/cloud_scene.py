@@ -46,6 +46,7 @@ BOXES = {"box1": (0.14, 0.09, 0.04), "box2": (0.09, 0.09, 0.08)}
 BOX_COLOUR = (0.25, 0.45, 0.75, 1.0)
 BOX_MASS = 0.5
 CLEARANCE = 0.14  # m between the centres of two objects (and an object and the tray's rim)
+PLACE_CLEARANCE = 0.11  # m from a place kept clear to an object's centre: two half-widths and a margin
 FRICTION = 1.0  # lateral friction of the table, the objects and the tray (pybullet multiplies two)
 # Torsional friction of the objects (Bullet multiplies it with the finger pads' 0.1): an object
 # held by its upper part does not pivot about the closing axis as a pendulum (the table has none).
@@ -314,17 +315,27 @@ class CloudScene(PhysicsClient):
         )
 
 
-def random_layout(names: list[str], seed: int, tray: bool = True) -> dict[str, tuple[float, float, float]]:
+def random_layout(
+    names: list[str],
+    seed: int,
+    tray: bool = True,
+    keep_clear: dict[str, tuple[tuple[float, float], ...]] | None = None,
+) -> dict[str, tuple[float, float, float]]:
     """Seeded random (x, y, yaw) per name in the workspace, centres at least
-    :data:`CLEARANCE` apart and clear of the tray."""
+    :data:`CLEARANCE` apart and clear of the tray; the objects named in ``keep_clear`` also at
+    least :data:`PLACE_CLEARANCE` from its places (x, y) (where a task puts another object
+    down while they stay)."""
     rng = np.random.default_rng(seed)
+    keep_clear = keep_clear or {}
     taken: list[tuple[float, float]] = [TRAY_POSITION] if tray else []
     clearance = [CLEARANCE + 0.08] if tray else []  # the tray is 24 cm wide
     layout = {}
     for name in names:
         for _ in range(1000):
             x, y = rng.uniform(*WORKSPACE_X), rng.uniform(*WORKSPACE_Y)
-            if all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance, strict=True)):
+            if all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance, strict=True)) and all(
+                np.hypot(x - px, y - py) >= PLACE_CLEARANCE for px, py in keep_clear.get(name, ())
+            ):
                 break
         else:
             raise InputError(f"cannot place {len(names)} objects {CLEARANCE} m apart in the workspace")

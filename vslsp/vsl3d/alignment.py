@@ -11,11 +11,12 @@ put on each other), and point-to-plane ICP refines it on the full-resolution poi
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.vsl3d.cloud import Frame, voxel_downsample
+from vslsp.vsl3d.cloud import voxel_downsample
 from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.normals import estimate_normals
@@ -24,8 +25,9 @@ from vslsp.vsl3d.registration import (
     evaluate,
     icp,
     icp_batch,
-    prerejective_ransac,
-    sac_ia,
+    ransac_hypotheses,
+    sac_ia_hypotheses,
+    transform_error,
     transform_points,
 )
 
@@ -38,6 +40,11 @@ MAX_SEEN_THROUGH = 0.1  # a true pose floats in front of the sensor's surfaces o
 # A point in free space is evidence against a pose (the sensor saw through it); a point without a
 # counterpart may just be a side the other view does not show. The former weighs three times.
 FLOATING_WEIGHT = 3.0
+HYPOTHESES = 20  # poses the global method proposes (its best by the features' inlier count)
+REFINED = 8  # distinct poses refined on the full resolution
+REFINE_FLOATING = MAX_SEEN_THROUGH  # a refined pose floating more than this is refined with point pairs too
+VISIBLE_FLOOR = 0.5  # the fitness of the visible part counts at least half of the source
+DISTINCT_M, DISTINCT_DEG = 0.01, 10.0  # poses closer than this are one
 
 
 def describe(
@@ -76,20 +83,30 @@ def align(
     turns: int = 0,
     target_centre: np.ndarray | None = None,
     seen_through: Callable[[np.ndarray], np.ndarray] | None = None,
+    source_seen_through: Callable[[np.ndarray], np.ndarray] | None = None,
+    target_visible: Callable[[np.ndarray], np.ndarray] | None = None,
     min_fitness: float = MIN_FITNESS,
+    refined: int = REFINED,
 ) -> Registration:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
     matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
 
-    With ``turns`` > 0 (``target`` is the object alone, as in getObject, or a window around it),
-    ICP also starts from that many turns about the vertical with the source's centroid put on
-    ``target_centre`` (default: the target's centroid): a fallback when the features of a
-    view-changed object correspond poorly. ``seen_through(points (N, 3)) -> mask (N,)`` marks
-    points where the target's sensor saw free space; a pose's score is its fitness less three
-    times the fraction of the source it puts there. The three best starts on the sparse clouds
-    are refined on the full resolution and the best scoring pose wins. Raises
-    :class:`TaskFailed` when less than ``min_fitness`` (half) of the source ends within 3 mm of
-    the target."""
+    The global method gives :data:`HYPOTHESES` poses, not one: a near-symmetric object or a
+    box fits several ways, and the features alone may rank a flipped pose first. With ``turns``
+    > 0 (``target`` is the object alone, as in getObject, or a window around it), ICP also
+    starts from that many turns about the vertical with the source's centroid put on
+    ``target_centre`` (default: the target's centroid). Every pose is scored by the observation:
+    its fitness less three times the fraction of the source it puts where the target's sensor
+    saw free space (``seen_through(points (N, 3)) -> mask (N,)``) and, when the source's capture
+    is known (``source_seen_through``, getObject), three times the fraction of the target it
+    puts back where the source's sensor saw free space. The ``refined`` best distinct poses
+    on the sparse clouds are refined on the full resolution and the best scoring one wins. With
+    ``target_visible(points (N, 3)) -> mask (N,)`` (the target's capture could see them: in its
+    image, not hidden) the fitness counts only against the source points the target's sensor
+    could see at the pose, but at least :data:`VISIBLE_FLOOR` of them (two single views of a
+    turned object, or of one half out of the image, share only part of its surface).
+    Raises :class:`TaskFailed` when less than ``min_fitness`` (half) of the source ends within
+    3 mm of the target."""
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     if len(source) < 10 or len(target) < 10:
@@ -105,18 +122,23 @@ def align(
     else:
         sparse_source, source_features, _ = describe(source, source_viewpoint, voxel)
         sparse_target, target_features, sparse_tree = describe(target, target_viewpoint, voxel)
-        find = prerejective_ransac if method == "prerejective_ransac" else sac_ia
+        find, name = (
+            (ransac_hypotheses, "prerejective-ransac")
+            if method == "prerejective_ransac"
+            else (sac_ia_hypotheses, "sac-ia")
+        )
         try:
-            coarse = find(
+            hypotheses = find(
                 sparse_source,
                 sparse_target,
                 source_features,
                 target_features,
                 1.5 * voxel,
+                keep=HYPOTHESES,
                 seed=seed,
                 target_tree=sparse_tree,
             )
-            starts.append((coarse.transform, coarse.method))
+            starts.extend((transform, name) for transform in hypotheses)
         except TaskFailed:
             if not turns:
                 raise
@@ -131,21 +153,49 @@ def align(
         )
         starts.extend((transform, "multi-start-icp") for transform in turned)
 
-    def floating(transform: np.ndarray, points: np.ndarray) -> float:
-        if seen_through is None:
-            return 0.0
-        return FLOATING_WEIGHT * float(seen_through(transform_points(transform, points)).mean())
+    def floating(transform: np.ndarray, points: np.ndarray, back: np.ndarray) -> float:
+        """The free-space penalty of a pose: the source ``points`` moved into the target's
+        capture, the target points ``back`` moved into the source's."""
+        penalty = 0.0
+        if seen_through is not None:
+            penalty += float(seen_through(transform_points(transform, points)).mean())
+        if source_seen_through is not None:
+            penalty += float(source_seen_through(transform_points(np.linalg.inv(transform), back)).mean())
+        return FLOATING_WEIGHT * penalty
 
-    def sparse_score(start: tuple[np.ndarray, str]) -> float:
-        return evaluate(sparse_source, sparse_tree, start[0], 1.5 * voxel)[0] - floating(start[0], sparse_source)
+    scored = sorted(
+        (
+            (
+                evaluate(sparse_source, sparse_tree, transform, 1.5 * voxel)[0]
+                - floating(transform, sparse_source, sparse_target),
+                index,
+            )
+            for index, (transform, _) in enumerate(starts)
+        ),
+        reverse=True,
+    )
+    centre = sparse_source.mean(axis=0)
+    best_starts: list[tuple[np.ndarray, str]] = []
+    for _, index in scored:
+        transform = starts[index][0]
+        if all(not _same_pose(transform, kept, centre) for kept, _ in best_starts):
+            best_starts.append(starts[index])
+        if len(best_starts) == refined:
+            break
+    tree = KDTree(target)
+    normals = estimate_normals(target, FINE_RADIUS, target_viewpoint, tree).normals
 
-    best_starts = sorted(starts, key=sparse_score, reverse=True)[:3]
-    refined = [
+    def score(registration: Registration) -> tuple[float, float]:
+        return registration.fitness - floating(registration.transform, source, sparse_target), -registration.rmse
+
+    poses = [
         r
-        for r in (_refine(source, target, target_viewpoint, initial, name, voxel) for initial, name in best_starts)
-        if r is not None
+        for initial, name in best_starts
+        for r in _refine(source, sparse_source, target, tree, normals, initial, name, voxel, score)
     ]
-    best = max(refined, key=lambda r: (r.fitness - floating(r.transform, source), -r.rmse), default=None)
+    if target_visible is not None:
+        poses = [_fitness_of_visible(r, source, tree, target_visible) for r in poses]
+    best = max(poses, key=score, default=None)
     if best is None:
         raise TaskFailed(f"{best_starts[0][1]} put the observation where the world has no points")
     if best.fitness < min_fitness:
@@ -157,18 +207,67 @@ def align(
     return best
 
 
+def _fitness_of_visible(
+    registration: Registration, source: np.ndarray, tree: KDTree, visible: Callable[[np.ndarray], np.ndarray]
+) -> Registration:
+    """``registration`` with its fitness counted against the source points the target's capture
+    could see at its pose (at least :data:`VISIBLE_FLOOR` of the source)."""
+    moved = transform_points(registration.transform, source)
+    distance, _ = tree.query(moved, 1, FINAL_DISTANCE)
+    inliers = int(np.sum(distance[:, 0] <= FINAL_DISTANCE))
+    seen = max(float(np.sum(visible(moved))), VISIBLE_FLOOR * len(source))
+    return replace(registration, fitness=min(1.0, inliers / seen))
+
+
+def _same_pose(first: np.ndarray, second: np.ndarray, at: np.ndarray) -> bool:
+    """Whether two poses (4, 4) agree within :data:`DISTINCT_M` at ``at`` (3,) and
+    :data:`DISTINCT_DEG` of rotation (refining both would find the same pose)."""
+    offset, angle = transform_error(first, second, at)
+    return offset < DISTINCT_M and angle < DISTINCT_DEG
+
+
 def _refine(
-    source: np.ndarray, target: np.ndarray, target_viewpoint: np.ndarray, initial: np.ndarray, name: str, voxel: float
-) -> Registration | None:
-    """Point-to-plane ICP from ``initial`` on the full-resolution target near it (None when no
-    target point is near)."""
-    near = Frame.around(transform_points(initial, source), 4.0 * voxel).contains(target)
-    if near.sum() < 10:
-        return None
-    fine = target[near]
-    tree = KDTree(fine)
-    normals = estimate_normals(fine, FINE_RADIUS, target_viewpoint, tree).normals
-    result = icp(source, fine, initial, max_distance=2.0 * voxel, target_normals=normals, target_tree=tree)
-    result = icp(source, fine, result.transform, max_distance=FINAL_DISTANCE, target_normals=normals, target_tree=tree)
-    fitness, rmse = evaluate(source, tree, result.transform, FINAL_DISTANCE)
-    return Registration(result.transform, fitness, rmse, f"{name}+icp")
+    source: np.ndarray,
+    sparse_source: np.ndarray,
+    target: np.ndarray,
+    tree: KDTree,
+    normals: np.ndarray,
+    initial: np.ndarray,
+    name: str,
+    voxel: float,
+    score: Callable[[Registration], tuple[float, float]],
+) -> list[Registration]:
+    """ICP from ``initial`` onto the full-resolution target (its ``tree`` and ``normals`` (Nt,
+    3)), first with the sparse source within 2 voxels, then with the full ``source`` within
+    :data:`FINAL_DISTANCE`: point-to-plane, and when that pose floats (``score``'s penalty) or
+    fits less than :data:`MIN_FITNESS` point-to-point as well (on a box seen mostly from above
+    the top face dominates and point-to-plane slides along it, turning the walls away from their
+    counterparts or off the box; point pairs hold the outline). Empty when no target point is
+    near."""
+    distance, _ = tree.query(transform_points(initial, sparse_source), 1, 4.0 * voxel)
+    if np.sum(distance[:, 0] <= 4.0 * voxel) < 10:
+        return []
+    refined: list[Registration] = []
+    for method in ("point_to_plane", "point_to_point"):
+        if (
+            refined
+            and refined[0].fitness >= MIN_FITNESS
+            and score(refined[0])[0] >= refined[0].fitness - FLOATING_WEIGHT * REFINE_FLOATING
+        ):
+            break  # the point-to-plane pose fits and does not float: nothing for point pairs to correct
+        result = initial
+        for points, max_distance, iterations in ((sparse_source, 2.0 * voxel, 40), (source, FINAL_DISTANCE, 20)):
+            result = icp(
+                points,
+                target,
+                result,
+                max_distance=max_distance,
+                iterations=iterations,
+                method=method,
+                target_normals=normals,
+                target_tree=tree,
+            ).transform
+        fitness, rmse = evaluate(source, tree, result, FINAL_DISTANCE)
+        suffix = "+icp" if method == "point_to_plane" else "+icp-point-to-point"
+        refined.append(Registration(result, fitness, rmse, f"{name}{suffix}"))
+    return refined

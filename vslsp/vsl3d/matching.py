@@ -5,7 +5,8 @@ observations in the dictionaries and a metric is applied to find the best match"
 The recorded observation is first aligned with the whole world (FPFH correspondences, a global
 method, point-to-plane ICP). A match must fit (half of the observation within 3 mm of the
 world) and must not float: a true pose puts almost no point where the sensor sees free space
-(it saw a surface behind the point). When the global alignment fails those tests the match is
+(it saw a surface behind the point). When the global alignment fails those tests, or fits less
+than :data:`CONFIDENT_FITNESS` (a look-alike: the flat box's top face on the other box), the match is
 searched window by window ("window search", the paper's other metric): the world is split into
 object-sized clusters above the support surfaces, and the observation is aligned with each
 window from several turns about the vertical; the best verified fit wins.
@@ -27,6 +28,10 @@ from vslsp.vsl3d.vsl import FRAME_MARGIN, TURNS, CloudObservation, WorldCloud, e
 SUPPORT_CLEARANCE = 0.012  # windows are found above the lowest surfaces (table, a box's floor)
 WINDOW_GAP = 0.01  # objects farther apart than this are separate windows
 WINDOW_MARGIN = 0.02
+# A global match fitting less than this may be a look-alike (the flat box's top face on the other
+# box): the windows are searched as well and the best fit wins.
+CONFIDENT_FITNESS = 0.75
+CLEARLY_BETTER = 0.05  # the fitness by which a window's match must beat a weak global one
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,6 +58,7 @@ def find_best_match(
         raise InputError(f"the observation has {len(observation.points)} points; record one of a visible object")
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
+    best: Match | None = None
     try:
         registration = align(
             observation.points,
@@ -63,10 +69,15 @@ def find_best_match(
             seed=seed,
             seen_through=world.seen_through,
         )
-        return _verified(world, observation, registration)
+        best = _verified(world, observation, registration)
+        if best.registration.fitness >= CONFIDENT_FITNESS:
+            return best
+        global_failure = f"the best global match fits only {best.registration.fitness:.0%}"
     except TaskFailed as error:
         global_failure = str(error)
-    best: Match | None = None
+    # A window's match replaces a verified global one only when it fits clearly better (the
+    # duckling's view fits the teddy's side about as well as the turned duckling itself).
+    bar = -np.inf if best is None else best.registration.fitness + CLEARLY_BETTER
     windows = 0
     for window, centre in object_windows(world.points, observation.points):
         windows += 1
@@ -85,8 +96,8 @@ def find_best_match(
             match = _verified(world, observation, registration)
         except TaskFailed:
             continue
-        if best is None or match.registration.fitness > best.registration.fitness:
-            best = match
+        if match.registration.fitness > bar:
+            best, bar = match, match.registration.fitness
     if best is None:
         raise TaskFailed(f"no match: {global_failure}; nor in any of {windows} object-sized windows of the world")
     return best

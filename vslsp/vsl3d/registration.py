@@ -151,6 +151,42 @@ def prerejective_ransac(
     """Pre-rejective RANSAC (Buch et al. 2013) from ``source`` (Ns, 3) to ``target`` (Nt, 3)
     with their FPFH descriptors. Raises :class:`TaskFailed` when no pose puts at least
     ``min_fitness`` of the source within ``max_distance`` of the target."""
+    tree = target_tree if target_tree is not None else KDTree(target)
+    transforms = ransac_hypotheses(
+        source,
+        target,
+        source_features,
+        target_features,
+        max_distance,
+        iterations=iterations,
+        similarity=similarity,
+        correspondences=correspondences,
+        keep=validate,
+        screening_points=screening_points,
+        seed=seed,
+        target_tree=tree,
+    )
+    return _best_by_fitness(source, tree, transforms, max_distance, min_fitness, "prerejective-ransac")
+
+
+def ransac_hypotheses(
+    source: np.ndarray,
+    target: np.ndarray,
+    source_features: np.ndarray,
+    target_features: np.ndarray,
+    max_distance: float,
+    *,
+    iterations: int = 20000,
+    similarity: float = 0.9,
+    correspondences: int = 3,
+    keep: int = 20,
+    screening_points: int = 100,
+    seed: int = 0,
+    target_tree: KDTree | None = None,
+) -> np.ndarray:
+    """Pre-rejective RANSAC's ``keep`` best hypotheses (K, 4, 4), best first by their inlier
+    count on a fixed subset of ``screening_points`` source points (Buch's inlier fraction).
+    Raises :class:`TaskFailed` when no sampled triangle passes the edge test."""
     rng = np.random.default_rng(seed)
     tree = target_tree if target_tree is not None else KDTree(target)
     candidates = feature_neighbours(source_features, target_features, correspondences)
@@ -164,8 +200,6 @@ def prerejective_ransac(
             "the observation and the world share no similar geometry"
         )
     transforms = _kabsch(source[picked_source[alike]], target[picked_target[alike]])
-    # Buch's inlier fraction: rank every hypothesis on a fixed subset of the source points by
-    # nearest-neighbour search, then validate the best few on the whole source.
     subset = source[rng.choice(len(source), min(screening_points, len(source)), replace=False)]
     inliers = np.concatenate(
         [
@@ -179,8 +213,7 @@ def prerejective_ransac(
             for begin in range(0, len(transforms), 512)
         ]
     )
-    ranked = np.argsort(-inliers, kind="stable")[:validate]
-    return _best_by_fitness(source, tree, transforms[ranked], max_distance, min_fitness, "prerejective-ransac")
+    return transforms[np.argsort(-inliers, kind="stable")[:keep]]
 
 
 def sac_ia(
@@ -201,6 +234,40 @@ def sac_ia(
     """SAC-IA (Rusu et al. 2009) from ``source`` (Ns, 3) to ``target`` (Nt, 3) with their FPFH
     descriptors: the hypothesis with the smallest Huber-penalised error over a fixed random
     subset of ``evaluation_points`` source points wins."""
+    tree = target_tree if target_tree is not None else KDTree(target)
+    transforms = sac_ia_hypotheses(
+        source,
+        target,
+        source_features,
+        target_features,
+        max_distance,
+        min_sample_distance=min_sample_distance,
+        iterations=iterations,
+        correspondences=correspondences,
+        evaluation_points=evaluation_points,
+        keep=1,
+        seed=seed,
+        target_tree=tree,
+    )
+    return _best_by_fitness(source, tree, transforms, max_distance, min_fitness, "sac-ia")
+
+
+def sac_ia_hypotheses(
+    source: np.ndarray,
+    target: np.ndarray,
+    source_features: np.ndarray,
+    target_features: np.ndarray,
+    max_distance: float,
+    *,
+    min_sample_distance: float = 0.02,
+    iterations: int = 1000,
+    correspondences: int = 3,
+    evaluation_points: int = 200,
+    keep: int = 20,
+    seed: int = 0,
+    target_tree: KDTree | None = None,
+) -> np.ndarray:
+    """SAC-IA's ``keep`` best hypotheses (K, 4, 4), smallest Huber-penalised error first."""
     rng = np.random.default_rng(seed)
     tree = target_tree if target_tree is not None else KDTree(target)
     candidates = feature_neighbours(source_features, target_features, correspondences)
@@ -217,8 +284,7 @@ def sac_ia(
     distance, _ = tree.query(_move(transforms, subset).reshape(-1, 3), 1)
     distance = distance.reshape(len(transforms), len(subset))
     huber = np.where(distance <= max_distance, 0.5 * distance**2, max_distance * (distance - 0.5 * max_distance))
-    ranked = np.argsort(huber.sum(axis=1), kind="stable")[:1]
-    return _best_by_fitness(source, tree, transforms[ranked], max_distance, min_fitness, "sac-ia")
+    return transforms[np.argsort(huber.sum(axis=1), kind="stable")[:keep]]
 
 
 def _best_by_fitness(
@@ -311,7 +377,10 @@ def _point_to_plane_step(source: np.ndarray, target: np.ndarray, normals: np.nda
     source, target = source - centre, target - centre
     a = np.hstack([np.cross(source, normals), normals])
     b = np.einsum("ij,ij->i", target - source, normals)
-    x, *_ = np.linalg.lstsq(a, b, rcond=None)
+    # The 6x6 normal equations, lightly damped: a direction the planes do not constrain (sliding
+    # along a plane) gets no step, as least squares' minimum-norm solution would give it.
+    normal = a.T @ a
+    x = np.linalg.solve(normal + 1e-9 * max(float(np.trace(normal)), 1e-12) * np.eye(6), a.T @ b)
     angle = np.linalg.norm(x[:3])
     rotation = np.eye(3)
     if angle > 0.0:

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from vslsp.errors import VslspError
+from vslsp.errors import InputError, VslspError
 from vslsp.sim.cloud_scene import TRAY_POSITION, CloudScene, random_layout
 from vslsp.vsl3d.cloud import DepthCamera
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, draw_grasp, trial_pictures
@@ -47,6 +47,10 @@ OPERATIONS = (
     ("teddy", (TRAY_POSITION[0], TRAY_POSITION[1] + 0.055), True),
     ("duckling", (TRAY_POSITION[0] - 0.20, TRAY_POSITION[1] - 0.03), False),
 )
+# The blob stays on the table: it does not start near the places on the table where the
+# demonstration puts an object down, in the demonstration or in the reshuffled scene (an object
+# left next to the place is in the way of the object put there).
+KEEP_CLEAR = {"blob": tuple(place for _, place, into_tray in OPERATIONS if not into_tray)}
 MAX_TURN = np.radians(60.0)  # a single view records one side: reshuffles keep it in view
 TOLERANCE_M, TOLERANCE_DEG = 0.015, 15.0
 
@@ -114,6 +118,18 @@ class TableCleaningResult:
             "success": self.success,
             "operations": [op.to_dict() for op in self.operations],
         }
+
+
+def layout_of(names: list[str], seed: int) -> dict[str, tuple[float, float, float]]:
+    """The seeded random layout of ``names`` with the blob clear of the places on the table; when
+    the objects drawn first leave it no room, the layout is drawn again from a seed derived from
+    ``seed`` (deterministic)."""
+    for attempt in range(20):
+        try:
+            return random_layout(names, seed + 100_000 * attempt, keep_clear=KEEP_CLEAR)
+        except InputError:
+            continue
+    raise InputError(f"no layout of {', '.join(names)} keeps the places on the table clear (seed {seed})")
 
 
 def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[float, float, float]:
@@ -184,12 +200,12 @@ def run_table_cleaning(
     scene beside the reproduced one, (H, 2W, 3))."""
     rng = np.random.default_rng(seed)
     names = [name for name, _, _ in OPERATIONS] + ["blob"]  # the blob stays on the table
-    layout = random_layout(names, seed)
+    layout = layout_of(names, seed)
     with CloudScene(layout, robot=True) as scene:
         demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed)
         scene.park()
         demonstrated_final = scene.capture().rgb
-    reshuffled = random_layout(names, seed + 1)
+    reshuffled = layout_of(names, seed + 1)
     reshuffled = {
         name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()
     }
