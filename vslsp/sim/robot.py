@@ -154,7 +154,8 @@ class ICub:
             physicsClientId=self.client,
         )
 
-    def _drive(self, q: np.ndarray, steps: int) -> None:
+    def _command(self, q: np.ndarray) -> None:
+        """Position targets ``q`` (10,) for the IK joints."""
         pb.setJointMotorControlArray(
             self.body,
             self.ik_indices,
@@ -164,6 +165,9 @@ class ICub:
             positionGains=[0.2] * len(q),
             physicsClientId=self.client,
         )
+
+    def _drive(self, q: np.ndarray, steps: int) -> None:
+        self._command(q)
         self.world.step(steps)
 
     def _settle_joints(self, q: np.ndarray, tolerance: float = 2e-3, max_steps: int = 240) -> None:
@@ -236,15 +240,7 @@ class ICub:
 
     def _follow(self, solutions: np.ndarray, steps: np.ndarray, samples: list[np.ndarray] | None) -> None:
         for q, n in zip(solutions, steps):
-            pb.setJointMotorControlArray(
-                self.body,
-                self.ik_indices,
-                pb.POSITION_CONTROL,
-                targetPositions=list(q),
-                forces=[JOINT_FORCE] * len(q),
-                positionGains=[0.2] * len(q),
-                physicsClientId=self.client,
-            )
+            self._command(q)
             for _ in range(int(n)):
                 self.world.step()
                 if samples is not None:

@@ -25,7 +25,7 @@ from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.matching import find_best_match
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_pictures
 from vslsp.vsl3d.reproduce import Reproduction, reproduce, world_of
-from vslsp.vsl3d.table_cleaning import TOLERANCE_DEG, TOLERANCE_M, picture, pose_error
+from vslsp.vsl3d.table_cleaning import TOLERANCE_DEG, TOLERANCE_M, RobotOperation, picture, pose_error
 from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCloud, euclidean_clusters, get_object
 
 OPERATIONS = (("duck", "box1"), ("teddy", "box2"))  # each object goes on top of its box
@@ -35,7 +35,7 @@ SEGMENT_GAP = 0.008
 
 
 @dataclass(frozen=True)
-class StackResult:
+class StackResult(RobotOperation):
     """One stacking operation (errors against the truth, relative to the box)."""
 
     index: int
@@ -50,26 +50,7 @@ class StackResult:
     final_rotation_deg: float | None = None  # the whole rotation (reported, not judged)
     error: str | None = None
 
-    @property
-    def success(self) -> bool:
-        return (
-            self.error is None
-            and self.picked == self.moved
-            and self.final_error_mm is not None
-            and self.final_error_deg is not None
-            and self.final_error_mm < TOLERANCE_M * 1000
-            and self.final_error_deg < TOLERANCE_DEG
-        )
-
     def to_dict(self) -> dict:
-        execution = self.execution or {
-            "executed_by": "robot",
-            "attempts": 0,
-            "grasp_outcome": [],
-            "match_fitness": None,
-            "grasp": None,
-            "diagnosis": self.error,
-        }
         data = {
             k: getattr(self, k)
             for k in (
@@ -85,13 +66,7 @@ class StackResult:
                 "error",
             )
         }
-        return {
-            **data,
-            **execution,
-            "tolerance_mm": TOLERANCE_M * 1000,
-            "tolerance_deg": TOLERANCE_DEG,
-            "success": self.success,
-        }
+        return self._record(data)
 
 
 def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:

@@ -37,6 +37,7 @@ __all__ = [
     "TOLERANCE_M",
     "WORKSPACE",
     "OperationResult",
+    "RobotOperation",
     "TableCleaningResult",
     "run_table_cleaning",
 ]
@@ -55,8 +56,51 @@ MAX_TURN = np.radians(60.0)  # a single view records one side: reshuffles keep i
 TOLERANCE_M, TOLERANCE_DEG = 0.015, 15.0
 
 
+class RobotOperation:
+    """What every VSL-3D operation record shares: success judged on the simulator's truth (the
+    right object held, put down within :data:`TOLERANCE_M` and :data:`TOLERANCE_DEG`) and the
+    JSON record with the robot's execution and the tolerances."""
+
+    moved: str
+    execution: dict | None
+    picked: str | None
+    final_error_mm: float | None
+    final_error_deg: float | None
+    error: str | None
+
+    @property
+    def success(self) -> bool:
+        return (
+            self.error is None
+            and self.picked == self.moved
+            and self.final_error_mm is not None
+            and self.final_error_deg is not None
+            and self.final_error_mm < TOLERANCE_M * 1000
+            and self.final_error_deg < TOLERANCE_DEG
+        )
+
+    def _record(self, data: dict) -> dict:
+        """``data`` (the operation's own fields) with the execution (or, when the robot never
+        acted, an empty one with the error as diagnosis), the tolerances and the success."""
+        execution = self.execution or {
+            "executed_by": "robot",
+            "attempts": 0,
+            "grasp_outcome": [],
+            "match_fitness": None,
+            "grasp": None,
+            "diagnosis": self.error,
+        }
+        return {
+            **data,
+            **execution,
+            "tolerance_mm": TOLERANCE_M * 1000,
+            "tolerance_deg": TOLERANCE_DEG,
+            "success": self.success,
+        }
+
+
 @dataclass(frozen=True)
-class OperationResult:
+class OperationResult(RobotOperation):
     """One operation: what the demonstration saw and how the robot did (errors against the
     simulator's truth; ``error`` says why a step failed)."""
 
@@ -71,33 +115,7 @@ class OperationResult:
     error: str | None = None
 
     def to_dict(self) -> dict:
-        execution = self.execution or {
-            "executed_by": "robot",
-            "attempts": 0,
-            "grasp_outcome": [],
-            "match_fitness": None,
-            "grasp": None,
-            "diagnosis": self.error,
-        }
-        data = {key: value for key, value in asdict(self).items() if key != "execution"}
-        return {
-            **data,
-            **execution,
-            "tolerance_mm": TOLERANCE_M * 1000,
-            "tolerance_deg": TOLERANCE_DEG,
-            "success": self.success,
-        }
-
-    @property
-    def success(self) -> bool:
-        return (
-            self.error is None
-            and self.picked == self.moved
-            and self.final_error_mm is not None
-            and self.final_error_deg is not None
-            and self.final_error_mm < TOLERANCE_M * 1000
-            and self.final_error_deg < TOLERANCE_DEG
-        )
+        return self._record({key: value for key, value in asdict(self).items() if key != "execution"})
 
 
 @dataclass(frozen=True)
