@@ -4,10 +4,13 @@ shares only a third of the recorded one, a landmark box the features match onto 
 a box matched tipped over with an edge sunk into the table, and point-to-plane ICP sliding a flat
 box off its place."""
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from vslsp.sim.cloud_scene import BOXES, CloudScene, random_layout
+from vslsp.sim.cloud_scene import BOXES, CloudScene
 from vslsp.vsl3d import stacking, table_cleaning
 from vslsp.vsl3d.matching import find_best_match
 from vslsp.vsl3d.registration import transform_error
@@ -15,6 +18,15 @@ from vslsp.vsl3d.reproduce import world_of
 from vslsp.vsl3d.vsl import get_object
 
 TOLERANCE_M, TOLERANCE_DEG = 0.01, 5.0
+# The seeds' scenes as they were drawn when each case failed (the layouts drawn now keep every
+# stack in the sensor's view, which moved some of these scenes).
+SCENES = json.loads((Path(__file__).parent / "data" / "hard_layouts.json").read_text())
+
+
+def _scenes(experiment: str, seed: int) -> tuple[dict, dict]:
+    """The demonstration's and the moved scene's layouts (name -> (x, y, yaw)) of ``seed``."""
+    before, after = SCENES[experiment][str(seed)]
+    return {k: tuple(v) for k, v in before.items()}, {k: tuple(v) for k, v in after.items()}
 
 
 @pytest.mark.parametrize(("seed", "name"), [(3, "teddy"), (30, "duckling")])
@@ -23,8 +35,7 @@ def test_get_object_tells_the_true_turn_from_a_near_symmetric_flip(seed, name):
     177 deg; seed 30: the duckling's recorded motion was 140 deg off. Both flips put points
     where one of the two captures saw free space."""
     rng = np.random.default_rng(seed)
-    names = [n for n, _, _ in table_cleaning.OPERATIONS] + ["blob"]
-    layout = table_cleaning.layout_of(names, seed)
+    layout, _ = _scenes("table-cleaning", seed)
     with CloudScene(layout, robot=True) as scene:
         before = scene.pose(name)
         centre = sum(scene.bounds(name)) / 2.0
@@ -40,8 +51,7 @@ def _stacking_demonstration(seed: int):
     the moved scene: per operation getObject's result and the true motion, the landmarks, and
     the new world with the boxes' true motions (one per symmetric turn)."""
     rng = np.random.default_rng(seed)
-    names = [name for name, _ in stacking.OPERATIONS] + list(BOXES)
-    layout = random_layout(names, seed, tray=False)
+    layout, new = _scenes("stacking", seed)
     objects = {name: layout[name] for name, _ in stacking.OPERATIONS}
     demonstrated, boxes_before = [], {}
     with CloudScene(objects, tray=False, robot=True, boxes={box: layout[box] for box in BOXES}) as scene:
@@ -58,7 +68,6 @@ def _stacking_demonstration(seed: int):
             truth = scene.pose(name) @ np.linalg.inv(before)
             demonstrated.append((moved, truth, centre, stacking.landmark_under(pre, moved)))
             boxes_before[box] = scene.pose(box)
-    new = random_layout(names, seed + 1, tray=False)
     objects = {
         name: (*new[name][:2], layout[name][2] + rng.uniform(-stacking.MAX_TURN, stacking.MAX_TURN))
         for name, _ in stacking.OPERATIONS
@@ -77,7 +86,9 @@ def _stacking_demonstration(seed: int):
     return demonstrated, world, motions
 
 
-@pytest.mark.parametrize(("seed", "box"), [(5, "box1"), (8, "box2"), (52, "box1"), (81, "box1")])
+@pytest.mark.parametrize(
+    ("seed", "box"), [(5, "box1"), (8, "box2"), (52, "box1"), (81, "box1"), (46, "box2"), (63, "box2")]
+)
 def test_stacking_demonstration_and_landmarks(seed, box):
     """Seed 8: the teddy put on box2 at the image's edge, turned, shows a third of the recorded
     view (getObject counts the fit against what the post capture could see); its box2 in the
@@ -85,7 +96,11 @@ def test_stacking_demonstration_and_landmarks(seed, box):
     behind box2, was matched onto box2 (its points in free space) and not found. Seed 52: box1's
     global match, its top face on box2, fitted 63 % without floating (the windows are searched
     below 75 %). Seed 81: point-to-plane ICP slid box1 off its window from every start (point
-    pairs are tried when a refined pose fits less than half)."""
+    pairs are tried when a refined pose fits less than half). Seeds 46 and 63: the near-cubic
+    box2 fitted tipped on its side (87 %) better than upright (84 %), whose rim a pose 2 mm off
+    put beside the box's silhouette, where the sensor saw the table behind (free space is now
+    what the sensor saw through all around a pixel, and a tipped pose of a resting box scores
+    less)."""
     demonstrated, world, motions = _stacking_demonstration(seed)
     for moved, truth, centre, _ in demonstrated:
         offset, angle = transform_error(moved.transform, truth, centre)

@@ -38,6 +38,10 @@ TABLE_CENTRE = (0.50, 0.0)
 TABLE_COLOUR = (0.80, 0.74, 0.62, 1.0)
 WORKSPACE_X = (0.36, 0.72)  # where objects may lie: well inside the sensor's view
 WORKSPACE_Y = (-0.24, 0.24)
+# The sensor sees each object whole: its footprint's half-width and height, and the pixels kept
+# clear of the image's border (a stacked object stands on a box: the stacking asks for more).
+VIEW_RADIUS, OBJECT_HEIGHT, VIEW_MARGIN = 0.07, 0.09, 8.0
+LAYOUT_ATTEMPTS = 20
 TRAY_POSITION = (0.56, 0.16)
 TRAY_SCALE = 0.4  # pybullet's traybox is 60 cm wide; this makes a 24 cm box
 # The stacking experiment's landmark boxes (x, y, z extents, m): shaped unlike each other so that
@@ -315,30 +319,68 @@ class CloudScene(PhysicsClient):
         )
 
 
+def in_view(x: float, y: float, height: float, radius: float = VIEW_RADIUS) -> bool:
+    """Whether the upright square prism of half-width ``radius`` and ``height`` (m) standing at
+    (``x``, ``y``) on the table lies in the sensor's image, :data:`VIEW_MARGIN` pixels inside
+    its border (what stands there is seen whole, whichever way it is turned)."""
+    corners = np.array(
+        [[x + dx, y + dy, z] for dx in (-radius, radius) for dy in (-radius, radius) for z in (0, height)]
+    )
+    uv = SENSOR.project(corners)
+    return bool(
+        np.all(uv >= VIEW_MARGIN)
+        and np.all(uv[:, 0] <= SENSOR.width - VIEW_MARGIN)
+        and np.all(uv[:, 1] <= SENSOR.height - VIEW_MARGIN)
+    )
+
+
 def random_layout(
     names: list[str],
     seed: int,
     tray: bool = True,
     keep_clear: dict[str, tuple[tuple[float, float], ...]] | None = None,
+    heights: dict[str, float] | None = None,
 ) -> dict[str, tuple[float, float, float]]:
     """Seeded random (x, y, yaw) per name in the workspace, centres at least
-    :data:`CLEARANCE` apart and clear of the tray; the objects named in ``keep_clear`` also at
-    least :data:`PLACE_CLEARANCE` from its places (x, y) (where a task puts another object
-    down while they stay)."""
+    :data:`CLEARANCE` apart and clear of the tray, each seen whole by the sensor up to its
+    height in ``heights`` (default :data:`OBJECT_HEIGHT`; :func:`in_view`: a landmark that
+    carries a stacked object is taller than an object); the objects named in ``keep_clear`` also
+    at least :data:`PLACE_CLEARANCE` from its places (x, y) (where a task puts another object
+    down while they stay). When the objects drawn first leave a later one no room, the layout is
+    drawn again from a seed derived from ``seed`` (deterministic)."""
+    for attempt in range(LAYOUT_ATTEMPTS):
+        layout = _draw_layout(names, seed + 100_000 * attempt, tray, keep_clear or {}, heights or {})
+        if layout is not None:
+            return layout
+    raise InputError(
+        f"cannot lay out {', '.join(names)} {CLEARANCE} m apart, in the sensor's view and clear of "
+        f"the places kept clear (seed {seed}); use fewer objects"
+    )
+
+
+def _draw_layout(
+    names: list[str],
+    seed: int,
+    tray: bool,
+    keep_clear: dict[str, tuple[tuple[float, float], ...]],
+    heights: dict[str, float],
+) -> dict[str, tuple[float, float, float]] | None:
+    """One draw of :func:`random_layout` (None: a later object found no room)."""
     rng = np.random.default_rng(seed)
-    keep_clear = keep_clear or {}
     taken: list[tuple[float, float]] = [TRAY_POSITION] if tray else []
     clearance = [CLEARANCE + 0.08] if tray else []  # the tray is 24 cm wide
     layout = {}
     for name in names:
         for _ in range(1000):
             x, y = rng.uniform(*WORKSPACE_X), rng.uniform(*WORKSPACE_Y)
-            if all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance, strict=True)) and all(
-                np.hypot(x - px, y - py) >= PLACE_CLEARANCE for px, py in keep_clear.get(name, ())
+            if (
+                in_view(x, y, heights.get(name, OBJECT_HEIGHT))
+                and all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance, strict=True))
+                and all(np.hypot(x - px, y - py) >= PLACE_CLEARANCE for px, py in keep_clear.get(name, ()))
             ):
                 break
         else:
-            raise InputError(f"cannot place {len(names)} objects {CLEARANCE} m apart in the workspace")
+            return None
         taken.append((x, y))
         clearance.append(CLEARANCE)
         layout[name] = (float(x), float(y), float(rng.uniform(-np.pi, np.pi)))

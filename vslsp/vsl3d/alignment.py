@@ -87,6 +87,7 @@ def align(
     target_visible: Callable[[np.ndarray], np.ndarray] | None = None,
     min_fitness: float = MIN_FITNESS,
     refined: int = REFINED,
+    upright: float = 0.0,
 ) -> Registration:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
     matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
@@ -99,7 +100,9 @@ def align(
     its fitness less three times the fraction of the source it puts where the target's sensor
     saw free space (``seen_through(points (N, 3)) -> mask (N,)``) and, when the source's capture
     is known (``source_seen_through``, getObject), three times the fraction of the target it
-    puts back where the source's sensor saw free space. The ``refined`` best distinct poses
+    puts back where the source's sensor saw free space; with ``upright`` > 0 (the object rests
+    as it did), ``upright`` times (1 - cos) of the angle the pose tilts the vertical by is
+    subtracted as well. The ``refined`` best distinct poses
     on the sparse clouds are refined on the full resolution and the best scoring one wins. With
     ``target_visible(points (N, 3)) -> mask (N,)`` (the target's capture could see them: in its
     image, not hidden) the fitness counts only against the source points the target's sensor
@@ -154,9 +157,9 @@ def align(
         starts.extend((transform, "multi-start-icp") for transform in turned)
 
     def floating(transform: np.ndarray, points: np.ndarray, back: np.ndarray) -> float:
-        """The free-space penalty of a pose: the source ``points`` moved into the target's
-        capture, the target points ``back`` moved into the source's."""
-        penalty = 0.0
+        """The penalty of a pose: the free space of the source ``points`` moved into the target's
+        capture and of the target points ``back`` moved into the source's, and its tilt."""
+        penalty = upright * (1.0 - float(transform[2, 2])) / FLOATING_WEIGHT
         if seen_through is not None:
             penalty += float(seen_through(transform_points(transform, points)).mean())
         if source_seen_through is not None:

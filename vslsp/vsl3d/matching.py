@@ -32,6 +32,11 @@ WINDOW_MARGIN = 0.02
 # box): the windows are searched as well and the best fit wins.
 CONFIDENT_FITNESS = 0.75
 CLEARLY_BETTER = 0.05  # the fitness by which a window's match must beat a weak global one
+# Objects and boxes rest on a support as they did when recorded: a pose that tips the observation
+# over scores this much less per unit of (1 - cos tilt) (0.1 at 90 deg). A near-cubic box fits
+# tipped on its side about as well as upright (stacking seeds 46 and 63: 86 % against 87-90 %);
+# an object that really fell over fits its tipped pose far better than any upright one.
+UPRIGHT_WEIGHT = 0.1
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,6 +73,7 @@ def find_best_match(
             method=method,
             seed=seed,
             seen_through=world.seen_through,
+            upright=UPRIGHT_WEIGHT,
         )
         best = _verified(world, observation, registration)
         if best.registration.fitness >= CONFIDENT_FITNESS:
@@ -92,6 +98,7 @@ def find_best_match(
                 turns=TURNS,
                 target_centre=centre,
                 seen_through=world.seen_through,
+                upright=UPRIGHT_WEIGHT,
             )
             match = _verified(world, observation, registration)
         except TaskFailed:

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from vslsp.errors import InputError, VslspError
+from vslsp.errors import VslspError
 from vslsp.sim.cloud_scene import TRAY_POSITION, CloudScene, random_layout
 from vslsp.vsl3d.cloud import DepthCamera
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, draw_grasp, trial_pictures
@@ -138,18 +138,6 @@ class TableCleaningResult:
         }
 
 
-def layout_of(names: list[str], seed: int) -> dict[str, tuple[float, float, float]]:
-    """The seeded random layout of ``names`` with the blob clear of the places on the table; when
-    the objects drawn first leave it no room, the layout is drawn again from a seed derived from
-    ``seed`` (deterministic)."""
-    for attempt in range(20):
-        try:
-            return random_layout(names, seed + 100_000 * attempt, keep_clear=KEEP_CLEAR)
-        except InputError:
-            continue
-    raise InputError(f"no layout of {', '.join(names)} keeps the places on the table clear (seed {seed})")
-
-
 def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[float, float, float]:
     """How far ``pose`` (4, 4) is from ``goal`` (4, 4): mm at the object's ``centre`` (3,), the
     turn about the vertical (deg: the nearest rotation about z to the relative rotation) and the
@@ -218,12 +206,12 @@ def run_table_cleaning(
     scene beside the reproduced one, (H, 2W, 3))."""
     rng = np.random.default_rng(seed)
     names = [name for name, _, _ in OPERATIONS] + ["blob"]  # the blob stays on the table
-    layout = layout_of(names, seed)
+    layout = random_layout(names, seed, keep_clear=KEEP_CLEAR)
     with CloudScene(layout, robot=True) as scene:
         demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed)
         scene.park()
         demonstrated_final = scene.capture().rgb
-    reshuffled = layout_of(names, seed + 1)
+    reshuffled = random_layout(names, seed + 1, keep_clear=KEEP_CLEAR)
     reshuffled = {
         name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()
     }
