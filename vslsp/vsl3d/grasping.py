@@ -64,14 +64,14 @@ def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
     bottom = max(0.0, float(np.percentile(points[:, 2], 0.5)))
     widest = 2.0 * (FINGER_OPEN - FINGER_ROOM)
     narrowest = np.inf
-    # Lowest first: a grip near the middle holds a tall object without letting it pivot.
-    for tip in sorted(
-        {
-            float(np.clip(bottom + f * (top - bottom) + higher, bottom + TIP_CLEARANCE, top - MIN_GRIP))
-            for f in GRIP_HEIGHTS
-        }
-        | {min(max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE) + higher, top - MIN_GRIP)}
-    ):
+    # Half the height first: it holds a tall object without letting it pivot, and a short round
+    # one at its widest (lower, the pads press down on its curve and wedge it against the table:
+    # the duckling); where it is too wide, the narrower part :data:`GRASP_DEPTH` below the top.
+    mid = [
+        float(np.clip(bottom + f * (top - bottom) + higher, bottom + TIP_CLEARANCE, top - MIN_GRIP))
+        for f in GRIP_HEIGHTS
+    ]
+    for tip in dict.fromkeys([*mid, min(max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE) + higher, top - MIN_GRIP)]):
         above = points[points[:, 2] >= tip - BAND / 2][:, :2]  # all that passes between the fingers
         if len(above) < 10:
             continue
