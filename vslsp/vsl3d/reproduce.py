@@ -7,7 +7,11 @@ motion that takes the object to its goal (T_j M_j^-1 for the table cleaning, K_j
 relative to a landmark for the stacking), and has the Panda pick and place it. A grasp that
 fails or an object that slips is seen in the next capture, which starts a second and last
 attempt (gripping a little higher); an unreachable or ungraspable object is reported as such. Every failure is a
-diagnosis in the record, never an exception.
+diagnosis in the record, never an exception. Neither an object the robot has already put where
+an earlier operation wanted it nor a landmark is a candidate for the object of a later one:
+the world within a centimetre of them is left out of the search for the object (the teddy's
+view, turned 60 deg from where it was recorded, fitted its landmark box's corner better than the
+teddy itself, stacking seed 27).
 """
 
 from __future__ import annotations
@@ -22,6 +26,7 @@ from vslsp.sim.cloud_scene import CloudScene, RGBDImage
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.grasping import Grasp, pick_and_place, plan_grasp
 from vslsp.vsl3d.matching import Match, find_best_match
+from vslsp.vsl3d.registration import transform_points
 from vslsp.vsl3d.vsl import CloudObservation, WorldCloud
 
 WORKSPACE = Frame((0.25, -0.40, 0.006), (0.90, 0.40, 0.40))  # the world: above the table top
@@ -55,6 +60,7 @@ class Attempt:
     outcome: str | None = None  # "held" or the pick-and-place diagnosis
     held: str | None = None  # what the fingers held (the simulator's truth, for the report)
     error: str | None = None
+    placed: np.ndarray | None = None  # (N, 3) the matched points where the object was put, when held
 
 
 @dataclass
@@ -67,6 +73,12 @@ class Reproduction:
     @property
     def last(self) -> Attempt | None:
         return self.attempts[-1] if self.attempts else None
+
+    @property
+    def placed(self) -> np.ndarray | None:
+        """The matched points (N, 3) where the object was put, when the last attempt held it
+        to the end."""
+        return self.last.placed if self.last is not None else None
 
     def to_dict(self) -> dict:
         last = self.last
@@ -90,9 +102,13 @@ def reproduce(
     method: str,
     seed: int,
     movable: list[int],
+    placed: tuple[np.ndarray, ...] = (),
+    landmarks: Callable[[WorldCloud], np.ndarray] | None = None,
 ) -> Reproduction:
-    """Find ``observation`` in ``scene``'s capture and move the object there by
-    ``motion_for(match, world)`` (4, 4) with the robot, retrying once after a failed grasp."""
+    """Find ``observation`` in ``scene``'s capture, less what lies near the ``placed`` points
+    (N, 3) each (objects earlier operations put down) and the landmarks' points (M, 3) that
+    ``landmarks(world)`` finds, and move the object there by ``motion_for(match, world)`` (4, 4)
+    with the robot, retrying once after a failed grasp."""
     record = Reproduction()
     for retry in range(2):
         scene.park()
@@ -102,7 +118,9 @@ def reproduce(
         record.attempts.append(attempt)
         try:
             check_world(world)
-            attempt.match = find_best_match(world, observation, method=method, seed=seed)
+            avoid = [*placed, landmarks(world)] if landmarks is not None else list(placed)
+            search = world.without(np.vstack(avoid)) if avoid else world
+            attempt.match = find_best_match(search, observation, method=method, seed=seed)
             attempt.grasp = plan_grasp(attempt.match.points, higher=RETRY_HIGHER * retry)
             motion = motion_for(attempt.match, world)
         except VslspError as error:
@@ -112,6 +130,8 @@ def reproduce(
         scene.settle()
         attempt.outcome = "held" if result.ok else result.diagnosis
         attempt.held = result.held
+        if result.ok:
+            attempt.placed = transform_points(motion, attempt.match.points)
         record.diagnosis = result.diagnosis
         if result.diagnosis not in RETRIED:
             break

@@ -22,7 +22,7 @@ import numpy as np
 from vslsp.errors import TaskFailed, VslspError
 from vslsp.sim.cloud_scene import BOXES, CloudScene, random_layout
 from vslsp.vsl3d.cloud import DepthCamera, Frame
-from vslsp.vsl3d.matching import find_best_match
+from vslsp.vsl3d.matching import Match, find_best_match
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_pictures
 from vslsp.vsl3d.reproduce import Reproduction, reproduce, world_of
 from vslsp.vsl3d.table_cleaning import TOLERANCE_DEG, TOLERANCE_M, RobotOperation, picture, pose_error
@@ -165,24 +165,41 @@ def run_stacking(
     matched, cloud = [], None
     with CloudScene(objects, tray=False, robot=True, boxes=boxes) as scene:
         movable = list(scene.bodies.values())
+        put_down: list[np.ndarray] = []  # where earlier operations put their objects
         for index, ((name, box), demo) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
             if isinstance(demo, str):
                 results.append(StackResult(index, name, box, None, error=demo))
                 continue
             moved, landmark = demo
-            found: dict[str, float] = {}
+            found: dict[str, Match] = {}  # the landmark in the attempt's capture
 
-            def motion_for(match, world, moved=moved, landmark=landmark, box=box, found=found):
+            def landmarks(world, landmark=landmark, box=box, found=found):
                 try:
-                    placed = find_best_match(world, landmark, method=method, seed=seed)
+                    found["box"] = find_best_match(world, landmark, method=method, seed=seed)
                 except VslspError as error:
                     raise TaskFailed(f"landmark {box} not found in the new scene: {error}") from error
-                found["fitness"] = placed.registration.fitness
-                # K_j T_j M_j^-1: the demonstrated motion, carried along with the box.
-                return placed.registration.transform @ moved.transform @ np.linalg.inv(match.registration.transform)
+                return found["box"].points  # the object is not looked for on its landmark
 
-            record = reproduce(scene, moved.pre, motion_for, method=method, seed=seed, movable=movable)
-            results.append(judge(scene, index, name, box, moved.to_dict(), record, goals[name], found.get("fitness")))
+            def motion_for(match, world, moved=moved, found=found):
+                # K_j T_j M_j^-1: the demonstrated motion, carried along with the box.
+                return (
+                    found["box"].registration.transform @ moved.transform @ np.linalg.inv(match.registration.transform)
+                )
+
+            record = reproduce(
+                scene,
+                moved.pre,
+                motion_for,
+                method=method,
+                seed=seed,
+                movable=movable,
+                placed=tuple(put_down),
+                landmarks=landmarks,
+            )
+            fitness = found["box"].registration.fitness if "box" in found else None
+            results.append(judge(scene, index, name, box, moved.to_dict(), record, goals[name], fitness))
+            if record.placed is not None:
+                put_down.append(record.placed)
             matched.append(picture(record))
             if cloud is None and record.last is not None:
                 cloud = cloud_view(record.last.world.points)

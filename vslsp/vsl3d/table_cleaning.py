@@ -218,6 +218,7 @@ def run_table_cleaning(
     results, matched, cloud = [], [], None
     with CloudScene(reshuffled, robot=True) as scene:
         movable = list(scene.bodies.values())
+        put_down: list[np.ndarray] = []  # where earlier operations put their objects
         for index, ((name, _, _), (moved, failure)) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
             if moved is None:
                 results.append(OperationResult(index, name, None, error=failure))
@@ -226,8 +227,12 @@ def run_table_cleaning(
             def motion_for(match, world, moved=moved):
                 return moved.transform @ np.linalg.inv(match.registration.transform)  # T_j M_j^-1
 
-            record = reproduce(scene, moved.pre, motion_for, method=method, seed=seed, movable=movable)
+            record = reproduce(
+                scene, moved.pre, motion_for, method=method, seed=seed, movable=movable, placed=tuple(put_down)
+            )
             results.append(judge(scene, index, name, moved.to_dict(), record, goals[name]))
+            if record.placed is not None:
+                put_down.append(record.placed)
             matched.append(picture(record))
             if cloud is None and record.last is not None:
                 cloud = cloud_view(record.last.world.points)

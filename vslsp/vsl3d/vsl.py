@@ -18,7 +18,7 @@ to 3D Tasks"; Algorithm 1 with clouds for images).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -73,6 +73,14 @@ class WorldCloud:
             camera,
             float(workspace.lower[2]),
         )
+
+    def without(self, near: np.ndarray, distance: float = FRAME_MARGIN) -> WorldCloud:
+        """This capture with its points within ``distance`` m of any of ``near`` (K, 3) left out
+        (the raw depth, and so what the sensor saw, stays)."""
+        if len(near) == 0 or len(self.points) == 0:
+            return self
+        gap, _ = KDTree(np.asarray(near, dtype=float)).query(self.points, 1, distance)
+        return replace(self, points=self.points[gap[:, 0] > distance])
 
     def visible(self, points: np.ndarray, tolerance: float = CHANGE_THRESHOLD) -> np.ndarray:
         """Mask (N,) of points this capture could have seen: inside the image and not behind
