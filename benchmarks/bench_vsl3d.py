@@ -19,8 +19,12 @@ normals (against the true face normals of a cube in the scene), normals + FPFH (
 nearest-feature correspondences that are true), RANSAC-based global registration and
 point-to-plane ICP (against the known motion). Each row prints both times and their ratio.
 
-VSL-3D runs each stage on one thread; Open3D uses OpenMP threads: ``OMP_NUM_THREADS=1`` compares
-core for core (on the shared 2-core machine Open3D's threads gain or lose with the load).
+VSL-3D runs each stage on one thread (trials run in parallel processes, one per core, so a
+stage's threads would only compete with the other trials); Open3D spreads some stages over
+threads of its own (its radius search takes 49 ms of CPU in 25 ms on two idle cores, whatever
+``OMP_NUM_THREADS`` says). The speed section therefore runs pinned to one core: core for core;
+``--all-cores`` lifts the pin (Open3D's wall-clock gain from its threads then shows in the
+ratio).
 
 Run: .venv/bin/python benchmarks/bench_vsl3d.py [--trials 20] [--method prerejective_ransac]
 """
@@ -28,6 +32,7 @@ Run: .venv/bin/python benchmarks/bench_vsl3d.py [--trials 20] [--method prerejec
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 import numpy as np
@@ -240,10 +245,15 @@ def _cube_truth(points: np.ndarray, pose: np.ndarray, half: float) -> tuple[np.n
     return on & inner, normals @ pose[:3, :3].T
 
 
-def speed() -> None:
-    """Every point cloud stage of VSL-3D beside Open3D's on the same rendered clouds."""
+def speed(all_cores: bool = False) -> None:
+    """Every point cloud stage of VSL-3D beside Open3D's on the same rendered clouds, pinned to
+    one core unless ``all_cores``."""
+    cores = sorted(os.sched_getaffinity(0))
+    if not all_cores:  # before Open3D starts its threads: they take the mask they are born with
+        os.sched_setaffinity(0, {cores[-1]})
     o3d = _open3d()
-    print(f"\n== VSL-3D beside Open3D {o3d.__version__} on the same rendered clouds (wall time, best of 5) ==")
+    where = "all cores" if all_cores else f"pinned to core {cores[-1]} of {len(cores)}: core for core"
+    print(f"\n== VSL-3D beside Open3D {o3d.__version__} on the same rendered clouds (wall time, best of 5; {where}) ==")
     table = Table()
     layout = random_layout(OBJECTS, 1)
     layout["cube"] = (0.62, -0.12, 0.5)
@@ -447,6 +457,8 @@ def speed() -> None:
         f"{errors[1][0] * 1000:.2f} mm {errors[1][1]:.2f} deg",
     )
     table.summary()
+    if not all_cores:
+        os.sched_setaffinity(0, set(cores))
 
 
 def main() -> None:
@@ -455,9 +467,10 @@ def main() -> None:
     parser.add_argument("--method", default="prerejective_ransac", choices=["prerejective_ransac", "sac_ia", "icp"])
     parser.add_argument("--max-yaw", type=float, default=60.0, help="largest turn about z in a move (deg)")
     parser.add_argument("--skip-speed", action="store_true")
+    parser.add_argument("--all-cores", action="store_true", help="do not pin the speed comparison to one core")
     args = parser.parse_args()
     if not args.skip_speed:
-        speed()
+        speed(args.all_cores)
     if args.trials:
         accuracy(args.trials, args.method, args.max_yaw)
 
