@@ -340,16 +340,19 @@ def random_layout(
     tray: bool = True,
     keep_clear: dict[str, tuple[tuple[float, float], ...]] | None = None,
     heights: dict[str, float] | None = None,
+    radii: dict[str, float] | None = None,
 ) -> dict[str, tuple[float, float, float]]:
-    """Seeded random (x, y, yaw) per name in the workspace, centres at least
-    :data:`CLEARANCE` apart and clear of the tray, each seen whole by the sensor up to its
+    """Seeded random (x, y, yaw) per name in the workspace, centres at least :data:`CLEARANCE`
+    apart, or the sum of the two items' footprint radii in ``radii`` where that is more (a box
+    turned by any angle must not touch what stands beside it, default :data:`CLEARANCE` / 2),
+    and clear of the tray, each seen whole by the sensor up to its
     height in ``heights`` (default :data:`OBJECT_HEIGHT`; :func:`in_view`: a landmark that
     carries a stacked object is taller than an object); the objects named in ``keep_clear`` also
     at least :data:`PLACE_CLEARANCE` from its places (x, y) (where a task puts another object
     down while they stay). When the objects drawn first leave a later one no room, the layout is
     drawn again from a seed derived from ``seed`` (deterministic)."""
     for attempt in range(LAYOUT_ATTEMPTS):
-        layout = _draw_layout(names, seed + 100_000 * attempt, tray, keep_clear or {}, heights or {})
+        layout = _draw_layout(names, seed + 100_000 * attempt, tray, keep_clear or {}, heights or {}, radii or {})
         if layout is not None:
             return layout
     raise InputError(
@@ -364,25 +367,30 @@ def _draw_layout(
     tray: bool,
     keep_clear: dict[str, tuple[tuple[float, float], ...]],
     heights: dict[str, float],
+    radii: dict[str, float],
 ) -> dict[str, tuple[float, float, float]] | None:
     """One draw of :func:`random_layout` (None: a later object found no room)."""
     rng = np.random.default_rng(seed)
     taken: list[tuple[float, float]] = [TRAY_POSITION] if tray else []
-    clearance = [CLEARANCE + 0.08] if tray else []  # the tray is 24 cm wide
+    footprint = [CLEARANCE / 2.0 + 0.08] if tray else []  # the tray is 24 cm wide
     layout = {}
     for name in names:
+        radius = radii.get(name, CLEARANCE / 2.0)
         for _ in range(1000):
             x, y = rng.uniform(*WORKSPACE_X), rng.uniform(*WORKSPACE_Y)
             if (
                 in_view(x, y, heights.get(name, OBJECT_HEIGHT))
-                and all(np.hypot(x - tx, y - ty) >= c for (tx, ty), c in zip(taken, clearance, strict=True))
+                and all(
+                    np.hypot(x - tx, y - ty) >= max(CLEARANCE, r + radius)
+                    for (tx, ty), r in zip(taken, footprint, strict=True)
+                )
                 and all(np.hypot(x - px, y - py) >= PLACE_CLEARANCE for px, py in keep_clear.get(name, ()))
             ):
                 break
         else:
             return None
         taken.append((x, y))
-        clearance.append(CLEARANCE)
+        footprint.append(radius)
         layout[name] = (float(x), float(y), float(rng.uniform(-np.pi, np.pi)))
     return layout
 

@@ -31,8 +31,11 @@ from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCl
 OPERATIONS = (("duck", "box1"), ("teddy", "box2"))  # each object goes on top of its box
 BOX_SYMMETRY = {"box1": 2, "box2": 4}  # turns about the vertical under which a box looks the same
 MAX_TURN = np.radians(60.0)  # objects are seen again from about the same side
-# A box and the object stacked on it are seen whole (the tallest stack: box2 and the teddy).
+# A box and the object stacked on it are seen whole (the tallest stack: box2 and the teddy), and a
+# box, turned any way, keeps 1.5 cm from what stands beside it (its half-diagonal and a margin):
+# a box touching the other box or an object is segmented with it into one landmark.
 STACK_HEIGHTS = dict.fromkeys(BOXES, 0.17)
+BOX_RADII = {box: float(np.hypot(*size[:2])) / 2.0 + 0.015 for box, size in BOXES.items()}
 SEGMENT_GAP = 0.008
 
 
@@ -115,7 +118,7 @@ def run_stacking(
     diagnosed, the other operations still run). Returns the results and the report's pictures."""
     rng = np.random.default_rng(seed)
     names = [name for name, _ in OPERATIONS] + list(BOXES)
-    layout = random_layout(names, seed, tray=False, heights=STACK_HEIGHTS)
+    layout = random_layout(names, seed, tray=False, heights=STACK_HEIGHTS, radii=BOX_RADII)
     objects = {name: layout[name] for name, _ in OPERATIONS}
     boxes = {box: layout[box] for box in BOXES}
     demonstrated: list[tuple[MovedObject, CloudObservation] | str] = []
@@ -154,7 +157,7 @@ def run_stacking(
                 demonstrated.append(f"demonstration: {error}")
         scene.park()
         demonstrated_final = scene.capture().rgb
-    moved_layout = random_layout(names, seed + 1, tray=False, heights=STACK_HEIGHTS)
+    moved_layout = random_layout(names, seed + 1, tray=False, heights=STACK_HEIGHTS, radii=BOX_RADII)
     objects = {
         name: (*moved_layout[name][:2], layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN))
         for name, _ in OPERATIONS
