@@ -67,10 +67,12 @@ def _world(scene: CloudScene) -> WorldCloud:
 
 
 def _layout(names: list[str], seed: int) -> dict:
-    """A random layout of ``names``; the next seeds when one has no room for them all."""
+    """A random layout of ``names`` with the spot the tutor moves to on the table (height 0); seeds
+    derived from ``seed`` when one has no room for them all (random_layout's own redraws step by
+    100 000: these step by a prime past them)."""
     for attempt in range(20):
         try:
-            return random_layout(names, seed + 100_000 * attempt)
+            return random_layout(names, seed + 1_000_003 * attempt, heights={"spot": 0.0})
         except VslspError:
             continue
     raise RuntimeError(f"no layout for seed {seed}")
