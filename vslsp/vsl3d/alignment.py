@@ -57,6 +57,12 @@ def describe(
     return sparse, compute_fpfh(sparse, normals, 5.0 * voxel, tree), tree
 
 
+def tipping(transform: np.ndarray) -> float:
+    """1 - cos of the angle by which ``transform`` (4, 4) tilts the vertical: 0 upright, 1 on
+    its side, 2 upside down."""
+    return 1.0 - float(transform[2, 2])
+
+
 def _turned_starts(source: np.ndarray, target_centre: np.ndarray, turns: int) -> list[np.ndarray]:
     """``turns`` poses (4, 4) that turn ``source`` about the vertical through its centroid by
     multiples of 360/turns degrees and put its centroid on ``target_centre`` (3,): the starts of
@@ -159,7 +165,7 @@ def align(
     def floating(transform: np.ndarray, points: np.ndarray, back: np.ndarray) -> float:
         """The penalty of a pose: the free space of the source ``points`` moved into the target's
         capture and of the target points ``back`` moved into the source's, and its tilt."""
-        penalty = upright * (1.0 - float(transform[2, 2])) / FLOATING_WEIGHT
+        penalty = upright * tipping(transform) / FLOATING_WEIGHT
         if seen_through is not None:
             penalty += float(seen_through(transform_points(transform, points)).mean())
         if source_seen_through is not None:

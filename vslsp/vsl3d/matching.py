@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.vsl3d.alignment import MAX_SEEN_THROUGH, METHODS, align
+from vslsp.vsl3d.alignment import MAX_SEEN_THROUGH, METHODS, align, tipping
 from vslsp.vsl3d.cloud import Frame
 from vslsp.vsl3d.registration import Registration, transform_points
 from vslsp.vsl3d.vsl import FRAME_MARGIN, TURNS, CloudObservation, WorldCloud, euclidean_clusters
@@ -55,7 +55,7 @@ class Match:
     @property
     def plausibility(self) -> float:
         """The fitness less the tilt's penalty (:data:`UPRIGHT_WEIGHT`): how matches compare."""
-        return self.registration.fitness - UPRIGHT_WEIGHT * (1.0 - float(self.registration.transform[2, 2]))
+        return self.registration.fitness - UPRIGHT_WEIGHT * tipping(self.registration.transform)
 
     @property
     def position(self) -> np.ndarray:

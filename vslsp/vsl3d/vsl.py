@@ -95,9 +95,7 @@ class WorldCloud:
         ``tolerance`` m behind them along their pixel's ray, i.e. free space where they are, or
         they lie more than ``tolerance`` under the :attr:`floor` (inside the table: a tipped
         pose of a box sinks an edge into it, where no ray can tell)."""
-        inside, z, _ = self._depth_at(points)
-        uv, _ = self.camera.project(points[inside])
-        nearest = self._nearest_around[np.floor(uv[:, 1]).astype(np.int64), np.floor(uv[:, 0]).astype(np.int64)]
+        inside, z, nearest = self._depth_at(points, self._nearest_around)
         through = np.asarray(points)[:, 2] < self.floor - tolerance
         through[inside] |= np.isfinite(nearest) & (nearest > z[inside] + tolerance)
         return through
@@ -110,13 +108,15 @@ class WorldCloud:
         size = 2 * SILHOUETTE_PX + 1
         return cv2.erode(depth, np.ones((size, size), np.uint8), borderType=cv2.BORDER_REPLICATE)
 
-    def _depth_at(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _depth_at(
+        self, points: np.ndarray, image: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Which points project into the image (N,), their depths (N,), and the captured depth
-        at their pixels (for those inside)."""
+        (or ``image`` (H, W)'s value) at their pixels (for those inside)."""
         uv, z = self.camera.project(points)
         cols, rows = np.floor(uv[:, 0]).astype(np.int64), np.floor(uv[:, 1]).astype(np.int64)
         inside = (z > 0) & (cols >= 0) & (cols < self.camera.width) & (rows >= 0) & (rows < self.camera.height)
-        return inside, z, self.depth[rows[inside], cols[inside]]
+        return inside, z, (self.depth if image is None else image)[rows[inside], cols[inside]]
 
 
 @dataclass(frozen=True, eq=False)
