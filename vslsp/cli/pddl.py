@@ -119,11 +119,26 @@ def _count(count: int, noun: str) -> str:
     return f"{count} {noun}{'' if count == 1 else 's'}"
 
 
-@pddl.command()
+class ShellCommand(click.Command):
+    """``vslsp shell``: its help lists the shell's commands, each with an example (read from the
+    shell's command table only when the help is shown)."""
+
+    def format_epilog(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        from vslsp.symbolic.shell_commands import overview
+
+        formatter.write_paragraph()
+        formatter.write_text("Commands inside the shell (help COMMAND there tells one in full):")
+        formatter.write("\n".join(line.rstrip() for line in overview().splitlines()) + "\n")
+
+
+@pddl.command(cls=ShellCommand)
 @click.argument("domain", type=click.Path(dir_okay=False), required=False)
 @click.argument("problem", type=click.Path(dir_okay=False), required=False)
 def shell(domain: str | None, problem: str | None) -> None:
-    """Author a domain and a problem interactively (tab completion, history); plan and validate."""
+    """Author a domain and a problem interactively, starting from DOMAIN (and PROBLEM) if given:
+    every command is checked as it is typed; tab completion of commands and of the names that
+    fit where the cursor is; undo; history in ~/.vslsp_history. Reads commands from standard
+    input when it is not a terminal (no history then)."""
     from vslsp.symbolic import read_pddl
     from vslsp.symbolic.shell import Shell
 

@@ -235,9 +235,10 @@ class Domain:
             lines.append(f"  (:types {types})")
         if self.constants:
             lines.append(f"  (:constants {_typed(self.constants, bare=True)})")
-        lines.append("  (:predicates")
-        lines.extend(f"    ({p.name}{' ' if p.parameters else ''}{_typed(p.parameters)})" for p in self.predicates)
-        lines[-1] += ")"
+        if self.predicates:  # PDDL has no empty (:predicates)
+            lines.append("  (:predicates")
+            lines.extend(f"    ({p.name}{' ' if p.parameters else ''}{_typed(p.parameters)})" for p in self.predicates)
+            lines[-1] += ")"
         return "\n".join(lines) + "\n" + "".join(f"\n{a.to_pddl()}\n" for a in self.actions) + ")\n"
 
     def to_dict(self) -> dict:

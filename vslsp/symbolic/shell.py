@@ -1,12 +1,14 @@
 """An interactive shell to author a PDDL 3.0 domain and problem step by step, plan and validate.
 
 Paper: "Implementation" (a user extends or edits what VSL-SP learned: the domain's actions,
-the task's goal and its ordering constraints). Every fragment typed (an action, a goal, a
-constraint) is read by unified-planning's PDDL reader in the context of the current domain
-and problem, so it is checked exactly like a file; mistakes are reported and the model stays
-as it was. Standard ``cmd`` shell: tab completion of commands and names, readline history.
+the task's goal and its ordering constraints). Every fragment typed (a predicate, an action, a
+goal, a constraint) is first checked by :mod:`vslsp.symbolic.shell_check`, which tells mistakes
+with the shell command that fixes them, then read by the PDDL reader in the context of the
+current domain and problem, so it is checked exactly like a file; after a mistake the model
+stays as it was. Every change can be taken back with ``undo``. The commands are listed in
+:mod:`vslsp.symbolic.shell_commands`; completion is :mod:`vslsp.symbolic.shell_complete`.
 
-    vslsp pddl shell [DOMAIN [PROBLEM]]
+    vslsp shell [DOMAIN [PROBLEM]]      (the same as vslsp pddl shell)
 """
 
 from __future__ import annotations
@@ -14,36 +16,39 @@ from __future__ import annotations
 import cmd
 import re
 import shlex
+import sys
 from dataclasses import replace
 from pathlib import Path
 
 from vslsp.errors import InputError, VslspError
 from vslsp.symbolic.formula import Formula, atoms_of
-from vslsp.symbolic.model import Domain, Problem
+from vslsp.symbolic.model import Domain, Predicate, Problem
 from vslsp.symbolic.pddl import parse_pddl, read_pddl, save
-from vslsp.symbolic.planner import DEFAULT_PLANNER, solve
+from vslsp.symbolic.planner import DEFAULT_PLANNER, PLANNERS, solve
+from vslsp.symbolic.shell_check import Checker, did_you_mean, in_shell_terms
+from vslsp.symbolic.shell_commands import NAMES, command, example, in_full, overview, usage
+from vslsp.symbolic.shell_complete import DELIMITERS, complete
 from vslsp.symbolic.validate import parse_plan, validate
 
-HISTORY = Path.home() / ".vslsp_history"
+#: Lines of history kept in ``~/.vslsp_history``.
+HISTORY_LINES = 1000
+
+
+def history_file() -> Path:
+    """``~/.vslsp_history`` (read when the shell starts, so that HOME may change in between)."""
+    return Path.home() / ".vslsp_history"
 
 
 def _domain_text(domain: Domain, extra_action: str = "", extra_predicate: str = "") -> str:
-    """Scratch PDDL of ``domain`` (plus one more action or predicate) for the reader to check a
-    fragment in context."""
+    """Scratch PDDL of ``domain`` (plus one more action, or one more predicate declared last) for
+    the reader to check a fragment in context."""
+    if extra_predicate:
+        domain = replace(domain, predicates=(*domain.predicates, Predicate("vslsp-shell-placeholder")))
     text = re.sub(
         r"\(:requirements[^)]*\)", "(:requirements :strips :typing :adl :constraints)", domain.to_pddl(), count=1
     )
-    if extra_predicate:
-        text = text.replace("(:predicates", f"(:predicates {extra_predicate}", 1)
+    text = text.replace("(vslsp-shell-placeholder)", extra_predicate, 1)
     return text.rstrip()[:-1] + f"\n{extra_action})\n"
-
-
-def _predicate_text(predicate) -> str:
-    return f"({predicate.name} {_typed(predicate.parameters)})"
-
-
-def _typed(parameters) -> str:
-    return " ".join(f"{v} - {t}" for v, t in parameters)
 
 
 def _problem_text(problem: Problem, goal: str | None = None, constraints: list[str] | None = None) -> str:
@@ -77,60 +82,60 @@ def _balanced(typed: str) -> None:
         )
 
 
-class Shell(cmd.Cmd):
-    """``vslsp pddl shell``: type ``help`` for the commands."""
+def _plural(count: int, noun: str) -> str:
+    return f"{count} {noun}{'' if count == 1 else 's'}"
 
-    intro = "vslsp PDDL shell: build a domain and a problem, plan, validate. Type help or ? to list commands."
+
+def numbered_problem(problem: Problem) -> str:
+    """The problem's PDDL with each constraint on its own line, numbered as ``drop constraint N`` takes them."""
+    text = replace(problem, constraints=()).to_pddl().rstrip()[:-1]
+    if not problem.constraints:
+        return text + ")"
+    lines = [f"    {c.to_pddl()}  ; {n}" for n, c in enumerate(problem.constraints, start=1)]
+    return text + "\n  (:constraints (and\n" + "\n".join(lines) + "\n  )))"
+
+
+class Shell(cmd.Cmd):
+    """``vslsp shell``: type ``help`` for the commands."""
+
+    intro = "vslsp PDDL shell: build a domain and a problem, plan, validate. Type help for the commands."
     prompt = "(vslsp) "
+    identchars = cmd.Cmd.identchars + "-"
 
     def __init__(self, domain: Domain | None = None, problem: Problem | None = None, **kwargs):
         super().__init__(**kwargs)
         self.domain = domain or Domain("vsl-sp")
         self.problem = problem or Problem("task", self.domain)
         self.last_plan: list[tuple[str, tuple[str, ...]]] = []
+        self.changes: list[tuple[str, Domain, Problem]] = []  # (command, domain and problem before it), for undo
 
     # --- plumbing ---
     def say(self, text: str) -> None:
         self.stdout.write(text + "\n")
 
     def onecmd(self, line: str) -> bool:
+        before = (self.domain, self.problem)
         try:
             _balanced(line.partition(" ")[2])
             return super().onecmd(line)
         except VslspError as error:
-            # Places in the scratch text the reader saw mean nothing to the person typing.
-            self.say("error: " + re.sub(r"^<(domain|problem|input)>:\d+:\d+: ", "", str(error)))
+            self.say("error: " + in_shell_terms(str(error)))
         except ValueError as error:  # shlex on unbalanced quotes
             self.say(f"error: {error}")
+        finally:
+            if (self.domain, self.problem) != before and line.split()[:1] != ["undo"]:
+                self.changes.append((" ".join(line.split()), *before))
         return False
 
     def emptyline(self) -> bool:
         return False
 
     def default(self, line: str) -> None:
-        self.say(f"error: unknown command {line.split()[0]!r}; type help")
+        word = line.split()[0]
+        self.say(f"error: unknown command {word!r}{did_you_mean(word, NAMES)}; type help for the commands")
 
-    def completedefault(self, text, line, begidx, endidx):
-        names = (
-            [p.name for p in self.domain.predicates]
-            + [a.name for a in self.domain.actions]
-            + [o for o, _ in self.problem.objects]
-            + [t for t, _ in self.domain.types]
-            + [
-                "not",
-                "and",
-                "or",
-                "forall",
-                "exists",
-                "imply",
-                "sometime-before",
-                "sometime-after",
-                "always",
-                "sometime",
-                "at-most-once",
-            ]
-        )
-        return sorted(n for n in set(names) if n.startswith(text.lstrip("(")))
+    def _checker(self, problem: bool = True) -> Checker:
+        return Checker(self.domain, self.problem if problem else None)
 
     def _set(self, domain: Domain | None = None, problem: Problem | None = None) -> None:
         """Adopt an edited domain (the problem follows it) or problem."""
@@ -145,31 +150,52 @@ class Shell(cmd.Cmd):
         assert problem is not None
         return problem
 
-    # --- domain ---
+    # --- completion (readline splits words at DELIMITERS only, set in cmdloop) ---
+    def completenames(self, text: str, *ignored) -> list[str]:
+        return [name + " " for name in NAMES if name.startswith(text)]
+
+    def completedefault(self, text: str, line: str, begidx: int, endidx: int) -> list[str]:
+        return complete(line, begidx, text, self.domain, self.problem, list(PLANNERS))
+
+    complete_help = completedefault
+
+    # --- the domain ---
     def do_domain(self, arg: str) -> None:
-        """domain NAME: name the domain (a fresh one when nothing is in it yet)."""
         self._set(domain=replace(self.domain, name=arg.strip() or self.domain.name))
         self.say(f"domain {self.domain.name}")
 
     def do_type(self, arg: str) -> None:
-        """type NAME [- PARENT]: declare a type, e.g. type block."""
-        words = arg.replace("-", " - ").split()
-        if not words:
-            self.say("usage: type NAME [- PARENT]")
+        typed, dash, above = arg.partition(" - ")
+        names, parent = typed.strip(), above.strip() or None
+        if not names or (dash and not parent) or (parent and len(parent.split()) > 1):
+            self.say(usage("type"))
             return
-        self._set(domain=self.domain.with_type(words[0], words[2] if len(words) > 2 else None))
-        self.say(f"type {words[0]}" + (f" - {words[2]}" if len(words) > 2 else ""))
+        if parent:
+            self._checker().type_(parent)
+        domain = self.domain
+        for name in names.split():
+            if name == parent or (parent and name in domain.subtypes(name) & _ancestors(domain, parent)):
+                raise InputError(f"type {name} cannot be under {parent}: the types would form a cycle")
+            domain = domain.with_type(name, parent)
+        self._set(domain=domain)
+        self.say(f"type {names}" + (f" - {parent}" if parent else ""))
 
     def do_predicate(self, arg: str) -> None:
-        """predicate (NAME ?x - TYPE ...): declare a predicate, e.g. predicate (far ?b - block)."""
         text = arg.strip() if arg.strip().startswith("(") else f"({arg.strip()})"
-        domain, _ = parse_pddl(_domain_text(self.domain, extra_predicate=text))
-        self._set(domain=self.domain.with_predicate(domain.predicates[-1]))
-        self.say(f"predicate {_predicate_text(domain.predicates[-1])}")
+        name, _ = self._checker().predicate(text)
+        replaced = any(p.name == name for p in self.domain.predicates)
+        others = replace(self.domain, predicates=tuple(p for p in self.domain.predicates if p.name != name))
+        domain, _ = parse_pddl(_domain_text(others, extra_predicate=text))
+        predicate = domain.predicate(name)
+        self._set(domain=self.domain.with_predicate(predicate))
+        signature = " ".join(f"{v} - {t}" for v, t in predicate.parameters)
+        self.say(f"predicate ({name}{' ' if signature else ''}{signature})" + (" replaced" if replaced else ""))
 
     def do_action(self, arg: str) -> None:
-        """action NAME :parameters (...) :precondition F :effect F -- as in a domain file, without (:action )."""
-        name = arg.split()[0] if arg.split() else ""
+        if not arg.strip():
+            self.say(usage("action"))
+            return
+        name = self._checker(problem=False).action(arg)
         domain, _ = parse_pddl(_domain_text(self.domain.without_action(name), f"(:action {arg})"))
         replaced = any(a.name == name for a in self.domain.actions)
         self._set(domain=self.domain.with_action(domain.action(name)))
@@ -179,58 +205,99 @@ class Shell(cmd.Cmd):
         )
 
     def do_drop(self, arg: str) -> None:
-        """drop action NAME | drop constraints | drop init ATOM: remove something."""
-        kind, _, rest = arg.partition(" ")
-        if kind == "action":
-            self._set(domain=self.domain.without_action(rest.strip()))
-            self.say(f"dropped action {rest.strip()}")
-        elif kind == "constraints":
+        kind, _, rest = arg.strip().partition(" ")
+        rest = rest.strip()
+        if kind == "action" and rest:
+            actions = [a.name for a in self.domain.actions]
+            if rest not in actions:
+                raise InputError(
+                    f"no action {rest!r}{did_you_mean(rest, actions)}; actions: {', '.join(actions) or 'none yet'}"
+                )
+            self._set(domain=self.domain.without_action(rest))
+            self.say(f"dropped action {rest}; actions: {', '.join(a.name for a in self.domain.actions) or 'none'}")
+        elif kind == "constraints" and not rest:
             count = len(self.problem.constraints)
             self._set(problem=self.problem.without_constraints())
-            self.say(f"dropped {count} constraint{'' if count == 1 else 's'}")
-        elif kind == "init":
+            self.say(f"dropped {_plural(count, 'constraint')}")
+        elif kind == "constraint" and rest:
+            self._drop_constraint(rest)
+        elif kind == "init" and rest:
+            self._checker().formulas(rest)
             atoms = list(atoms_of(self._parse_formula(f"(and {rest})")))
+            missing = [a.to_pddl() for a in atoms if a not in self.problem.init]
+            if missing:
+                raise InputError(f"{' '.join(missing)} {'is' if len(missing) == 1 else 'are'} not true initially")
             self._set(problem=self.problem.without_init(*atoms))
             self.say("no longer true initially: " + " ".join(a.to_pddl() for a in atoms))
         else:
-            self.say("usage: drop action NAME | drop constraints | drop init ATOM ...")
+            self.say(usage("drop"))
 
-    # --- problem ---
+    def _drop_constraint(self, number: str) -> None:
+        count = len(self.problem.constraints)
+        if not number.isdigit() or not 1 <= int(number) <= count:
+            raise InputError(
+                f"no constraint {number}: there {'is' if count == 1 else 'are'} {_plural(count, 'constraint')}"
+                + ("; `show constraints` numbers them" if count else "")
+            )
+        index = int(number) - 1
+        dropped = self.problem.constraints[index]
+        kept = self.problem.constraints[:index] + self.problem.constraints[index + 1 :]
+        self._set(problem=replace(self.problem, constraints=kept))
+        self.say(f"dropped constraint {number}: {dropped.to_pddl()}; {_plural(len(kept), 'constraint')} left")
+
+    def do_undo(self, arg: str) -> None:
+        if not self.changes:
+            self.say("nothing to undo")
+            return
+        line, self.domain, self.problem = self.changes.pop()
+        self.say(f"undone: {line}")
+
+    # --- the problem ---
     def do_problem(self, arg: str) -> None:
-        """problem NAME: name the problem."""
         self._set(problem=replace(self.problem, name=arg.strip() or self.problem.name))
         self.say(f"problem {self.problem.name}")
 
     def do_objects(self, arg: str) -> None:
-        """objects NAME ... - TYPE: add objects, e.g. objects red green blue - block."""
         names, _, type_ = arg.partition(" - ")
-        if not names.split() or not type_.strip():
-            self.say("usage: objects NAME ... - TYPE")
+        if not names.split() or len(type_.split()) != 1:
+            self.say(usage("objects"))
             return
+        self._checker().type_(type_.strip())
         self._set(problem=self.problem.with_objects(type_.strip(), *names.split()))
         self.say(f"objects {' '.join(names.split())} - {type_.strip()}; {len(self.problem.objects)} in all")
 
     def do_init(self, arg: str) -> None:
-        """init ATOM ...: make atoms true initially, e.g. init (far red) (far green)."""
-        formula = self._parse_formula(f"(and {arg})")
-        atoms = list(atoms_of(formula))
+        trees = self._checker().formulas(arg)
+        if not trees:
+            self.say(usage("init"))
+            return
+        for tree in trees:
+            if isinstance(tree, list) and tree[:1] in (["not"], ["and"], ["or"], ["forall"], ["exists"]):
+                raise InputError("init lists atoms such as (on-counter plate); an atom not listed is false")
+        atoms = list(atoms_of(self._parse_formula(f"(and {arg})")))
         self._set(problem=self.problem.with_init(*atoms))
         self.say("true initially: " + " ".join(a.to_pddl() for a in atoms))
 
     def do_goal(self, arg: str) -> None:
-        """goal FORMULA: the goal, e.g. goal (forall (?b - block) (not (far ?b)))."""
-        self._set(problem=self._reparse(_problem_text(self.problem, goal=arg.strip())))
+        trees = self._checker().formulas(arg)
+        if not trees:
+            self.say(usage("goal"))
+            return
+        text = arg.strip() if len(trees) == 1 else f"(and {arg.strip()})"
+        self._set(problem=self._reparse(_problem_text(self.problem, goal=text)))
         self.say(f"goal {self.problem.goal.to_pddl()}")
 
     def do_constraint(self, arg: str) -> None:
-        """constraint C: add a PDDL 3.0 constraint,
-        e.g. constraint (sometime-before (not (far green)) (not (far red)))."""
+        trees = self._checker().formulas(arg, "constraint")
+        if len(trees) != 1:
+            self.say(usage("constraint") + " (one at a time)")
+            return
         parts = [c.to_pddl() for c in self.problem.constraints] + [arg.strip()]
         self._set(problem=self._reparse(_problem_text(self.problem, constraints=parts)))
         count = len(self.problem.constraints)
         self.say(
             f"constraint {self.problem.constraints[-1].to_pddl() if count else arg.strip()}; "
-            f"{count} constraint{'' if count == 1 else 's'}"
+            f"{_plural(count, 'constraint')}"
         )
 
     def _parse_formula(self, text: str) -> Formula:
@@ -238,73 +305,133 @@ class Shell(cmd.Cmd):
 
     # --- look, plan, validate, files ---
     def do_show(self, arg: str) -> None:
-        """show [domain|problem]: print the PDDL (both by default)."""
-        if arg.strip() in ("", "domain"):
+        what = arg.strip()
+        if what not in ("", "domain", "problem", "constraints"):
+            self.say(usage("show"))
+        if what in ("", "domain"):
             self.say(self.domain.to_pddl())
-        if arg.strip() in ("", "problem"):
-            self.say(self.problem.to_pddl())
+        if what in ("", "problem"):
+            self.say(numbered_problem(self.problem))
+        if what == "constraints":
+            for number, constraint in enumerate(self.problem.constraints, start=1):
+                self.say(f"{number}. {constraint.to_pddl()}")
+            if not self.problem.constraints:
+                self.say("no constraints")
 
     def do_plan(self, arg: str) -> None:
-        """plan [PLANNER]: plan for the problem (fast-downward by default)."""
         result = solve(self.domain, self.problem, planner=(arg.split() or [DEFAULT_PLANNER])[0])
         self.last_plan = list(result.steps)
         for number, line in enumerate(result.lines(), start=1):
             self.say(f"{number}. {line}")
-        steps = len(result.steps)
-        self.say(f"{steps} step{'' if steps == 1 else 's'}, {result.planner}, {result.time_s:.2f} s")
+        self.say(f"{_plural(len(result.steps), 'step')}, {result.planner}, {result.time_s:.2f} s")
 
     def do_validate(self, arg: str) -> None:
-        """validate [(action arg ...) ...]: check the given steps, or the last plan."""
-        steps = (
-            parse_plan(arg.replace(")", ")\n"), self.domain, self.problem, "<input>") if arg.strip() else self.last_plan
-        )
+        if arg.strip():
+            steps = parse_plan(arg.replace(")", ")\n"), self.domain, self.problem, "<input>")
+        elif self.last_plan:
+            steps = self.last_plan
+        else:
+            raise InputError(f"no plan yet: run plan first, or give the steps, e.g. {example('validate')}")
         verdict = validate(self.domain, self.problem, steps)
         self.say(f"{'valid' if verdict.valid else 'invalid'}: {verdict.reason}")
 
     def do_load(self, arg: str) -> None:
-        """load DOMAIN [PROBLEM]: read PDDL files."""
         paths = shlex.split(arg)
-        if not paths:
-            self.say("usage: load DOMAIN [PROBLEM]")
+        if not paths or len(paths) > 2:
+            self.say(usage("load"))
             return
-        domain, problem = read_pddl(*paths[:2])
+        domain, problem = read_pddl(*paths)
         self.domain, self.problem = domain, problem or Problem("task", domain)
+        self.last_plan = []
         self.say(f"loaded domain {domain.name}" + (f" and problem {problem.name}" if problem else ""))
 
     def do_save(self, arg: str) -> None:
-        """save DOMAIN [PROBLEM]: write PDDL files."""
         paths = shlex.split(arg)
-        if not paths:
-            self.say("usage: save DOMAIN [PROBLEM]")
+        if not paths or len(paths) > 2:
+            self.say(usage("save"))
             return
         save(self.domain.to_pddl(), paths[0])
         if len(paths) > 1:
             save(self.problem.to_pddl(), paths[1])
-        self.say(f"saved {' and '.join(paths[:2])}")
+        self.say(f"saved {' and '.join(paths)}")
+
+    def do_help(self, arg: str) -> None:
+        name = arg.strip()
+        if not name:
+            self.say("commands (help COMMAND for one):\n" + overview())
+            return
+        entry = command(name)
+        if entry is None:
+            raise InputError(f"no command {name!r}{did_you_mean(name, NAMES)}; type help for the commands")
+        self.say(in_full(entry))
 
     def do_quit(self, arg: str) -> bool:
-        """quit: leave the shell (also Ctrl-D)."""
         return True
 
-    do_EOF = do_quit
+    def do_EOF(self, arg: str) -> bool:
+        if self._interactive():
+            self.say("")  # the prompt's line ends before the terminal's next prompt
+        return True
 
-    def preloop(self) -> None:
-        if not self.use_rawinput:  # scripted input: no history
-            return
+    # --- the terminal: history, word delimiters, Ctrl-C ---
+    def _interactive(self) -> bool:
+        return bool(self.use_rawinput and self.stdin is sys.stdin and sys.stdin.isatty())
+
+    def cmdloop(self, intro: str | None = None) -> None:
+        """Read commands until ``quit`` or end of input; at a terminal Ctrl-C clears the line (or
+        stops a running plan) instead of leaving, and the history is kept in ``~/.vslsp_history``."""
+        readline = _readline() if self._interactive() else None
+        delimiters = readline.get_completer_delims() if readline else ""
+        if readline:
+            readline.set_completer_delims(DELIMITERS)
+            _read_history(readline)
         try:
-            import readline
+            while True:
+                try:
+                    super().cmdloop(intro)
+                    return
+                except KeyboardInterrupt:
+                    self.say("^C (quit or Ctrl-D to leave)")
+                    intro = ""
+        finally:
+            if readline:
+                readline.set_completer_delims(delimiters)
+                _write_history(readline)
 
-            if HISTORY.exists():
-                readline.read_history_file(HISTORY)
-        except (ImportError, OSError):
-            pass
 
-    def postloop(self) -> None:
-        if not self.use_rawinput:
-            return
-        try:
-            import readline
+def _ancestors(domain: Domain, type_: str) -> set[str]:
+    parents = dict(domain.types)
+    found = {type_}
+    while parents.get(type_):
+        type_ = parents[type_]  # type: ignore[assignment]
+        if type_ in found:
+            break
+        found.add(type_)
+    return found
 
-            readline.write_history_file(HISTORY)
-        except (ImportError, OSError):
-            pass
+
+def _readline():
+    try:
+        import readline
+    except ImportError:  # no line editing on this Python: plain input
+        return None
+    return readline
+
+
+def _read_history(readline) -> None:
+    try:
+        if history_file().exists():
+            readline.read_history_file(history_file())
+    except OSError:
+        pass
+
+
+def _write_history(readline) -> None:
+    """Write the history ourselves: readline's write_history_file goes through a temporary
+    ``~/.vslsp_history-PID.tmp`` that stays behind (empty) when the process is stopped in between."""
+    count = readline.get_current_history_length()
+    lines = [readline.get_history_item(i) for i in range(max(1, count - HISTORY_LINES + 1), count + 1)]
+    try:
+        history_file().write_text("".join(f"{line}\n" for line in lines if line))
+    except OSError:
+        pass
