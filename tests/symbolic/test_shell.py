@@ -201,6 +201,59 @@ def test_mistakes_are_told_in_the_shells_own_terms():
         assert api_word not in out
 
 
+ODD = """\
+type
+type - x
+type a -
+type 3x
+objects 4b - object
+predicate ()
+predicate (and ?x)
+predicate (p ?x - )
+action
+action a :parameters ?x
+action a (x)
+objects a -
+init
+goal ((p))
+goal (forall ?x (p))
+constraint (a) (b)
+drop
+drop constraint x
+show x
+validate (
+load "unterminated
+type block
+predicate (p ?x - block)
+action act :parameters (?x - block) :effect (p ?x)
+objects b1 b2 - block
+constraint (at end)
+constraint (sometime-before (p b1))
+validate (ac b1)
+validate (act)
+"""
+
+
+def test_whatever_is_typed_gets_a_usage_or_one_error_and_the_shell_goes_on():
+    out = run(ODD)
+    told = [line for line in out.splitlines() if line.startswith("(vslsp) ")]
+    commands = ODD.splitlines()
+    answers = [t for t in told if t.startswith(("(vslsp) usage:", "(vslsp) error:"))]
+    assert len(answers) == len(commands) - 4  # all but the four correct lines
+    for expected in (
+        "error: '3x' cannot name a type: a PDDL name is a letter, then letters, digits, - or _",
+        "error: '4b' cannot name an object",
+        "error: a '-' ends the list: name the type after it, e.g. ?d - dish",
+        "error: (at end ...) takes 1 formula, 0 given: (at end)",
+        "error: (sometime-before ...) takes 2 formulas, 1 given",
+        "error: unknown action 'ac' (did you mean 'act'?); actions: act",
+        "error: (act): act takes 1 object (act ?x - block), 0 given",
+        "error: no closing quotation in what you typed",
+    ):
+        assert f"(vslsp) {expected}" in out, expected
+    assert "(:types block - object)" in run(ODD + "show domain\n")  # and no type '-' or 'a -'
+
+
 def test_undo_drop_and_show():
     out = run(
         "type block\npredicate (far ?b - block)\npredicate (near ?b - block)\n"
@@ -227,6 +280,11 @@ def test_undo_drop_and_show():
     assert "(vslsp) undone: constraint (at-most-once (near a))\n(vslsp) undone: constraint (always (far c))\n" in out
     last = out.rsplit("(vslsp) ", 2)[1]
     assert "(:action push" in last and "(near ?b - block)" in last
+
+
+def test_a_goal_of_several_formulas_is_their_conjunction():
+    out = run("type block\npredicate (far ?b - block)\nobjects a b - block\ngoal (far a) (not (far b))\n")
+    assert "(vslsp) goal (and (far a) (not (far b)))\n" in out
 
 
 def test_undo_with_nothing_to_undo_and_errors_change_nothing():
@@ -337,6 +395,11 @@ def test_a_whole_domain_from_a_terminal_with_completion(tmp_path, capsys):
                 terminal.type("plate) (on-counter bowl) (on-counter m", "Tab")
                 terminal.wait_for("(on-counter mug ")
                 terminal.type("BSpace", ") (hand-empty)", "Enter")
+            elif line == "quit":
+                terminal.type("drop act", "C-c")  # Ctrl-C drops the line, not the session
+                terminal.wait_for("^C (quit or Ctrl-D to leave)")
+                terminal.wait_for("(vslsp) ", number + 1)
+                terminal.type(line, "Enter")
             else:
                 terminal.type(line, "Enter")
             if line != "quit":

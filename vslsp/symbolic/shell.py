@@ -25,7 +25,7 @@ from vslsp.symbolic.formula import Formula, atoms_of
 from vslsp.symbolic.model import Domain, Predicate, Problem
 from vslsp.symbolic.pddl import parse_pddl, read_pddl, save
 from vslsp.symbolic.planner import DEFAULT_PLANNER, PLANNERS, solve
-from vslsp.symbolic.shell_check import Checker, did_you_mean, in_shell_terms
+from vslsp.symbolic.shell_check import Checker, did_you_mean, in_shell_terms, parse
 from vslsp.symbolic.shell_commands import NAMES, command, example, in_full, overview, usage
 from vslsp.symbolic.shell_complete import DELIMITERS, complete
 from vslsp.symbolic.validate import parse_plan, validate
@@ -121,7 +121,7 @@ class Shell(cmd.Cmd):
         except VslspError as error:
             self.say("error: " + in_shell_terms(str(error)))
         except ValueError as error:  # shlex on unbalanced quotes
-            self.say(f"error: {error}")
+            self.say(f"error: {str(error).lower()} in what you typed")
         finally:
             if (self.domain, self.problem) != before and line.split()[:1] != ["undo"]:
                 self.changes.append((" ".join(line.split()), *before))
@@ -161,24 +161,27 @@ class Shell(cmd.Cmd):
 
     # --- the domain ---
     def do_domain(self, arg: str) -> None:
+        if arg.strip():
+            self._checker().name(arg.strip(), "domain")
         self._set(domain=replace(self.domain, name=arg.strip() or self.domain.name))
         self.say(f"domain {self.domain.name}")
 
     def do_type(self, arg: str) -> None:
-        typed, dash, above = arg.partition(" - ")
-        names, parent = typed.strip(), above.strip() or None
-        if not names or (dash and not parent) or (parent and len(parent.split()) > 1):
+        words = arg.split()
+        names, parents = (words[: words.index("-")], words[words.index("-") + 1 :]) if "-" in words else (words, [])
+        if not names or ("-" in words and len(parents) != 1):
             self.say(usage("type"))
             return
+        parent = parents[0] if parents else None
         if parent:
             self._checker().type_(parent)
         domain = self.domain
-        for name in names.split():
+        for name in map(self._checker().name, names, ["type"] * len(names)):
             if name == parent or (parent and name in domain.subtypes(name) & _ancestors(domain, parent)):
                 raise InputError(f"type {name} cannot be under {parent}: the types would form a cycle")
             domain = domain.with_type(name, parent)
         self._set(domain=domain)
-        self.say(f"type {names}" + (f" - {parent}" if parent else ""))
+        self.say(f"type {' '.join(names)}" + (f" - {parent}" if parent else ""))
 
     def do_predicate(self, arg: str) -> None:
         text = arg.strip() if arg.strip().startswith("(") else f"({arg.strip()})"
@@ -254,23 +257,28 @@ class Shell(cmd.Cmd):
 
     # --- the problem ---
     def do_problem(self, arg: str) -> None:
+        if arg.strip():
+            self._checker().name(arg.strip(), "problem")
         self._set(problem=replace(self.problem, name=arg.strip() or self.problem.name))
         self.say(f"problem {self.problem.name}")
 
     def do_objects(self, arg: str) -> None:
-        names, _, type_ = arg.partition(" - ")
-        if not names.split() or len(type_.split()) != 1:
+        words = arg.split()
+        if "-" not in words or not words[: words.index("-")] or len(words[words.index("-") :]) != 2:
             self.say(usage("objects"))
             return
-        self._checker().type_(type_.strip())
-        self._set(problem=self.problem.with_objects(type_.strip(), *names.split()))
-        self.say(f"objects {' '.join(names.split())} - {type_.strip()}; {len(self.problem.objects)} in all")
+        names, type_ = words[: words.index("-")], words[-1]
+        for name in names:
+            self._checker().name(name, "object")
+        self._checker().type_(type_)
+        self._set(problem=self.problem.with_objects(type_, *names))
+        self.say(f"objects {' '.join(names)} - {type_}; {len(self.problem.objects)} in all")
 
     def do_init(self, arg: str) -> None:
-        trees = self._checker().formulas(arg)
-        if not trees:
+        if not arg.strip():
             self.say(usage("init"))
             return
+        trees = self._checker().formulas(arg)
         for tree in trees:
             if isinstance(tree, list) and tree[:1] in (["not"], ["and"], ["or"], ["forall"], ["exists"]):
                 raise InputError("init lists atoms such as (on-counter plate); an atom not listed is false")
@@ -279,19 +287,19 @@ class Shell(cmd.Cmd):
         self.say("true initially: " + " ".join(a.to_pddl() for a in atoms))
 
     def do_goal(self, arg: str) -> None:
-        trees = self._checker().formulas(arg)
-        if not trees:
+        if not arg.strip():
             self.say(usage("goal"))
             return
+        trees = self._checker().formulas(arg)
         text = arg.strip() if len(trees) == 1 else f"(and {arg.strip()})"
         self._set(problem=self._reparse(_problem_text(self.problem, goal=text)))
         self.say(f"goal {self.problem.goal.to_pddl()}")
 
     def do_constraint(self, arg: str) -> None:
-        trees = self._checker().formulas(arg, "constraint")
-        if len(trees) != 1:
+        if len(parse(arg)) != 1:
             self.say(usage("constraint") + " (one at a time)")
             return
+        self._checker().formulas(arg, "constraint")
         parts = [c.to_pddl() for c in self.problem.constraints] + [arg.strip()]
         self._set(problem=self._reparse(_problem_text(self.problem, constraints=parts)))
         count = len(self.problem.constraints)
@@ -327,6 +335,7 @@ class Shell(cmd.Cmd):
 
     def do_validate(self, arg: str) -> None:
         if arg.strip():
+            self._checker().steps(arg)
             steps = parse_plan(arg.replace(")", ")\n"), self.domain, self.problem, "<input>")
         elif self.last_plan:
             steps = self.last_plan

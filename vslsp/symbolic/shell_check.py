@@ -27,6 +27,9 @@ EFFECT_WORDS = ("and", "not", "forall", "when")
 #: The PDDL 3.0 trajectory constraints, as the head of a constraint (``at end`` is two words).
 CONSTRAINT_OPERATORS = tuple(o for o in PDDL3_OPERATORS if o != "at end") + ("at",)
 _QUANTIFIERS = ("forall", "exists")
+_NAME = re.compile(r"[A-Za-z][\w-]*")
+#: How many formulas each trajectory constraint takes (after its numbers, for the timed ones).
+_FORMULAS = {"always": 1, "sometime": 1, "at-most-once": 1, "sometime-before": 2, "sometime-after": 2, "at": 1}
 _NOT_A_PREDICATE = {*CONNECTIVES, *EFFECT_WORDS, *CONSTRAINT_OPERATORS, "=", "preference", "end"}
 
 
@@ -87,6 +90,16 @@ class Checker:
     problem: Problem | None = None
 
     # --- names ---
+    @staticmethod
+    def name(name: str, what: str) -> str:
+        """``name`` when it is a PDDL name (a letter, then letters, digits, '-' or '_')."""
+        if not _NAME.fullmatch(name):
+            article = "an" if what[0] in "aeiou" else "a"
+            raise InputError(
+                f"{name!r} cannot name {article} {what}: a PDDL name is a letter, then letters, digits, - or _"
+            )
+        return name
+
     def type_(self, name: str) -> None:
         declared = [t for t, _ in self.domain.types] + ["object"]
         if name not in declared:
@@ -102,6 +115,8 @@ class Checker:
 
     def parameters(self, items: list[Tree]) -> list[tuple[str, str]]:
         """A typed variable list, its types checked."""
+        if items[-1:] == ["-"]:
+            raise InputError("a '-' ends the list: name the type after it, e.g. ?d - dish")
         pairs = typed_list(items)
         for variable, type_ in pairs:
             if not variable.startswith("?"):
@@ -128,6 +143,12 @@ class Checker:
             return
         if head == "at" and rest[:1] == ["end"]:
             rest = rest[1:]
+        if where == "constraint" and head in _FORMULAS and len(rest) != _FORMULAS[head]:
+            shown = "at end" if head == "at" else head
+            raise InputError(
+                f"({shown} ...) takes {_FORMULAS[head]} formula{'' if _FORMULAS[head] == 1 else 's'}, "
+                f"{len(rest)} given: {_text(tree)}"
+            )
         if head in _NOT_A_PREDICATE:
             # inside a trajectory operator (or a condition of `when`) come plain formulas
             nested = "formula" if head == "when" or (where == "constraint" and head != "and") else where
@@ -185,7 +206,7 @@ class Checker:
         trees = parse(text)
         if len(trees) != 1 or isinstance(trees[0], str) or not trees[0] or not isinstance(trees[0][0], str):
             raise InputError("write one predicate, e.g. predicate (on-counter ?d - dish)")
-        name = trees[0][0]
+        name = self.name(trees[0][0], "predicate")
         if name in _NOT_A_PREDICATE:
             raise InputError(f"'{name}' is a PDDL operator; name the predicate otherwise")
         return name, self.parameters(trees[0][1:])
@@ -196,7 +217,7 @@ class Checker:
         trees = parse(text)
         if not trees or not isinstance(trees[0], str) or trees[0].startswith(":"):
             raise InputError("name the action first, e.g. action pick-up :parameters (?d - dish) ...")
-        name, sections = trees[0], trees[1:]
+        name, sections = self.name(trees[0], "action"), trees[1:]
         known = (":parameters", ":precondition", ":effect")
         parts: dict[str, Tree] = {}
         for index in range(0, len(sections), 2):
@@ -219,6 +240,27 @@ class Checker:
         if ":effect" in parts:
             self.formula(parts[":effect"], variables, "effect")
         return name
+
+    def steps(self, text: str) -> None:
+        """Check plan steps ``(action object ...)``: the action, how many objects and their types."""
+        actions = {a.name: a for a in self.domain.actions}
+        for tree in parse(text):
+            if isinstance(tree, str) or not tree or not isinstance(tree[0], str):
+                raise InputError(f"{_text(tree)}: a step is (ACTION OBJECT ...), e.g. (pick-up plate)")
+            head, args = tree[0], tree[1:]
+            if head not in actions:
+                raise InputError(
+                    f"unknown action {head!r}{did_you_mean(head, actions)}; actions: {', '.join(actions) or 'none yet'}"
+                )
+            parameters = actions[head].parameters
+            if len(args) != len(parameters):
+                signature = " ".join(f"{v} - {t}" for v, t in parameters)
+                raise InputError(
+                    f"{_text(tree)}: {head} takes {len(parameters)} object{'' if len(parameters) == 1 else 's'}"
+                    f" ({head} {signature}), {len(args)} given"
+                )
+            for arg, (_, type_) in zip(args, parameters, strict=True):
+                self._argument(arg, {}, type_, head)
 
     def formulas(self, text: str, where: str = "formula") -> list[Tree]:
         """Check each formula of ``text`` (ground: init, goal, constraints, drop init)."""
@@ -246,7 +288,7 @@ _READER_TO_SHELL = (
 
 def in_shell_terms(message: str) -> str:
     """A reader's or the Python API's message, told with the shell's commands."""
-    message = re.sub(r"^<(domain|problem|input)>:\d+:\d+: ", "", message)
+    message = re.sub(r"^<(domain|problem|input)>(:\d+:\d+)?: ", "", message)
     for pattern, template in _READER_TO_SHELL:
         match = pattern.search(message)
         if match:
