@@ -282,6 +282,16 @@ def test_undo_drop_and_show():
     assert "(:action push" in last and "(near ?b - block)" in last
 
 
+def test_a_predicate_declared_again_replaces_it_unless_an_action_needs_the_old_one():
+    out = run(
+        "type block\npredicate (far ?b - block)\naction push :parameters (?b - block) :effect (far ?b)\n"
+        "predicate (far ?a - block ?c - block)\npredicate (far ?c - block)\npredicate (near ?b - block ?b - block)\n"
+    )
+    assert "error: action push uses (far ?b): change the action first (action push ...), or drop it" in out
+    assert "(vslsp) predicate (far ?c - block) replaced\n" in out
+    assert "error: ?b is named twice in the parameters; give each its own name" in out
+
+
 def test_a_goal_of_several_formulas_is_their_conjunction():
     out = run("type block\npredicate (far ?b - block)\nobjects a b - block\ngoal (far a) (not (far b))\n")
     assert "(vslsp) goal (and (far a) (not (far b)))\n" in out
@@ -411,5 +421,6 @@ def test_a_whole_domain_from_a_terminal_with_completion(tmp_path, capsys):
     check_kitchen(capsys, screen, tmp_path, said_after="\n")
     # the history is all the shell leaves in the home folder
     assert [p.name for p in home.iterdir()] == [".vslsp_history"]
+    assert (home / ".vslsp_history").stat().st_mode & 0o777 == 0o600  # private, as readline keeps it
     history = (home / ".vslsp_history").read_text().splitlines()
     assert history[0] == "domain kitchen" and history[-1] == "quit" and len(history) == len(lines)

@@ -14,29 +14,23 @@ stays as it was. Every change can be taken back with ``undo``. The commands are 
 from __future__ import annotations
 
 import cmd
+import importlib
 import re
 import shlex
 import sys
+import threading
 from dataclasses import replace
-from pathlib import Path
 
 from vslsp.errors import InputError, VslspError
 from vslsp.symbolic.formula import Formula, atoms_of
-from vslsp.symbolic.model import Domain, Predicate, Problem
+from vslsp.symbolic.model import Domain, Predicate, Problem, When
 from vslsp.symbolic.pddl import parse_pddl, read_pddl, save
 from vslsp.symbolic.planner import DEFAULT_PLANNER, PLANNERS, solve
 from vslsp.symbolic.shell_check import Checker, did_you_mean, in_shell_terms, parse
 from vslsp.symbolic.shell_commands import NAMES, command, example, in_full, overview, usage
 from vslsp.symbolic.shell_complete import DELIMITERS, complete
+from vslsp.symbolic.shell_terminal import line_editing, read_history, write_history
 from vslsp.symbolic.validate import parse_plan, validate
-
-#: Lines of history kept in ``~/.vslsp_history``.
-HISTORY_LINES = 1000
-
-
-def history_file() -> Path:
-    """``~/.vslsp_history`` (read when the shell starts, so that HOME may change in between)."""
-    return Path.home() / ".vslsp_history"
 
 
 def _domain_text(domain: Domain, extra_action: str = "", extra_predicate: str = "") -> str:
@@ -185,11 +179,20 @@ class Shell(cmd.Cmd):
 
     def do_predicate(self, arg: str) -> None:
         text = arg.strip() if arg.strip().startswith("(") else f"({arg.strip()})"
-        name, _ = self._checker().predicate(text)
+        name, parameters = self._checker().predicate(text)
         replaced = any(p.name == name for p in self.domain.predicates)
-        others = replace(self.domain, predicates=tuple(p for p in self.domain.predicates if p.name != name))
-        domain, _ = parse_pddl(_domain_text(others, extra_predicate=text))
-        predicate = domain.predicate(name)
+        predicate = Predicate(name, tuple(parameters))
+        for action in self.domain.actions if replaced else ():
+            conditions = [action.precondition, *(e.condition for e in action.effects if isinstance(e, When))]
+            for atom in (*(a for c in conditions for a in atoms_of(c)), *action.effect_atoms()):
+                if atom.predicate == name and len(atom.args) != len(parameters):
+                    raise InputError(
+                        f"action {action.name} uses {atom.to_pddl()}: change the action first "
+                        f"(action {action.name} ...), or drop it (drop action {action.name})"
+                    )
+        if replaced:  # the actions that use it are read again with the new declaration
+            others = replace(self.domain, predicates=tuple(p for p in self.domain.predicates if p.name != name))
+            predicate = parse_pddl(_domain_text(others, extra_predicate=text))[0].predicate(name)
         self._set(domain=self.domain.with_predicate(predicate))
         signature = " ".join(f"{v} - {t}" for v, t in predicate.parameters)
         self.say(f"predicate ({name}{' ' if signature else ''}{signature})" + (" replaced" if replaced else ""))
@@ -389,11 +392,13 @@ class Shell(cmd.Cmd):
     def cmdloop(self, intro: str | None = None) -> None:
         """Read commands until ``quit`` or end of input; at a terminal Ctrl-C clears the line (or
         stops a running plan) instead of leaving, and the history is kept in ``~/.vslsp_history``."""
-        readline = _readline() if self._interactive() else None
+        readline = line_editing() if self._interactive() else None
         delimiters = readline.get_completer_delims() if readline else ""
+        if self._interactive():  # the PDDL reader loads while the first commands are typed
+            threading.Thread(target=importlib.import_module, args=("unified_planning.io",), daemon=True).start()
         if readline:
             readline.set_completer_delims(DELIMITERS)
-            _read_history(readline)
+            read_history(readline)
         try:
             while True:
                 try:
@@ -405,7 +410,7 @@ class Shell(cmd.Cmd):
         finally:
             if readline:
                 readline.set_completer_delims(delimiters)
-                _write_history(readline)
+                write_history(readline)
 
 
 def _ancestors(domain: Domain, type_: str) -> set[str]:
@@ -417,30 +422,3 @@ def _ancestors(domain: Domain, type_: str) -> set[str]:
             break
         found.add(type_)
     return found
-
-
-def _readline():
-    try:
-        import readline
-    except ImportError:  # no line editing on this Python: plain input
-        return None
-    return readline
-
-
-def _read_history(readline) -> None:
-    try:
-        if history_file().exists():
-            readline.read_history_file(history_file())
-    except OSError:
-        pass
-
-
-def _write_history(readline) -> None:
-    """Write the history ourselves: readline's write_history_file goes through a temporary
-    ``~/.vslsp_history-PID.tmp`` that stays behind (empty) when the process is stopped in between."""
-    count = readline.get_current_history_length()
-    lines = [readline.get_history_item(i) for i in range(max(1, count - HISTORY_LINES + 1), count + 1)]
-    try:
-        history_file().write_text("".join(f"{line}\n" for line in lines if line))
-    except OSError:
-        pass

@@ -118,6 +118,10 @@ class Checker:
         if items[-1:] == ["-"]:
             raise InputError("a '-' ends the list: name the type after it, e.g. ?d - dish")
         pairs = typed_list(items)
+        names = [v for v, _ in pairs]
+        for variable in names:
+            if names.count(variable) > 1:
+                raise InputError(f"{variable} is named twice in the parameters; give each its own name")
         for variable, type_ in pairs:
             if not variable.startswith("?"):
                 raise InputError(f"{variable!r} in a parameter list: parameters are variables such as ?{variable}")
