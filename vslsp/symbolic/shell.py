@@ -22,7 +22,7 @@ import threading
 from dataclasses import replace
 
 from vslsp.errors import InputError, VslspError
-from vslsp.symbolic.formula import Formula, atoms_of
+from vslsp.symbolic.formula import Atom, atoms_of
 from vslsp.symbolic.model import Domain, Predicate, Problem, When
 from vslsp.symbolic.pddl import parse_pddl, read_pddl, save
 from vslsp.symbolic.planner import DEFAULT_PLANNER, PLANNERS, solve
@@ -170,8 +170,9 @@ class Shell(cmd.Cmd):
         if parent:
             self._checker().type_(parent)
         domain = self.domain
-        for name in map(self._checker().name, names, ["type"] * len(names)):
-            if name == parent or (parent and name in domain.subtypes(name) & _ancestors(domain, parent)):
+        for name in names:
+            self._checker().name(name, "type")
+            if parent and name in _ancestors(domain, parent):
                 raise InputError(f"type {name} cannot be under {parent}: the types would form a cycle")
             domain = domain.with_type(name, parent)
         self._set(domain=domain)
@@ -228,8 +229,7 @@ class Shell(cmd.Cmd):
         elif kind == "constraint" and rest:
             self._drop_constraint(rest)
         elif kind == "init" and rest:
-            self._checker().formulas(rest)
-            atoms = list(atoms_of(self._parse_formula(f"(and {rest})")))
+            atoms = self._atoms(rest)
             missing = [a.to_pddl() for a in atoms if a not in self.problem.init]
             if missing:
                 raise InputError(f"{' '.join(missing)} {'is' if len(missing) == 1 else 'are'} not true initially")
@@ -281,11 +281,7 @@ class Shell(cmd.Cmd):
         if not arg.strip():
             self.say(usage("init"))
             return
-        trees = self._checker().formulas(arg)
-        for tree in trees:
-            if isinstance(tree, list) and tree[:1] in (["not"], ["and"], ["or"], ["forall"], ["exists"]):
-                raise InputError("init lists atoms such as (on-counter plate); an atom not listed is false")
-        atoms = list(atoms_of(self._parse_formula(f"(and {arg})")))
+        atoms = self._atoms(arg)
         self._set(problem=self.problem.with_init(*atoms))
         self.say("true initially: " + " ".join(a.to_pddl() for a in atoms))
 
@@ -311,8 +307,14 @@ class Shell(cmd.Cmd):
             f"{_plural(count, 'constraint')}"
         )
 
-    def _parse_formula(self, text: str) -> Formula:
-        return self._reparse(_problem_text(self.problem, goal=text)).goal
+    def _atoms(self, text: str) -> list[Atom]:
+        """The ground atoms listed in ``text``, each checked (no reader needed for atoms)."""
+        predicates = {p.name for p in self.domain.predicates}
+        trees = self._checker().formulas(text)
+        for tree in trees:
+            if not isinstance(tree, list) or not tree or tree[0] not in predicates:
+                raise InputError("list atoms such as (on-counter plate) here; an atom not listed is false initially")
+        return [Atom(tree[0], tuple(tree[1:])) for tree in trees]
 
     # --- look, plan, validate, files ---
     def do_show(self, arg: str) -> None:
