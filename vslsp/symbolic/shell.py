@@ -14,7 +14,6 @@ stays as it was. Every change can be taken back with ``undo``. The commands are 
 from __future__ import annotations
 
 import cmd
-import importlib
 import re
 import shlex
 import sys
@@ -31,6 +30,15 @@ from vslsp.symbolic.shell_commands import NAMES, command, example, in_full, over
 from vslsp.symbolic.shell_complete import DELIMITERS, complete
 from vslsp.symbolic.shell_terminal import line_editing, read_history, write_history
 from vslsp.symbolic.validate import parse_plan, validate
+
+#: One fragment read at a time: the reader's first use (seconds: imports, its environment) runs in
+#: the background at a terminal while the first commands are typed.
+_READER = threading.Lock()
+
+
+def _read(domain_text: str, problem_text: str | None = None) -> tuple[Domain, Problem | None]:
+    with _READER:
+        return parse_pddl(domain_text, problem_text)
 
 
 def _domain_text(domain: Domain, extra_action: str = "", extra_predicate: str = "") -> str:
@@ -140,7 +148,7 @@ class Shell(cmd.Cmd):
             self.problem = replace(problem, domain=self.domain)
 
     def _reparse(self, problem_text: str) -> Problem:
-        _, problem = parse_pddl(_domain_text(self.domain), problem_text)
+        _, problem = _read(_domain_text(self.domain), problem_text)
         assert problem is not None
         return problem
 
@@ -193,7 +201,7 @@ class Shell(cmd.Cmd):
                     )
         if replaced:  # the actions that use it are read again with the new declaration
             others = replace(self.domain, predicates=tuple(p for p in self.domain.predicates if p.name != name))
-            predicate = parse_pddl(_domain_text(others, extra_predicate=text))[0].predicate(name)
+            predicate = _read(_domain_text(others, extra_predicate=text))[0].predicate(name)
         self._set(domain=self.domain.with_predicate(predicate))
         signature = " ".join(f"{v} - {t}" for v, t in predicate.parameters)
         self.say(f"predicate ({name}{' ' if signature else ''}{signature})" + (" replaced" if replaced else ""))
@@ -203,7 +211,7 @@ class Shell(cmd.Cmd):
             self.say(usage("action"))
             return
         name = self._checker(problem=False).action(arg)
-        domain, _ = parse_pddl(_domain_text(self.domain.without_action(name), f"(:action {arg})"))
+        domain, _ = _read(_domain_text(self.domain.without_action(name), f"(:action {arg})"))
         replaced = any(a.name == name for a in self.domain.actions)
         self._set(domain=self.domain.with_action(domain.action(name)))
         self.say(
@@ -396,8 +404,8 @@ class Shell(cmd.Cmd):
         stops a running plan) instead of leaving, and the history is kept in ``~/.vslsp_history``."""
         readline = line_editing() if self._interactive() else None
         delimiters = readline.get_completer_delims() if readline else ""
-        if self._interactive():  # the PDDL reader loads while the first commands are typed
-            threading.Thread(target=importlib.import_module, args=("unified_planning.io",), daemon=True).start()
+        if self._interactive():
+            threading.Thread(target=_read, args=(_domain_text(Domain("warm-up")),), daemon=True).start()
         if readline:
             readline.set_completer_delims(DELIMITERS)
             read_history(readline)
