@@ -28,6 +28,8 @@ def line_editing() -> Any:
         import readline
     except ImportError:  # no line editing on this Python: plain input
         return None
+    if "libedit" in (readline.__doc__ or ""):  # macOS: libedit does not read GNU's "tab: complete"
+        readline.parse_and_bind("bind ^I rl_complete")
     return readline
 
 
