@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: install demo test test-fast check bench clean
+.PHONY: install system-deps demo test test-fast check bench clean
 
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
@@ -16,10 +16,14 @@ $(STAMP): pyproject.toml constraints.txt
 
 install: $(STAMP)
 
+# tmux and chromium for the terminal and browser tests (root only; see the script).
+system-deps:
+	@bash tools/system-deps.sh
+
 demo: $(STAMP)
 	$(BIN)/vslsp demo --out out/demo
 
-test: $(STAMP)
+test: $(STAMP) system-deps
 	$(BIN)/python -m pytest -n 2 --dist loadfile -q
 
 # Lint, format and types (run by .ci/run before the tests).
