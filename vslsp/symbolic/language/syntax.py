@@ -1,0 +1,245 @@
+"""The reader of the PDDL language engine: tokens with positions and the tree of parentheses.
+
+PDDL is a list language (McDermott et al. 1998; Gerevini & Long 2005 for PDDL 3.0), so reading is
+two linear passes: :func:`tokenize` cuts the text into parentheses, names and comments, each with
+its line and column, and :func:`build_tree` nests the tokens into :class:`Group` s. A parenthesis
+that never closes or a ``)`` with nothing to close is reported as a :class:`Diagnostic` at the
+character the user typed, and the tree is repaired (closed at the end of the line the indentation
+says the list ended on) so that the rest of the file is still checked.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from vslsp.symbolic.language.diagnostics import ERROR, Diagnostic, Span
+
+_TOKEN = re.compile(r"[()]|;[^\n]*|[^\s();]+")
+
+
+@dataclass(slots=True, eq=False)
+class Token:
+    """One token: ``kind`` is ``"("``, ``")"``, ``"name"`` (a name, ``?variable``, ``:keyword``, number
+    or ``-``) or ``"comment"``; ``text`` as written, ``key`` in lower case (PDDL ignores case);
+    ``line``/``column`` 1-based, ``offset`` 0-based in the document's text."""
+
+    kind: str
+    text: str
+    key: str
+    line: int
+    column: int
+    offset: int
+    file: str
+
+    @property
+    def end_column(self) -> int:
+        """The column just after the token (tokens never span lines)."""
+        return self.column + len(self.text)
+
+    @property
+    def span(self) -> Span:
+        return Span(self.file, self.line, self.column, self.line, self.column + len(self.text))
+
+
+@dataclass(slots=True, eq=False)
+class Group:
+    """A parenthesised list: its ``(`` and ``)`` tokens (``close`` None when it never closes) and items."""
+
+    open: Token
+    close: Token | None
+    items: list[Token | Group] = field(default_factory=list)
+
+    @property
+    def head(self) -> Token | None:
+        """The first item when it is a name (``and``, a predicate, ``:action`` ...), else None."""
+        first = self.items[0] if self.items else None
+        return first if isinstance(first, Token) else None
+
+    @property
+    def key(self) -> str:
+        """The head's lower-case text, or "" when the list does not start with a name."""
+        head = self.head
+        return head.key if head is not None else ""
+
+    @property
+    def span(self) -> Span:
+        last = self.close or _last_token(self)
+        return Span(self.open.file, self.open.line, self.open.column, last.line, last.end_column)
+
+
+def _last_token(group: Group) -> Token:
+    while group.items:
+        last = group.items[-1]
+        if isinstance(last, Token):
+            return last
+        if last.close is not None:
+            return last.close
+        group = last
+    return group.open
+
+
+def span_of(node: Token | Group) -> Span:
+    return node.span
+
+
+def text_of(node: Token | Group) -> str:
+    """The node as written, whitespace and comments normalised: ``(sometime-before (a) (b))``."""
+    if isinstance(node, Token):
+        return node.text
+    return "(" + " ".join(text_of(item) for item in node.items) + ")"
+
+
+@dataclass(slots=True)
+class Document:
+    """One file read: its tokens (no comments), its comments, the top-level groups and the reader's diagnostics."""
+
+    file: str
+    text: str
+    tokens: list[Token]
+    comments: list[Token]
+    groups: list[Group]
+    diagnostics: list[Diagnostic]
+    comment_lines: dict[int, str] = field(default_factory=dict)
+    code_lines: set[int] = field(default_factory=set)
+
+    def comment_above(self, line: int) -> str:
+        """The comment lines just above ``line`` (no blank line or code between), else a comment at the
+        end of ``line`` itself; "" when there is none."""
+        lines: list[str] = []
+        current = line - 1
+        while current in self.comment_lines and current not in self.code_lines:
+            lines.append(self.comment_lines[current])
+            current -= 1
+        if lines:
+            return "\n".join(reversed(lines))
+        return self.comment_lines.get(line, "")
+
+
+def read_document(text: str, file: str) -> Document:
+    """``text`` tokenized and nested (linear time); unbalanced parentheses reported and repaired."""
+    tokens, comments = tokenize(text, file)
+    groups, diagnostics = build_tree(tokens)
+    return Document(
+        file,
+        text,
+        tokens,
+        comments,
+        groups,
+        diagnostics,
+        {c.line: c.text.lstrip(";").strip() for c in comments},
+        {t.line for t in tokens},
+    )
+
+
+def tokenize(text: str, file: str) -> tuple[list[Token], list[Token]]:
+    """The tokens and the comments of ``text``, in order, in time linear in its length."""
+    tokens: list[Token] = []
+    comments: list[Token] = []
+    offset = 0
+    finditer = _TOKEN.finditer
+    for number, line in enumerate(text.split("\n"), 1):
+        for match in finditer(line):
+            word = match.group()
+            first = word[0]
+            if first == ";":
+                word = word.rstrip("\r")
+                comments.append(Token("comment", word, word, number, match.start() + 1, offset + match.start(), file))
+            elif first == "(" or first == ")":
+                tokens.append(Token(first, first, first, number, match.start() + 1, offset + match.start(), file))
+            else:
+                tokens.append(
+                    Token("name", word, word.lower(), number, match.start() + 1, offset + match.start(), file)
+                )
+        offset += len(line) + 1
+    return tokens, comments
+
+
+@dataclass(slots=True)
+class _Nesting:
+    top: list[Group]
+    unclosed: list[Group]  # still open at the end, outermost first
+    extra: list[Token]  # a ')' with nothing to close, or a name outside any list
+    left: list[tuple[Group, int, int]]  # (group, index of the token of the line that left it, depth)
+
+
+def _nest(tokens: list[Token], close_before: set[int]) -> _Nesting:
+    """Nest ``tokens``. A group is "left" by a later line that starts at or left of the indentation of
+    the group's opening line while the group is the innermost open one (where a ``)`` was forgotten, if
+    one was). A group is also closed just before each token index in ``close_before`` (the repair)."""
+    top: list[Group] = []
+    stack: list[Group] = []
+    extra: list[Token] = []
+    left: list[tuple[Group, int, int]] = []
+    flagged: set[int] = set()
+    indent: dict[int, int] = {}
+    last_line = 0
+    for index, token in enumerate(tokens):
+        if index in close_before and stack:
+            stack.pop()
+        if token.line != last_line:
+            last_line = token.line
+            indent[token.line] = token.column
+            if stack and token.kind != ")":
+                inner = stack[-1]
+                if (
+                    inner.open.line < token.line
+                    and indent[inner.open.line] >= token.column
+                    and id(inner) not in flagged
+                ):
+                    flagged.add(id(inner))
+                    left.append((inner, index, len(stack) - 1))
+        if token.kind == "(":
+            group = Group(token, None)
+            (stack[-1].items if stack else top).append(group)
+            stack.append(group)
+        elif token.kind == ")":
+            if stack:
+                stack.pop().close = token
+            else:
+                extra.append(token)
+        elif stack:
+            stack[-1].items.append(token)
+        else:
+            extra.append(token)
+    return _Nesting(top, stack, extra, left)
+
+
+def build_tree(tokens: list[Token]) -> tuple[list[Group], list[Diagnostic]]:
+    """The top-level groups of ``tokens`` and a diagnostic for each parenthesis out of balance.
+
+    A ``(`` left open is reported where the indentation says its list ended (the first list, below
+    the top level, that a later line leaves), and the tree is closed there so that what follows is
+    read as the user meant it; with no such hint, at the innermost ``(`` still open at the end.
+    """
+    nesting = _nest(tokens, set())
+    diagnostics: list[Diagnostic] = []
+    if nesting.unclosed:
+        inner = [entry for entry in nesting.left if entry[2] >= 1] or nesting.left
+        if inner:
+            group, index, _ = inner[0]
+            diagnostics.append(_unclosed(group))
+            nesting = _nest(tokens, {index})
+            reported = {id(group)}
+        else:
+            reported = set()
+        for group in reversed(nesting.unclosed):
+            if id(group) not in reported:
+                diagnostics.append(_unclosed(group))
+                break
+    for token in nesting.extra:
+        if token.kind == ")":
+            message = "unexpected ')': there is no '(' left to close; remove it or add the missing '('"
+            diagnostics.append(Diagnostic(token.span, ERROR, message, "unexpected-parenthesis"))
+        else:
+            message = f"'{token.text}' is outside any list; PDDL files are (define ...) lists"
+            diagnostics.append(Diagnostic(token.span, ERROR, message, "outside-list"))
+    return nesting.top, diagnostics
+
+
+def _unclosed(group: Group) -> Diagnostic:
+    span = group.open.span
+    head = group.head
+    what = f"'({head.text}'" if head is not None else "this '('"
+    message = f"{what} is never closed: a ')' is missing"
+    return Diagnostic(span, ERROR, message, "unclosed-parenthesis")
