@@ -83,11 +83,12 @@ def span_of(node: Token | Group) -> Span:
     return node.span
 
 
-def text_of(node: Token | Group) -> str:
-    """The node as written, whitespace and comments normalised: ``(sometime-before (a) (b))``."""
+def text_of(node: Token | Group, lower: bool = False) -> str:
+    """The node as written, whitespace and comments normalised: ``(sometime-before (a) (b))``;
+    ``lower``: in lower case (PDDL ignores case)."""
     if isinstance(node, Token):
-        return node.text
-    return "(" + " ".join(text_of(item) for item in node.items) + ")"
+        return node.key if lower else node.text
+    return "(" + " ".join(text_of(item, lower) for item in node.items) + ")"
 
 
 @dataclass(slots=True)
