@@ -28,6 +28,8 @@ class Context:
     predicates_section: Group | None = None
     types_section: Group | None = None
     in_problem: bool = False
+    _ancestors: dict[str, list[str]] = field(default_factory=dict)
+    _subtype: dict[tuple[tuple[str, ...], tuple[str, ...]], bool] = field(default_factory=dict)
 
     def error(
         self, span: Span, message: str, code: str, suggestion: str | None = None, fixes: Iterable[Fix] = ()
@@ -58,7 +60,11 @@ class Context:
         return name == "object" or self.index.find("type", name) is not None
 
     def ancestors(self, name: str) -> list[str]:
-        """``name`` and its ancestors up to ``object`` (cycles cut)."""
+        """``name`` and its ancestors up to ``object`` (cycles cut); computed once per type, after the
+        types are declared."""
+        cached = self._ancestors.get(name)
+        if cached is not None:
+            return cached
         chain = [name]
         index = 0
         while index < len(chain):
@@ -68,14 +74,19 @@ class Context:
             index += 1
         if "object" not in chain:
             chain.append("object")
+        self._ancestors[name] = chain
         return chain
 
     def is_subtype(self, types: tuple[str, ...], allowed: tuple[str, ...]) -> bool:
         """Whether every type of ``types`` (an either-list) is one of ``allowed`` or below one of them; an
         undefined type (reported where it is written) matches anything."""
-        if not all(self.type_known(t) for t in (*types, *allowed)):
-            return True
-        return all(any(a in self.ancestors(t) for a in allowed) for t in types)
+        known = self._subtype.get((types, allowed))
+        if known is None:
+            known = not all(self.type_known(t) for t in (*types, *allowed)) or all(
+                any(a in self.ancestors(t) for a in allowed) for t in types
+            )
+            self._subtype[(types, allowed)] = known
+        return known
 
     def type_reference(self, token: Token, numeric: bool = False) -> str:
         """Resolve a type name written at ``token`` (a reference, or an "undefined type" error there);

@@ -22,13 +22,33 @@ from vslsp.symbolic.language.vocabulary import (
 )
 
 
+@dataclass(eq=False)
+class TypeSpec:
+    """The type after ``-`` shared by the names before it: its tokens (several for ``either``), the
+    ``either`` list if any, and once resolved, the lower-case names."""
+
+    tokens: list[Token]
+    either: Group | None = None
+    resolved: tuple[str, ...] | None = None
+
+
+_UNTYPED = TypeSpec([])
+
+
 @dataclass
 class Typed:
-    """One entry of a typed list: ``name`` and the tokens of its type (several for ``either``; none: object)."""
+    """One entry of a typed list: ``name`` and its type (``spec.tokens`` empty: object)."""
 
     name: Token | Group
-    types: list[Token]
-    either: Group | None = None
+    spec: TypeSpec = _UNTYPED
+
+    @property
+    def types(self) -> list[Token]:
+        return self.spec.tokens
+
+    @property
+    def either(self) -> Group | None:
+        return self.spec.either
 
 
 @dataclass
@@ -57,32 +77,37 @@ def typed_list(ctx: Context, items: list[Token | Group]) -> list[Typed]:
             elif not pending:
                 ctx.error(item.span, "'-' with no name before it", "missing-name")
             if isinstance(kind, Token):
+                spec = TypeSpec([kind])
                 for entry in pending:
-                    entry.types = [kind]
+                    entry.spec = spec
             elif isinstance(kind, Group):
                 names = [t for t in kind.items[1:] if isinstance(t, Token)]
                 if kind.key != "either" or not names:
                     ctx.error(kind.span, "a type is a name or (either TYPE ...)", "bad-type")
+                spec = TypeSpec(names, kind)
                 for entry in pending:
-                    entry.types, entry.either = names, kind
+                    entry.spec = spec
             entries.extend(pending)
             pending = []
             index += 2
             continue
-        pending.append(Typed(item, []))
+        pending.append(Typed(item))
         index += 1
     entries.extend(pending)
     return entries
 
 
 def resolve_types(ctx: Context, entry: Typed, either_allowed: bool, numeric: bool = False) -> tuple[str, ...]:
-    """The lower-case types of ``entry`` (``("object",)`` when untyped), each type a reference."""
-    if entry.either is not None and not either_allowed:
-        head = entry.either.head or entry.either.open
+    """The lower-case types of ``entry`` (``("object",)`` when untyped), each type written a reference
+    (once for all the names that share it)."""
+    spec = entry.spec
+    if spec.resolved is not None:
+        return spec.resolved
+    if spec.either is not None and not either_allowed:
+        head = spec.either.head or spec.either.open
         ctx.error(head.span, "(either ...) types are supported only in a predicate's parameters", "unsupported")
-    if not entry.types:
-        return ("object",)
-    return tuple(ctx.type_reference(t, numeric) for t in entry.types)
+    spec.resolved = tuple(ctx.type_reference(t, numeric) for t in spec.tokens) if spec.tokens else ("object",)
+    return spec.resolved
 
 
 def parameters(
@@ -204,10 +229,11 @@ def types(ctx: Context, section: Group, document: Document) -> None:
                 "duplicate-type",
             )
         ctx.parents[name.key] = tuple(t.key for t in entry.types) or ("object",)
-        if entry.either is not None:
-            ctx.error(entry.either.span, "a type's parent is one type, not (either ...)", "bad-type")
-    for entry in entries:
-        for parent in entry.types:
+    specs = list({id(entry.spec): entry.spec for entry in entries}.values())
+    for spec in specs:
+        if spec.either is not None:
+            ctx.error(spec.either.span, "a type's parent is one type, not (either ...)", "bad-type")
+        for parent in spec.tokens:
             found = ctx.index.find("type", parent.key)
             if found is None and parent.key != "object":
                 message = f"type '{parent.text}' is used as a parent but not declared; declare it in (:types ...)"
@@ -223,6 +249,8 @@ def types(ctx: Context, section: Group, document: Document) -> None:
                 ctx.index.declare(found)
                 ctx.parents.setdefault(parent.key, ("object",))
             ctx.index.refer("type", parent.text, parent.span, found)
+    ctx._ancestors.clear()
+    ctx._subtype.clear()
     reported: set[frozenset[str]] = set()
     for child in list(ctx.parents):  # in the order written: a cycle is reported at its first type
         seen, current = [child], child

@@ -114,8 +114,13 @@ def atom(ctx: Context, node: Group, scope: Scope, operators: tuple[str, ...], ro
     ctx.index.refer("predicate", head.text, head.span, declaration)
     if declaration is None:
         _unknown_head(ctx, node, head, operators, role)
-        for item in node.items[1:]:
-            term(ctx, item, scope, None)
+        for item in node.items[1:]:  # names as terms, lists as formulas (the head may be a mistyped 'and')
+            if isinstance(item, Token):
+                term(ctx, item, scope, None)
+            elif role == "effect":
+                effect(ctx, item, scope)
+            else:
+                goal(ctx, item, scope, role)
         return
     arguments = node.items[1:]
     if len(arguments) != len(declaration.parameters):

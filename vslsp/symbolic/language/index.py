@@ -124,7 +124,8 @@ class Index:
 
     def find(self, kind: str, name: str) -> Declaration | None:
         """The declaration of ``kind`` named ``name`` (case ignored), or None."""
-        return self._by_kind.get(kind, {}).get(name.lower())
+        table = self._by_kind.get(kind)
+        return table.get(name.lower()) if table is not None else None
 
     def names(self, kind: str) -> list[str]:
         """The declared names of ``kind`` as written, in declaration order (for completion)."""

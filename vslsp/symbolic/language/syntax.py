@@ -11,11 +11,12 @@ says the list ended on) so that the rest of the file is still checked.
 from __future__ import annotations
 
 import re
+from bisect import bisect_left
 from dataclasses import dataclass, field
 
 from vslsp.symbolic.language.diagnostics import ERROR, Diagnostic, Span
 
-_TOKEN = re.compile(r"[()]|;[^\n]*|[^\s();]+")
+_SPACED_TOKEN = re.compile(r"(\s*)([()]|;[^\n]*|[^\s();]+)")
 
 
 @dataclass(slots=True, eq=False)
@@ -134,25 +135,27 @@ def read_document(text: str, file: str) -> Document:
 
 
 def tokenize(text: str, file: str) -> tuple[list[Token], list[Token]]:
-    """The tokens and the comments of ``text``, in order, in time linear in its length."""
+    """The tokens and the comments of ``text``, in order, in time linear in its length (one regular
+    expression pass; the whitespace before each token carries the line count)."""
     tokens: list[Token] = []
     comments: list[Token] = []
-    offset = 0
-    finditer = _TOKEN.finditer
-    for number, line in enumerate(text.split("\n"), 1):
-        for match in finditer(line):
-            word = match.group()
-            first = word[0]
-            if first == ";":
-                word = word.rstrip("\r")
-                comments.append(Token("comment", word, word, number, match.start() + 1, offset + match.start(), file))
-            elif first == "(" or first == ")":
-                tokens.append(Token(first, first, first, number, match.start() + 1, offset + match.start(), file))
-            else:
-                tokens.append(
-                    Token("name", word, word.lower(), number, match.start() + 1, offset + match.start(), file)
-                )
-        offset += len(line) + 1
+    line, line_start, offset = 1, 0, 0
+    for space, word in _SPACED_TOKEN.findall(text):
+        if space:
+            newlines = space.count("\n")
+            if newlines:
+                line += newlines
+                line_start = offset + space.rindex("\n") + 1
+            offset += len(space)
+        first = word[0]
+        if first == ";":
+            word = word.rstrip("\r")
+            comments.append(Token("comment", word, word, line, offset - line_start + 1, offset, file))
+        elif first == "(" or first == ")":
+            tokens.append(Token(first, first, first, line, offset - line_start + 1, offset, file))
+        else:
+            tokens.append(Token("name", word, word.lower(), line, offset - line_start + 1, offset, file))
+        offset += len(word)
     return tokens, comments
 
 
@@ -217,6 +220,9 @@ def build_tree(tokens: list[Token]) -> tuple[list[Group], list[Diagnostic]]:
     diagnostics: list[Diagnostic] = []
     if nesting.unclosed:
         inner = [entry for entry in nesting.left if entry[2] >= 1] or nesting.left
+        swallowing = _atom_swallowing_a_list(nesting.top, tokens)
+        if swallowing is not None:
+            inner = [(swallowing[0], swallowing[1], 1)]
         if inner:
             group, index, _ = inner[0]
             diagnostics.append(_unclosed(group))
@@ -236,6 +242,29 @@ def build_tree(tokens: list[Token]) -> tuple[list[Group], list[Diagnostic]]:
             message = f"'{token.text}' is outside any list; PDDL files are (define ...) lists"
             diagnostics.append(Diagnostic(token.span, ERROR, message, "outside-list"))
     return nesting.top, diagnostics
+
+
+#: Heads of lists that hold lists; any other name heads an atom or a term, whose items are names.
+_LIST_HEADS = frozenset(
+    "define and or not imply exists forall when preference either = < > <= >= + - * / increase decrease "
+    "assign scale-up scale-down at always sometime within at-most-once sometime-after sometime-before "
+    "always-within hold-during hold-after minimize maximize is-violated".split()
+)
+
+
+def _atom_swallowing_a_list(top: list[Group], tokens: list[Token]) -> tuple[Group, int] | None:
+    """The first atom such as ``(far red (far blue))`` (a predicate's arguments are names, so a list in
+    it means its ``)`` was forgotten) and the index of the token where it should have closed."""
+    stack = list(reversed(top))
+    while stack:
+        group = stack.pop()
+        head = group.head
+        children = [item for item in group.items if isinstance(item, Group)]
+        if head is not None and children and not head.key.startswith(":") and head.key not in _LIST_HEADS:
+            offsets = [t.offset for t in tokens]
+            return group, bisect_left(offsets, children[0].open.offset)
+        stack.extend(reversed(children))
+    return None
 
 
 def _unclosed(group: Group) -> Diagnostic:
