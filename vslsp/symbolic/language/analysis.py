@@ -19,7 +19,7 @@ from vslsp.symbolic.language.declarations import (
 from vslsp.symbolic.language.diagnostics import Diagnostic, sort_key
 from vslsp.symbolic.language.formulas import check_body
 from vslsp.symbolic.language.index import Declaration, Index
-from vslsp.symbolic.language.syntax import Document, Group, read_document
+from vslsp.symbolic.language.syntax import Document, Group, gc_paused, read_document
 from vslsp.symbolic.language.vocabulary import DOMAIN_SECTIONS, PROBLEM_SECTIONS
 
 #: Requirements every planner assumes, never worth a warning.
@@ -74,6 +74,11 @@ def analyse(
     token written, and the index of declarations and references. Either text may hold a domain or a
     problem (the ``(define (domain|problem ...))`` header decides); a problem without its domain is
     checked for its syntax and sections only."""
+    with gc_paused():
+        return _analyse(domain_text, domain_file, problem_text, problem_file)
+
+
+def _analyse(domain_text: str | None, domain_file: str, problem_text: str | None, problem_file: str) -> Analysis:
     ctx = Context()
     documents: dict[str, Document] = {}
     domain: tuple[Document, Group, str] | None = None

@@ -10,12 +10,16 @@ says the list ended on) so that the rest of the file is still checked.
 
 from __future__ import annotations
 
+import gc
 import re
 from bisect import bisect_left
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 from vslsp.symbolic.language.diagnostics import ERROR, Diagnostic, Span
 
+_new_span = tuple.__new__  # a Span without NamedTuple's Python-level constructor: one per token read
 _SPACED_TOKEN = re.compile(r"(\s*)([()]|;[^\n]*|[^\s();]+)")
 
 
@@ -40,7 +44,7 @@ class Token:
 
     @property
     def span(self) -> Span:
-        return Span(self.file, self.line, self.column, self.line, self.column + len(self.text))
+        return _new_span(Span, (self.file, self.line, self.column, self.line, self.column + len(self.text)))
 
 
 @dataclass(slots=True, eq=False)
@@ -50,18 +54,14 @@ class Group:
     open: Token
     close: Token | None
     items: list[Token | Group] = field(default_factory=list)
+    #: The head's lower-case text, or "" when the list does not start with a name.
+    key: str = ""
 
     @property
     def head(self) -> Token | None:
         """The first item when it is a name (``and``, a predicate, ``:action`` ...), else None."""
         first = self.items[0] if self.items else None
         return first if isinstance(first, Token) else None
-
-    @property
-    def key(self) -> str:
-        """The head's lower-case text, or "" when the list does not start with a name."""
-        head = self.head
-        return head.key if head is not None else ""
 
     @property
     def span(self) -> Span:
@@ -118,8 +118,27 @@ class Document:
         return self.comment_lines.get(line, "")
 
 
+@contextmanager
+def gc_paused() -> Iterator[None]:
+    """Python's cycle collector paused: it would walk every token made so far again and again, which
+    makes reading grow faster than the file (the engine's structures hold no cycles; reference
+    counting frees them)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
 def read_document(text: str, file: str) -> Document:
     """``text`` tokenized and nested (linear time); unbalanced parentheses reported and repaired."""
+    with gc_paused():
+        return _read_document(text, file)
+
+
+def _read_document(text: str, file: str) -> Document:
     tokens, comments = tokenize(text, file)
     groups, diagnostics = build_tree(tokens)
     return Document(
@@ -203,7 +222,10 @@ def _nest(tokens: list[Token], close_before: set[int]) -> _Nesting:
             else:
                 extra.append(token)
         elif stack:
-            stack[-1].items.append(token)
+            inner = stack[-1]
+            if not inner.items:
+                inner.key = token.key
+            inner.items.append(token)
         else:
             extra.append(token)
     return _Nesting(top, stack, extra, left)
