@@ -189,8 +189,8 @@ def _read_problem(ctx: Context, document: Document, define: Group, with_domain: 
                 ctx.index.refer("domain", name.text, name.span, ctx.index.find("domain", name.key))
         elif key == ":requirements":
             requirements(ctx, section, document)
-        elif key == ":objects" and with_domain:
-            constants(ctx, section, document, "object")
+        elif key == ":objects":
+            constants(ctx, section, document, "object", with_types=with_domain)
         elif key == ":init":
             bodies.append(Body("init", section, {}, section))
         elif key in (":goal", ":constraints", ":metric"):

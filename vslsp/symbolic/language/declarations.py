@@ -274,11 +274,15 @@ def types(ctx: Context, section: Group, document: Document) -> None:
             seen.append(current)
 
 
-def constants(ctx: Context, section: Group, document: Document, kind: str) -> None:
-    """Declare the constants of a domain or the objects of a problem (``kind``: constant or object)."""
+def constants(ctx: Context, section: Group, document: Document, kind: str, with_types: bool = True) -> None:
+    """Declare the constants of a domain or the objects of a problem (``kind``: constant or object);
+    ``with_types`` False (a problem without its domain): the types are taken as written, unchecked."""
     for entry in typed_list(ctx, section.items[1:]):
         name = entry.name
-        found = resolve_types(ctx, entry, either_allowed=False)
+        if with_types:
+            found = resolve_types(ctx, entry, either_allowed=False)
+        else:
+            found = tuple(t.key for t in entry.types) or ("object",)
         if not isinstance(name, Token) or name.text.startswith("?"):
             ctx.error(
                 name.span,
