@@ -95,3 +95,20 @@ def test_tokens_carry_their_places_and_lists_their_text():
     assert names[-2:] == [("On-Top", "on-top", 3, 17, 23), ("?x", "?x", 3, 24, 26)]
     assert document.comment_above(3) == "note"
     assert text_of(document.groups[0]) == "(define (domain d) (:predicates (On-Top ?x)))"
+
+
+def test_a_plan_is_checked_step_by_step_with_the_names_meant():
+    from vslsp.symbolic.language import analyse_plan
+
+    analysis = analyse(DOMAIN, "d.pddl", PROBLEM, "p.pddl")
+    plan = "(pull orange)\n0: (pul green) ; VAL's format\n1. pull gren\n(push)\nnonsense\n"
+    checked = analyse_plan(analysis, plan, "plan.txt")
+    assert [d.format() for d in checked.diagnostics] == [
+        "plan.txt:2:5: error: unknown action 'pul' (did you mean 'pull'?)",
+        "plan.txt:3:9: error: unknown object or constant 'gren' (did you mean 'green'?)",
+        "plan.txt:4:2: error: 'push' takes 1 argument, 0 given",
+        "plan.txt:5:1: error: expected one step like (pull green) or 1. pull green, got 'nonsense'",
+    ]
+    assert checked.steps == [("pull", ("orange",))]
+    orange = analysis.index.find("object", "orange")
+    assert [r.declaration for r in checked.references if r.name == "orange"] == [orange]

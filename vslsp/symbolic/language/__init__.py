@@ -15,6 +15,7 @@ API (stable: fields are only added)
 - :class:`Analysis`: ``diagnostics`` (sorted by file, line, column), ``errors``, ``warnings``,
   ``exit_code`` (2 with an error, else 0), ``index``, ``documents`` (file -> :class:`Document`),
   ``domain_name``, ``problem_name``, ``problem_domain`` (the problem's ``(:domain NAME)``),
+  ``type_parents`` (type -> parent types),
   ``sections(file)`` (``":init"`` -> its :class:`Group`).
 - :class:`Diagnostic`: ``span`` (:class:`Span`), ``file``, ``line``, ``column``, ``severity``
   (``"error"``/``"warning"``), ``message``, ``code`` (``unknown-predicate``, ``undefined-type``,
@@ -36,6 +37,10 @@ API (stable: fields are only added)
 - :class:`Document`: ``tokens`` (:class:`Token`: ``kind``, ``text``, ``key``, ``line``, ``column``,
   ``end_column``, ``offset``, ``span``), ``comments``, ``groups`` (:class:`Group`: ``open``,
   ``close``, ``items``, ``head``, ``key``, ``span``), ``comment_above(line)``.
+- :func:`analyse_plan` ``(analysis, plan_text, plan_file="<plan>") -> PlanAnalysis``: a plan's steps
+  checked against the analysis's domain and problem (unknown action or object with did-you-mean,
+  arity, argument types); ``PlanAnalysis``: ``diagnostics``, ``references`` (actions and objects
+  named, resolved), ``steps``.
 - :func:`read_document` ``(text, file) -> Document``, :func:`closest` ``(name, candidates)``,
   :func:`text_of` ``(node)`` (normalised text), and the vocabulary: :data:`REQUIREMENTS`,
   :data:`PDDL3_NAMES`, :data:`GOAL_OPERATORS`, :data:`EFFECT_OPERATORS`.
@@ -45,6 +50,7 @@ from vslsp.symbolic.language.analysis import Analysis, analyse
 from vslsp.symbolic.language.diagnostics import ERROR, WARNING, Diagnostic, Fix, Span, closest
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES, check_files, read_text
 from vslsp.symbolic.language.index import KINDS, Declaration, Index, Parameter, Reference
+from vslsp.symbolic.language.plans import PlanAnalysis, analyse_plan
 from vslsp.symbolic.language.syntax import Document, Group, Token, read_document, text_of
 from vslsp.symbolic.language.vocabulary import EFFECT_OPERATORS, GOAL_OPERATORS, PDDL3_NAMES, REQUIREMENTS
 
@@ -65,10 +71,12 @@ __all__ = [
     "Group",
     "Index",
     "Parameter",
+    "PlanAnalysis",
     "Reference",
     "Span",
     "Token",
     "analyse",
+    "analyse_plan",
     "check_files",
     "closest",
     "read_document",

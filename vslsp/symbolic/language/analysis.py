@@ -38,6 +38,8 @@ class Analysis:
     problem_name: str | None = None
     #: the problem's (:domain NAME), for a server that looks for the domain among open files
     problem_domain: str | None = None
+    #: type -> its parent types, lower case (what a type written twice last said)
+    type_parents: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
     @property
     def errors(self) -> list[Diagnostic]:
@@ -103,7 +105,7 @@ def _analyse(domain_text: str | None, domain_file: str, problem_text: str | None
             problem = entry
         else:
             ctx.error(define.span, f"two {kind} files given; give a domain and a problem", "two-of-a-kind")
-    analysis = Analysis(ctx.diagnostics, ctx.index, documents)
+    analysis = Analysis(ctx.diagnostics, ctx.index, documents, type_parents=ctx.parents)
     bodies: list[Body] = []
     if domain is not None:
         analysis.domain_name = domain[2]

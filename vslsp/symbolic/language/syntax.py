@@ -102,15 +102,17 @@ class Document:
     comments: list[Token]
     groups: list[Group]
     diagnostics: list[Diagnostic]
+    #: line -> the text of the comment on it (without the ``;``)
     comment_lines: dict[int, str] = field(default_factory=dict)
-    code_lines: set[int] = field(default_factory=set)
+    #: the lines that hold a comment and no code
+    comment_only_lines: set[int] = field(default_factory=set)
 
     def comment_above(self, line: int) -> str:
         """The comment lines just above ``line`` (no blank line or code between), else a comment at the
         end of ``line`` itself; "" when there is none."""
         lines: list[str] = []
         current = line - 1
-        while current in self.comment_lines and current not in self.code_lines:
+        while current in self.comment_only_lines:
             lines.append(self.comment_lines[current])
             current -= 1
         if lines:
@@ -149,7 +151,7 @@ def _read_document(text: str, file: str) -> Document:
         groups,
         diagnostics,
         {c.line: c.text.lstrip(";").strip() for c in comments},
-        {t.line for t in tokens},
+        {c.line for c in comments if c.column == 1 or not text[c.offset - c.column + 1 : c.offset].strip()},
     )
 
 
