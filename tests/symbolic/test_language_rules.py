@@ -3,6 +3,8 @@ path refuses, constraints, a problem read without its domain, and text that is s
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from helpers.symbolic import PDDL
 
 from vslsp.symbolic.language import analyse, read_document, text_of
@@ -112,3 +114,18 @@ def test_a_plan_is_checked_step_by_step_with_the_names_meant():
     assert checked.steps == [("pull", ("orange",))]
     orange = analysis.index.find("object", "orange")
     assert [r.declaration for r in checked.references if r.name == "orange"] == [orange]
+
+
+def test_a_parenthesis_too_many_or_too_few_is_found_where_the_lists_go_wrong():
+    extra = DOMAIN.replace(":effect (far ?b))", ":effect (far ?b)))")
+    assert messages(extra) == [
+        "d.pddl:13:22: error: unexpected ')': it closes (define ...) before its sections end; remove it"
+    ]
+    missing = DOMAIN.replace(":effect (far ?b))", ":effect (far ?b)")
+    assert messages(missing) == ["d.pddl:10:3: error: '(:action' is never closed: a ')' is missing"]
+    storage = (
+        Path(__file__).parents[1] / "data" / "pddl3" / "ipc2006" / "storage-preferences-qualitative" / "domain.pddl"
+    )
+    flat = storage.read_text().replace("(not (in ?c ?p))))", "(not (in ?c ?p)))", 1)  # sections at column 1
+    errors = [d.format() for d in analyse(flat, "d.pddl").errors]
+    assert errors == ["d.pddl:20:1: error: '(:action' is never closed: a ')' is missing"]

@@ -188,10 +188,11 @@ class _Nesting:
     left: list[tuple[Group, int, int]]  # (group, index of the token of the line that left it, depth)
 
 
-def _nest(tokens: list[Token], close_before: set[int]) -> _Nesting:
+def _nest(tokens: list[Token], close_before: set[int], skip: frozenset[int] = frozenset()) -> _Nesting:
     """Nest ``tokens``. A group is "left" by a later line that starts at or left of the indentation of
     the group's opening line while the group is the innermost open one (where a ``)`` was forgotten, if
-    one was). A group is also closed just before each token index in ``close_before`` (the repair)."""
+    one was). A group is also closed just before each token index in ``close_before``, and the tokens at
+    the indices in ``skip`` are left out (the repairs)."""
     top: list[Group] = []
     stack: list[Group] = []
     extra: list[Token] = []
@@ -200,6 +201,8 @@ def _nest(tokens: list[Token], close_before: set[int]) -> _Nesting:
     indent: dict[int, int] = {}
     last_line = 0
     for index, token in enumerate(tokens):
+        if index in skip:
+            continue
         if index in close_before and stack:
             stack.pop()
         if token.line != last_line:
@@ -242,6 +245,15 @@ def build_tree(tokens: list[Token]) -> tuple[list[Group], list[Diagnostic]]:
     """
     nesting = _nest(tokens, set())
     diagnostics: list[Diagnostic] = []
+    skip: frozenset[int] = frozenset()
+    top = nesting.top
+    if len(top) > 1 and top[0].key == "define" and top[0].close is not None and top[1].key.startswith(":"):
+        # (define ...) closed before its sections end: one ')' too many where it closed
+        early = top[0].close
+        message = "unexpected ')': it closes (define ...) before its sections end; remove it"
+        diagnostics.append(Diagnostic(early.span, ERROR, message, "unexpected-parenthesis"))
+        skip = frozenset({bisect_left([t.offset for t in tokens], early.offset)})
+        nesting = _nest(tokens, set(), skip)
     if nesting.unclosed:
         inner = [entry for entry in nesting.left if entry[2] >= 1] or nesting.left
         swallowing = _atom_swallowing_a_list(nesting.top, tokens)
@@ -250,7 +262,7 @@ def build_tree(tokens: list[Token]) -> tuple[list[Group], list[Diagnostic]]:
         if inner:
             group, index, _ = inner[0]
             diagnostics.append(_unclosed(group))
-            nesting = _nest(tokens, {index})
+            nesting = _nest(tokens, {index}, skip)
             reported = {id(group)}
         else:
             reported = set()
@@ -284,9 +296,10 @@ def _atom_swallowing_a_list(top: list[Group], tokens: list[Token]) -> tuple[Grou
         group = stack.pop()
         head = group.head
         children = [item for item in group.items if isinstance(item, Group)]
-        if head is not None and children and not head.key.startswith(":") and head.key not in _LIST_HEADS:
-            offsets = [t.offset for t in tokens]
-            return group, bisect_left(offsets, children[0].open.offset)
+        atom = head is not None and not head.key.startswith(":") and head.key not in _LIST_HEADS
+        if atom and any(child.key != "either" for child in children):  # (in ?x - (either a b)) is fine
+            first = next(child for child in children if child.key != "either")
+            return group, bisect_left([t.offset for t in tokens], first.open.offset)
         stack.extend(reversed(children))
     return None
 
