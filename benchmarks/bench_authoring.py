@@ -128,11 +128,10 @@ def main() -> None:
     for kilobytes in SIZES_KB:
         text = problem_of_size(kilobytes)
         megabytes = len(text) / 1e6
-        scan_s = best_of(lambda text=text: scan.findall(text), args.runs)
-        read_s = best_of(lambda text=text: read_document(text, "problem.pddl"), args.runs)
-        analysis_s = best_of(
-            lambda text=text: analyse(domain_text, "domain.pddl", text, "problem.pddl"), max(2, args.runs // 2)
-        )
+        runs = max(args.runs, min(20, args.runs * 1000 // kilobytes))  # small files: more runs, same total
+        scan_s = best_of(lambda text=text: scan.findall(text), runs)
+        read_s = best_of(lambda text=text: read_document(text, "problem.pddl"), runs)
+        analysis_s = best_of(lambda text=text: analyse(domain_text, "domain.pddl", text, "problem.pddl"), runs)
         count = len(analyse(domain_text, "domain.pddl", text, "problem.pddl").diagnostics)
         rows.append({"bytes": len(text), "scan_s": scan_s, "reader_s": read_s, "analysis_s": analysis_s})
         table.add_row(
