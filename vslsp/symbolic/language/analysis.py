@@ -140,7 +140,6 @@ def _analyse(domain_text: str | None, domain_file: str, problem_text: str | None
 
 
 def _read_domain(ctx: Context, document: Document, define: Group) -> list[Body]:
-    ctx.domain = document
     found = sections(ctx, define, DOMAIN_SECTIONS, "domain")
     order = {":requirements": 0, ":types": 1, ":constants": 2, ":predicates": 2, ":functions": 2}
     bodies: list[Body] = []
@@ -175,7 +174,6 @@ def _read_domain(ctx: Context, document: Document, define: Group) -> list[Body]:
 
 
 def _read_problem(ctx: Context, document: Document, define: Group, with_domain: bool) -> tuple[list[Body], str | None]:
-    ctx.problem = document
     found = sections(ctx, define, PROBLEM_SECTIONS, "problem")
     bodies: list[Body] = []
     domain_name: str | None = None

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 from vslsp.symbolic.language.diagnostics import ERROR, WARNING, Diagnostic, Fix, Span, closest
 from vslsp.symbolic.language.index import Declaration, Index
-from vslsp.symbolic.language.syntax import Document, Group, Token
+from vslsp.symbolic.language.syntax import Group, Token
 
 
 @dataclass
@@ -22,8 +22,6 @@ class Context:
     #: requirement -> the first place that needs it
     used: dict[str, Span] = field(default_factory=dict)
     declared_requirements: set[str] = field(default_factory=set)
-    domain: Document | None = None
-    problem: Document | None = None
     #: the domain's (:predicates ...) and (:types ...) lists, where "declare it" fixes insert
     predicates_section: Group | None = None
     types_section: Group | None = None
@@ -55,6 +53,11 @@ class Context:
         self.error(token.span, message, code, suggestion, all_fixes)
 
     # --- types -------------------------------------------------------------------------------------
+
+    def types_declared(self) -> None:
+        """Forget what was derived from the type hierarchy (it has just changed)."""
+        self._ancestors.clear()
+        self._subtype.clear()
 
     def type_known(self, name: str) -> bool:
         return name == "object" or self.index.find("type", name) is not None

@@ -249,8 +249,7 @@ def types(ctx: Context, section: Group, document: Document) -> None:
                 ctx.index.declare(found)
                 ctx.parents.setdefault(parent.key, ("object",))
             ctx.index.refer("type", parent.text, parent.span, found)
-    ctx._ancestors.clear()
-    ctx._subtype.clear()
+    ctx.types_declared()
     reported: set[frozenset[str]] = set()
     for child in list(ctx.parents):  # in the order written: a cycle is reported at its first type
         seen, current = [child], child

@@ -80,10 +80,6 @@ def _last_token(group: Group) -> Token:
     return group.open
 
 
-def span_of(node: Token | Group) -> Span:
-    return node.span
-
-
 def text_of(node: Token | Group, lower: bool = False) -> str:
     """The node as written, whitespace and comments normalised: ``(sometime-before (a) (b))``;
     ``lower``: in lower case (PDDL ignores case)."""
