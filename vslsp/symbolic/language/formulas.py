@@ -113,7 +113,7 @@ def atom(ctx: Context, node: Group, scope: Scope, operators: tuple[str, ...], ro
     declaration = ctx.index.find("predicate", head.key)
     ctx.index.refer("predicate", head.text, head.span, declaration)
     if declaration is None:
-        _unknown_head(ctx, node, head, operators, role)
+        _unknown_head(ctx, node, head, operators, role, scope)
         for item in node.items[1:]:  # names as terms, lists as formulas (the head may be a mistyped 'and')
             if isinstance(item, Token):
                 term(ctx, item, scope, None)
@@ -136,17 +136,19 @@ def atom(ctx: Context, node: Group, scope: Scope, operators: tuple[str, ...], ro
         term(ctx, item, scope, allowed, (declaration.name, position + 1))
 
 
-def _unknown_head(ctx: Context, node: Group, head: Token, operators: tuple[str, ...], role: str) -> None:
+def _unknown_head(ctx: Context, node: Group, head: Token, operators: tuple[str, ...], role: str, scope: Scope) -> None:
     if head.key in NOT_PDDL:
         ctx.error(head.span, NOT_PDDL[head.key], "not-pddl", "sometime-before")
         return
-    if head.key in PDDL3_OPERATORS and role != "constraint":
-        where = "the problem's (:constraints ...)"
-        ctx.error(
-            head.span,
-            f"'{head.text}' is a PDDL 3 constraint: it belongs in {where}, not in a {role}",
-            "misplaced-constraint",
-        )
+    second = node.items[1] if len(node.items) > 1 else None
+    if head.key in PDDL3_OPERATORS and (head.key != "at" or (isinstance(second, Token) and second.key == "end")):
+        if role == "constraint":
+            message = f"'{head.text}' inside a constraint's formula: PDDL 3 constraints do not nest"
+        else:
+            message = (
+                f"'{head.text}' is a PDDL 3 constraint: it belongs in the problem's (:constraints ...), not in a {role}"
+            )
+        ctx.error(head.span, message, "misplaced-constraint")
         return
     predicates = ctx.index.names("predicate")
     near_predicate = closest(head.text, predicates)
@@ -154,11 +156,11 @@ def _unknown_head(ctx: Context, node: Group, head: Token, operators: tuple[str, 
     if near_operator is not None and near_predicate is None:
         ctx.unknown(head, f"unknown operator '{head.text}'", operators, "unknown-operator")
         return
-    fixes = _declare_predicate(ctx, node)
+    fixes = _declare_predicate(ctx, node, scope)
     ctx.unknown(head, f"unknown predicate '{head.text}'", predicates, "unknown-predicate", fixes)
 
 
-def _declare_predicate(ctx: Context, node: Group) -> list[Fix]:
+def _declare_predicate(ctx: Context, node: Group, scope: Scope) -> list[Fix]:
     """The quick fix that adds ``(name ?a - t ...)`` to the domain's (:predicates ...), types guessed
     from the arguments."""
     section = ctx.predicates_section
@@ -169,7 +171,7 @@ def _declare_predicate(ctx: Context, node: Group) -> list[Fix]:
     for position, item in enumerate(node.items[1:]):
         kind = "object"
         if isinstance(item, Token):
-            found = ctx.index.find("object", item.key) or ctx.index.find("constant", item.key)
+            found = scope.get(item.key) or ctx.index.find("object", item.key) or ctx.index.find("constant", item.key)
             if found is not None and found.types:
                 kind = found.types[0]
         arguments.append(
