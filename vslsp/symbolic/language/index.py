@@ -104,11 +104,15 @@ class Index:
     declarations: list[Declaration] = field(default_factory=list)
     references: list[Reference] = field(default_factory=list)
     _by_kind: dict[str, dict[str, Declaration]] = field(default_factory=dict)
+    # built on first use, forgotten on each change: what a server asks once per keystroke or hover
+    _by_line: dict[tuple[str, int], list[Declaration | Reference]] | None = None
+    _uses: dict[int, list[Reference]] | None = None
 
     def declare(self, declaration: Declaration) -> Declaration | None:
         """Add ``declaration``; the earlier one of the same kind and name if there is one (then the first
         stays the one names resolve to). Parameters and variables are not looked up by name here."""
         self.declarations.append(declaration)
+        self._by_line = None
         if declaration.kind in ("parameter", "variable"):
             return None
         table = self._by_kind.setdefault(declaration.kind, {})
@@ -120,6 +124,7 @@ class Index:
     def refer(self, kind: str, name: str, span: Span, declaration: Declaration | None) -> Reference:
         reference = Reference(kind, name, span, declaration)
         self.references.append(reference)
+        self._by_line = self._uses = None
         return reference
 
     def find(self, kind: str, name: str) -> Declaration | None:
@@ -135,20 +140,28 @@ class Index:
         return list(self._by_kind.get(kind, {}).values())
 
     def in_file(self, file: str) -> list[Declaration]:
-        """The declarations written in ``file``, in order (the outline)."""
-        return [d for d in self.declarations if d.span.file == file]
+        """The declarations written in ``file``, in the order written (the outline)."""
+        return sorted((d for d in self.declarations if d.span.file == file), key=lambda d: (d.span.line, d.span.column))
 
     def symbol_at(self, file: str, line: int, column: int) -> Declaration | Reference | None:
         """The declaration or reference whose name covers (``line``, ``column``) (1-based), or None."""
-        for item in self._all():
-            span = item.span
-            if span.file == file and span.line == line and span.column <= column <= span.end_column:
+        if self._by_line is None:
+            self._by_line = {}
+            for item in self._all():
+                self._by_line.setdefault((item.span.file, item.span.line), []).append(item)
+        for item in self._by_line.get((file, line), ()):
+            if item.span.column <= column <= item.span.end_column:
                 return item
         return None
 
     def references_to(self, declaration: Declaration) -> list[Reference]:
         """Every reference that resolves to ``declaration`` (the declaration itself not included)."""
-        return [r for r in self.references if r.declaration is declaration]
+        if self._uses is None:
+            self._uses = {}
+            for reference in self.references:
+                if reference.declaration is not None:
+                    self._uses.setdefault(id(reference.declaration), []).append(reference)
+        return list(self._uses.get(id(declaration), ()))
 
     def _all(self) -> Iterator[Declaration | Reference]:
         yield from self.declarations
