@@ -129,3 +129,22 @@ def test_a_parenthesis_too_many_or_too_few_is_found_where_the_lists_go_wrong():
     flat = storage.read_text().replace("(not (in ?c ?p))))", "(not (in ?c ?p)))", 1)  # sections at column 1
     errors = [d.format() for d in analyse(flat, "d.pddl").errors]
     assert errors == ["d.pddl:20:1: error: '(:action' is never closed: a ')' is missing"]
+
+
+def test_every_name_declared_twice_is_an_error_at_the_second():
+    domain = DOMAIN.replace("(far ?b - block))", "(far ?b - block)\n    (far ?c - block))").replace(
+        ":parameters (?b - block)", ":parameters (?b - block ?b - block)", 1
+    )
+    assert messages(domain) == [
+        "d.pddl:9:6: error: predicate 'far' is declared twice (first at line 8)",
+        "d.pddl:12:29: error: parameter '?b' is declared twice",
+    ]
+    problem = PROBLEM.replace("(:objects orange green yellow - block)", "(:objects orange green orange - block)")
+    assert messages(DOMAIN, problem)[0] == "p.pddl:6:26: error: object 'orange' is declared twice (first at line 6)"
+
+
+def test_names_in_an_action_are_its_parameters_or_the_domains_constants():
+    domain = DOMAIN.replace(":effect (far ?b))", ":effect (far green))", 1)
+    assert messages(domain) == ["d.pddl:13:18: error: unknown constant 'green'"]
+    constant = domain.replace("(:types block)", "(:types block)\n  (:constants green - block)")
+    assert messages(constant, PROBLEM) == ["p.pddl:6:20: warning: 'green' is a constant of the domain already"]
