@@ -18,6 +18,10 @@ alternately under the same load.
   any Python reader, one regular-expression scan of the same text; and the 50,000-object problem
   that took unified-planning's reader 62 s.
 
+Measured on the shared 2-core machine (load 8-10, 2026-12-02): cold check 1.4-1.9 Python start-ups
+(unified-planning's reader: 23-29); re-check 0.29 ms; reader 0.35 s/MB and analysis 0.7-0.8 s/MB of
+CPU at 1 MB (linear from 54 kB up); 50,000 objects (1.75 MB) 1.2 s.
+
     .venv/bin/python benchmarks/bench_authoring.py [--runs 5] [--json results.json]
 """
 
