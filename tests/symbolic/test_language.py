@@ -71,7 +71,7 @@ def test_a_correct_domain_and_problem_check_clean():
         (True, "(on-counter cup))", "(on-counter cupp))", "unknown object or constant 'cupp'", "cup"),
         (False, ":negative-preconditions", ":negative-precondition", "unknown requirement", ":negative-preconditions"),
         (False, "(?d - dish ?s - sponge)", "(?d - dsh ?s - sponge)", "undefined type 'dsh'", "dish"),
-        (False, ":effect (clean ?d)))", ":effect (clean ?x)))", "undefined parameter '?x'", "?d"),
+        (False, ":effect (and (holding ?d)", ":effect (and (holding ?x)", "undefined parameter '?x'", "?d"),
         (False, ":precondition (holding ?d)", ":precondtion (holding ?d)", "unknown keyword", ":precondition"),
         (False, "(and (hand-empty) (on", "(nad (hand-empty) (on", "unknown operator 'nad'", "and"),
     ],

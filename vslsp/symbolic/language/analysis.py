@@ -141,6 +141,12 @@ def _analyse(domain_text: str | None, domain_file: str, problem_text: str | None
 
 def _read_domain(ctx: Context, document: Document, define: Group) -> list[Body]:
     found = sections(ctx, define, DOMAIN_SECTIONS, "domain")
+    header = define.items[1]
+    if isinstance(header, Group) and header.close is not None:
+        ctx.header_end["domain"] = header.span
+    for section in found:
+        if section.key in (":requirements", ":types", ":constants") and section.close is not None:
+            ctx.header_end.setdefault(section.key, section.span)
     order = {":requirements": 0, ":types": 1, ":constants": 2, ":predicates": 2, ":functions": 2}
     bodies: list[Body] = []
     for section in sorted(found, key=lambda s: order.get(s.key, 3)):  # types before what uses them

@@ -25,6 +25,9 @@ class Context:
     #: the domain's (:predicates ...) and (:types ...) lists, where "declare it" fixes insert
     predicates_section: Group | None = None
     types_section: Group | None = None
+    #: where a missing (:types ...) or (:predicates ...) section is inserted: after the header's last
+    #: list of (domain NAME), (:requirements ...), (:types ...), (:constants ...)
+    header_end: dict[str, Span] = field(default_factory=dict)
     in_problem: bool = False
     _ancestors: dict[str, list[str]] = field(default_factory=dict)
     _subtype: dict[tuple[tuple[str, ...], tuple[str, ...]], bool] = field(default_factory=dict)
@@ -104,11 +107,25 @@ class Context:
         return key
 
     def declare_type_fixes(self, name: str) -> list[Fix]:
+        """The quick fix that declares type ``name``: in (:types ...), or a new (:types ...) section."""
+        title = f"declare type '{name}'"
         section = self.types_section
-        if section is None or section.close is None:
-            return []
-        at = section.close.span
-        return [Fix(f"declare type '{name}'", Span(at.file, at.line, at.column, at.line, at.column), f" {name}")]
+        if section is not None and section.close is not None:
+            at = section.close.span
+            return [Fix(title, Span(at.file, at.line, at.column, at.line, at.column), f" {name}")]
+        after = self.insertion_point(":types")
+        return [Fix(title, after, f"\n  (:types {name})")] if after is not None else []
+
+    def insertion_point(self, section: str) -> Span | None:
+        """The empty span just after the header list that a new ``section`` follows, or None."""
+        order = (
+            ("domain", ":requirements") if section == ":types" else ("domain", ":requirements", ":types", ":constants")
+        )
+        found = [self.header_end[key] for key in order if key in self.header_end]
+        if not found:
+            return None
+        at = max(found, key=lambda span: (span.end_line, span.end_column))
+        return Span(at.file, at.end_line, at.end_column, at.end_line, at.end_column)
 
     # --- declarations ------------------------------------------------------------------------------
 

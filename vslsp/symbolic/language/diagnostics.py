@@ -137,8 +137,11 @@ def distance(a: str, b: str, limit: int) -> int:
 
 def closest(name: str, candidates: Iterable[str]) -> str | None:
     """The candidate nearest to ``name`` (case ignored) when it is close enough to be a typo: at most
-    one edit for names up to 4 characters, two up to 8, three beyond; ties go to the first candidate."""
+    one edit for names of 3 or 4 characters, two up to 8, three beyond (none for shorter names: any
+    one-letter name is one edit from any other); ties go to the first candidate."""
     key = name.lower()
+    if len(key) < 3:
+        return None
     limit = 1 if len(key) <= 4 else 2 if len(key) <= 8 else 3
     best: str | None = None
     best_distance = limit + 1

@@ -152,7 +152,7 @@ def _unknown_head(ctx: Context, node: Group, head: Token, operators: tuple[str, 
         return
     predicates = ctx.index.names("predicate")
     near_predicate = closest(head.text, predicates)
-    near_operator = closest(head.text, operators)
+    near_operator = closest(head.text, [o for o in operators if o[0].isalpha()])
     if near_operator is not None and near_predicate is None:
         ctx.unknown(head, f"unknown operator '{head.text}'", operators, "unknown-operator")
         return
@@ -165,7 +165,10 @@ def _declare_predicate(ctx: Context, node: Group, scope: Scope) -> list[Fix]:
     from the arguments."""
     section = ctx.predicates_section
     head = node.head
-    if section is None or section.close is None or head is None:
+    if head is None:
+        return []
+    after = ctx.insertion_point(":predicates")
+    if (section is None or section.close is None) and after is None:
         return []
     arguments = []
     for position, item in enumerate(node.items[1:]):
@@ -179,9 +182,13 @@ def _declare_predicate(ctx: Context, node: Group, scope: Scope) -> list[Fix]:
             if ":typing" in ctx.used
             else f" ?{chr(ord('a') + position % 26)}"
         )
-    at = section.close.span
+    title = f"declare predicate '{head.text}'"
     text = f"\n    ({head.text}{''.join(arguments)})"
-    return [Fix(f"declare predicate '{head.text}'", Span(at.file, at.line, at.column, at.line, at.column), text)]
+    if section is not None and section.close is not None:
+        at = section.close.span
+        return [Fix(title, Span(at.file, at.line, at.column, at.line, at.column), text)]
+    assert after is not None
+    return [Fix(title, after, f"\n  (:predicates{text})")]
 
 
 def term(
@@ -199,9 +206,13 @@ def term(
         declaration = scope.get(item.key)
         ctx.index.refer("parameter" if declaration is None else declaration.kind, item.text, item.span, declaration)
         if declaration is None:
-            ctx.unknown(
-                item, f"undefined parameter '{item.text}'", [d.name for d in scope.values()], "undefined-variable"
-            )
+            visible = [d.name for d in scope.values()]
+            message = f"undefined parameter '{item.text}'"
+            if len(visible) == 1:  # the one variable there is: what else could be meant
+                fix = Fix(f"change to '{visible[0]}'", item.span, visible[0])
+                ctx.error(item.span, message, "undefined-variable", visible[0], [fix])
+            else:
+                ctx.unknown(item, message, visible, "undefined-variable")
             return
     else:
         declaration = ctx.index.find("constant", item.key)
