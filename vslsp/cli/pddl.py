@@ -1,4 +1,5 @@
-"""``vslsp pddl check DOMAIN [PROBLEM]``: read PDDL 3.0 files and report what is in them or wrong.
+"""``vslsp pddl check DOMAIN [PROBLEM]``: every error and warning of PDDL 3.0 files, from the language
+engine (:mod:`vslsp.symbolic.language`: no unified-planning, a few Python start-ups cold).
 
 Also the shared edge of the PDDL commands (``pddl check``, ``plan``, ``validate``): warnings
 printed as ``warning: ...``, ``--json`` always JSON (``{"error": ...}`` on failure), a failure
