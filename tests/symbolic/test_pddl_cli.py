@@ -46,8 +46,8 @@ def test_unsolvable_problem_is_no_plan_exit_1(capsys, tmp_path):
 def test_malformed_input_exit_2_with_file_line_column(capsys, tmp_path):
     problem = tmp_path / "typo.pddl"
     problem.write_text((PDDL / "simple-push-pull.pddl").read_text().replace("(far red)\n", "(far red\n"))
-    code, _, err = vslsp(capsys, "pddl", "check", DOMAIN, problem)
-    assert code == 2 and err.startswith(f"error: {problem}:") and "')' is missing" in err
+    code, out, _ = vslsp(capsys, "pddl", "check", DOMAIN, problem)
+    assert code == 2 and out.startswith(f"{problem}:7:5: error: ") and "')' is missing" in out
     code, _, err = vslsp(capsys, "plan", DOMAIN, problem)
     assert code == 2 and "Traceback" not in err
     bad_plan = tmp_path / "plan"

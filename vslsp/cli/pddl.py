@@ -1,4 +1,5 @@
-"""``vslsp pddl check DOMAIN [PROBLEM]``: read PDDL 3.0 files and report what is in them or wrong.
+"""``vslsp pddl check DOMAIN [PROBLEM]``: every error and warning of PDDL 3.0 files, from the language
+engine (:mod:`vslsp.symbolic.language`: no unified-planning, a few Python start-ups cold).
 
 Also the shared edge of the PDDL commands (``pddl check``, ``plan``, ``validate``): warnings
 printed as ``warning: ...``, ``--json`` always JSON (``{"error": ...}`` on failure), a failure
@@ -72,38 +73,81 @@ def pddl() -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @debug_option
 def check(domain: str, problem: str | None, as_json: bool, debug: bool) -> None:
-    """Parse DOMAIN (and PROBLEM); malformed input is reported as FILE:LINE:COL (exit 2)."""
-    from vslsp.symbolic import read_pddl
+    """Check DOMAIN (and PROBLEM): every error and warning, one line each as
+    FILE:LINE:COL: error|warning: message (did you mean 'x'?). Exit 2 with any error, 0 otherwise."""
+    from vslsp.symbolic.language import check_files
 
-    with pddl_edge(as_json, debug) as warned:
-        parsed_domain, parsed_problem = read_pddl(domain, problem)
-    summary: dict[str, Any] = {
-        "domain": {
-            "name": parsed_domain.name,
-            "types": [name for name, _ in parsed_domain.types],
-            "constants": [name for name, _ in parsed_domain.constants],
-            "predicates": [p.name for p in parsed_domain.predicates],
-            "actions": [a.name for a in parsed_domain.actions],
-        },
-        "warnings": warned,
-    }
-    if parsed_problem is not None:
-        summary["problem"] = {
-            "name": parsed_problem.name,
-            "objects": [name for name, _ in parsed_problem.objects],
-            "init": sorted(atom.to_pddl() for atom in parsed_problem.init),
-            "goal": parsed_problem.goal.to_pddl(),
-            "constraints": [c.to_pddl() for c in parsed_problem.constraints],
-        }
+    with pddl_edge(as_json, debug, {"diagnostics": []}):
+        analysis = check_files(domain, problem)
+    summary = _summary(analysis, domain, problem)
     if as_json:
-        click.echo(json.dumps(summary))
-        return
-    d = summary["domain"]
-    click.echo(
-        f"{domain}: domain {d['name']}: {_count(len(d['types']), 'type')}, predicates "
-        f"{', '.join(d['predicates'])}; actions {', '.join(d['actions'])}"
-    )
-    if parsed_problem is not None:
+        report: dict[str, Any] = {
+            "diagnostics": [d.to_dict() for d in analysis.diagnostics],
+            "exit_code": analysis.exit_code,
+            **summary,
+            "warnings": [d.format() for d in analysis.warnings],
+        }
+        if analysis.errors:
+            report["error"] = _failure(analysis)
+        click.echo(json.dumps(report))
+    else:
+        for diagnostic in analysis.diagnostics:
+            click.echo(diagnostic.format())
+        if analysis.errors:
+            counts = f"{_count(len(analysis.errors), 'error')}, {_count(len(analysis.warnings), 'warning')}"
+            click.echo(counts, err=True)
+        else:
+            _print_summary(summary, domain, problem)
+    if analysis.errors:
+        sys.exit(2)  # the diagnostics are printed: no second message
+
+
+def _failure(analysis: Any) -> str:
+    """The ``"error"`` of ``--json``: how many errors, and the first."""
+    errors = analysis.errors
+    return f"{_count(len(errors), 'error')}; the first: {errors[0].format()}"
+
+
+def _summary(analysis: Any, domain: str, problem: str | None) -> dict[str, Any]:
+    """What the files declare (the ``domain`` and ``problem`` objects of ``--json``), in lower case."""
+    from vslsp.symbolic.language import text_of
+
+    index = analysis.index
+    summary: dict[str, Any] = {}
+    if analysis.domain_name is not None:
+        summary["domain"] = {
+            "name": analysis.domain_name.lower(),
+            "types": [d.key for d in index.of_kind("type")],
+            "constants": [d.key for d in index.of_kind("constant")],
+            "predicates": [d.key for d in index.of_kind("predicate")],
+            "actions": [d.key for d in index.of_kind("action")],
+        }
+    if problem is not None and analysis.problem_name is not None:
+        sections = analysis.sections(problem)
+        init = sections.get(":init")
+        goal = sections.get(":goal")
+        constraints = sections.get(":constraints")
+        listed = constraints.items[1:] if constraints is not None else []
+        if len(listed) == 1 and not isinstance(listed[0], str) and getattr(listed[0], "key", "") == "and":
+            listed = listed[0].items[1:]  # type: ignore[union-attr]
+        summary["problem"] = {
+            "name": analysis.problem_name.lower(),
+            "objects": [d.key for d in index.of_kind("object")],
+            "init": sorted(text_of(atom, lower=True) for atom in (init.items[1:] if init is not None else [])),
+            "goal": text_of(goal.items[1], lower=True) if goal is not None and len(goal.items) > 1 else "",
+            "constraints": [text_of(c, lower=True) for c in listed],
+        }
+    return summary
+
+
+def _print_summary(summary: dict[str, Any], domain: str, problem: str | None) -> None:
+    if "domain" in summary:
+        d = summary["domain"]
+        click.echo(
+            f"{domain}: domain {d['name']}: {_count(len(d['types']), 'type')}, predicates "
+            f"{', '.join(d['predicates'])}; actions {', '.join(d['actions'])}"
+        )
+    if "problem" in summary:
         p = summary["problem"]
         click.echo(
             f"{problem}: problem {p['name']}: {_count(len(p['objects']), 'object')}, "

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.errors import InputError
+from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl_errors import (
     at_end_as_sometime_after,
@@ -37,8 +38,8 @@ from vslsp.symbolic.pddl_errors import (
 )
 from vslsp.symbolic.up_model import domain_from_up, environment, problem_from_up
 
-#: The largest PDDL file read (unified-planning's reader slows down more than linearly with size).
-MAX_PDDL_BYTES = 1_000_000
+__all__ = ["MAX_PDDL_BYTES", "parse_pddl", "read_domain", "read_pddl", "read_problem", "read_text", "save"]
+
 #: The longest a domain + problem may take to parse (seconds; enforced in the main thread).
 PARSE_BUDGET_S = 60.0
 
@@ -78,30 +79,6 @@ def save(text: str, path: str | Path) -> Path:
     except OSError as error:
         raise InputError(f"{path}: cannot write the file ({error.strerror}); choose a writable place") from None
     return path
-
-
-def read_text(path: str | Path, what: str = "PDDL file") -> str:
-    """The text of a UTF-8 file of at most :data:`MAX_PDDL_BYTES` bytes, or InputError saying what is wrong."""
-    path = Path(path)
-    try:
-        size = path.stat().st_size
-        if size > MAX_PDDL_BYTES:
-            raise InputError(
-                f"{path}: the {what} has {size / 1e6:.1f} MB; vslsp reads at most "
-                f"{MAX_PDDL_BYTES / 1e6:.0f} MB (split the problem or plan with Fast Downward directly)"
-            )
-        data = path.read_bytes()
-    except OSError as error:
-        raise InputError(f"{path}: cannot read the file ({error.strerror})") from None
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as error:
-        line = data.count(b"\n", 0, error.start) + 1
-        column = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
-        raise InputError(
-            f"{path}:{line}:{column}: the {what} is not UTF-8 text (byte 0x{data[error.start]:02x}); "
-            "save it as UTF-8 (plain ASCII is fine)"
-        ) from None
 
 
 def _read(
