@@ -30,3 +30,20 @@ class UnreachableError(VslspError):
     """A Cartesian target the arm cannot reach."""
 
     exit_code = 1
+
+
+class Interrupted(BaseException):
+    """SIGINT (Ctrl-C) or SIGTERM arrived: the run stops, keeping what finished.
+
+    A BaseException, like KeyboardInterrupt, so that ``except Exception`` (a trial recorded as
+    failed) never swallows it; ``finally`` blocks still end child processes and remove
+    temporary folders on the way out. ``exit_code``: 128 + the signal's number (130, 143).
+    """
+
+    def __init__(self, signal_name: str = "SIGTERM") -> None:
+        super().__init__(signal_name)
+        self.signal_name = signal_name
+
+    @property
+    def exit_code(self) -> int:
+        return 130 if self.signal_name == "SIGINT" else 143

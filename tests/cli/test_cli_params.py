@@ -20,6 +20,7 @@ from vslsp.cli.params import (
     seed_option,
 )
 from vslsp.errors import InputError
+from vslsp.outputs import LOCK_NAME
 
 
 @click.command()
@@ -56,7 +57,8 @@ def test_good_seeds_pass(seed, capsys):
 def test_the_output_folder_is_created_and_probed(tmp_path, capsys):
     folder = tmp_path / "a" / "b"
     assert run("--out", folder) == (0, "")
-    assert folder.is_dir() and list(folder.iterdir()) == []  # the probe file is gone
+    # The probe file is gone; the lock that says which run uses the folder stays while it runs.
+    assert folder.is_dir() and [p.name for p in folder.iterdir()] == [LOCK_NAME]
 
 
 def test_an_output_folder_under_a_file_names_the_file(tmp_path):

@@ -9,12 +9,18 @@ from __future__ import annotations
 
 import importlib
 import json
+import os
+import signal
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
 
 import click
 
 from vslsp import __version__
-from vslsp.errors import VslspError
+from vslsp.errors import Interrupted, VslspError
+from vslsp.outputs import NO_SPACE
 
 COMMANDS: dict[str, str] = {
     "scene": "vslsp.cli.scene:scene",
@@ -57,28 +63,82 @@ def main(argv: list[str] | None = None) -> None:
     """Entry point: runs the CLI, turning user errors into a message and an exit code.
 
     Under ``--json`` a failure also prints its JSON on stdout, ``{"error": ..., "exit_code": ...}``,
-    so that a script reading stdout always gets one object.
+    so that a script reading stdout always gets one object. SIGTERM raises
+    :class:`~vslsp.errors.Interrupted` (as Ctrl-C raises KeyboardInterrupt), so that every command
+    ends its child processes, removes its temporary folders and keeps its finished work on the
+    way out; the exit code is then 143 (130 for Ctrl-C).
     """
     args = list(sys.argv[1:] if argv is None else argv)
     wants_json = "--json" in args
-    try:
-        app.main(args=args, prog_name="vslsp", standalone_mode=False)
-    except VslspError as error:
-        _fail(str(error), error.exit_code, wants_json and not getattr(error, "json_printed", False))
-    except click.exceptions.Abort:
-        _fail("aborted", 130, wants_json)
-    except click.exceptions.Exit as done:
-        sys.exit(done.exit_code)
-    except click.ClickException as error:
-        if wants_json:
-            click.echo(json.dumps({"error": error.format_message(), "exit_code": 2}))
-        error.show()
-        sys.exit(2)
+    with _sigterm_raises():
+        try:
+            app.main(args=args, prog_name="vslsp", standalone_mode=False)
+            sys.stdout.flush()  # here, so that a full disk behind stdout is a message, not a traceback at exit
+        except VslspError as error:
+            _fail(str(error), error.exit_code, wants_json and not getattr(error, "json_printed", False))
+        except Interrupted as stop:
+            _fail(f"interrupted ({stop.signal_name})", stop.exit_code, wants_json)
+        except click.exceptions.Abort:
+            _fail("aborted", 130, wants_json)
+        except click.exceptions.Exit as done:
+            _flush_or_fail()
+            sys.exit(done.exit_code)
+        except click.ClickException as error:
+            if wants_json:
+                click.echo(json.dumps({"error": error.format_message(), "exit_code": 2}))
+            error.show()
+            sys.exit(2)
+        except OSError as error:
+            if error.errno not in NO_SPACE:
+                raise
+            _no_space(error)
     sys.exit(0)
 
 
+@contextmanager
+def _sigterm_raises() -> Iterator[None]:
+    def handler(number: int, frame: Any) -> None:
+        raise Interrupted(signal.Signals(number).name)
+
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread (an embedding program): leave signals alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _flush_or_fail() -> None:
+    try:
+        sys.stdout.flush()
+    except OSError as error:
+        if error.errno not in NO_SPACE:
+            raise
+        _no_space(error)
+
+
+def _no_space(error: OSError) -> None:
+    """A write failed for lack of space: one line, exit 1 (stdout is then silenced: nothing more fits)."""
+    where = error.filename or "the standard output"
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+    click.echo(f"error: cannot write {where}: {error.strerror}; free some space and run again", err=True)
+    sys.exit(1)
+
+
 def _fail(message: str, code: int, wants_json: bool) -> None:
-    if wants_json:
-        click.echo(json.dumps({"error": message, "exit_code": code}))
+    try:
+        if wants_json:
+            click.echo(json.dumps({"error": message, "exit_code": code}))
+            sys.stdout.flush()
+    except OSError as error:
+        if error.errno not in NO_SPACE:
+            raise
+        _no_space(error)
     click.echo(f"error: {message}" if code != 130 else message, err=True)
     sys.exit(code)

@@ -16,6 +16,7 @@ from pathlib import Path
 import click
 
 from vslsp.cli.params import OUTPUT_FOLDER, seed_option
+from vslsp.outputs import refuse_link
 
 
 @click.command()
@@ -42,6 +43,8 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
     from vslsp.tasks import Run, write_report
     from vslsp.tasks.icub import PullInOrder
 
+    for report_file in ("report.json", "report.md"):
+        refuse_link(out / report_file, "--out")
     console = Console(stderr=True)
     start = time.perf_counter()
     task = PullInOrder(skills=skills_dir)

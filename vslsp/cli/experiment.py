@@ -8,12 +8,19 @@ Every experiment takes the same options and writes the same report folder (``rep
 from __future__ import annotations
 
 import json
+import signal
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import click
 
 from vslsp.cli.params import prepare_output_folder, seed_option
+from vslsp.errors import Interrupted
+from vslsp.outputs import OutputFailed, refuse_link
+
+REPORT_FILES = ("report.json", "report.md")
 
 
 @click.command()
@@ -84,8 +91,9 @@ def experiment(
 ) -> None:
     """Run experiment NAME (see --list) and write a report folder.
 
-    Exit 0 when every trial succeeded, 1 when a trial failed or the run was interrupted, 2 for
-    bad input (found before any trial runs).
+    Exit 0 when every trial succeeded, 1 when a trial failed, 2 for bad input (found before any
+    trial runs), 130 / 143 when Ctrl-C / SIGTERM stopped the run (the finished trials' report is
+    written first).
     """
     from vslsp.errors import InputError
     from vslsp.tasks import get_task, list_tasks
@@ -116,6 +124,8 @@ def experiment(
     )
     folder = Path(out) if out else Path("out") / "experiments" / name
     prepare_output_folder(folder)
+    for report_file in REPORT_FILES:
+        refuse_link(folder / report_file, "--out")
     data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend, address=address)
     if as_json:
         click.echo(json.dumps(data))
@@ -128,6 +138,8 @@ def experiment(
         )
         for failure in data["failures"][:10]:
             click.echo(f"  seed {failure['seed']}: {failure['error']}", err=True)
+    if data.get("interrupted"):
+        sys.exit(Interrupted(data["interrupted"]).exit_code)
     sys.exit(0 if data["successes"] == data["trials"] and not data.get("partial") else 1)
 
 
@@ -169,4 +181,37 @@ def run_experiment(
             task, seeds, workers=workers, backend=backend, address=address, on_done=advance, on_interrupt=interrupted
         )
         progress.update(bar, description=f"{task.name}: report")
-        return write_report(folder, task, run)
+        try:
+            return write_report(folder, task, run)
+        except OutputFailed as error:  # a full disk: say which trials' report, if any, was kept
+            raise OutputFailed(f"{error}{_kept(folder, run)}") from None
+        except (Interrupted, KeyboardInterrupt) as stop:  # during the figures: the trials' report stays
+            run.interrupted = getattr(stop, "signal_name", "SIGINT")
+            interrupted(run.interrupted)
+            with _signals_held():  # a second Ctrl-C must not cut the report's last write short
+                return write_report(folder, task, run, figures=False)
+
+
+def _kept(folder: Path, run) -> str:
+    """Where the report of the finished trials is, when it was written before the failure."""
+    try:
+        kept = json.loads((folder / "report.json").read_text())
+    except (OSError, ValueError):
+        return f"; none of the {len(run.results)} finished trials' report could be written"
+    if len(kept.get("results", [])) == len(run.results):
+        return f"; the report of the {len(run.results)} finished trials (without figures) is in {folder}"
+    return f"; {folder / 'report.json'} is from an earlier run"
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """SIGINT and SIGTERM held back (delivered when the block ends, and ignored by then)."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        previous = {number: signal.signal(number, signal.SIG_IGN) for number in held}
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, held)
+        for number, handler in previous.items():
+            signal.signal(number, handler)

@@ -47,10 +47,17 @@ def _ground(
 ) -> None:
     from vslsp.grounding import draw_grounding, load_predicates, with_builtins
     from vslsp.grounding import ground as ground_pair
+    from vslsp.outputs import refuse_input, refuse_link
     from vslsp.vision.image import check_image_output, read_image, write_image
 
     if overlay:
         check_image_output(overlay)
+        refuse_link(overlay, "--overlay")
+        refuse_input(
+            overlay,
+            {"pre-action image": pre, "post-action image": post, "predicates file": predicates_file},
+            "--overlay",
+        )
     predicates = with_builtins(load_predicates(predicates_file)) if predicates_file else None
     pre_image, post_image = read_image(pre, f"pre-action image {pre}"), read_image(post, f"post-action image {post}")
     grounding = ground_pair(pre_image, post_image, robot_side=robot_side, predicates=predicates)

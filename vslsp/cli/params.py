@@ -9,12 +9,13 @@ A bad value is a usage error (exit 2, one line naming the option, no traceback).
 ``OUTPUT_FOLDER`` (type) / :func:`prepare_output_folder` (function)
     A folder the command writes into. Converting the option creates the folder (and its parents)
     and probes that a file can be written there, so a read-only folder or a path under a file is
-    reported up front, naming the path, instead of as an ``OSError`` after the whole run. Use the
+    reported up front, naming the path, instead of as an ``OSError`` after the whole run; it
+    also locks the folder for this run (a second run into it is refused, naming the first). Use the
     function for a folder known only later (a default computed from another argument); it raises
     :class:`vslsp.errors.InputError` (exit 2).
 ``OUTPUT_FILE`` (type) / :func:`prepare_output_file` (function)
     A file the command will write: its folder is created and probed the same way; an existing
-    folder at that path is refused.
+    folder or symbolic link at that path is refused.
 :func:`count` (type factory)
     A positive integer with an upper bound: ``count(4096)`` for ``--width``, ``count(10000)``
     for ``--trials``. ``0`` and negatives -> ``0 is not in the range 1<=x<=4096``.
@@ -43,6 +44,7 @@ from typing import Any, TypeVar
 import click
 
 from vslsp.errors import InputError
+from vslsp.outputs import lock_folder, refuse_link
 
 MAX_SEED = 2**32 - 1
 F = TypeVar("F", bound=Callable[..., Any])
@@ -116,12 +118,15 @@ def _folder_problem(path: Path) -> str | None:
 def prepare_output_folder(path: str | os.PathLike[str], option: str = "--out") -> Path:
     """Create the output folder ``path`` and check that it is writable; return it.
 
-    Raises :class:`InputError` (exit 2) naming ``option`` and the path otherwise.
+    Raises :class:`InputError` (exit 2) naming ``option`` and the path otherwise, and when
+    another vslsp run is writing into the folder (:func:`vslsp.outputs.lock_folder`: the folder
+    is this process's until it exits).
     """
     folder = Path(path)
     problem = _folder_problem(folder)
     if problem is not None:
         raise InputError(f"{option}: {problem}")
+    lock_folder(folder, option)
     return folder
 
 
@@ -133,6 +138,7 @@ def prepare_output_file(path: str | os.PathLike[str], option: str = "--out") -> 
     target = Path(path)
     if target.is_dir():
         raise InputError(f"{option}: {target} is a folder; give a file name")
+    refuse_link(target, option)
     problem = _folder_problem(target.parent)
     if problem is None and target.exists() and not os.access(target, os.W_OK):
         problem = f"the file {target} is read-only; choose another file"
@@ -149,10 +155,10 @@ class OutputFolder(click.ParamType):
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Path:
         if value is None or value == "":
             self.fail("an empty path is not a folder", param, ctx)
-        problem = _folder_problem(Path(value))
-        if problem is not None:
-            self.fail(problem, param, ctx)
-        return Path(value)
+        try:
+            return prepare_output_folder(value, param.opts[0] if param is not None and param.opts else "--out")
+        except InputError as error:
+            self.fail(str(error).split(": ", 1)[1], param, ctx)
 
 
 class OutputFile(click.ParamType):

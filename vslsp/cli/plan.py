@@ -3,30 +3,15 @@
 from __future__ import annotations
 
 import json
-import os
-from pathlib import Path
 
 import click
 
+from vslsp.cli.params import positive_float, prepare_output_file
 from vslsp.cli.pddl import debug_option, pddl_edge
-from vslsp.errors import InputError
+from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
 
-
-def writable_file(path: str) -> Path:
-    """``path``'s folder created and probed for writing, before any work; InputError if it cannot be written."""
-    target = Path(path)
-    if target.is_dir():
-        raise InputError(f"--out {path}: is a folder; give a file name such as {Path(path) / 'plan.txt'}")
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        existed = target.exists()
-        with open(target, "a"):
-            pass
-        if not existed:
-            os.remove(target)
-    except OSError as error:
-        raise InputError(f"--out {path}: cannot write there ({error.strerror}); choose a writable folder") from None
-    return target
+MAX_TIMEOUT_S = 7 * 24 * 3600.0  # a week
+MAX_MEMORY_MB = 1024 * 1024  # a terabyte
 
 
 @click.command()
@@ -47,7 +32,18 @@ def writable_file(path: str) -> Path:
     "action schemas) or ground (unified-planning's TrajectoryConstraintsRemover).",
 )
 @click.option(
-    "--timeout", type=click.FloatRange(min=0.1), default=None, help="Give up after this many seconds (exit 1)."
+    "--timeout",
+    type=positive_float(MAX_TIMEOUT_S),
+    default=DEFAULT_TIMEOUT_S,
+    show_default=True,
+    help='The planner\'s time limit in wall-clock seconds; reaching it is exit 1 ("time limit of N s reached").',
+)
+@click.option(
+    "--memory",
+    type=click.IntRange(64, MAX_MEMORY_MB),
+    default=DEFAULT_MEMORY_MB,
+    show_default=True,
+    help="The planner's memory limit in MB (address space of each of its processes); reaching it is exit 1.",
 )
 @click.option(
     "--out",
@@ -68,20 +64,25 @@ def plan(
     problem: str,
     planner: str,
     compilation: str | None,
-    timeout: float | None,
+    timeout: float,
+    memory: int,
     out: str | None,
     as_json: bool,
     debug: bool,
 ) -> None:
     """Find a plan for PROBLEM in DOMAIN, keeping its PDDL 3.0 trajectory constraints.
 
-    Exit 0: a plan; 1: no plan; 2: bad input; 3: the planner or compiler failed inside.
+    Exit 0: a plan; 1: no plan (or a time or memory limit reached); 2: bad input; 3: the
+    planner or compiler failed inside.
     """
+    from vslsp.outputs import refuse_input
     from vslsp.symbolic import Compilation, check_planner, read_pddl, save, solve
 
     with pddl_edge(as_json, debug, {"plan": None, "planner": planner}) as warned:
         check_planner(planner)
-        target = writable_file(out) if out else None
+        target = prepare_output_file(out) if out else None
+        if target is not None:
+            refuse_input(target, {"domain": domain, "problem": problem}, "--out")
         parsed_domain, parsed_problem = read_pddl(domain, problem)
         assert parsed_problem is not None
         result = solve(
@@ -90,6 +91,7 @@ def plan(
             planner=planner,
             compilation=Compilation(compilation) if compilation else None,
             timeout=timeout,
+            memory_mb=memory,
         )
         if target is not None:
             save(result.to_pddl(), target)

@@ -34,19 +34,26 @@ MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
 @click.option("--gui", is_flag=True, help="Open the pybullet window.")
 def scene(seed: int, scene_file: str | None, cubes: int, out: Path, width: int, height: int, gui: bool) -> None:
     """Render the robot's head camera and the overhead camera (RGB PNG, depth .npy)."""
-    import cv2
     import numpy as np
 
+    from vslsp.outputs import atomic_file, refuse_input, refuse_link, write_text
     from vslsp.sim import CAMERA_NAMES, SceneSpec, World
+    from vslsp.vision.image import write_image
 
+    names = [f"{n}{suffix}" for n in CAMERA_NAMES for suffix in (".png", "_depth.npy")]
+    for name in [*names, "scene.json", "ground_truth.json"]:  # before the simulator starts
+        refuse_link(out / name, "--out")
+        if scene_file:
+            refuse_input(out / name, {"scene file": scene_file}, "--out")
     spec = SceneSpec.load(scene_file) if scene_file else SceneSpec.random(seed, n_cubes=cubes)
     folder = out
     with World(spec, gui=gui) as world:
         for name in CAMERA_NAMES:
             observation = world.observe(name, width, height)
-            cv2.imwrite(str(folder / f"{name}.png"), observation.rgb[:, :, ::-1])
-            np.save(folder / f"{name}_depth.npy", observation.depth)
+            write_image(folder / f"{name}.png", observation.rgb)
+            with atomic_file(folder / f"{name}_depth.npy") as stream:
+                np.save(stream, observation.depth)
         truth = {name: {"pose": world.cube_pose(name), "far": world.is_far(name)} for name in world.cubes}
-    spec.save(folder / "scene.json")
-    (folder / "ground_truth.json").write_text(json.dumps(truth, indent=2) + "\n")
+    write_text(folder / "scene.json", json.dumps(spec.to_dict(), indent=2) + "\n")
+    write_text(folder / "ground_truth.json", json.dumps(truth, indent=2) + "\n")
     click.echo(f"wrote {', '.join(f'{n}.png' for n in CAMERA_NAMES)} and scene.json to {folder}")

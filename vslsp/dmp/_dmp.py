@@ -22,6 +22,7 @@ import torch
 from vslsp.dmp import _forcing, _system
 from vslsp.dmp._validation import check_demonstrations, check_points, check_times
 from vslsp.errors import InputError
+from vslsp.outputs import atomic_file
 
 FORMAT = "vslsp-dmp"
 VERSION = 2
@@ -382,7 +383,8 @@ class DMP:
     def save(self, path: str | Path) -> None:
         """Write an ``.npz`` file (no pickle)."""
         arrays = self.to_arrays()
-        np.savez(Path(path), meta=arrays["meta"], weights=arrays["weights"])
+        with atomic_file(path) as stream:
+            np.savez(stream, meta=arrays["meta"], weights=arrays["weights"])
 
     @classmethod
     def load(cls, path: str | Path) -> DMP:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import re
 import zipfile
 from dataclasses import dataclass, field
@@ -27,6 +28,7 @@ import numpy as np
 from vslsp.data import skills_folder
 from vslsp.dmp import DMP
 from vslsp.errors import InputError
+from vslsp.outputs import atomic_file, write_text
 
 LIBRARY_FORMAT = "vslsp-skill-library"
 LIBRARY_VERSION = 1
@@ -161,7 +163,8 @@ class SkillLibrary:
             skill.reach.save(folder / f"{name}_reach.npz")
             arrays: dict[str, Any] = {f"t_{k}": t for k, (t, _) in enumerate(skill.demos)}
             arrays.update({f"y_{k}": y for k, (_, y) in enumerate(skill.demos)})
-            np.savez(folder / f"{name}_demos.npz", **arrays)
+            with atomic_file(folder / f"{name}_demos.npz") as stream:
+                np.savez(stream, **arrays)
         index = {
             "format": LIBRARY_FORMAT,
             "version": LIBRARY_VERSION,
@@ -176,7 +179,9 @@ class SkillLibrary:
                 for name, skill in self.skills.items()
             },
         }
-        (folder / "library.json").write_text(json.dumps(index, indent=2) + "\n")
+        write_text(
+            folder / "library.json", json.dumps(index, indent=2) + "\n"
+        )  # last: the index names only written files
 
     @classmethod
     def load(cls, folder: str | Path) -> SkillLibrary:
@@ -196,6 +201,7 @@ class SkillLibrary:
     @classmethod
     def _read(cls, folder: Path, strict: bool) -> tuple[SkillLibrary, list[str]]:
         index_file = folder / "library.json"
+        refuse_linked(index_file)
         fix_all = " and ".join(f"`vslsp teach {name} --out {folder} --force`" for name in SKILL_NAMES)
         try:
             index = json.loads(index_file.read_text(encoding="utf-8"))
@@ -283,7 +289,18 @@ def _file_name(entry: dict, key: str, folder: Path) -> Path:
     name = entry.get(key)
     if not isinstance(name, str) or not name or Path(name).name != name or name in (".", ".."):
         raise _Invalid(f"{key} is {name!r}, not the name of a file in {folder}")
+    refuse_linked(folder / name)
     return folder / name
+
+
+def refuse_linked(path: Path) -> None:
+    """A library holds regular files only: a symbolic link is refused on reading and writing, and
+    the advice is never ``--force`` (which would write through the link onto its target)."""
+    if path.is_symlink():
+        raise InputError(
+            f"{path} is a symbolic link (to {os.readlink(path)}), not a file of the skill library; vslsp "
+            f"never reads or writes a library through a link: remove the link, or teach into another folder"
+        )
 
 
 def _arrays(path: Path, what: str) -> dict[str, np.ndarray]:

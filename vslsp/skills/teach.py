@@ -15,6 +15,7 @@ import numpy as np
 
 from vslsp.dmp import DMP
 from vslsp.errors import InputError
+from vslsp.outputs import atomic_file
 from vslsp.sim import TABLE_Z, LandmarkSpec, SceneSpec, World
 from vslsp.sim.robot import HAND_YAW, READY_POSITION
 from vslsp.skills.library import Skill, from_object_frame, to_object_frame
@@ -150,5 +151,6 @@ def plot_skill(skill: Skill, path, starts: np.ndarray | None = None) -> None:
         f"({skill.reach.n_demos} demonstrations, fit RMSE {skill.reach.fit_rmse * 1000:.2f} mm)"
     )
     figure.tight_layout()
-    figure.savefig(path, dpi=110)
+    with atomic_file(path) as stream:
+        figure.savefig(stream, dpi=110, format="png")
     plt.close(figure)

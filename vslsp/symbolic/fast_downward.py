@@ -11,8 +11,10 @@ takes longer than the search. Part of the planning adapter with :mod:`vslsp.symb
 from __future__ import annotations
 
 import importlib.resources
+import math
 import os
 import re
+import resource
 import signal
 import subprocess
 import sys
@@ -75,15 +77,31 @@ def driver() -> Path:
 
 
 def run(
-    domain_text: str, problem_text: str, options: list[str], timeout: float | None = None, translate_only: bool = False
+    domain_text: str,
+    problem_text: str,
+    options: list[str],
+    timeout: float | None = None,
+    translate_only: bool = False,
+    memory_mb: int | None = None,
 ) -> Run:
     """Run the driver on the two texts in a fresh folder.
 
     ``options``: ``["--search", "..."]`` or ``["--alias", "..."]``.
 
+    ``timeout``: wall-clock seconds for the whole run (also the driver's CPU limit).
+    ``memory_mb``: the address-space limit of every process of the run (``RLIMIT_AS``, set in the
+    child before it starts, so the translator or the search fails its allocation instead of
+    growing the machine out of memory).
+
     ``translate_only``: stop after the translator (to time it).
+
+    Fast Downward runs in this process's group (no session of its own), so a signal to the
+    group (Ctrl-C, ``timeout``) reaches it too; when this process stops otherwise (its own
+    limit, an interrupt, an exception) every process of the run is killed and the folder removed.
     """
-    limit = ["--overall-time-limit", f"{max(1, int(timeout))}s"] if timeout else []
+    limit = ["--overall-time-limit", f"{max(1, math.ceil(timeout))}s"] if timeout else []
+    if memory_mb:
+        limit += ["--overall-memory-limit", f"{memory_mb}M"]
     with tempfile.TemporaryDirectory(prefix="vslsp-fd-") as folder:
         domain_file, problem_file = Path(folder) / "domain.pddl", Path(folder) / "problem.pddl"
         domain_file.write_text(domain_text)
@@ -105,24 +123,114 @@ def run(
         ]
         start = time.perf_counter()
         process = subprocess.Popen(
-            command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
+            command,
+            cwd=folder,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            errors="replace",
+            preexec_fn=_address_space_limit(memory_mb) if memory_mb else None,
         )
         try:
             log, _ = process.communicate(timeout=timeout)  # wall-clock (the driver limits CPU time)
         except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)
+            kill_tree(process)
             log, _ = process.communicate()
             return Run(Outcome.TIMEOUT, (), log[-4000:], time.perf_counter() - start, None)
-        except BaseException:  # Ctrl-C: the translator and the search go too
-            os.killpg(process.pid, signal.SIGKILL)
+        except BaseException:  # Ctrl-C, SIGTERM, an error: the translator and the search go too
+            kill_tree(process)
             raise
         elapsed = time.perf_counter() - start
         translate = re.search(r"Done! \[[\d.]+s CPU, ([\d.]+)s wall-clock\]", log)
-        outcome = _CODES.get(process.returncode, Outcome.ERROR)
+        outcome = outcome_of(process.returncode, log, timed=bool(timeout), limited=bool(memory_mb))
         steps: tuple = ()
         if outcome is Outcome.SOLVED and not translate_only:
             steps = _read_plan(Path(folder) / "plan")
         return Run(outcome, steps, log[-4000:], elapsed, float(translate.group(1)) if translate else None)
+
+
+def outcome_of(code: int, log: str, timed: bool, limited: bool) -> Outcome:
+    """The outcome of the driver's exit ``code``. A component killed by a signal passes the
+    signal on as its code (-24, i.e. 232): SIGXCPU is the CPU limit; SIGKILL under a limit is
+    the limit's hard end (the kernel's, or a ``MemoryError`` the translator could not report)."""
+    signal_number = 256 - code if code > 128 else -code if code < 0 else None
+    if signal_number == signal.SIGXCPU and timed:
+        return Outcome.TIMEOUT
+    if signal_number in (signal.SIGKILL, signal.SIGSEGV, signal.SIGABRT) and limited and "MemoryError" in log:
+        return Outcome.MEMOUT
+    if code == 30 and limited and ("MemoryError" in log or "std::bad_alloc" in log):
+        return Outcome.MEMOUT
+    return _CODES.get(code, Outcome.ERROR)
+
+
+def failure(run: Run) -> str:
+    """What failed in a run whose outcome is ERROR: the component and its last line of output."""
+    component = "driver"
+    for match in re.finditer(r"Running (translator|search)", run.log):
+        component = match.group(1)
+    noise = ("INFO", "Driver aborting", "translate exit code", "search exit code", "[t=", "Planner time")
+    lines = [line.strip() for line in run.log.splitlines() if line.strip() and not line.startswith(noise)]
+    codes = re.findall(r"(?:translate|search) exit code: (-?\d+)", run.log)
+    code = f" with exit code {codes[-1]}" if codes else ""
+    last = lines[-1] if lines else "no output"
+    return f"Fast Downward's {component} stopped{code}: {last[:300]}"
+
+
+def _address_space_limit(memory_mb: int):
+    limit = memory_mb * 1024 * 1024
+
+    def apply() -> None:  # runs in the child between fork and exec
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+    return apply
+
+
+_LIMITED_EXEC = (
+    "import os, resource, sys; n = int(sys.argv[1]); resource.setrlimit(resource.RLIMIT_AS, (n, n)); "
+    "os.execvp(sys.argv[2], sys.argv[2:])"
+)
+
+
+def bounded_command(command: list[str], memory_mb: int) -> list[str]:
+    """``command`` run with an address-space limit of ``memory_mb`` per process (for planners
+    started by another library, where no ``preexec_fn`` can be given)."""
+    return [sys.executable, "-c", _LIMITED_EXEC, str(memory_mb * 1024 * 1024), *command]
+
+
+def descendants(pid: int) -> list[int]:
+    """The processes below ``pid`` (children, grandchildren, ...), read from ``/proc``."""
+    children: dict[int, list[int]] = {}
+    for entry in os.scandir("/proc"):
+        if not entry.name.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry.name}/stat", "rb") as stat:
+                fields = stat.read().rsplit(b")", 1)[1].split()
+        except OSError:  # it ended meanwhile
+            continue
+        children.setdefault(int(fields[1]), []).append(int(entry.name))
+    found, todo = [], [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            found.append(child)
+            todo.append(child)
+    return found
+
+
+def kill_tree(process: subprocess.Popen) -> None:
+    """SIGKILL ``process`` and every process below it, and reap it."""
+    if process.poll() is None:
+        try:  # stopped first, so that it starts no new process while its tree is read
+            os.kill(process.pid, signal.SIGSTOP)
+        except ProcessLookupError:
+            pass
+        tree = descendants(process.pid) if os.path.isdir("/proc") else []
+        for pid in [process.pid, *tree]:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+    process.wait()
 
 
 def _read_plan(path: Path) -> tuple[tuple[str, tuple[str, ...]], ...]:

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.errors import InputError
+from vslsp.outputs import write_text
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl_errors import (
@@ -71,14 +72,13 @@ def parse_pddl(domain_text: str, problem_text: str | None = None) -> tuple[Domai
 
 
 def save(text: str, path: str | Path) -> Path:
-    """Write PDDL ``text`` to ``path`` (folders created)."""
+    """Write PDDL ``text`` to ``path`` (folders created; atomically, never through a link)."""
     path = Path(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
     except OSError as error:
         raise InputError(f"{path}: cannot write the file ({error.strerror}); choose a writable place") from None
-    return path
+    return write_text(path, text)
 
 
 def _read(

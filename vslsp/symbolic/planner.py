@@ -21,7 +21,8 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from vslsp.errors import InputError, TaskFailed, VslspError
-from vslsp.symbolic.fast_downward import Outcome
+from vslsp.symbolic.fast_downward import Outcome, bounded_command, kill_tree
+from vslsp.symbolic.fast_downward import failure as fast_downward_failure
 from vslsp.symbolic.fast_downward import run as run_fast_downward
 from vslsp.symbolic.formula import expand_quantifiers
 from vslsp.symbolic.lifted import compile_lifted, objects_named
@@ -31,6 +32,11 @@ from vslsp.symbolic.up_model import environment, to_up
 from vslsp.symbolic.validate import initially_broken
 
 DEFAULT_PLANNER = "fast-downward"
+#: Every planner run is bounded (docs/bad-input.md): wall-clock seconds, and megabytes of address
+#: space for each of its processes. A goal whose normal form explodes (a quantified disjunction)
+#: would otherwise make Fast Downward's translator take the machine's memory.
+DEFAULT_TIMEOUT_S = 300.0
+DEFAULT_MEMORY_MB = 4096
 #: vslsp's planner names that are a unified-planning engine with set parameters; any other
 #: name is a unified-planning oneshot planner as installed (e.g. fast-downward-opt: A* + LM-cut).
 #: The default is greedy best-first search with the FF heuristic and preferred operators:
@@ -109,17 +115,19 @@ def solve(
     problem: Problem,
     planner: str = DEFAULT_PLANNER,
     compilation: Compilation | None = None,
-    timeout: float | None = None,
+    timeout: float | None = DEFAULT_TIMEOUT_S,
+    memory_mb: int | None = DEFAULT_MEMORY_MB,
 ) -> PlanResult:
     """Plan for ``problem`` in ``domain`` with a unified-planning oneshot planner.
 
-    Raises TaskFailed("no plan: ...") when the planner proves or reports no plan (or runs out
-    of ``timeout`` seconds), InputError for an unknown planner or one that cannot take the
-    problem, :class:`~vslsp.symbolic.outcomes.InternalError` when a planner or compiler fails
-    inside. ``compilation``: force LIFTED or GROUND (default: lifted where the planner has
+    Raises TaskFailed("no plan: ...") when the planner proves or reports no plan, and
+    TaskFailed naming the limit when it reaches ``timeout`` (wall-clock seconds) or
+    ``memory_mb`` (megabytes per process; None: unbounded); InputError for an unknown planner
+    or one that cannot take the problem, :class:`~vslsp.symbolic.outcomes.InternalError` when a
+    planner or compiler fails inside. ``compilation``: force LIFTED or GROUND (default: lifted where the planner has
     conditional effects).
     """
-    return solve_timed(domain, problem, planner, compilation, timeout)[0]
+    return solve_timed(domain, problem, planner, compilation, timeout, memory_mb)[0]
 
 
 def solve_timed(
@@ -127,7 +135,8 @@ def solve_timed(
     problem: Problem,
     planner: str = DEFAULT_PLANNER,
     compilation: Compilation | None = None,
-    timeout: float | None = None,
+    timeout: float | None = DEFAULT_TIMEOUT_S,
+    memory_mb: int | None = DEFAULT_MEMORY_MB,
 ) -> tuple[PlanResult, PlanningTimes]:
     """:func:`solve`, with the time of each phase."""
     check_planner(planner)
@@ -137,7 +146,7 @@ def solve_timed(
     if broken:
         raise TaskFailed(f"no plan: {broken}")
     try:
-        return _solve(domain, problem, planner, compilation, timeout)
+        return _solve(domain, problem, planner, compilation, Limits(timeout, memory_mb))
     except VslspError:
         raise
     except Exception as error:  # a failure inside unified-planning or the planner: not "no plan"
@@ -148,37 +157,53 @@ def solve_timed(
         ) from error
 
 
+@dataclass(frozen=True)
+class Limits:
+    """The bounds of one planner run: wall-clock seconds and megabytes per process (None: none)."""
+
+    timeout: float | None
+    memory_mb: int | None
+
+    def reached(self, what: str) -> TaskFailed:
+        """The failure of a run that reached its time or memory limit (exit 1, naming it)."""
+        if what == "time":
+            limit = f"time limit of {self.timeout:g} s" if self.timeout else "time limit"
+            return TaskFailed(f"no plan: the planner's {limit} reached (raise it with --timeout)")
+        limit = f"memory limit of {self.memory_mb} MB" if self.memory_mb else "memory"
+        return TaskFailed(f"no plan: the planner's {limit} reached (raise it with --memory)")
+
+
 def _solve(
-    domain: Domain, problem: Problem, planner: str, compilation: Compilation | None, timeout: float | None
+    domain: Domain, problem: Problem, planner: str, compilation: Compilation | None, limits: Limits
 ) -> tuple[PlanResult, PlanningTimes]:
     if planner in DIRECT and compilation is not Compilation.GROUND:
-        return _solve_directly(domain, problem, planner, timeout)
-    return _solve_up(domain, problem, planner, compilation, timeout)
+        return _solve_directly(domain, problem, planner, limits)
+    return _solve_up(domain, problem, planner, compilation, limits)
 
 
-def _solve_directly(
-    domain: Domain, problem: Problem, planner: str, timeout: float | None
-) -> tuple[PlanResult, PlanningTimes]:
+def _solve_directly(domain: Domain, problem: Problem, planner: str, limits: Limits) -> tuple[PlanResult, PlanningTimes]:
     """Lifted compilation, our PDDL text, Fast Downward's driver: nothing grounded in Python."""
     start = time.perf_counter()
     compiled_domain, compiled_problem = compile_lifted(domain, problem)
     compiled = time.perf_counter()
     domain_text, problem_text = planner_texts(compiled_domain, compiled_problem)
     built = time.perf_counter()
-    run = run_fast_downward(domain_text, problem_text, DIRECT[planner], timeout)
+    run = run_fast_downward(domain_text, problem_text, DIRECT[planner], limits.timeout, memory_mb=limits.memory_mb)
     solved = time.perf_counter()
     if run.outcome is not Outcome.SOLVED:
         reasons = {
             Outcome.UNSOLVABLE: "the goal cannot be reached from the initial state under the constraints "
             "(proved by Fast Downward)",
             Outcome.UNSOLVED: "Fast Downward's search gave up without a plan (it is incomplete)",
-            Outcome.TIMEOUT: f"the planner ran out of time{f' ({timeout:g} s)' if timeout else ''}",
-            Outcome.MEMOUT: "the planner ran out of memory",
         }
+        if run.outcome is Outcome.TIMEOUT:
+            raise limits.reached("time")
+        if run.outcome is Outcome.MEMOUT:
+            raise limits.reached("memory")
         if run.outcome is Outcome.ERROR:
-            error = RuntimeError("Fast Downward failed:\n" + run.log)
-            error.vslsp_stage = "Fast Downward"  # type: ignore[attr-defined]
-            raise error
+            raise InternalError(f"{fast_downward_failure(run)}; run with --debug for its whole log") from RuntimeError(
+                run.log
+            )
         raise TaskFailed(f"no plan: {reasons[run.outcome]}")
     used = Compilation.LIFTED if problem.constraints else Compilation.NONE
     times = PlanningTimes(built - compiled, compiled - start, solved - built)
@@ -197,7 +222,7 @@ def planner_texts(domain: Domain, problem: Problem) -> tuple[str, str]:
 
 
 def _solve_up(
-    domain: Domain, problem: Problem, planner: str, compilation: Compilation | None, timeout: float | None
+    domain: Domain, problem: Problem, planner: str, compilation: Compilation | None, limits: Limits
 ) -> tuple[PlanResult, PlanningTimes]:
     """Through a unified-planning engine (any installed planner; the ground compilation)."""
     from unified_planning.engines import CompilationKind, PlanGenerationResultStatus
@@ -239,15 +264,24 @@ def _solve_up(
             raise TaskFailed(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
         engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
         compiled_at = time.perf_counter()
+        _bound(engine, limits.memory_mb)
         try:
             with _private_directory():
-                result = engine.solve(up_problem, timeout=timeout)
+                result = engine.solve(up_problem, timeout=limits.timeout)
         except UPException as error:
             raise TaskFailed(f"no plan: {planner} failed: {error}") from None
+        except BaseException:  # an interrupt: the planner's processes (in their own session) go too
+            if getattr(engine, "_process", None) is not None:
+                kill_tree(engine._process)
+            raise
     solved = time.perf_counter()
     solved_statuses = (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY)
+    if result.status is PlanGenerationResultStatus.TIMEOUT:
+        raise limits.reached("time")
+    if result.status is PlanGenerationResultStatus.MEMOUT:
+        raise limits.reached("memory")
     if result.status not in solved_statuses:
-        raise TaskFailed(f"no plan: {_reason(result, timeout)}")
+        raise TaskFailed(f"no plan: {_reason(result)}")
     steps = []
     for instance in result.plan.actions:
         for map_back in reversed(map_backs):
@@ -296,7 +330,18 @@ def _private_directory():
             os.chdir(previous)
 
 
-def _reason(result: Any, timeout: float | None) -> str:
+def _bound(engine: Any, memory_mb: int | None) -> None:
+    """Run a unified-planning engine's planner command under ``memory_mb`` (engines that plan
+    through a command line, as Fast Downward's do; others run in this process)."""
+    if memory_mb is None:
+        return
+    for name in ("_get_cmd", "_get_anytime_cmd"):
+        command = getattr(engine, name, None)
+        if command is not None:
+            setattr(engine, name, lambda *args, _command=command: bounded_command(_command(*args), memory_mb))
+
+
+def _reason(result: Any) -> str:
     from unified_planning.engines import PlanGenerationResultStatus as Status
 
     reasons = {
@@ -304,8 +349,6 @@ def _reason(result: Any, timeout: float | None) -> str:
         f"(proved by {result.engine_name})",
         Status.UNSOLVABLE_INCOMPLETELY: f"{result.engine_name} explored every reachable state and found none "
         "that reaches the goal under the constraints",
-        Status.TIMEOUT: f"the planner ran out of time{f' ({timeout:g} s)' if timeout else ''}",
-        Status.MEMOUT: "the planner ran out of memory",
         Status.UNSUPPORTED_PROBLEM: "the planner does not support this problem",
     }
     return reasons.get(result.status, f"the planner stopped with status {result.status.name}")

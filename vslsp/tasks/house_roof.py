@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.outputs import atomic_file
 from vslsp.tasks.base import System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square
 from vslsp.tasks.registry import register
@@ -252,5 +253,6 @@ def _trajectory_figure(path: Path, reproduction) -> None:
     z_axis.set(ylabel="height z (m)", title="height profile h[1 − |atanh(h0(s − 0.5))/atanh(h0/2)|^κ]")
     theta_axis.set(xlabel="t (s)", ylabel="hand rotation θ (deg)", title="trapezoidal rotation profile")
     figure.tight_layout()
-    figure.savefig(path, dpi=90)
+    with atomic_file(path) as stream:
+        figure.savefig(stream, dpi=90, format="png")
     plt.close(figure)

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from vslsp.outputs import atomic_file, write_text
 from vslsp.tasks.base import Option, System, Task, TrialResult
 from vslsp.tasks.registry import register
 
@@ -166,14 +167,14 @@ def _write_artefacts(folder: Path, trial) -> dict:
             }
         )
     if trial.domain is not None:
-        (folder / "domain.pddl").write_text(trial.domain.to_pddl())
+        write_text(folder / "domain.pddl", trial.domain.to_pddl())
         files["domain"] = "domain.pddl"
     runs = [run for run in trial.executions if run.problems]
     if runs:
-        (folder / "problem.pddl").write_text(runs[0].problems[0].to_pddl())
+        write_text(folder / "problem.pddl", runs[0].problems[0].to_pddl())
         files["problem"] = "problem.pddl"
         plans = [plan for run in runs for plan in run.plans]
-        (folder / "plan.txt").write_text(plans[0].to_pddl())
+        write_text(folder / "plan.txt", plans[0].to_pddl())
         files["plan"] = "plan.txt"
         files["plans"] = [plan.to_dict() for plan in plans]
         files["executions"] = [run.to_dict() for run in runs]
@@ -225,5 +226,6 @@ def _plot_trajectories(path: Path, trial) -> None:
     top.legend(handles=handles, fontsize=7, loc="best")
     side.set(xlabel="t (s)", ylabel="hand height above its lowest point (m)", title="hand height")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with atomic_file(path) as stream:
+        fig.savefig(stream, dpi=110, format="png")
     plt.close(fig)

@@ -17,6 +17,7 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
+from vslsp.outputs import write_text
 from vslsp.tasks.base import Task, TrialResult
 from vslsp.tasks.runner import Run
 from vslsp.tasks.trial import run_one
@@ -38,7 +39,7 @@ def summary(task: Task, run: Run, folder: Path | None = None) -> dict:
         "failures": [{"seed": r.seed, "error": r.error or "goal not reached"} for r in results if not r.success],
         "failure_causes": dict(Counter(r.cause for r in results if not r.success).most_common()),
     }
-    if run.partial:
+    if run.partial or run.interrupted:
         data["partial"] = True
         data["trials_requested"] = len(run.seeds)
         data["interrupted"] = run.interrupted
@@ -51,21 +52,29 @@ def summary(task: Task, run: Run, folder: Path | None = None) -> dict:
 def write_report(folder: str | Path, task: Task, run: Run, *, figures: bool = True) -> dict:
     """Write the report folder of ``run``; returns the summary written to ``report.json``.
 
-    ``figures=False`` (or an interrupted run) skips the pictures, which may re-run a trial.
+    The report of the finished trials is written first (``report.json``, ``report.md``, each
+    file replaced whole, :mod:`vslsp.outputs`), then the figures, which may re-run a trial, then
+    the report again with them: an interrupt or a full disk during the figures leaves the
+    trials' report in place. ``figures=False`` (or an interrupted run) skips the figures.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     data = summary(task, run, folder)
-    if figures and run.results and not run.partial:
+    _write(folder, task, data)
+    if figures and run.results and not run.partial and not run.interrupted:
         seed = task.shown_seed(run.results)
         shown = next((r for r in run.results if r.seed == seed and r.artefacts is not None), None)
         if shown is None:
             shown = run_one(task, seed, keep=True)
         files = task.figures(folder, shown) if shown.artefacts is not None else {}
         data["shown_trial"] = {"seed": shown.seed, "success": shown.success, **files}
-    (folder / "report.json").write_text(json.dumps(data, indent=2) + "\n")
-    (folder / "report.md").write_text(markdown(task, data))
+        _write(folder, task, data)
     return data
+
+
+def _write(folder: Path, task: Task, data: dict) -> None:
+    write_text(folder / "report.json", json.dumps(data, indent=2) + "\n")
+    write_text(folder / "report.md", markdown(task, data))
 
 
 def markdown(task: Task, data: dict) -> str:
@@ -78,7 +87,7 @@ def markdown(task: Task, data: dict) -> str:
     if data.get("partial"):
         lines += [
             f"**Partial run**: interrupted ({data['interrupted']}) after {data['trials']} of "
-            f"{data['trials_requested']} trials; the figures below are those of the finished trials.",
+            f"{data['trials_requested']} trials; this report holds the finished trials, without figures.",
             "",
         ]
     lines += [

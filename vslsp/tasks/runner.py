@@ -94,8 +94,8 @@ def run_trials(
                     finished(run_one(task, seed, seed in keep))
             else:
                 _run_pool(task, seeds, keep, workers, finished)
-        except (Interrupted, KeyboardInterrupt):
-            interrupted = received[0] if received else "SIGINT"
+        except (Interrupted, KeyboardInterrupt) as stop:
+            interrupted = received[0] if received else getattr(stop, "signal_name", "SIGINT")
             if on_interrupt is not None:
                 on_interrupt(interrupted)
     return Run([done[s] for s in seeds if s in done], seeds, interrupted)
@@ -125,7 +125,14 @@ def _signals_raise() -> Iterator[list[str]]:
 def _worker_init() -> None:
     # The parent handles Ctrl-C for all (and ends the workers); a worker must not die of it half-way.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # The parent ends a worker with SIGTERM: raised, so that the planner it may be running is
+    # killed and its temporary folders removed on the way out.
+    signal.signal(signal.SIGTERM, _raise_interrupted)
     from vslsp.sim.quiet import quiet  # noqa: F401  (workers import the simulator quietly)
+
+
+def _raise_interrupted(number: int, frame: Any) -> None:
+    raise Interrupted(signal.Signals(number).name)
 
 
 def _new_pool(workers: int) -> ProcessPoolExecutor:
@@ -177,6 +184,8 @@ def _run_pool(
                     finished(future.result())
                 except BrokenProcessPool:
                     broken.append(seed)
+                except Interrupted as stop:  # the worker alone was sent SIGTERM (by someone else)
+                    finished(TrialResult(task.name, seed, False, f"worker ended by {stop.signal_name}"))
             if broken:
                 # Every trial in flight was lost with the pool: retry each once in a fresh one.
                 lost = sorted(broken + list(running.values()))

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.outputs import atomic_file
 from vslsp.tasks.base import System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, grid, label, small, square
 from vslsp.tasks.registry import register
@@ -262,5 +263,6 @@ def _trajectory_figure(path: Path, outcomes: list) -> None:
     z_axis.set(ylabel="hand height z (m)", title="height profile (traj3) with guarded descents")
     theta_axis.set(xlabel="t (s, simulated)", ylabel="closing axis θ (deg)", title="trapezoidal rotation profile")
     figure.tight_layout()
-    figure.savefig(path, dpi=90)
+    with atomic_file(path) as stream:
+        figure.savefig(stream, dpi=90, format="png")
     plt.close(figure)

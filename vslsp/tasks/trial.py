@@ -4,15 +4,16 @@ from __future__ import annotations
 
 import traceback
 
+from vslsp.errors import Interrupted
 from vslsp.tasks.base import Task, TrialResult, timed
 
-
-class Interrupted(Exception):
-    """Ctrl-C or SIGTERM during a run."""
+__all__ = ["Interrupted", "run_one"]
 
 
 def run_one(task: Task, seed: int, keep: bool = False) -> TrialResult:
-    """One trial; anything it raises becomes a failed trial that says what went wrong."""
+    """One trial; anything it raises becomes a failed trial that says what went wrong, except an
+    interrupt (:class:`~vslsp.errors.Interrupted`, KeyboardInterrupt: BaseExceptions), which
+    stops the run."""
     try:
         result = timed(task, seed, keep)
     except Exception as error:  # noqa: BLE001  (a trial that raises is recorded, never lost)

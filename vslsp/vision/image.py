@@ -14,6 +14,7 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.outputs import write_bytes
 
 # Perception runs on images whose longer side is at most this many pixels: enough for
 # tabletop objects tens of pixels wide, and it keeps a grounding within milliseconds.
@@ -116,12 +117,13 @@ def check_image_output(path: str | Path) -> Path:
 def write_image(path: str | Path, image: np.ndarray) -> None:
     """Write an RGB (H, W, 3) uint8 image (PNG or JPEG by the file's extension)."""
     check_image_output(path)
-    try:
-        written = cv2.imwrite(str(path), cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
+    try:  # encoded here, written by Python: the file is replaced whole (vslsp.outputs), never through a link
+        encoded, data = cv2.imencode(Path(path).suffix.lower(), cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
     except cv2.error as error:  # OpenCV 5 raises where 4 returned False
         raise InputError(f"cannot write image {path}: {str(error).strip().splitlines()[-1]}") from None
-    if not written:
-        raise InputError(f"cannot write image {path}: check the folder exists and the extension (.png)")
+    if not encoded:
+        raise InputError(f"cannot write image {path}: OpenCV cannot encode it as {Path(path).suffix}")
+    write_bytes(path, data.tobytes())
 
 
 def working_scale(shape: tuple[int, ...]) -> int:

@@ -27,6 +27,7 @@ from vslsp.errors import InputError
 from vslsp.geometry.poses import wrap
 from vslsp.grounding.operation import Grounding, ground
 from vslsp.grounding.spatial import check_robot_side
+from vslsp.outputs import atomic_file, write_text
 from vslsp.vision.features import Features, object_features
 from vslsp.vision.image import as_rgb, channel_max, read_image, write_image
 from vslsp.vision.landmark import Line, find_landmark
@@ -133,9 +134,11 @@ class Demonstration:
             if op.turn is not None:
                 record["turn"] = op.turn
             records.append(record)
-        np.savez(folder / "features.npz", **arrays)  # type: ignore[arg-type]
+        with atomic_file(folder / "features.npz") as stream:
+            np.savez(stream, **arrays)  # type: ignore[arg-type]
         path = folder / "demonstration.json"
-        path.write_text(
+        write_text(
+            path,
             json.dumps(
                 {
                     "format": FORMAT,
@@ -146,7 +149,7 @@ class Demonstration:
                 },
                 indent=2,
             )
-            + "\n"
+            + "\n",
         )
         return path
 

@@ -26,6 +26,7 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
+from vslsp.outputs import atomic_file
 from vslsp.vsl3d.alignment import align
 from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
 from vslsp.vsl3d.kdtree import KDTree
@@ -134,13 +135,14 @@ class CloudObservation:
 
     def save(self, path: str | Path) -> None:
         """Write to an ``.npz`` file (no pickle)."""
-        np.savez_compressed(
-            path,
-            points=self.points,
-            lower=np.asarray(self.frame.lower),
-            upper=np.asarray(self.frame.upper),
-            viewpoint=self.viewpoint,
-        )
+        with atomic_file(path) as stream:
+            np.savez_compressed(
+                stream,
+                points=self.points,
+                lower=np.asarray(self.frame.lower),
+                upper=np.asarray(self.frame.upper),
+                viewpoint=self.viewpoint,
+            )
 
     @classmethod
     def load(cls, path: str | Path) -> CloudObservation:
