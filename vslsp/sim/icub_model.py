@@ -160,8 +160,11 @@ def _cached(text: str) -> Path:
     path = cache / f"icub-reduced-{digest}.urdf"
     if not path.exists():
         partial = path.with_suffix(f".{os.getpid()}.tmp")
-        partial.write_text(text)
-        os.replace(partial, path)
+        try:
+            partial.write_text(text)
+            os.replace(partial, path)
+        finally:
+            partial.unlink(missing_ok=True)
     return path
 
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import os
 import tempfile
 from dataclasses import dataclass
+from pathlib import Path
 
 import cv2
 import numpy as np
@@ -207,7 +208,8 @@ class TabletopWorld(PhysicsClient):
         handle, path = tempfile.mkstemp(suffix=".png")
         os.close(handle)
         try:
-            cv2.imwrite(path, cv2.cvtColor(np.ascontiguousarray(atlas), cv2.COLOR_RGB2BGR))
+            encoded = cv2.imencode(".png", cv2.cvtColor(np.ascontiguousarray(atlas), cv2.COLOR_RGB2BGR))[1]
+            Path(path).write_bytes(encoded.tobytes())  # a full disk: an OSError saying so
             texture_id = pb.loadTexture(path, physicsClientId=c)
         finally:
             os.remove(path)

@@ -118,6 +118,12 @@ def texture_file(image: np.ndarray) -> Path:
     path = cache / f"texture-{digest}.png"
     if not path.exists():
         partial = cache / f"texture-{digest}.{os.getpid()}.tmp.png"
-        cv2.imwrite(str(partial), cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
-        os.replace(partial, path)
+        # Encoded here and written by Python: a full disk is then an OSError saying so (ENOSPC),
+        # where cv2.imwrite would only return False.
+        encoded = cv2.imencode(".png", cv2.cvtColor(image, cv2.COLOR_RGB2BGR))[1].tobytes()
+        try:
+            partial.write_bytes(encoded)
+            os.replace(partial, path)
+        finally:
+            partial.unlink(missing_ok=True)
     return path

@@ -1,0 +1,74 @@
+"""Ctrl-C and SIGTERM at any phase, with any number of workers: the report of the finished
+trials is written first, the exit code is 130 / 143 (docs/bad-input.md), and no planner process
+or temporary folder is left behind."""
+
+from __future__ import annotations
+
+import json
+import signal
+
+import pytest
+from helpers.processes import alive, planner_processes, start, wait_until
+
+SIGNALS = {"SIGINT": (signal.SIGINT, 130), "SIGTERM": (signal.SIGTERM, 143)}
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+@pytest.mark.parametrize("name", list(SIGNALS))
+def test_an_interrupt_during_the_trials_keeps_the_finished_ones(tmp_path, workers, name):
+    number, code = SIGNALS[name]
+    out = tmp_path / "report"
+    args = ["experiment", "test-waits-after-the-first", "--trials", "4", "--workers", workers, "--json", "--out", out]
+    process = start(args, tmp_path)
+    try:
+        assert wait_until(lambda: (tmp_path / "markers" / "waiting-1").exists(), process)
+        process.send_signal(number)
+        stdout, stderr = process.communicate(timeout=120)
+    finally:
+        process.kill()
+    assert process.returncode == code, stderr
+    assert "Traceback" not in stderr and f"{name}: stopping now" in stderr
+    summary = json.loads(stdout)
+    report = json.loads((out / "report.json").read_text())
+    for data in (summary, report):
+        assert data["partial"] and data["interrupted"] == name and data["trials_requested"] == 4
+        assert [r["seed"] for r in data["results"]] == [0] and data["results"][0]["success"]
+    assert "Partial run" in (out / "report.md").read_text()
+
+
+@pytest.mark.parametrize("name", list(SIGNALS))
+def test_an_interrupt_while_the_figures_are_drawn_keeps_the_report(tmp_path, name):
+    number, code = SIGNALS[name]
+    out = tmp_path / "report"
+    process = start(["experiment", "test-slow-figures", "--trials", "3", "--out", out], tmp_path)
+    try:
+        assert wait_until(lambda: (tmp_path / "markers" / "figures").exists(), process)
+        process.send_signal(number)
+        _, stderr = process.communicate(timeout=120)
+    finally:
+        process.kill()
+    assert process.returncode == code, stderr
+    assert "Traceback" not in stderr
+    report = json.loads((out / "report.json").read_text())
+    assert [r["seed"] for r in report["results"]] == [0, 1, 2] and report["successes"] == 3
+    assert report["interrupted"] == name and "shown_trial" not in report
+    assert "| 3 (seeds 0-2) | 3 |" in (out / "report.md").read_text()
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_sigterm_ends_the_planner_of_every_worker_and_removes_its_folder(tmp_path, workers):
+    out = tmp_path / "report"
+    args = ["experiment", "test-plans", "--trials", "2", "--workers", workers, "--out", out]
+    process = start(args, tmp_path)
+    try:
+        assert wait_until(lambda: bool(planner_processes(process.pid)), process)
+        planners = planner_processes(process.pid)
+        assert list((tmp_path / "tmp").glob("vslsp-fd-*"))
+        process.send_signal(signal.SIGTERM)
+        _, stderr = process.communicate(timeout=120)
+    finally:
+        process.kill()
+    assert process.returncode == 143, stderr
+    assert wait_until(lambda: not any(alive(pid) for pid in planners))
+    assert list((tmp_path / "tmp").glob("vslsp-*")) == []
+    assert json.loads((out / "report.json").read_text())["interrupted"] == "SIGTERM"
