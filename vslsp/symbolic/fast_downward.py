@@ -63,6 +63,7 @@ class Run:
     log: str
     time_s: float
     translate_s: float | None  # the translator's wall-clock time, from its log
+    returncode: int | None = None  # the driver's exit code (None: killed at the wall-clock limit)
 
 
 def driver() -> Path:
@@ -145,8 +146,17 @@ def run(
         outcome = outcome_of(process.returncode, log, timed=bool(timeout), limited=bool(memory_mb))
         steps: tuple = ()
         if outcome is Outcome.SOLVED and not translate_only:
-            steps = _read_plan(Path(folder) / "plan")
-        return Run(outcome, steps, log[-4000:], elapsed, float(translate.group(1)) if translate else None)
+            if (Path(folder) / "plan").exists():
+                steps = _read_plan(Path(folder) / "plan")
+            else:
+                # "A plan found and out of memory / time", but none written: the limit's outcome. Exit 1
+                # is also the driver's own crash on the translator's MemoryError report (up-fast-downward's
+                # driver compares its stderr bytes with a str), after the memory limit was reached.
+                outcome = {1: Outcome.MEMOUT, 2: Outcome.TIMEOUT, 3: Outcome.MEMOUT}.get(
+                    process.returncode, Outcome.ERROR
+                )
+        translated = float(translate.group(1)) if translate else None
+        return Run(outcome, steps, log[-4000:], elapsed, translated, process.returncode)
 
 
 def outcome_of(code: int, log: str, timed: bool, limited: bool) -> Outcome:
