@@ -146,6 +146,18 @@ def test_a_second_run_into_a_folder_in_use_is_refused_naming_the_first(tmp_path)
     assert not (out / "head.png").exists()
 
 
+def test_a_folder_is_free_again_once_its_run_was_killed(tmp_path):
+    out = tmp_path / "report"
+    first = start(["experiment", "test-waits-after-the-first", "--trials", "2", "--out", out], tmp_path)
+    assert wait_until(lambda: (tmp_path / "markers" / "waiting-1").exists(), first)
+    first.kill()  # SIGKILL: no clean-up runs, the lock file stays; the system released its lock
+    first.communicate()
+    second = start(["experiment", "test-quick", "--out", out], tmp_path)
+    _, stderr = second.communicate(timeout=300)
+    assert second.returncode == 0, stderr
+    assert json.loads((out / "report.json").read_text())["experiment"] == "test-quick"
+
+
 def test_a_folder_is_free_again_once_its_run_ended(tmp_path):
     lock_folder(tmp_path)  # this process holds it: taking it again is no conflict
     lock_folder(tmp_path)

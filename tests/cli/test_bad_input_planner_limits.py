@@ -48,8 +48,10 @@ def test_reaching_the_time_limit_is_exit_1_naming_it(capsys):
     assert "Fast Downward failed" not in err
 
 
-def test_reaching_the_memory_limit_is_exit_1_naming_it(capsys):
-    code, out, err = vslsp(capsys, "plan", DOMAIN, FORALL, "--memory", "300")
+# fast-downward and -lama: the driver run directly; fast-downward-opt: through unified-planning's engine.
+@pytest.mark.parametrize("planner", ["fast-downward", "fast-downward-lama", "fast-downward-opt"])
+def test_reaching_the_memory_limit_is_exit_1_naming_it(capsys, planner):
+    code, out, err = vslsp(capsys, "plan", DOMAIN, FORALL, "--memory", "300", "--planner", planner)
     assert code == 1 and "memory limit of 300 MB reached" in err and "--memory" in err
 
 
