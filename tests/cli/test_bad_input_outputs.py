@@ -107,6 +107,16 @@ def test_a_report_md_link_in_out_is_refused_before_any_trial(tmp_path):
     assert target.read_text() == "keep me\n" and not (out / "report.json").exists()
 
 
+def test_a_scene_view_that_is_a_link_is_refused_before_rendering(capsys, tmp_path):
+    out, target = tmp_path / "scene", tmp_path / "precious.png"
+    out.mkdir()
+    target.write_bytes(b"keep me")
+    (out / "overhead.png").symlink_to(target)
+    code, _, err = vslsp(capsys, "scene", "--out", out)
+    assert code == 2 and f"{out / 'overhead.png'} is a symbolic link" in err
+    assert target.read_bytes() == b"keep me" and not (out / "scene.json").exists()
+
+
 def test_plan_out_through_a_link_is_refused(capsys, tmp_path):
     target = tmp_path / "precious.txt"
     target.write_text("keep me\n")

@@ -36,15 +36,13 @@ def scene(seed: int, scene_file: str | None, cubes: int, out: Path, width: int, 
     """Render the robot's head camera and the overhead camera (RGB PNG, depth .npy)."""
     import numpy as np
 
-    from vslsp.outputs import atomic_file, refuse_input, refuse_link, write_text
+    from vslsp.outputs import atomic_file, refuse_link, write_text
     from vslsp.sim import CAMERA_NAMES, SceneSpec, World
     from vslsp.vision.image import write_image
 
     names = [f"{n}{suffix}" for n in CAMERA_NAMES for suffix in (".png", "_depth.npy")]
     for name in [*names, "scene.json", "ground_truth.json"]:  # before the simulator starts
         refuse_link(out / name, "--out")
-        if scene_file:
-            refuse_input(out / name, {"scene file": scene_file}, "--out")
     spec = SceneSpec.load(scene_file) if scene_file else SceneSpec.random(seed, n_cubes=cubes)
     folder = out
     with World(spec, gui=gui) as world:
