@@ -66,6 +66,13 @@ def test_a_full_disk_in_scene_is_one_line_exit_1(tmp_path):
     assert not [p for p in out.iterdir() if p.name.startswith(".vslsp-part-")]
 
 
+def test_a_full_disk_under_the_planner_is_one_line_exit_1(tmp_path):
+    process = start(["plan", DOMAIN, PROBLEM, "--json"], tmp_path, preexec_fn=file_size_limit(10))
+    stdout, stderr = process.communicate(timeout=300)
+    assert process.returncode == 1 and json.loads(stdout)["exit_code"] == 1
+    assert "vslsp-fd-" in one_line_error(stderr) and "File too large" in stderr
+
+
 def test_a_full_disk_in_an_experiment_keeps_the_trials_report(tmp_path):
     out = tmp_path / "report"
     process = start(

@@ -19,6 +19,7 @@ from typing import Any
 import click
 
 from vslsp.errors import VslspError
+from vslsp.outputs import NO_SPACE, write_error
 
 
 @contextmanager
@@ -40,6 +41,8 @@ def pddl_edge(as_json: bool, debug: bool, failure: dict[str, Any] | None = None)
     except Exception as error:
         if isinstance(error, (click.exceptions.Exit, click.ClickException)):
             raise
+        if isinstance(error, OSError) and error.errno in NO_SPACE:  # a full disk (the planner's folder too)
+            error = write_error(error.filename or "a temporary file", error)
         if not isinstance(error, VslspError):  # a bug or a failure we did not foresee: not the user's input
             wrapped = InternalError(
                 f"internal error ({type(error).__name__}: {error}); run with --debug for the traceback"

@@ -25,6 +25,7 @@ from enum import Enum
 from pathlib import Path
 
 from vslsp.errors import InputError
+from vslsp.outputs import NO_SPACE, write_error
 
 
 class Outcome(Enum):
@@ -105,8 +106,13 @@ def run(
         limit += ["--overall-memory-limit", f"{memory_mb}M"]
     with tempfile.TemporaryDirectory(prefix="vslsp-fd-") as folder:
         domain_file, problem_file = Path(folder) / "domain.pddl", Path(folder) / "problem.pddl"
-        domain_file.write_text(domain_text)
-        problem_file.write_text(problem_text)
+        for path, text in ((domain_file, domain_text), (problem_file, problem_text)):
+            try:
+                path.write_text(text)
+            except OSError as error:  # a full temporary folder is a full disk, not a planner failure
+                if error.errno in NO_SPACE:
+                    raise write_error(path, error) from None
+                raise
         phase = ["--translate"] if translate_only else []
         alias = options if options[:1] == ["--alias"] and not translate_only else []
         search = [] if translate_only or alias else options
