@@ -57,8 +57,11 @@ def test_the_shipped_dmp_is_the_one_its_demonstrations_give(library, name):
     skill = library[name]
     refit = DMP(3, n_basis=skill.reach.n_basis, alpha_z=skill.reach.alpha_z, alpha_x=skill.reach.alpha_x)
     refit.fit(skill.demos)
-    assert refit.weights == pytest.approx(skill.reach.weights, abs=1e-9)
-    assert refit.fit_rmse == pytest.approx(skill.reach.fit_rmse, rel=1e-9)
+    # The same fit, up to the rounding of the least-squares solve, which differs between numpy/BLAS
+    # builds (4.9e-8 on weights of about 10 with numpy 2.4.6 against the shipped fit): 1e-6 relative is far below
+    # any change of demonstrations or DMP parameters.
+    assert refit.weights == pytest.approx(skill.reach.weights, rel=1e-6, abs=1e-9)
+    assert refit.fit_rmse == pytest.approx(skill.reach.fit_rmse, rel=1e-6)
     # The reach goal is where the demonstrated reaches ended, in the object frame.
     assert skill.goal == pytest.approx(np.mean([y[-1] for _, y in skill.demos], axis=0), abs=1e-9)
 
