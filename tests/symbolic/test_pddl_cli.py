@@ -137,3 +137,48 @@ def test_a_failure_inside_the_ground_compiler_is_exit_3_and_the_lifted_one_plans
     data = json.loads(out)
     assert code == 0 and data["compilation"] == "lifted"
     assert "go p2 p1" in data["plan"] and data["plan"][-1] == "go p2 p3"  # back to p1 once: (sometime (seen p1))
+
+
+def test_validate_lists_a_broken_always_and_a_missed_goal_with_positions(capsys, tmp_path):
+    problem, plan = tmp_path / "keep-far.pddl", tmp_path / "plan.txt"
+    problem.write_text(
+        "(define (problem keep-far)\n"
+        "  (:domain vsl-sp)\n"
+        "  (:objects a b - block)\n"
+        "  (:init (far a) (far b))\n"
+        "  (:goal (and (not (far b))\n"
+        "              (not (far a))))\n"
+        "  (:constraints (and (sometime-before (not (far a)) (not (far b)))\n"
+        "                     (always   (far a)))))\n"
+    )
+    plan.write_text("; pulls a, which must stay far, and leaves b far\n(pull a)\n")
+    code, out, _ = vslsp(capsys, "validate", DOMAIN, problem, plan, "--json")
+    verdict = json.loads(out)
+    assert code == 1 and verdict["valid"] is False
+    assert [(v["kind"], v["text"], v["step"], v["file"], v["line"], v["column"]) for v in verdict["violations"]] == [
+        ("goal", "(not (far b))", 1, str(problem), 5, 15),
+        ("constraint", "(sometime-before (not (far a)) (not (far b)))", 1, str(problem), 7, 22),
+        ("constraint", "(always (far a))", 1, str(problem), 8, 22),  # as written, spacing normalised
+    ]
+    assert verdict["reason"] == verdict["violations"][0]["message"]
+    plan.write_text("(pull b)\n\n   (pull b)\n")
+    code, out, _ = vslsp(capsys, "validate", DOMAIN, problem, plan, "--json")
+    (step,) = json.loads(out)["violations"]
+    assert (step["kind"], step["text"], step["step"], step["file"], step["line"], step["column"]) == (
+        "precondition",
+        "(far b)",
+        2,
+        str(plan),
+        3,
+        4,
+    )
+    plan.write_text("(pull a)\n")
+    code, out, _ = vslsp(capsys, "validate", DOMAIN, problem, plan)
+    lines = out.splitlines()
+    assert code == 1 and lines[0] == "invalid: the goal (not (far b)) does not hold after the last step"
+    assert lines[1:] == [
+        f"  {problem}:5:15: the goal (not (far b)) does not hold after the last step",
+        f"  {problem}:7:22: constraint (sometime-before (not (far a)) (not (far b))) is broken: (not (far a)) holds "
+        "after step 1 (pull a) but (not (far b)) has not held before",
+        f"  {problem}:8:22: constraint (always (far a)) is broken: (far a) is false after step 1 (pull a)",
+    ]

@@ -13,6 +13,7 @@ from vslsp.symbolic import (
     Sometime,
     SometimeAfter,
     SometimeBefore,
+    parse_pddl,
     parse_plan,
     read_pddl,
     validate,
@@ -128,3 +129,36 @@ def test_planner_and_validator_agree_on_random_problems():
         verdict = validate(domain, problem, plan.steps)
         assert verdict.valid, (problem.goal, problem.constraints, plan.lines(), verdict.reason)
     assert outcomes["planned"] and outcomes["no plan"], outcomes  # both sides exercised
+
+
+def test_every_violation_is_listed_with_its_step(pull_in_order):
+    domain, problem = read_pddl(PDDL / "domain.pddl", PDDL / "simple-push-pull.pddl")
+    problem = problem.without_init(far("blue")).with_goal(far("red") & far("blue") & Not(far("green")))
+    problem = problem.with_constraint(Always(far("red"))).with_constraint(Sometime(far("green")))
+    verdict = validate(domain, problem, PLAN)  # red pulled at step 2; blue near at the end; green never far
+    assert not verdict.valid
+    assert [(v.kind, v.text, v.step) for v in verdict.violations] == [
+        ("goal", "(far blue)", 4),
+        ("constraint", "(always (far red))", 2),
+        ("constraint", "(sometime (far green))", 4),
+    ]
+    assert verdict.reason == verdict.violations[0].message == "the goal (far blue) does not hold after the last step"
+    assert "(far red) is false after step 2 (pull red)" in verdict.violations[1].message
+
+
+def test_the_first_inapplicable_step_names_its_false_preconditions_and_what_broke_before(pull_in_order):
+    verdict = validate(*pull_in_order, ["pull green", "push orange", "pull yellow"])
+    assert [(v.kind, v.text, v.step) for v in verdict.violations] == [
+        ("precondition", "(not (far orange))", 2),
+        ("constraint", "(sometime-before (not (far green)) (not (far orange)))", 1),  # already broken at step 1
+    ]  # the goal and the rest are not judged: the plan stops at step 2
+    kitchen_domain, kitchen = parse_pddl(
+        "(define (domain k) (:requirements :strips :typing) (:types dish) (:predicates (clean ?d - dish) "
+        "(wet ?d - dish) (dirty ?d - dish)) (:action dry :parameters (?d - dish) :precondition (and (dirty ?d) "
+        "(clean ?d) (wet ?d)) :effect (not (wet ?d))))",
+        "(define (problem p) (:domain k) (:objects a - dish) (:init (dirty a)) (:goal (and)))",
+    )
+    assert kitchen is not None
+    (only,) = validate(kitchen_domain, kitchen, ["dry a"]).violations
+    assert (only.kind, only.text, only.step) == ("precondition", "(and (clean a) (wet a))", 1)
+    assert only.message == "step 1 (dry a): preconditions (clean a), (wet a) do not hold"

@@ -52,11 +52,19 @@ MAX_MEMORY_MB = 1024 * 1024  # a terabyte
     help="Also write the plan there, one (action arg ...) per line (the PLAN of vslsp validate).",
 )
 @click.option(
+    "--conflict-budget",
+    type=click.FloatRange(min=0),
+    default=30.0,
+    show_default=True,
+    help="When the problem is proved unsolvable, spend at most this many seconds finding a minimal set of "
+    "goal conjuncts and constraints that conflict (0: do not search).",
+)
+@click.option(
     "--json",
     "as_json",
     is_flag=True,
     help='Print {"plan": [...] or null, "planner": str, "time_s": float, "compilation": str, "warnings": '
-    '[...]} (and "error" on failure).',
+    '[...]} (and "error", "conflict", "conflict_minimal" on failure).',
 )
 @debug_option
 def plan(
@@ -67,32 +75,45 @@ def plan(
     timeout: float,
     memory: int,
     out: str | None,
+    conflict_budget: float,
     as_json: bool,
     debug: bool,
 ) -> None:
     """Find a plan for PROBLEM in DOMAIN, keeping its PDDL 3.0 trajectory constraints.
 
+    When the planner proves that no plan exists, names a minimal set of goal conjuncts and
+    constraints that cannot all hold (FILE:LINE:COL each).
+
     Exit 0: a plan; 1: no plan (or a time or memory limit reached); 2: bad input; 3: the
     planner or compiler failed inside.
     """
     from vslsp.outputs import refuse_input
-    from vslsp.symbolic import Compilation, check_planner, read_pddl, save, solve
+    from vslsp.symbolic import Compilation, Unsolvable, check_planner, read_pddl, save, solve
 
-    with pddl_edge(as_json, debug, {"plan": None, "planner": planner}) as warned:
+    failure: dict = {"plan": None, "planner": planner, "conflict": None, "conflict_minimal": None}
+    with pddl_edge(as_json, debug, failure) as warned:
         check_planner(planner)
         target = prepare_output_file(out) if out else None
         if target is not None:
             refuse_input(target, {"domain": domain, "problem": problem}, "--out")
         parsed_domain, parsed_problem = read_pddl(domain, problem)
         assert parsed_problem is not None
-        result = solve(
-            parsed_domain,
-            parsed_problem,
-            planner=planner,
-            compilation=Compilation(compilation) if compilation else None,
-            timeout=timeout,
-            memory_mb=memory,
-        )
+        try:
+            result = solve(
+                parsed_domain,
+                parsed_problem,
+                planner=planner,
+                compilation=Compilation(compilation) if compilation else None,
+                timeout=timeout,
+                memory_mb=memory,
+            )
+        except Unsolvable as error:
+            if not conflict_budget:
+                raise
+            lines = _explained(parsed_domain, parsed_problem, problem, planner, conflict_budget, memory, failure)
+            if as_json:
+                raise
+            raise Unsolvable("\n".join([str(error), *lines])) from None
         if target is not None:
             save(result.to_pddl(), target)
     if as_json:
@@ -106,3 +127,22 @@ def plan(
         f"{result.compilation.value}, {result.time_s:.2f} s",
         err=True,
     )
+
+
+def _explained(domain, problem, path: str, planner: str, budget: float, memory: int, failure: dict) -> list[str]:
+    """The conflict of an unsolvable problem as lines of text; ``failure`` gets its JSON fields."""
+    from vslsp.errors import VslspError
+    from vslsp.symbolic.conflict import explain
+    from vslsp.symbolic.locate import as_written, where
+    from vslsp.symbolic.pddl import read_text
+
+    try:
+        conflict = explain(domain, problem, planner=planner, budget_s=budget, memory_mb=memory, known_unsolvable=True)
+    except VslspError as error:  # the plan's own verdict stands; the explanation is extra
+        return [f"why: not found ({error})"]
+    assert conflict is not None
+    text = read_text(path)
+    items = [as_written(part.kind, part.to_pddl(), text, path) for part in conflict.parts]
+    items.sort(key=lambda item: (item["line"] is None, item["line"] or 0, item["column"] or 0))
+    failure["conflict"], failure["conflict_minimal"] = items, conflict.minimal
+    return [f"why: {conflict.summary()}", *(f"  {where(i)}: {i['kind']} {i['text']}" for i in items)]

@@ -14,24 +14,61 @@ from vslsp.cli.pddl import debug_option, pddl_edge
 @click.argument("domain", type=click.Path(dir_okay=False))
 @click.argument("problem", type=click.Path(dir_okay=False))
 @click.argument("plan", type=click.Path(dir_okay=False))
-@click.option("--json", "as_json", is_flag=True, help='Print {"valid": bool, "reason": str, "warnings": [...]}.')
+@click.option(
+    "--json",
+    "as_json",
+    is_flag=True,
+    help='Print {"valid": bool, "reason": str, "violations": [{"kind", "text", "step", "file", "line", '
+    '"column", "message"}], "warnings": [...]}.',
+)
 @debug_option
 def validate(domain: str, problem: str, plan: str, as_json: bool, debug: bool) -> None:
     """Check PLAN against DOMAIN and PROBLEM (exit 1: invalid).
 
     PLAN has one step per line: "(action arg ...)", "0: (action arg ...)" as VAL and IPC planners
     write it, or "1. action arg ..." as vslsp plan prints it.
+
+    An invalid plan lists every violation with its FILE:LINE:COL: the first step that cannot be
+    applied (in PLAN) with its false preconditions, each goal conjunct that does not hold at the
+    end and each broken constraint (in PROBLEM), with the step where it broke.
     """
     from vslsp.symbolic import read_pddl, read_plan
     from vslsp.symbolic import validate as validate_plan
+    from vslsp.symbolic.locate import where
 
     with pddl_edge(as_json, debug, {"valid": None}) as warned:
         parsed_domain, parsed_problem = read_pddl(domain, problem)
         assert parsed_problem is not None
         verdict = validate_plan(parsed_domain, parsed_problem, read_plan(plan, parsed_domain, parsed_problem))
+        violations = _located(verdict, problem, plan)
     if as_json:
-        click.echo(json.dumps({**verdict.to_dict(), "warnings": warned}))
+        click.echo(json.dumps({**verdict.to_dict(), "violations": violations, "warnings": warned}))
     else:
         click.echo(f"{'valid' if verdict.valid else 'invalid'}: {verdict.reason}")
+        for violation in violations:
+            click.echo(f"  {where(violation)}: {violation['message']}")
     if not verdict.valid:
         sys.exit(1)  # the verdict is printed: exit 1 without a second message
+
+
+def _located(verdict, problem: str, plan: str) -> list[dict]:
+    """The verdict's violations with FILE, LINE, COLUMN: a step in the PLAN file, a goal conjunct or a
+    constraint in the PROBLEM file (text as written there)."""
+    from pathlib import Path
+
+    from vslsp.symbolic.locate import as_written
+    from vslsp.symbolic.pddl import read_text
+    from vslsp.symbolic.validate import step_positions
+
+    problem_text = read_text(problem) if verdict.violations else ""
+    positions = step_positions(Path(plan).read_bytes().decode("utf-8-sig")) if verdict.violations else []
+    located = []
+    for violation in verdict.violations:
+        if violation.kind == "precondition":
+            line, column = positions[violation.step - 1] if violation.step <= len(positions) else (None, None)
+            place = {"kind": "precondition", "text": violation.text, "instance": violation.text}
+            place |= {"file": plan, "line": line, "column": column}
+        else:
+            place = as_written(violation.kind, violation.text, problem_text, problem)
+        located.append({**place, "step": violation.step, "message": violation.message})
+    return located

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from enum import StrEnum
 
-from vslsp.errors import VslspError
+from vslsp.errors import TaskFailed, VslspError
 
 
 class Compilation(StrEnum):
@@ -27,3 +27,8 @@ class InternalError(VslspError):
     """
 
     exit_code = 3
+
+
+class Unsolvable(TaskFailed):
+    """No plan exists, and the planner proved it (not a timeout or an incomplete search giving up):
+    exit code 1, like every "no plan". :mod:`vslsp.symbolic.conflict` explains only these."""

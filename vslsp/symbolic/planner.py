@@ -27,7 +27,7 @@ from vslsp.symbolic.fast_downward import run as run_fast_downward
 from vslsp.symbolic.formula import expand_quantifiers
 from vslsp.symbolic.lifted import compile_lifted, objects_named
 from vslsp.symbolic.model import Domain, Problem
-from vslsp.symbolic.outcomes import Compilation, InternalError
+from vslsp.symbolic.outcomes import Compilation, InternalError, Unsolvable
 from vslsp.symbolic.up_model import environment, to_up
 from vslsp.symbolic.validate import initially_broken
 
@@ -144,7 +144,7 @@ def solve_timed(
         raise InputError(f"problem {problem.name} is for domain {problem.domain.name}, not {domain.name}")
     broken = initially_broken(problem)
     if broken:
-        raise TaskFailed(f"no plan: {broken}")
+        raise Unsolvable(f"no plan: {broken}")
     try:
         return _solve(domain, problem, planner, compilation, Limits(timeout, memory_mb))
     except VslspError:
@@ -204,7 +204,8 @@ def _solve_directly(domain: Domain, problem: Problem, planner: str, limits: Limi
             raise InternalError(f"{fast_downward_failure(run)}; run with --debug for its whole log") from RuntimeError(
                 run.log
             )
-        raise TaskFailed(f"no plan: {reasons[run.outcome]}")
+        failure = Unsolvable if run.outcome is Outcome.UNSOLVABLE else TaskFailed
+        raise failure(f"no plan: {reasons[run.outcome]}")
     used = Compilation.LIFTED if problem.constraints else Compilation.NONE
     times = PlanningTimes(built - compiled, compiled - start, solved - built)
     return PlanResult(run.steps, planner, solved - start, used), times
@@ -261,7 +262,7 @@ def _solve_up(
         if not engine.supports(kind):
             raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); try {DEFAULT_PLANNER}")
         if _false_goal(up_problem):
-            raise TaskFailed(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
+            raise Unsolvable(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
         engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
         compiled_at = time.perf_counter()
         _bound(engine, limits.memory_mb)
@@ -281,7 +282,8 @@ def _solve_up(
     if result.status is PlanGenerationResultStatus.MEMOUT:
         raise limits.reached("memory")
     if result.status not in solved_statuses:
-        raise TaskFailed(f"no plan: {_reason(result)}")
+        proved = result.status is PlanGenerationResultStatus.UNSOLVABLE_PROVEN
+        raise (Unsolvable if proved else TaskFailed)(f"no plan: {_reason(result)}")
     steps = []
     for instance in result.plan.actions:
         for map_back in reversed(map_backs):
@@ -306,7 +308,7 @@ def _ground_compilation(up_problem: Any, problem: Problem) -> tuple[Any, Any]:
     try:
         compiled = TrajectoryConstraintsRemover().compile(up_problem, CompilationKind.TRAJECTORY_CONSTRAINTS_REMOVING)
     except UPProblemDefinitionError as error:
-        raise TaskFailed(f"no plan: {str(error).replace('PROBLEM NOT SOLVABLE: ', '')}") from None
+        raise Unsolvable(f"no plan: {str(error).replace('PROBLEM NOT SOLVABLE: ', '')}") from None
     except Exception as error:  # unified-planning 1.3.0's grounder: "list.remove(x)" on some static preconditions
         error.vslsp_stage = "the ground constraint compilation (unified-planning's grounder)"  # type: ignore[attr-defined]
         raise

@@ -22,6 +22,7 @@ from pathlib import Path
 from vslsp.errors import InputError
 from vslsp.symbolic.formula import (
     Always,
+    And,
     AtEnd,
     AtMostOnce,
     Constraint,
@@ -29,6 +30,7 @@ from vslsp.symbolic.formula import (
     Sometime,
     SometimeAfter,
     SometimeBefore,
+    conjunction,
     holds,
     substitute,
 )
@@ -39,51 +41,124 @@ PlanLike = Iterable[PlanStep | str]
 
 
 @dataclass(frozen=True)
+class Violation:
+    """One way a plan fails: a step that cannot be applied (``kind == "precondition"``, ``text`` its false
+    preconditions), a goal conjunct false at the end (``"goal"``), a broken constraint (``"constraint"``).
+
+    ``step``: for a precondition the step that cannot be applied (1-based); otherwise the state where
+    it broke, ``k`` meaning after step ``k`` (0: the initial state; the last step for the goal).
+    """
+
+    kind: str
+    text: str
+    step: int
+    message: str
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "text": self.text, "step": self.step, "message": self.message}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Violation:
+        return cls(str(data["kind"]), str(data["text"]), int(data["step"]), str(data["message"]))
+
+
+@dataclass(frozen=True)
 class Validation:
-    """The verdict on a plan and why (the broken precondition, goal or constraint)."""
+    """The verdict on a plan and why: ``violations`` lists every failure (the first inapplicable step,
+    then each false goal conjunct, then each broken constraint); ``reason`` is the first one's message."""
 
     valid: bool
     reason: str
+    violations: tuple[Violation, ...] = ()
 
     def to_dict(self) -> dict:
-        return {"valid": self.valid, "reason": self.reason}
+        return {"valid": self.valid, "reason": self.reason, "violations": [v.to_dict() for v in self.violations]}
 
     @classmethod
     def from_dict(cls, data: dict) -> Validation:
-        return cls(bool(data["valid"]), str(data["reason"]))
+        violations = tuple(Violation.from_dict(v) for v in data.get("violations", ()))
+        return cls(bool(data["valid"]), str(data["reason"]), violations)
+
+
+#: Constraints whose breaking a prefix of the trajectory already decides (the rest may still hold later).
+_SAFETY = (Always, AtMostOnce, SometimeBefore)
 
 
 def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validation:
-    """Simulate ``plan_steps`` (``("pull", ("green",))``, ``"pull green"`` or ``"(pull green)"``)."""
+    """Simulate ``plan_steps`` (``("pull", ("green",))``, ``"pull green"`` or ``"(pull green)"``).
+
+    Every violation is listed. At a step that cannot be applied the simulation stops: the goal
+    and the constraints that only the rest of a trajectory could keep (sometime, at end,
+    sometime-after) are then not judged; always, at-most-once and sometime-before are, on the
+    states reached.
+    """
     steps = [_as_step(step) for step in getattr(plan_steps, "steps", plan_steps)]
     universe = problem.universe()
-    types = dict(problem.all_objects())
     state = frozenset(problem.init)
     trajectory = [state]
+    violations: list[Violation] = []
     for number, (name, args) in enumerate(steps, start=1):
-        label = f"step {number} ({' '.join((name, *args))})"
-        try:
-            action = domain.action(name)
-        except InputError as error:
-            return Validation(False, f"{label}: {error}")
-        wrong = _wrong_arguments(domain, action.parameters, args, types)
-        if wrong:
-            return Validation(False, f"{label}: {wrong}")
-        precondition = substitute(action.precondition, dict(zip((p for p, _ in action.parameters), args, strict=False)))
-        if not holds(precondition, state, universe):
-            return Validation(False, f"{label}: precondition {precondition.to_pddl()} does not hold")
+        stuck = _inapplicable(domain, problem, number, name, args, state)
+        if stuck:
+            violations.append(stuck)
+            break
+        action = domain.action(name)
         added, deleted = ground_effects(action, args, state, universe)
         state = (state - deleted) | added
         trajectory.append(state)
-    if not holds(problem.goal, state, universe):
-        return Validation(False, f"the goal {problem.goal.to_pddl()} does not hold after the last step")
+    finished = not violations
+    if finished:
+        for conjunct in conjuncts(problem.goal):
+            if not holds(conjunct, state, universe):
+                text = conjunct.to_pddl()
+                violations.append(
+                    Violation("goal", text, len(steps), f"the goal {text} does not hold after the last step")
+                )
     for constraint in problem.constraints:
+        if not finished and not isinstance(constraint, _SAFETY):
+            continue
         broken = _broken(constraint, trajectory, steps, universe)
         if broken:
-            return Validation(False, f"constraint {constraint.to_pddl()} is broken: {broken}")
+            at, why = broken
+            text = constraint.to_pddl()
+            violations.append(Violation("constraint", text, at, f"constraint {text} is broken: {why}"))
+    if violations:
+        return Validation(False, violations[0].message, tuple(violations))
     count = len(problem.constraints)
     kept = (" and keeps its constraint" if count == 1 else f" and keeps all {count} constraints") if count else ""
     return Validation(True, f"the plan reaches the goal in {plural(len(steps), 'step')}{kept}")
+
+
+def _inapplicable(
+    domain: Domain, problem: Problem, number: int, name: str, args: tuple[str, ...], state: frozenset
+) -> Violation | None:
+    """Why step ``number`` cannot be applied in ``state`` (its false preconditions), or None."""
+    written = "(" + " ".join((name, *args)) + ")"
+    label = f"step {number} ({' '.join((name, *args))})"
+    try:
+        action = domain.action(name)
+    except InputError as error:
+        return Violation("precondition", written, number, f"{label}: {error}")
+    wrong = _wrong_arguments(domain, action.parameters, args, dict(problem.all_objects()))
+    if wrong:
+        return Violation("precondition", written, number, f"{label}: {wrong}")
+    precondition = substitute(action.precondition, dict(zip((p for p, _ in action.parameters), args, strict=False)))
+    universe = problem.universe()
+    if holds(precondition, state, universe):
+        return None
+    false = [part for part in conjuncts(precondition) if not holds(part, state, universe)]
+    text = conjunction(false).to_pddl()
+    if len(false) == 1:
+        return Violation("precondition", text, number, f"{label}: precondition {text} does not hold")
+    listed = ", ".join(part.to_pddl() for part in false)
+    return Violation("precondition", text, number, f"{label}: preconditions {listed} do not hold")
+
+
+def conjuncts(formula: Formula) -> tuple[Formula, ...]:
+    """The parts of a conjunction, nested ``(and ...)`` opened (none for ``(and)``); any other formula alone."""
+    if not isinstance(formula, And):
+        return (formula,)
+    return tuple(dict.fromkeys(part for arg in formula.args for part in conjuncts(arg)))
 
 
 def plural(count: int, noun: str) -> str:
@@ -105,8 +180,10 @@ def initially_broken(problem: Problem) -> str | None:
     return None
 
 
-def _broken(constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequence[PlanStep], universe) -> str | None:
-    """Why ``constraint`` fails on ``trajectory`` (states s_0..s_n), or None when it holds."""
+def _broken(
+    constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequence[PlanStep], universe
+) -> tuple[int, str] | None:
+    """Where (the state's index) and why ``constraint`` fails on ``trajectory`` (states s_0..s_n), or None."""
 
     def when(i: int) -> str:
         return "in the initial state" if i == 0 else f"after step {i} ({' '.join((steps[i - 1][0], *steps[i - 1][1]))})"
@@ -116,21 +193,26 @@ def _broken(constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequ
 
     if isinstance(constraint, Always):
         values = truth(constraint.formula)
-        return None if all(values) else f"{constraint.formula.to_pddl()} is false {when(values.index(False))}"
+        if all(values):
+            return None
+        return values.index(False), f"{constraint.formula.to_pddl()} is false {when(values.index(False))}"
+    last = len(trajectory) - 1
     if isinstance(constraint, Sometime):
-        return None if any(truth(constraint.formula)) else f"{constraint.formula.to_pddl()} never holds"
+        return None if any(truth(constraint.formula)) else (last, f"{constraint.formula.to_pddl()} never holds")
     if isinstance(constraint, AtEnd):
-        return None if truth(constraint.formula)[-1] else f"{constraint.formula.to_pddl()} is false at the end"
+        return None if truth(constraint.formula)[-1] else (last, f"{constraint.formula.to_pddl()} is false at the end")
     if isinstance(constraint, AtMostOnce):
         values = truth(constraint.formula)
         starts = [i for i, v in enumerate(values) if v and (i == 0 or not values[i - 1])]
-        return None if len(starts) <= 1 else f"{constraint.formula.to_pddl()} becomes true again {when(starts[1])}"
+        if len(starts) <= 1:
+            return None
+        return starts[1], f"{constraint.formula.to_pddl()} becomes true again {when(starts[1])}"
     p = truth(constraint.formula)
     if isinstance(constraint, SometimeBefore):
         q = truth(constraint.before)
         for i, p_i in enumerate(p):
             if p_i and not any(q[:i]):
-                return (
+                return i, (
                     f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.before.to_pddl()} "
                     "has not held before"
                 )
@@ -139,7 +221,7 @@ def _broken(constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequ
     q = truth(constraint.after)
     for i, p_i in enumerate(p):
         if p_i and not any(q[i:]):
-            return (
+            return i, (
                 f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} "
                 "never holds then or later"
             )
@@ -204,6 +286,16 @@ def parse_plan(text: str, domain: Domain, problem: Problem, name: str = "<plan>"
             raise InputError(f"{name}:{number}:{column}: {action_name}: {wrong}")
         steps.append((action_name, args))
     return steps
+
+
+def step_positions(text: str) -> list[tuple[int, int]]:
+    """The 1-based line and column where each step of a PLAN text starts, in the order of :func:`parse_plan`."""
+    positions = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        code = line.split(";", 1)[0]
+        if code.strip():
+            positions.append((number, len(code) - len(code.lstrip()) + 1))
+    return positions
 
 
 def read_plan(path: str | Path, domain: Domain, problem: Problem) -> list[PlanStep]:
