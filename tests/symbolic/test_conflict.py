@@ -4,8 +4,9 @@ Fast Downward calls and located in the problem file (``vslsp plan`` names it).""
 import json
 from dataclasses import replace
 
+import pytest
 from helpers.cli import vslsp
-from helpers.symbolic import PDDL
+from helpers.symbolic import PDDL, far
 
 from vslsp.symbolic import parse_pddl, solve
 from vslsp.symbolic.conflict import Conflict, explain
@@ -58,15 +59,19 @@ def texts(conflict: Conflict) -> list[str]:
     return [part.to_pddl() for part in conflict.parts]
 
 
-def solvable_without(problem, conflict: Conflict, dropped) -> bool:
-    """The conflict less ``dropped`` has a plan (solve raises when it has none)."""
+def _without(problem, conflict: Conflict, dropped):
+    """``problem`` with only the conflict's parts, less ``dropped``."""
     kept = [p for p in conflict.parts if p is not dropped]
-    restricted = replace(
+    return replace(
         problem,
         goal=conjunction(p.formula for p in kept if p.kind == "goal"),
         constraints=tuple(p.formula for p in kept if p.kind == "constraint"),
     )
-    solve(problem.domain, restricted)
+
+
+def solvable_without(problem, conflict: Conflict, dropped) -> bool:
+    """The conflict less ``dropped`` has a plan (solve raises when it has none)."""
+    solve(problem.domain, _without(problem, conflict, dropped))
     return True
 
 
@@ -139,3 +144,43 @@ def test_plan_names_the_conflict_with_positions(capsys, tmp_path):
 def test_a_plan_found_has_no_conflict(capsys):
     code, out, _ = vslsp(capsys, "plan", PDDL / "domain.pddl", PDDL / "pull-in-order.pddl", "--json")
     assert code == 0 and "conflict" not in json.loads(out)
+
+
+@pytest.mark.slow
+def test_conflicts_of_random_unsolvable_problems_are_minimal():
+    """On random problems over three blocks: every conflict found has no plan, and each of its
+    parts is needed (the planner finds a plan for the conflict less any one part)."""
+    import random
+
+    from vslsp.errors import TaskFailed
+    from vslsp.symbolic import Always, AtMostOnce, Not, Sometime, SometimeAfter, SometimeBefore, Unsolvable
+
+    domain, base = parse_pddl(DOMAIN, (PDDL / "simple-push-pull.pddl").read_text())
+    rng, explained = random.Random(11), 0
+
+    def lit():
+        atom = far(rng.choice(("red", "green", "blue")))
+        return atom if rng.random() < 0.5 else Not(atom)
+
+    kinds = (Always, Sometime, AtMostOnce, lambda f: SometimeBefore(f, lit()), lambda f: SometimeAfter(f, lit()))
+    for _ in range(100):
+        if explained == 4:
+            break
+        problem = base.with_goal(lit() & lit() & lit())
+        for _ in range(3):
+            problem = problem.with_constraint(rng.choice(kinds)(lit()))
+        try:
+            solve(domain, problem)
+            continue
+        except Unsolvable:
+            pass
+        except TaskFailed:
+            continue
+        conflict = explain(domain, problem, known_unsolvable=True)
+        assert conflict is not None and conflict.minimal and conflict.parts
+        with pytest.raises(Unsolvable):
+            solve(domain, _without(problem, conflict, None))
+        for part in conflict.parts:
+            assert solvable_without(problem, conflict, part)
+        explained += 1
+    assert explained == 4
