@@ -184,3 +184,11 @@ def test_conflicts_of_random_unsolvable_problems_are_minimal():
             assert solvable_without(problem, conflict, part)
         explained += 1
     assert explained == 4
+
+
+def test_a_constraint_broken_in_the_initial_state_is_named_alone():
+    domain, problem = parse_pddl(DOMAIN, ALWAYS.replace("(always (far a))", "(always (not (far b)))"))
+    conflict = explain(domain, problem)
+    assert conflict is not None and conflict.minimal
+    assert texts(conflict) == ["(always (not (far b)))"]
+    assert "this constraint alone can never be kept" in conflict.summary()

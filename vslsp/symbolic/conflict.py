@@ -81,6 +81,8 @@ class Conflict:
                 f"{proven}: no constraint is involved; the initial state and the domain's actions alone cannot reach "
                 f"{'this goal conjunct' if len(self.parts) == 1 else 'these goal conjuncts together'}"
             )
+        if len(self.parts) == 1:
+            return f"{proven}: this constraint alone can never be kept from the initial state"
         makes = "makes" if self.minimal else "may make"
         return f"{proven}: these cannot all hold together; removing any one {makes} the rest solvable"
 
