@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from typing import TYPE_CHECKING
 
 import click
 
@@ -12,6 +13,9 @@ from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
 
 MAX_TIMEOUT_S = 7 * 24 * 3600.0  # a week
 MAX_MEMORY_MB = 1024 * 1024  # a terabyte
+
+if TYPE_CHECKING:
+    from vslsp.symbolic import Domain, Problem
 
 
 @click.command()
@@ -129,7 +133,9 @@ def plan(
     )
 
 
-def _explained(domain, problem, path: str, planner: str, budget: float, memory: int, failure: dict) -> list[str]:
+def _explained(
+    domain: Domain, problem: Problem, path: str, planner: str, budget: float, memory: int, failure: dict
+) -> list[str]:
     """The conflict of an unsolvable problem as lines of text; ``failure`` gets its JSON fields."""
     from vslsp.errors import VslspError
     from vslsp.symbolic.conflict import explain

@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import json
 import sys
+from typing import TYPE_CHECKING
 
 import click
 
 from vslsp.cli.pddl import debug_option, pddl_edge
+
+if TYPE_CHECKING:
+    from vslsp.symbolic import Validation
 
 
 @click.command()
@@ -51,7 +55,7 @@ def validate(domain: str, problem: str, plan: str, as_json: bool, debug: bool) -
         sys.exit(1)  # the verdict is printed: exit 1 without a second message
 
 
-def _located(verdict, problem: str, plan: str) -> list[dict]:
+def _located(verdict: Validation, problem: str, plan: str) -> list[dict]:
     """The verdict's violations with FILE, LINE, COLUMN: a step in the PLAN file, a goal conjunct or a
     constraint in the PROBLEM file (text as written there)."""
     from pathlib import Path
