@@ -68,6 +68,7 @@ def _located(verdict: Validation, problem: str, plan: str) -> list[dict]:
     positions = step_positions(Path(plan).read_bytes().decode("utf-8-sig")) if verdict.violations else []
     located = []
     for violation in verdict.violations:
+        place: dict[str, object]
         if violation.kind == "precondition":
             line, column = positions[violation.step - 1] if violation.step <= len(positions) else (None, None)
             place = {"kind": "precondition", "text": violation.text, "instance": violation.text}
