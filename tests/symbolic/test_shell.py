@@ -424,3 +424,26 @@ def test_a_whole_domain_from_a_terminal_with_completion(tmp_path, capsys):
     assert (home / ".vslsp_history").stat().st_mode & 0o777 == 0o600  # private, as readline keeps it
     history = (home / ".vslsp_history").read_text().splitlines()
     assert history[0] == "domain kitchen" and history[-1] == "quit" and len(history) == len(lines)
+
+
+def test_why_names_the_conflict_and_dropping_one_constraint_makes_it_solvable(tmp_path):
+    out = run(
+        f"load {PDDL / 'domain.pddl'} {PDDL / 'pull-in-order.pddl'}\nwhy\n"
+        "constraint (sometime-before (not (far orange)) (not (far yellow)))\nplan\nwhy\n"
+        "drop constraint 2\nplan\nvalidate (pull green) (pull orange) (pull yellow)\n"
+    )
+    assert "(vslsp) the problem has a plan: nothing conflicts\n" in out
+    assert "type why to see which goal conjuncts and constraints conflict\n" in out
+    # orange after yellow after green after orange: a cycle; any block's goal conjunct needs it broken
+    assert (
+        "(vslsp) why: a minimal conflict: these cannot all hold together; removing any one makes the rest solvable\n"
+        "  goal: (not (far yellow))\n"
+        "  constraint 1: (sometime-before (not (far green)) (not (far orange)))\n"
+        "  constraint 2: (sometime-before (not (far yellow)) (not (far green)))\n"
+        "  constraint 3: (sometime-before (not (far orange)) (not (far yellow)))\n"
+        "to take one out: drop constraint N (e.g. drop constraint 1), or change the goal\n"
+    ) in out
+    assert "(vslsp) 1. pull yellow\n2. pull orange\n3. pull green\n" in out  # without the middle order
+    # the wrong order breaks two constraints: both are listed
+    assert "(vslsp) invalid: constraint (sometime-before (not (far green)) (not (far orange))) is broken" in out
+    assert "  also: constraint (sometime-before (not (far orange)) (not (far yellow))) is broken" in out

@@ -21,8 +21,10 @@ import threading
 from dataclasses import replace
 
 from vslsp.errors import InputError, VslspError
+from vslsp.symbolic.conflict import explain
 from vslsp.symbolic.formula import Atom, atoms_of
 from vslsp.symbolic.model import Domain, Predicate, Problem, When
+from vslsp.symbolic.outcomes import Unsolvable
 from vslsp.symbolic.pddl import parse_pddl, read_pddl, save
 from vslsp.symbolic.planner import DEFAULT_PLANNER, PLANNERS, solve
 from vslsp.symbolic.shell_check import Checker, did_you_mean, in_shell_terms, parse
@@ -340,7 +342,10 @@ class Shell(cmd.Cmd):
                 self.say("no constraints")
 
     def do_plan(self, arg: str) -> None:
-        result = solve(self.domain, self.problem, planner=(arg.split() or [DEFAULT_PLANNER])[0])
+        try:
+            result = solve(self.domain, self.problem, planner=(arg.split() or [DEFAULT_PLANNER])[0])
+        except Unsolvable as error:
+            raise Unsolvable(f"{error}; type why to see which goal conjuncts and constraints conflict") from None
         self.last_plan = list(result.steps)
         for number, line in enumerate(result.lines(), start=1):
             self.say(f"{number}. {line}")
@@ -356,6 +361,24 @@ class Shell(cmd.Cmd):
             raise InputError(f"no plan yet: run plan first, or give the steps, e.g. {example('validate')}")
         verdict = validate(self.domain, self.problem, steps)
         self.say(f"{'valid' if verdict.valid else 'invalid'}: {verdict.reason}")
+        for violation in verdict.violations[1:]:
+            self.say(f"  also: {violation.message}")
+
+    def do_why(self, arg: str) -> None:
+        if arg.strip():
+            self.say(usage("why"))
+            return
+        conflict = explain(self.domain, self.problem)
+        if conflict is None:
+            self.say("the problem has a plan: nothing conflicts")
+            return
+        self.say(f"why: {conflict.summary()}")
+        for part in conflict.parts:
+            label = "goal" if part.kind == "goal" else f"constraint {part.index + 1}"
+            self.say(f"  {label}: {part.to_pddl()}")
+        numbers = [part.index + 1 for part in conflict.parts if part.kind == "constraint"]
+        if numbers:
+            self.say(f"to take one out: drop constraint N (e.g. drop constraint {numbers[0]}), or change the goal")
 
     def do_load(self, arg: str) -> None:
         paths = shlex.split(arg)

@@ -60,8 +60,13 @@ COMMANDS: tuple[Command, ...] = (
         "show problem",
     ),
     Command("plan", "plan [PLANNER]", "plan for the problem (fast-downward by default)", "plan"),
-    # `why` (why the problem has no plan: a minimal set of conflicting constraints and goals)
-    # belongs here, between plan and validate, with a `do_why` method in the shell.
+    Command(
+        "why",
+        "why",
+        "when the problem has no plan: a minimal set of goal conjuncts and constraints that conflict "
+        "(constraints numbered as `show` does)",
+        "why",
+    ),
     Command(
         "validate",
         "validate [STEP ...]",
