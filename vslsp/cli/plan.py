@@ -139,7 +139,7 @@ def _explained(
     """The conflict of an unsolvable problem as lines of text; ``failure`` gets its JSON fields."""
     from vslsp.errors import VslspError
     from vslsp.symbolic.conflict import explain
-    from vslsp.symbolic.locate import as_written, where
+    from vslsp.symbolic.locate import where
     from vslsp.symbolic.pddl import read_text
 
     try:
@@ -147,8 +147,6 @@ def _explained(
     except VslspError as error:  # the plan's own verdict stands; the explanation is extra
         return [f"why: not found ({error})"]
     assert conflict is not None
-    text = read_text(path)
-    items = [as_written(part.kind, part.to_pddl(), text, path) for part in conflict.parts]
-    items.sort(key=lambda item: (item["line"] is None, item["line"] or 0, item["column"] or 0))
+    items = conflict.located(read_text(path), path)
     failure["conflict"], failure["conflict_minimal"] = items, conflict.minimal
     return [f"why: {conflict.summary()}", *(f"  {where(i)}: {i['kind']} {i['text']}" for i in items)]

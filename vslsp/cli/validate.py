@@ -4,14 +4,11 @@ from __future__ import annotations
 
 import json
 import sys
-from typing import TYPE_CHECKING
+from pathlib import Path
 
 import click
 
 from vslsp.cli.pddl import debug_option, pddl_edge
-
-if TYPE_CHECKING:
-    from vslsp.symbolic import Validation
 
 
 @click.command()
@@ -39,12 +36,14 @@ def validate(domain: str, problem: str, plan: str, as_json: bool, debug: bool) -
     from vslsp.symbolic import read_pddl, read_plan
     from vslsp.symbolic import validate as validate_plan
     from vslsp.symbolic.locate import where
+    from vslsp.symbolic.pddl import read_text
 
     with pddl_edge(as_json, debug, {"valid": None}) as warned:
         parsed_domain, parsed_problem = read_pddl(domain, problem)
         assert parsed_problem is not None
         verdict = validate_plan(parsed_domain, parsed_problem, read_plan(plan, parsed_domain, parsed_problem))
-        violations = _located(verdict, problem, plan)
+        texts = (read_text(problem), Path(plan).read_bytes().decode("utf-8-sig")) if not verdict.valid else ("", "")
+        violations = verdict.located(texts[0], problem, texts[1], plan)
     if as_json:
         click.echo(json.dumps({**verdict.to_dict(), "violations": violations, "warnings": warned}))
     else:
@@ -53,27 +52,3 @@ def validate(domain: str, problem: str, plan: str, as_json: bool, debug: bool) -
             click.echo(f"  {where(violation)}: {violation['message']}")
     if not verdict.valid:
         sys.exit(1)  # the verdict is printed: exit 1 without a second message
-
-
-def _located(verdict: Validation, problem: str, plan: str) -> list[dict]:
-    """The verdict's violations with FILE, LINE, COLUMN: a step in the PLAN file, a goal conjunct or a
-    constraint in the PROBLEM file (text as written there)."""
-    from pathlib import Path
-
-    from vslsp.symbolic.locate import as_written
-    from vslsp.symbolic.pddl import read_text
-    from vslsp.symbolic.validate import step_positions
-
-    problem_text = read_text(problem) if verdict.violations else ""
-    positions = step_positions(Path(plan).read_bytes().decode("utf-8-sig")) if verdict.violations else []
-    located = []
-    for violation in verdict.violations:
-        place: dict[str, object]
-        if violation.kind == "precondition":
-            line, column = positions[violation.step - 1] if violation.step <= len(positions) else (None, None)
-            place = {"kind": "precondition", "text": violation.text, "instance": violation.text}
-            place |= {"file": plan, "line": line, "column": column}
-        else:
-            place = as_written(violation.kind, violation.text, problem_text, problem)
-        located.append({**place, "step": violation.step, "message": violation.message})
-    return located

@@ -25,6 +25,7 @@ from dataclasses import dataclass, replace
 
 from vslsp.errors import TaskFailed
 from vslsp.symbolic.formula import Constraint, Formula, conjunction
+from vslsp.symbolic.locate import as_written
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.outcomes import Unsolvable
 from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_PLANNER, solve
@@ -85,6 +86,13 @@ class Conflict:
             return f"{proven}: this constraint alone can never be kept from the initial state"
         makes = "makes" if self.minimal else "may make"
         return f"{proven}: these cannot all hold together; removing any one {makes} the rest solvable"
+
+    def located(self, problem_text: str, problem_name: str) -> list[dict]:
+        """The parts as ``vslsp plan --json`` lists them under ``"conflict"``: ``{"kind", "text",
+        "instance", "file", "line", "column"}``, found in the problem file's text (``text`` as written
+        there, whitespace normalised), in the order of the file."""
+        items = [as_written(part.kind, part.to_pddl(), problem_text, problem_name) for part in self.parts]
+        return sorted(items, key=lambda item: (item["line"] is None, item["line"] or 0, item["column"] or 0))
 
     def to_dict(self) -> dict:
         return {

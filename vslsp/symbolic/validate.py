@@ -34,6 +34,7 @@ from vslsp.symbolic.formula import (
     holds,
     substitute,
 )
+from vslsp.symbolic.locate import as_written
 from vslsp.symbolic.model import Domain, Problem, ground_effects
 
 PlanStep = tuple[str, tuple[str, ...]]
@@ -78,6 +79,23 @@ class Validation:
     def from_dict(cls, data: dict) -> Validation:
         violations = tuple(Violation.from_dict(v) for v in data.get("violations", ()))
         return cls(bool(data["valid"]), str(data["reason"]), violations)
+
+    def located(self, problem_text: str, problem_name: str, plan_text: str, plan_name: str) -> list[dict]:
+        """The violations as ``vslsp validate --json`` lists them: ``{"kind", "text", "instance", "file",
+        "line", "column", "step", "message"}``; a step found in the PLAN text, a goal conjunct or a
+        constraint in the PROBLEM text (its text as written there; line and column None if not found)."""
+        positions = step_positions(plan_text) if self.violations else []
+        located = []
+        for violation in self.violations:
+            place: dict[str, object]
+            if violation.kind == "precondition":
+                line, column = positions[violation.step - 1] if violation.step <= len(positions) else (None, None)
+                place = {"kind": "precondition", "text": violation.text, "instance": violation.text}
+                place |= {"file": plan_name, "line": line, "column": column}
+            else:
+                place = as_written(violation.kind, violation.text, problem_text, problem_name)
+            located.append({**place, "step": violation.step, "message": violation.message})
+        return located
 
 
 #: Constraints whose breaking a prefix of the trajectory already decides (the rest may still hold later).
