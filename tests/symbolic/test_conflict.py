@@ -192,3 +192,11 @@ def test_a_constraint_broken_in_the_initial_state_is_named_alone():
     assert conflict is not None and conflict.minimal
     assert texts(conflict) == ["(always (not (far b)))"]
     assert "this constraint alone can never be kept" in conflict.summary()
+
+
+def test_without_time_to_prove_the_problem_unsolvable_nothing_is_explained():
+    from vslsp.errors import TaskFailed
+
+    domain, problem = parse_pddl(DOMAIN, CYCLE)
+    with pytest.raises(TaskFailed, match="cannot explain: the planner did not prove the problem unsolvable"):
+        explain(domain, problem, budget_s=0)
