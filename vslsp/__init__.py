@@ -9,6 +9,15 @@ pybullet iCub simulator).
 
 __version__ = "0.1.0"
 
+import os
+
+# OpenCV's own limit on the pixels of an image it decodes, checked on the header of every format
+# it reads: the same 40 megapixels as vslsp.vision.image.MAX_PIXELS (a lower limit a user set is
+# kept). OpenCV reads it once, when cv2 is loaded, so it is set before anything imports cv2.
+_CV_LIMIT = "OPENCV_IO_MAX_IMAGE_PIXELS"
+if not os.environ.get(_CV_LIMIT, "").isdigit() or int(os.environ[_CV_LIMIT]) > 40_000_000:
+    os.environ[_CV_LIMIT] = "40000000"
+
 from vslsp.errors import VslspError  # noqa: E402
 
 __all__ = ["VslspError", "__version__", "ground"]

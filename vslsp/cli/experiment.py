@@ -16,24 +16,27 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import prepare_output_folder, seed_option
+from vslsp.cli.params import count, prepare_output_folder, seed_option
 from vslsp.errors import Interrupted
 from vslsp.outputs import OutputFailed, refuse_link
 
 REPORT_FILES = ("report.json", "report.md")
 
+MAX_TRIALS = 10_000  # docs/bad-input.md states these limits
+MAX_WORKERS = 64
+
 
 @click.command()
 @click.argument("name", required=False)
 @click.option("--list", "list_them", is_flag=True, help="List the experiments (with --json: as JSON) and exit.")
-@click.option("--trials", type=click.IntRange(1, 100_000), default=1, show_default=True)
+@click.option("--trials", type=count(MAX_TRIALS), default=1, show_default=True, help="Trials (1 to 10000).")
 @seed_option(help="Seed of the first trial (then seed+1, ...), 0 to 4294967295.")
 @click.option(
     "--workers",
-    type=click.IntRange(1, 256),
+    type=count(MAX_WORKERS),
     default=1,
     show_default=True,
-    help="Trials running in parallel (processes, or Ray tasks with --backend ray).",
+    help="Trials running in parallel, 1 to 64 (processes, or Ray tasks with --backend ray).",
 )
 @click.option(
     "--backend",

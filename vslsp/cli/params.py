@@ -101,8 +101,25 @@ def _blocking_file(path: Path) -> Path | None:
     return None
 
 
+def name_problem(path: Path) -> str | None:
+    """Why the file system cannot hold ``path`` (a name over 255 bytes, a path over 4096), or None.
+
+    Checked before any work, so that an over-long ``--out`` is a usage error up front, not an
+    ``OSError`` after the run."""
+    from vslsp.files import check_name
+
+    try:
+        check_name(path, "")
+    except InputError as error:
+        return str(error).lstrip(": ")
+    return None
+
+
 def _folder_problem(path: Path) -> str | None:
     """Create ``path`` as a folder and probe it; a sentence saying what is wrong, or None."""
+    too_long = name_problem(path)
+    if too_long is not None:
+        return too_long
     blocker = _blocking_file(path)
     if blocker is not None:
         return f"{blocker} is a file, so the folder {path} cannot be created there; choose another output folder"
@@ -136,6 +153,9 @@ def prepare_output_file(path: str | os.PathLike[str], option: str = "--out") -> 
     Raises :class:`InputError` (exit 2) naming ``option`` and the path otherwise.
     """
     target = Path(path)
+    too_long = name_problem(target)
+    if too_long is not None:
+        raise InputError(f"{option}: {too_long}")
     if target.is_dir():
         raise InputError(f"{option}: {target} is a folder; give a file name")
     refuse_link(target, option)

@@ -18,11 +18,13 @@ from pathlib import Path
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.files import read_json, shown
 
 TABLE_Z = 0.58  # height of the table top
 CUBE_SIZE = 0.05
 LINE_Y = -0.10  # the line is placed through the middle of the right hand's workspace
 LINE_WIDTH = 0.015
+MAX_SCENE_BYTES = 100_000  # a scene file: at most 12 cubes and a landmark
 # Where cube centres may lie: the right hand must reach 7 cm behind and 7 cm beyond a cube,
 # and a push or pull moves it about 12 cm along the line's normal.
 WORKSPACE_X = (0.14, 0.33)
@@ -132,14 +134,11 @@ class SceneSpec:
 
     @classmethod
     def load(cls, path: str | Path) -> SceneSpec:
-        try:
-            data = json.loads(Path(path).read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-            raise InputError(f"cannot read scene file {path}: {error}") from error
+        data = read_json(path, "scene file", MAX_SCENE_BYTES)
         try:
             return cls.from_dict(data)
         except InputError as error:
-            raise InputError(f"scene file {path}: {error}") from error
+            raise InputError(f"scene file {shown(path)}: {error}") from error
 
     def save(self, path: str | Path) -> None:
         Path(path).write_text(json.dumps(self.to_dict(), indent=2) + "\n")

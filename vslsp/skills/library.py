@@ -18,7 +18,6 @@ import json
 import math
 import os
 import re
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -28,6 +27,7 @@ import numpy as np
 from vslsp.data import skills_folder
 from vslsp.dmp import DMP
 from vslsp.errors import InputError
+from vslsp.files import load_npz, read_json, shown
 from vslsp.outputs import atomic_file, write_text
 
 LIBRARY_FORMAT = "vslsp-skill-library"
@@ -45,6 +45,8 @@ MIN_DT = 1e-4  # s, the sample period
 MAX_BASIS = 1000
 MAX_WEIGHT = 1e6  # forcing-term weights (the shipped reaches' are below 1e3)
 MAX_SAMPLES = 10**6  # samples of one demonstration
+MAX_NPZ_BYTES = 256_000_000  # the arrays of one skill file, decoded (checked on their headers before loading)
+MAX_INDEX_BYTES = 1_000_000  # library.json
 MAX_REACH_SPREAD = 2.0  # m, how far a reach may stray from its goal
 MAX_PATH_LENGTH = 20.0  # m, a hand path to resample in 5 mm steps
 
@@ -203,17 +205,17 @@ class SkillLibrary:
         index_file = folder / "library.json"
         refuse_linked(index_file)
         fix_all = " and ".join(f"`vslsp teach {name} --out {folder} --force`" for name in SKILL_NAMES)
-        try:
-            index = json.loads(index_file.read_text(encoding="utf-8"))
-        except FileNotFoundError as error:
+        if not os.path.lexists(index_file):
             if strict:
                 raise InputError(
                     f"no skill library in {folder} (library.json is missing); create one with "
                     f"`vslsp teach push --out {folder}` and `vslsp teach pull --out {folder}`"
-                ) from error
+                )
             return cls(), []
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-            problem = f"{index_file} is corrupt ({error}); re-create it with {fix_all}"
+        try:
+            index = read_json(index_file, "skill library index", MAX_INDEX_BYTES)
+        except InputError as error:
+            problem = f"{shown(index_file)} is corrupt ({error}); re-create it with {fix_all}"
             if strict:
                 raise InputError(problem) from error
             return cls(), [problem]
@@ -304,23 +306,13 @@ def refuse_linked(path: Path) -> None:
 
 
 def _arrays(path: Path, what: str) -> dict[str, np.ndarray]:
-    """The arrays of an ``.npz`` file, never unpickling anything."""
+    """The arrays of an ``.npz`` file: regular, bounded, headers checked first, never unpickling anything."""
+    if not os.path.lexists(path):
+        raise _Invalid(f"{path.name} ({what}) is missing")
     try:
-        with np.load(path, allow_pickle=False) as data:
-            if not hasattr(data, "files"):
-                raise _Invalid(f"{path.name} holds one bare array, not the {what} (.npz)")
-            return {key: data[key] for key in data.files}
-    except FileNotFoundError as error:
-        raise _Invalid(f"{path.name} ({what}) is missing") from error
-    except ValueError as error:
-        if "pickle" in str(error) or "Object arrays" in str(error):
-            raise _Invalid(
-                f"{path.name} holds pickled Python objects, not the {what}; vslsp never reads "
-                "pickles (loading one can run any code)"
-            ) from None
-        raise _Invalid(f"{path.name} cannot be read as the {what} ({error})") from error
-    except (OSError, EOFError, zipfile.BadZipFile, KeyError) as error:
-        raise _Invalid(f"{path.name} is not a readable .npz file of the {what} ({error})") from error
+        return load_npz(path, what, MAX_NPZ_BYTES)
+    except InputError as error:
+        raise _Invalid(str(error)) from None
 
 
 def _check_dmp_arrays(arrays: dict[str, np.ndarray], path: Path) -> None:

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.errors import InputError
+from vslsp.files import shown
 from vslsp.outputs import write_text
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
 from vslsp.symbolic.model import Domain, Problem
@@ -49,11 +50,15 @@ def read_pddl(domain_path: str | Path, problem_path: str | Path | None = None) -
     """Read a domain (and a problem) file through unified-planning's PDDLReader.
 
     Malformed input raises InputError ``FILE:LINE:COL: what is wrong``; what vslsp reads
-    leniently (preferences, a mismatched ``(:domain ...)``) is a :class:`PddlWarning`.
+    leniently (preferences, a mismatched ``(:domain ...)``) is a :class:`PddlWarning`. The
+    parse budget covers the whole read: the files, the checks and the reader.
     """
-    domain_text = read_text(domain_path)
-    problem_text = read_text(problem_path) if problem_path is not None else None
-    return _read(domain_text, problem_text, str(domain_path), str(problem_path) if problem_path else None)
+    with _parse_budget(shown(problem_path if problem_path is not None else domain_path)):
+        domain_text = read_text(domain_path)
+        problem_text = read_text(problem_path) if problem_path is not None else None
+        return _read(
+            domain_text, problem_text, shown(domain_path), shown(problem_path) if problem_path is not None else None
+        )
 
 
 def read_domain(path: str | Path) -> Domain:
@@ -68,7 +73,8 @@ def read_problem(domain_path: str | Path, problem_path: str | Path) -> Problem:
 
 def parse_pddl(domain_text: str, problem_text: str | None = None) -> tuple[Domain, Problem | None]:
     """:func:`read_pddl` on strings (errors name ``<domain>`` / ``<problem>``)."""
-    return _read(domain_text, problem_text, "<domain>", "<problem>" if problem_text is not None else None)
+    with _parse_budget("<problem>" if problem_text is not None else "<domain>"):
+        return _read(domain_text, problem_text, "<domain>", "<problem>" if problem_text is not None else None)
 
 
 def save(text: str, path: str | Path) -> Path:
@@ -84,6 +90,10 @@ def save(text: str, path: str | Path) -> Path:
 def _read(
     domain_text: str, problem_text: str | None, domain_name: str, problem_name: str | None
 ) -> tuple[Domain, Problem | None]:
+    # Lines end in LF, CRLF or a lone CR (old Mac files): all read as LF, so comments end and places count alike.
+    domain_text = domain_text.replace("\r\n", "\n").replace("\r", "\n")
+    if problem_text is not None:
+        problem_text = problem_text.replace("\r\n", "\n").replace("\r", "\n")
     check_text(domain_text, domain_name)
     check_types(domain_text, domain_name)
     domain_text = either_widened(
@@ -156,21 +166,33 @@ def _time_budget(seconds: float) -> Iterator[None]:
         signal.signal(signal.SIGALRM, previous)
 
 
+@contextmanager
+def _parse_budget(name: str) -> Iterator[None]:
+    """At most :data:`PARSE_BUDGET_S` seconds for everything inside, else an InputError naming ``name``."""
+    try:
+        with _time_budget(PARSE_BUDGET_S):
+            yield
+    except _OverBudget:
+        raise InputError(
+            f"{name}: reading took more than {PARSE_BUDGET_S:.0f} s and was stopped; the file is too "
+            "large for vslsp's reader (plan with Fast Downward directly)"
+        ) from None
+
+
 def _parse(domain_text: str, problem_text: str | None, domain_name: str, problem_name: str | None) -> Any:
     from unified_planning.io import PDDLReader
 
     text, name = (problem_text, problem_name) if problem_text is not None else (domain_text, domain_name)
     try:
-        with warnings.catch_warnings(), _time_budget(PARSE_BUDGET_S):
+        with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)  # pyparsing's notes about the reader's own calls
             return PDDLReader(environment()).parse_problem_string(domain_text, problem_text)
-    except _OverBudget:
-        raise InputError(
-            f"{name}: parsing took more than {PARSE_BUDGET_S:.0f} s and was stopped; the file is too "
-            "large for vslsp's reader (plan with Fast Downward directly)"
-        ) from None
+    except _OverBudget:  # the budget of the whole read (_parse_budget)
+        raise
     except RecursionError:
-        raise InputError(f"{name}: the file nests too deeply to read (a type or formula refers to itself?)") from None
+        raise InputError(
+            f"{name}: formulas nest too deeply for vslsp's reader; flatten them ((and a (and b c)) is (and a b c))"
+        ) from None
     except InputError:
         raise
     except Exception as error:  # UP raises SyntaxError, pyparsing and UP exceptions alike

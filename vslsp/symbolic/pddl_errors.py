@@ -36,6 +36,8 @@ PDDL3_OPERATORS = (
     "hold-after",
     "at end",
 )
+#: The deepest parenthesis nesting read (unified-planning's reader recurses per level; ~50 overflow it).
+MAX_NESTING = 40
 _NOT_PDDL = {
     "somewhere-after": "PDDL 3.0 has no 'somewhere-after'; for \"p only after q\" (the demonstrated order) "
     "write (sometime-before p q)",
@@ -71,9 +73,10 @@ def check_text(text: str, name: str) -> None:
                 "constraints need a temporal planner); vslsp plans with always, sometime, at-most-once, "
                 "sometime-before, sometime-after and at end"
             )
+    predicates = _section_spans(code, ":predicates")
     for match in re.finditer(r"\(\s*(either|:derived|:functions|:durative-action)\b", code, re.IGNORECASE):
         word = match.group(1).lower()
-        if word == "either" and _in_section(code, match.start(), (":predicates",)):
+        if word == "either" and any(start < match.start() < end for start, end in predicates):
             continue  # a predicate's parameter: widened to the types' common ancestor (either_widened)
         if word == ":functions" and re.match(
             r"\(\s*:functions\s*\(\s*total-cost\s*\)(\s*-\s*number)?\s*\)", code[match.start() :], re.IGNORECASE
@@ -103,6 +106,12 @@ def check_text(text: str, name: str) -> None:
                     f"(opened at line {open_line}, col {open_column}): a ')' is missing before it"
                 )
             opened.append(index)
+            if len(opened) > MAX_NESTING:
+                line, column = _position(text, index)
+                raise InputError(
+                    f"{name}:{line}:{column}: parentheses nest {len(opened)} deep here; vslsp's reader takes at "
+                    f"most {MAX_NESTING} levels (flatten the formula: (and a (and b c)) is (and a b c))"
+                )
         elif char == ")":
             if not opened:
                 line, column = _position(text, index)
@@ -121,6 +130,14 @@ def check_text(text: str, name: str) -> None:
         raise InputError(f"{name}: the file is empty; expected (define (domain ...)) or (define (problem ...))")
 
 
+def _section_spans(code: str, section: str) -> list[tuple[int, int]]:
+    """(start, end) of every ``(section ...)`` in ``code`` (comments blanked)."""
+    return [
+        (match.start(), _closing(code, match.start()))
+        for match in re.finditer(rf"\(\s*{re.escape(section)}\b", code, re.IGNORECASE)
+    ]
+
+
 def check_domain_name(problem_text: str, domain_name: str, name: str) -> None:
     """Warn when the problem's ``(:domain NAME)`` is not the domain read with it (VAL and Fast Downward accept it)."""
     match = re.search(r"\(\s*:domain\s+([^\s()]+)", _code(problem_text), re.IGNORECASE)
@@ -130,16 +147,6 @@ def check_domain_name(problem_text: str, domain_name: str, name: str) -> None:
             f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
             f"defines {domain_name!r}; read with it all the same"
         )
-
-
-def _in_section(code: str, index: int, sections: tuple[str, ...]) -> bool:
-    """Whether ``index`` lies inside a top-level ``(:section ...)`` of one of ``sections``."""
-    for match in re.finditer(r"\(\s*(:[\w-]+)", code):
-        if match.start() > index:
-            return False
-        if match.group(1).lower() in sections and _closing(code, match.start()) > index:
-            return True
-    return False
 
 
 def either_widened(text: str, name: str) -> str:
@@ -290,12 +297,11 @@ def preferences_removed(text: str, name: str) -> str:
         out[metric.start() : end + 1] = [c if c == "\n" else " " for c in text[metric.start() : end + 1]]
     if section:  # emptied (and ...) and (forall (...) ...) go, and the section if nothing is left
         empty = re.compile(r"\(\s*(?:and|forall\s*\([^()]*\))\s*\)|\(\s*:constraints\s*\)", re.IGNORECASE)
-        while True:
-            joined = "".join(out)
-            match = empty.search(joined, inside[0], inside[1] + 1)
-            if not match:
-                break
-            out[match.start() : match.end()] = [c if c == "\n" else " " for c in joined[match.start() : match.end()]]
+        joined = "".join(out)
+        body, removed = joined[inside[0] : inside[1] + 1], 1
+        while removed:  # one pass per level of nesting, every empty form of the level at once
+            body, removed = empty.subn(lambda m: re.sub(r"[^\n]", " ", m.group(0)), body)
+        out = list(joined[: inside[0]] + body + joined[inside[1] + 1 :])
     line, column = _position(text, found[0])
     warn(
         f"{name}:{line}:{column}: {len(found)} preference{'s' if len(found) != 1 else ''} ignored: vslsp plans for "
@@ -360,7 +366,18 @@ _REWRITES = (
     ),
     (re.compile(r"Type (\S+) is declared more than once"), "type '{0}' is declared more than once"),
     (re.compile(r"Missing goal section"), "the problem has no (:goal ...) section"),
+    (
+        re.compile(r"Name (\S+) already defined"),
+        "the name '{0}' is given to two things (objects, types, predicates, actions); give each its own name",
+    ),
+    (re.compile(r"ExpressionManager\.(\w+)\(\) missing"), "'{0}' is missing an argument"),
+    (re.compile(r"ExpressionManager\.(\w+)\(\) takes"), "'{0}' has too many arguments"),
 )
+
+
+def _operator(up_name: str) -> str:
+    """unified-planning's name of an operator as PDDL writes it: ``SometimeBefore`` -> ``sometime-before``."""
+    return re.sub(r"(?<!^)([A-Z])", r"-\1", up_name).lower()
 
 
 def located_error(error: Exception, text: str, name: str) -> InputError:
@@ -379,10 +396,15 @@ def located_error(error: Exception, text: str, name: str) -> InputError:
         if place:
             line, column = int(place.group(1)), int(place.group(2))
         what = message.splitlines()[0].strip() if message else type(error).__name__
+        if isinstance(error, KeyError) and error.args:  # the reader's lookup of a name never declared
+            key = str(error.args[0])
+            kind = "type" if re.search(rf"-\s*{re.escape(key)}(?![\w-])", _code(text), re.IGNORECASE) else "name"
+            what = f"undefined {kind} '{key}'"
         for pattern, template in _REWRITES:
             match = pattern.search(message)
             if match:
-                what = template.format(*match.groups())
+                groups = [_operator(g) if "ExpressionManager" in message else g for g in match.groups()]
+                what = template.format(*groups)
                 break
         if not place:
             line, column = _guess_place(what, text)

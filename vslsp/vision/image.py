@@ -14,6 +14,7 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.files import check_name, read_bytes, shown
 from vslsp.outputs import write_bytes
 
 # Perception runs on images whose longer side is at most this many pixels: enough for
@@ -57,73 +58,113 @@ def as_rgb(image: np.ndarray, what: str = "image") -> np.ndarray:
     return np.ascontiguousarray(image)
 
 
-def header_size(path: str | Path) -> tuple[int, int] | None:
-    """(width, height) from a PNG or JPEG file's header without decoding it; None when the file
-    is neither (or its header is cut short)."""
-    with open(path, "rb") as file:
-        head = file.read(26)
-        if head[:8] == b"\x89PNG\r\n\x1a\n" and len(head) >= 24:
-            return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
-        if head[:2] != b"\xff\xd8":
+#: The largest image file read (a 40-megapixel PNG of noise is about 120 MB).
+MAX_IMAGE_BYTES = 200_000_000
+
+
+def image_format(head: bytes) -> str | None:
+    """ "png" or "jpeg" from a file's first bytes; None for anything else."""
+    if head[:8] == b"\x89PNG\r\n\x1a\n":
+        return "png"
+    return "jpeg" if head[:3] == b"\xff\xd8\xff" else None
+
+
+def header_size(source: bytes | str | os.PathLike[str]) -> tuple[int, int] | None:
+    """(width, height) from a PNG or JPEG file's header (its bytes, or its path) without decoding;
+    None when it is neither or its header is cut short or malformed."""
+    data = source if isinstance(source, bytes) else read_bytes(source, "image", MAX_IMAGE_BYTES)
+    kind = image_format(data)
+    if kind == "png":
+        return (int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")) if len(data) >= 24 else None
+    if kind is None:
+        return None
+    index = 2
+    while index < len(data):  # JPEG: walk the segments to the frame header (SOF0-SOF15 but DHT, JPG, DAC)
+        if data[index] != 0xFF:
             return None
-        file.seek(2)
-        while True:  # JPEG: walk the segments to the frame header (SOF0-SOF15 but DHT, JPG, DAC)
-            marker = file.read(4)
-            if len(marker) < 4 or marker[0] != 0xFF:
-                return None
-            kind, length = marker[1], int.from_bytes(marker[2:4], "big")
-            if 0xC0 <= kind <= 0xCF and kind not in (0xC4, 0xC8, 0xCC):
-                frame = file.read(5)
-                return (
-                    (int.from_bytes(frame[3:5], "big"), int.from_bytes(frame[1:3], "big")) if len(frame) == 5 else None
-                )
-            file.seek(length - 2, 1)
+        while index < len(data) and data[index] == 0xFF:  # any number of fill bytes may precede a marker
+            index += 1
+        if index + 3 > len(data):
+            return None
+        kind_byte = data[index]
+        if kind_byte == 0x01 or 0xD0 <= kind_byte <= 0xD7:  # markers without a length
+            index += 1
+            continue
+        length = int.from_bytes(data[index + 1 : index + 3], "big")
+        if 0xC0 <= kind_byte <= 0xCF and kind_byte not in (0xC4, 0xC8, 0xCC):
+            frame = data[index + 3 : index + 8]
+            return (int.from_bytes(frame[3:5], "big"), int.from_bytes(frame[1:3], "big")) if len(frame) == 5 else None
+        if kind_byte == 0xDA or length < 2:  # image data before any frame header, or a broken segment
+            return None
+        index += 1 + length
+    return None
 
 
-def read_image(path: str | Path, what: str | None = None) -> np.ndarray:
-    """Read a PNG/JPEG file as RGB (H, W, 3) uint8; an unreadable file, or one whose size is
-    outside the limits (:data:`SIZE_LIMITS`, checked on the header before decoding), is an
-    InputError."""
-    path = Path(path)
-    what = what or f"image {path}"
-    if not path.is_file():
-        raise InputError(f"cannot read image {path}: no such file")
-    size = header_size(path)
-    if size is not None:
-        check_size(*size, what)
-    image = cv2.imread(str(path), cv2.IMREAD_COLOR)
+def read_image(path: str | os.PathLike[str], what: str | None = None) -> np.ndarray:
+    """Read a PNG/JPEG file as RGB (H, W, 3) uint8.
+
+    The file must be a regular file of at most :data:`MAX_IMAGE_BYTES`; its size in pixels is
+    read from its header and checked against :data:`SIZE_LIMITS` before anything is decoded, and
+    other formats (TIFF, WebP, ... whatever the extension says) are refused, so no file can make
+    the decoder allocate more than the limits allow. The bytes are decoded in memory, so any path
+    works (OpenCV's own file functions crash on a path that is not UTF-8).
+    """
+    what = what or f"image {shown(path)}"
+    data = read_bytes(path, what, MAX_IMAGE_BYTES)
+    if image_format(data) is None:
+        raise InputError(
+            f"cannot read {what}: not an image vslsp reads (not PNG or JPEG by its content); save it as PNG or JPEG"
+        )
+    size = header_size(data)
+    if size is None:
+        raise InputError(f"cannot read {what}: its header is cut short or malformed; save it again as PNG or JPEG")
+    check_size(*size, what)
+    try:
+        image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+    except cv2.error as error:  # OpenCV's own pixel limit (set in vslsp/__init__.py)
+        raise InputError(f"cannot read {what}: {str(error).strip().splitlines()[-1]}") from None
     if image is None:
-        raise InputError(f"cannot read image {path}: not an image file OpenCV can decode (use PNG or JPEG)")
+        raise InputError(f"cannot read {what}: not an image file OpenCV can decode (use PNG or JPEG)")
     check_size(image.shape[1], image.shape[0], what)
     return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
 
 
-def check_image_output(path: str | Path) -> Path:
-    """Check, before any work, that an image can be written at ``path``: a PNG or JPEG name in
-    a folder that exists and is writable. Returns the path."""
+def check_image_output(path: str | os.PathLike[str]) -> Path:
+    """Check, before any work, that an image can be written at ``path``: a PNG or JPEG name of a
+    length the file system takes, in a folder that exists and is writable. Returns the path."""
     path = Path(path)
+    name = shown(path)
     if path.suffix.lower() not in IMAGE_EXTENSIONS:
-        raise InputError(f"cannot write image {path}: give a file name ending in .png (or .jpg)")
+        raise InputError(f"cannot write image {name}: give a file name ending in .png (or .jpg)")
+    check_name(path, f"cannot write image {name}")
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
-        raise InputError(f"cannot write image {path}: the folder {folder} does not exist; create it first")
+        raise InputError(f"cannot write image {name}: the folder {shown(folder)} does not exist; create it first")
     if path.is_dir():
-        raise InputError(f"cannot write image {path}: it is a folder; give a file name ending in .png")
+        raise InputError(f"cannot write image {name}: it is a folder; give a file name ending in .png")
     if not os.access(folder, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
-        raise InputError(f"cannot write image {path}: no permission to write there; choose another path")
+        raise InputError(f"cannot write image {name}: no permission to write there; choose another path")
     return path
 
 
-def write_image(path: str | Path, image: np.ndarray) -> None:
-    """Write an RGB (H, W, 3) uint8 image (PNG or JPEG by the file's extension)."""
-    check_image_output(path)
-    try:  # encoded here, written by Python: the file is replaced whole (vslsp.outputs), never through a link
-        encoded, data = cv2.imencode(Path(path).suffix.lower(), cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
+def encode_image(path: str | os.PathLike[str], image: np.ndarray) -> bytes:
+    """The bytes of an RGB (H, W, 3) uint8 image in the format of ``path``'s extension (PNG or JPEG)."""
+    extension = ".jpg" if Path(path).suffix.lower() in (".jpg", ".jpeg") else ".png"
+    try:
+        encoded, buffer = cv2.imencode(extension, cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
     except cv2.error as error:  # OpenCV 5 raises where 4 returned False
-        raise InputError(f"cannot write image {path}: {str(error).strip().splitlines()[-1]}") from None
+        raise InputError(f"cannot write image {shown(path)}: {str(error).strip().splitlines()[-1]}") from None
     if not encoded:
-        raise InputError(f"cannot write image {path}: OpenCV cannot encode it as {Path(path).suffix}")
-    write_bytes(path, data.tobytes())
+        raise InputError(f"cannot write image {shown(path)}: OpenCV could not encode it as {extension}")
+    return buffer.tobytes()
+
+
+def write_image(path: str | os.PathLike[str], image: np.ndarray) -> None:
+    """Write an RGB (H, W, 3) uint8 image (PNG or JPEG by the file's extension), encoded in memory
+    (OpenCV never sees the path, which need not be UTF-8) and written by Python: the file is replaced
+    whole (vslsp.outputs), never through a link."""
+    check_image_output(path)
+    write_bytes(path, encode_image(path, image))
 
 
 def working_scale(shape: tuple[int, ...]) -> int:
