@@ -26,6 +26,15 @@ class TaskFailed(VslspError):
     exit_code = 1
 
 
+class GroundingFailed(TaskFailed, InputError):
+    """Usable images in which the grounding found no answer: nothing moved, no landmark line, the
+    moved object out of view, several objects moved. A failed task (exit 1, docs/bad-input.md);
+    also an :class:`InputError`, so that code which treats an observation it cannot use as bad
+    input (a recorder, a trial) goes on doing so."""
+
+    exit_code = 1
+
+
 class UnreachableError(VslspError):
     """A Cartesian target the arm cannot reach."""
 

@@ -101,7 +101,11 @@ def too_large(path: PathLike, what: str, limit: int) -> InputError:
 
 
 def _size(count: int) -> str:
-    return f"{count / 1e6:g} MB" if count >= 1_000_000 else f"{count / 1e3:g} kB"
+    """``count`` bytes in the largest unit that keeps a number of at least 1 (kB, MB, GB, TB; powers of 1000)."""
+    for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
+        if count >= scale:
+            return f"{count / scale:.3g} {unit}"
+    return f"{count / 1e3:.3g} kB"
 
 
 def read_bytes(path: PathLike, what: str, limit: int) -> bytes:
@@ -214,7 +218,7 @@ def load_npz(path: PathLike, what: str, limit: int, file_limit: int | None = Non
             total += int(np.prod(shape, dtype=object)) * dtype.itemsize
             if total > limit:
                 raise InputError(
-                    f"{name}: its arrays declare {total / 1e6:.3g} MB, more than the {what} can hold "
+                    f"{name}: its arrays declare {_size(total)}, more than the {what} can hold "
                     f"(at most {_size(limit)}); nothing was loaded"
                 )
         with np.load(io.BytesIO(data), allow_pickle=False) as arrays:

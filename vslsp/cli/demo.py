@@ -15,7 +15,7 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import OUTPUT_FOLDER, seed_option
+from vslsp.cli.params import OUTPUT_FOLDER, check_display, seed_option
 from vslsp.outputs import refuse_link
 
 
@@ -38,6 +38,7 @@ from vslsp.outputs import refuse_link
 )
 def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
     """Run the full VSL-SP pipeline (pull-in-order) on the embedded scene and write a report."""
+    check_display(gui)
     from rich.console import Console
 
     from vslsp.tasks import Run, write_report

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -229,3 +230,15 @@ class PositiveFloat(click.ParamType):
 def positive_float(maximum: float | None = None) -> PositiveFloat:
     """A finite float > 0 (and <= ``maximum`` when given)."""
     return PositiveFloat(maximum)
+
+
+def check_display(gui: bool) -> None:
+    """With ``--gui``, an InputError (exit 2) before any work when there is no display to open the
+    window on (pybullet's GUI would hang or end the process without a word)."""
+    if not gui or not sys.platform.startswith("linux"):
+        return
+    if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
+        raise InputError(
+            "--gui: there is no display to open the pybullet window on (DISPLAY is not set); "
+            "run without --gui, or under a virtual display (xvfb-run vslsp ...)"
+        )

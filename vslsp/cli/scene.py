@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import OUTPUT_FOLDER, count, seed_option
+from vslsp.cli.params import OUTPUT_FOLDER, check_display, count, seed_option
 
 MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
 
@@ -34,6 +34,7 @@ MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
 @click.option("--gui", is_flag=True, help="Open the pybullet window.")
 def scene(seed: int, scene_file: str | None, cubes: int, out: Path, width: int, height: int, gui: bool) -> None:
     """Render the robot's head camera and the overhead camera (RGB PNG, depth .npy)."""
+    check_display(gui)
     import numpy as np
 
     from vslsp.outputs import atomic_file, refuse_link, write_text

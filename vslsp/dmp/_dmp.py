@@ -10,6 +10,7 @@ amplitude factor) is written down in :mod:`vslsp.dmp`; the exact integration in
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -22,9 +23,11 @@ import torch
 from vslsp.dmp import _forcing, _system
 from vslsp.dmp._validation import check_demonstrations, check_points, check_times
 from vslsp.errors import InputError
+from vslsp.files import load_npz, shown
 from vslsp.outputs import atomic_file
 
 FORMAT = "vslsp-dmp"
+MAX_FILE_BYTES = 64_000_000  # a DMP file's arrays, decoded (1000 basis functions x 3 dimensions need 24 kB)
 VERSION = 2
 Coupling = Callable[[torch.Tensor, torch.Tensor, torch.Tensor], torch.Tensor]
 
@@ -389,13 +392,10 @@ class DMP:
     @classmethod
     def load(cls, path: str | Path) -> DMP:
         """Read a file written by :meth:`save`; a corrupt or foreign file is an :class:`InputError`."""
+        if not os.path.lexists(path):
+            raise InputError(f"there is no DMP file {shown(path)}; learn one with `vslsp teach`")
         try:
-            with np.load(Path(path), allow_pickle=False) as data:
-                arrays = {key: data[key] for key in data.files}
-        except FileNotFoundError as error:
-            raise InputError(f"there is no DMP file {path}; learn one with `vslsp teach`") from error
-        except (OSError, ValueError, EOFError) as error:
-            raise InputError(f"cannot read DMP file {path}: {error}") from error
-        except Exception as error:  # zipfile.BadZipFile and friends
-            raise InputError(f"cannot read DMP file {path}: it is corrupt ({error})") from error
-        return cls.from_arrays(arrays, source=f"{path}")
+            arrays = load_npz(path, "DMP", MAX_FILE_BYTES)
+        except InputError as error:
+            raise InputError(f"cannot read DMP file {shown(path)}: {error}") from None
+        return cls.from_arrays(arrays, source=shown(path))

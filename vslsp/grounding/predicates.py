@@ -31,10 +31,25 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.grounding.spatial import ROBOT_SIDES, check_robot_side, towards_robot
+from vslsp.grounding.user_code import (
+    PREDICATE_TIME_LIMIT_S,
+    TimeLimitExceeded,
+    describe,
+    passes_through,
+    quiet_stdout,
+    safe_repr,
+    time_limit,
+)
 from vslsp.vision.landmark import Line
 from vslsp.vision.objects import DetectedObject
 
-_NAME = re.compile(r"^[a-z][a-z0-9_-]*$")
+_NAME = re.compile(r"[a-z][a-z0-9_-]*")  # matched whole (fullmatch: "near\n" is no name)
+#: Words of PDDL a predicate cannot be named: the reader takes them for the operators.
+PDDL_WORDS = frozenset(
+    "and or not imply exists forall when either preference define domain problem "
+    "always sometime within at-most-once sometime-after sometime-before always-within hold-during "
+    "hold-after increase decrease assign scale-up scale-down minimize maximize total-time is-violated".split()
+)
 
 
 @dataclass(frozen=True)
@@ -177,19 +192,28 @@ class Predicate:
         return f"({self.name} {' '.join(('?a', '?b')[: self.arity])})" if self.arity == 2 else f"({self.name} ?b)"
 
     def evaluate(self, args: Sequence[SceneObject], scene: Scene) -> bool:
-        """The value for ``args`` (``arity`` objects); a raise or a non-bool is an InputError."""
+        """The value for ``args`` (``arity`` objects); whatever else the function does (raises, exits, runs
+        past :data:`PREDICATE_TIME_LIMIT_S`, returns a non-bool) is an InputError naming the predicate."""
+        fix = f"fix its function {_where(self.function)}"
         try:
-            value = self.function(*args, scene)
-        except Exception as error:  # the user's code: any error is theirs to fix
+            with time_limit(PREDICATE_TIME_LIMIT_S), quiet_stdout():
+                value = self.function(*args, scene)
+        except TimeLimitExceeded:
             raise InputError(
-                f"predicate {self.name} raised {type(error).__name__}: {error} while grounding "
-                f"{self._atom(args)}; fix its function {_where(self.function)}"
-            ) from error
+                f"predicate {self.name} ran longer than {PREDICATE_TIME_LIMIT_S:g} s while grounding "
+                f"{self._atom(args)} and was stopped; {fix} (a predicate decides one atom, in microseconds)"
+            ) from None
+        except BaseException as error:  # the user's code: whatever it raises is theirs to fix
+            if passes_through(error):
+                raise
+            raise InputError(
+                f"predicate {self.name} raised {describe(error)} while grounding {self._atom(args)}; {fix}"
+            ) from None
         if value is True or value is False:
             return value
         if not isinstance(value, np.bool_):
             raise InputError(
-                f"predicate {self.name} returned {type(value).__name__} {value!r} for {self._atom(args)}, "
+                f"predicate {self.name} returned {type(value).__name__} {safe_repr(value)} for {self._atom(args)}, "
                 f"not a bool; make its function {_where(self.function)} return True or False"
             )
         return bool(value)
@@ -237,10 +261,15 @@ _ACTIVE: list[Registry] = [Registry()]  # a stack: the top one receives new pred
 def predicate(name: str, arity: int = 1, *, register: bool = True) -> Callable[[Callable[..., bool]], Predicate]:
     """Decorator: make ``function`` the predicate ``name`` of ``arity`` 1 (``(obj, scene)``) or 2
     (``(a, b, scene)``) and register it (unless ``register`` is False)."""
-    if not isinstance(name, str) or not _NAME.match(name):
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
         raise InputError(
-            f"predicate name {name!r} is not a PDDL name: use lower-case letters, digits, '-' and '_', "
+            f"predicate name {safe_repr(name)} is not a PDDL name: use lower-case letters, digits, '-' and '_', "
             "starting with a letter (e.g. 'left-of')"
+        )
+    if name in PDDL_WORDS:
+        raise InputError(
+            f"predicate name {name!r} is a word of PDDL ({name} ...); give the predicate another name "
+            f"(e.g. '{name}-1' or one that says what it decides)"
         )
     if arity not in (1, 2):
         raise InputError(f"predicate {name}: arity {arity!r} is not supported; use 1 (obj, scene) or 2 (a, b, scene)")

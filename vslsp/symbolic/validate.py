@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vslsp.errors import InputError
+from vslsp.files import read_text, shown
 from vslsp.symbolic.formula import (
     Always,
     And,
@@ -267,6 +268,8 @@ def _as_step(step: PlanStep | str) -> PlanStep:
     return name.lower(), tuple(a.lower() for a in args)
 
 
+#: The largest plan file read (a plan of 10 000 steps has about 300 kB).
+MAX_PLAN_BYTES = 1_000_000
 #: ``(pull green)``; ``0: (pull green)`` and ``0.000: (pull green) [1]`` (VAL, IPC); ``1. pull green`` (vslsp plan).
 _PLAN_LINE = re.compile(
     r"^\s*(?:\d+(?:\.\d+)?\s*:\s*)?\(\s*([\w-]+)((?:\s+[\w-]+)*)\s*\)\s*(?:\[[\d.]+\])?\s*$"
@@ -317,18 +320,6 @@ def step_positions(text: str) -> list[tuple[int, int]]:
 
 
 def read_plan(path: str | Path, domain: Domain, problem: Problem) -> list[PlanStep]:
-    """:func:`parse_plan` on a file (UTF-8)."""
-    path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as error:
-        raise InputError(f"{path}: cannot read the plan ({error.strerror})") from None
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as error:
-        line = data.count(b"\n", 0, error.start) + 1
-        raise InputError(
-            f"{path}:{line}: the plan is not UTF-8 text (byte 0x{data[error.start]:02x}); "
-            "save it as UTF-8 (plain ASCII is fine)"
-        ) from None
-    return parse_plan(text, domain, problem, str(path))
+    """:func:`parse_plan` on a file (regular, UTF-8, at most :data:`MAX_PLAN_BYTES`, read within that bound)."""
+    text = read_text(path, "plan", MAX_PLAN_BYTES)
+    return parse_plan(text, domain, problem, shown(path))

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from vslsp.errors import InputError
+from vslsp.errors import GroundingFailed, InputError
 from vslsp.vision.image import as_rgb, channel_max
 from vslsp.vision.objects import DetectedObject, Segmentation, describe, segment
 
@@ -62,8 +62,9 @@ def moved_labels(seg: Segmentation, changed: np.ndarray) -> list[int]:
 def detect_change(pre: np.ndarray, post: np.ndarray) -> Change:
     """The one object moved between RGB images ``pre`` and ``post`` (H, W, 3) uint8.
 
-    Raises InputError when the images differ in size, when nothing moved, when several
-    objects moved (naming them and where), or when the object left the view.
+    Raises InputError when the images differ in size; GroundingFailed (a failed task, exit 1)
+    when nothing moved, when several objects moved (naming them and where), or when the object
+    left the view.
     """
     pre, post = as_rgb(pre, "pre-action image"), as_rgb(post, "post-action image")
     if pre.shape != post.shape:
@@ -80,24 +81,24 @@ def detect_change(pre: np.ndarray, post: np.ndarray) -> Change:
     left = [o for o in left if any(a.name == o.name for a in arrived) or not _in_place(o, seg_post)]
     arrived = [o for o in arrived if any(a.name == o.name for a in left) or not _in_place(o, seg_pre)]
     if not left and not arrived:
-        raise InputError(
+        raise GroundingFailed(
             "nothing moved between the pre- and the post-action image; give the images taken "
             "just before and just after the tutor moved one object"
         )
     if len(left) == 1 and len(arrived) == 1 and left[0].name == arrived[0].name:
         return Change(left[0], arrived[0], seg_pre, seg_post)
     if len(left) == 1 and not arrived:
-        raise InputError(
+        raise GroundingFailed(
             f"the {left[0].name} object at {_at(left[0])} in the pre-action image is not wholly in "
             "view in the post-action image; keep the moved object inside the camera's view"
         )
     if len(arrived) == 1 and not left:
-        raise InputError(
+        raise GroundingFailed(
             f"the {arrived[0].name} object at {_at(arrived[0])} in the post-action image was not "
             "wholly in view before; keep the moved object inside the camera's view"
         )
     seen = [f"{o.name} left {_at(o)}" for o in left] + [f"{o.name} arrived at {_at(o)}" for o in arrived]
-    raise InputError(
+    raise GroundingFailed(
         f"more than one object moved ({'; '.join(seen)}); give one image pair per moved "
         "object (one operation of the demonstration at a time)"
     )

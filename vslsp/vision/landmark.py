@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vslsp.errors import InputError
+from vslsp.errors import GroundingFailed, InputError
 
 MIN_LENGTH = 0.25  # the visible line spans at least this fraction of the image diagonal
 _HYPOTHESES = 64
@@ -61,7 +61,7 @@ class Line:
 def fit_line(dark: np.ndarray, scale: int = 1, what: str = "image") -> Line:
     """The landmark line in a mask (h, w) of dark pixels; coordinates multiplied by ``scale``.
 
-    Raises InputError when no straight dark band long enough is there.
+    Raises GroundingFailed (exit 1) when no straight dark band long enough is there.
     """
     h, w = dark.shape
     step = 2 if min(h, w) >= 200 else 1  # the line is several pixels thick: every other pixel will do
@@ -111,7 +111,7 @@ def find_landmark(image: np.ndarray) -> Line:
 
 
 def _no_line(what: str) -> InputError:
-    return InputError(
+    return GroundingFailed(
         f"no landmark line found in the {what}: put a black line (dark, thin and long, across "
         "at least a quarter of the view) on the table and keep it in view"
     )

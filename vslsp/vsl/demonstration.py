@@ -24,6 +24,7 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.files import load_npz, read_json
 from vslsp.geometry.poses import wrap
 from vslsp.grounding.operation import Grounding, ground
 from vslsp.grounding.spatial import check_robot_side
@@ -34,6 +35,8 @@ from vslsp.vision.landmark import Line, find_landmark
 from vslsp.vsl.recorder import Heights
 
 FORMAT = "vslsp-demonstration/1"
+MAX_RECORD_BYTES = 10_000_000  # demonstration.json
+MAX_FEATURE_BYTES = 512_000_000  # features.npz, decoded (checked on its headers before loading)
 
 
 @dataclass(frozen=True)
@@ -159,30 +162,30 @@ class Demonstration:
         folder = Path(folder)
         path = folder / "demonstration.json"
         try:
-            data = json.loads(path.read_text())
+            data = read_json(path, "demonstration", MAX_RECORD_BYTES)
             if data.get("format") != FORMAT:
                 raise KeyError(f"format is {data.get('format')!r}, expected {FORMAT!r}")
-            with np.load(folder / "features.npz", allow_pickle=False) as arrays:
-                operations = tuple(
-                    Operation(
-                        pre_observation=read_image(folder / record["pre_observation"]),
-                        post_observation=read_image(folder / record["post_observation"]),
-                        grounding=Grounding.from_dict(record["grounding"], data["robot_side"]),
-                        pose_pre=Pose.from_dict(record["pose_pre"]),
-                        pose_post=Pose.from_dict(record["pose_post"]),
-                        object_size=float(record["object_size"]),
-                        features=Features.from_arrays(arrays, f"op{i:02d}"),
-                        pre_place=(
-                            read_image(folder / record["pre_place_observation"])
-                            if "pre_place_observation" in record
-                            else None
-                        ),
-                        turn=float(record["turn"]) if "turn" in record else None,
-                    )
-                    for i, record in enumerate(data["operations"], start=1)
+            arrays = load_npz(folder / "features.npz", "demonstration's features", MAX_FEATURE_BYTES)
+            operations = tuple(
+                Operation(
+                    pre_observation=read_image(folder / record["pre_observation"]),
+                    post_observation=read_image(folder / record["post_observation"]),
+                    grounding=Grounding.from_dict(record["grounding"], data["robot_side"]),
+                    pose_pre=Pose.from_dict(record["pose_pre"]),
+                    pose_post=Pose.from_dict(record["pose_post"]),
+                    object_size=float(record["object_size"]),
+                    features=Features.from_arrays(arrays, f"op{i:02d}"),
+                    pre_place=(
+                        read_image(folder / record["pre_place_observation"])
+                        if "pre_place_observation" in record
+                        else None
+                    ),
+                    turn=float(record["turn"]) if "turn" in record else None,
                 )
+                for i, record in enumerate(data["operations"], start=1)
+            )
             return cls(Line.from_dict(data["landmark"]), operations, data["robot_side"])
-        except (OSError, ValueError, KeyError, TypeError) as error:
+        except (InputError, OSError, ValueError, KeyError, TypeError, AttributeError) as error:
             raise InputError(
                 f"cannot read the demonstration in {folder}: {error}; "
                 "record it again with Recorder(ImagePlane(...)).demonstration().save()"

@@ -26,6 +26,7 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
+from vslsp.files import load_npz
 from vslsp.outputs import atomic_file
 from vslsp.vsl3d.alignment import align
 from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
@@ -33,6 +34,7 @@ from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.registration import Registration, transform_error
 
 VOXEL = 0.002  # the paper's voxel size
+MAX_OBSERVATION_BYTES = 512_000_000  # a saved observation's arrays, decoded (a 4096x4096 view's points: 400 MB)
 CHANGE_THRESHOLD = 0.01  # the paper's KNN distance threshold
 # Changed points closer than this belong to one object: bridges self-occlusion gaps (a mug and
 # its handle); two objects moved at once must end farther apart to be told apart.
@@ -147,9 +149,9 @@ class CloudObservation:
     @classmethod
     def load(cls, path: str | Path) -> CloudObservation:
         try:
-            with np.load(path, allow_pickle=False) as data:
-                points, lower, upper, viewpoint = (data[key] for key in ("points", "lower", "upper", "viewpoint"))
-        except (OSError, KeyError, ValueError) as error:
+            data = load_npz(path, "VSL-3D observation", MAX_OBSERVATION_BYTES)
+            points, lower, upper, viewpoint = (data[key] for key in ("points", "lower", "upper", "viewpoint"))
+        except (InputError, KeyError) as error:
             raise InputError(
                 f"cannot read a VSL-3D observation from {path}: {error}; pass a file written by CloudObservation.save"
             ) from error
