@@ -102,3 +102,56 @@ def test_example_predicates_file_loads():
 
     names = [p.name for p in load_predicates(Path(__file__).parents[2] / "examples/grounding/predicates.py")]
     assert names == ["right-half", "on-robot-side", "warm", "left-of", "in-front-of"]
+
+
+def _run_pytest(folder, *args):
+    installed = any(ep.value == "vslsp.grounding.pytest_plugin" for ep in metadata.entry_points(group="pytest11"))
+    plugin = [] if installed else ["-p", "vslsp.grounding.pytest_plugin"]
+    return subprocess.run(
+        [sys.executable, "-m", "pytest", *plugin, "-p", "no:cacheprovider", "-p", "no:randomly", *map(str, args)],
+        capture_output=True,
+        text=True,
+        cwd=folder,
+        timeout=300,
+    )
+
+
+def test_a_users_kit_tests_never_depend_on_order_hide_the_kits_frames_and_know_slow(tmp_path):
+    # Module a registers right-half and never names it; module b's test would see (right-half ...) atoms
+    # as unexpected if the kit grounded everything registered so far (issue 27, item 11).
+    (tmp_path / "test_a.py").write_text(
+        textwrap.dedent("""
+        from vslsp.grounding import predicate
+
+        @predicate("right-half")
+        def right_half(obj, scene):
+            return obj.x > scene.width / 2
+
+        def test_a():
+            pass
+    """)
+    )
+    (tmp_path / "test_b.py").write_text(
+        textwrap.dedent("""
+        import pytest
+        from vslsp.grounding.testkit import Square
+
+        @pytest.mark.slow
+        def test_far_only(synthetic_pair, assert_grounds):
+            pair = synthetic_pair([Square("red", (150, 400)), Square("green", (450, 150))], move=(1, (430, 400)))
+            assert_grounds(pair.pre, pair.post, atoms_pre=["(far green)"], atoms_post=[])
+
+        def test_wrong(synthetic_pair, assert_grounds):
+            pair = synthetic_pair([Square("red", (150, 400)), Square("green", (450, 150))], move=(1, (430, 400)))
+            assert_grounds(pair.pre, pair.post, atoms_pre=[], atoms_post=[])
+    """)
+    )
+    strict = ("-W", "error::pytest.PytestUnknownMarkWarning")
+    for order in (("test_a.py", "test_b.py"), ("test_b.py", "test_a.py")):
+        result = _run_pytest(tmp_path, *strict, *order)
+        assert "1 failed, 2 passed" in result.stdout, result.stdout + result.stderr
+        assert "test_b.py::test_wrong" in result.stdout and "test_far_only" not in result.stdout.split("FAILED")[-1]
+    failure = result.stdout
+    assert "pre: missing none; unexpected (far green)" in failure
+    assert "grounded pre: (far green)" in failure and "overlay: " in failure and "grounding.png" in failure
+    assert "def assert_grounds" not in failure and "__tracebackhide__" not in failure  # the kit's source stays hidden

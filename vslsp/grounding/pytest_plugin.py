@@ -13,11 +13,16 @@ Paper, VSL-SP "Implementation": grounding symbols from pre- and post-action imag
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Register the ``slow`` marker the tutorial's rendered-scene tests use (no PytestUnknownMarkWarning)."""
+    config.addinivalue_line("markers", "slow: a slow end-to-end test (a rendered scene); deselect with -m 'not slow'")
 
 
 def pytest_report_header(config: pytest.Config) -> str:
@@ -45,4 +50,8 @@ def assert_grounds(tmp_path: Path) -> Callable:
     """``assert_grounds(pre, post, atoms_pre=..., atoms_post=...)``; overlays go to ``tmp_path``."""
     from vslsp.grounding import testkit
 
-    return functools.partial(testkit.assert_grounds, overlay_dir=tmp_path)
+    def assert_grounds(*args: Any, **kwargs: Any) -> Any:
+        __tracebackhide__ = True  # the failure shows the test's line and the message, not this wrapper
+        return testkit.assert_grounds(*args, **{"overlay_dir": tmp_path, **kwargs})
+
+    return assert_grounds

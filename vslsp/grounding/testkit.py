@@ -63,9 +63,10 @@ class Pair:
     truth_post: Scene
 
     def atoms(self, predicates: Sequence[Predicate] | None = None) -> tuple[list[str], list[str]]:
-        """The true atoms (PDDL syntax, sorted) before and after, decided on the truth; by
-        default for the built-in ``far`` and every registered predicate."""
-        chosen = _predicates(predicates)
+        """The true atoms (PDDL syntax, sorted) before and after, decided on the truth, of the
+        built-in ``far`` and ``predicates`` (by default ``far`` alone: the answer never depends on
+        what other tests registered)."""
+        chosen = with_builtins(predicates or ())
         return (true_atoms(ground_atoms(self.truth_pre, chosen)), true_atoms(ground_atoms(self.truth_post, chosen)))
 
     def save(self, folder: str | Path) -> tuple[Path, Path]:
@@ -77,8 +78,13 @@ class Pair:
         return folder / "pre.png", folder / "post.png"
 
 
-def _predicates(predicates: Sequence[Predicate] | None) -> tuple[Predicate, ...]:
-    return with_builtins(registered() if predicates is None else predicates)
+def _predicates(predicates: Sequence[Predicate] | None, expected: Iterable[str]) -> tuple[Predicate, ...]:
+    """``far`` and ``predicates``; without them, ``far`` and the registered predicates that the expected
+    atoms name, so that a result depends only on the test itself, never on what other tests registered."""
+    if predicates is not None:
+        return with_builtins(predicates)
+    named = {atom[1:-1].split()[0] for atom in expected}
+    return with_builtins([p for p in registered() if p.name in named])
 
 
 def _square_symbol(square: Square) -> str:
@@ -218,13 +224,17 @@ def assert_grounds(
 ) -> Grounding:
     """Ground the pair (images (H, W, 3) uint8 RGB or file paths) as ``vslsp ground --predicates``
     does, and check that exactly ``atoms_pre`` / ``atoms_post`` (PDDL syntax) hold before / after
-    (None: not checked). ``predicates``: by default the built-in ``far`` and every registered one.
+    (None: not checked). ``pre`` and ``post`` may be paths of PNG or JPEG files. ``predicates``: the
+    predicates to ground with the built-in ``far``; by default ``far`` and the registered predicates
+    the expected atoms name (never others, so that the result does not depend on test order).
 
-    On a difference, raises AssertionError naming the missing and the unexpected atoms, and the
-    overlay picture written to ``overlay_dir`` (a fresh temporary folder by default). Returns
-    the grounding.
+    On a difference, raises AssertionError naming the missing and the unexpected atoms, every atom
+    grounded, and the overlay picture written to ``overlay_dir`` (a fresh temporary folder by
+    default); the kit's own frames are hidden from pytest's report. Returns the grounding.
     """
-    chosen = _predicates(predicates)
+    __tracebackhide__ = True  # pytest shows the test's line, not the kit's source
+    expected_atoms = [_normal(a) for a in [*(atoms_pre or ()), *(atoms_post or ())]]
+    chosen = _predicates(predicates, expected_atoms)
     names = {p.name for p in chosen}
     pre_image, post_image = _image(pre, "pre-action image"), _image(post, "post-action image")
     grounding = ground(pre_image, post_image, robot_side=robot_side, predicates=chosen)
@@ -243,7 +253,10 @@ def assert_grounds(
             )
         missing, unexpected = sorted(wanted - got), sorted(got - wanted)
         if missing or unexpected:
-            report.append(f"{side}: missing {' '.join(missing) or 'none'}; unexpected {' '.join(unexpected) or 'none'}")
+            report.append(
+                f"{side}: missing {' '.join(missing) or 'none'}; unexpected {' '.join(unexpected) or 'none'}\n"
+                f"    grounded {side}: {' '.join(sorted(got)) or '(none true)'}"
+            )
         notes.append(
             [f"missing {a}" for a in missing]
             + [f"unexpected {a}" for a in unexpected]
