@@ -70,6 +70,7 @@ def main(argv: list[str] | None = None) -> None:
     """
     args = list(sys.argv[1:] if argv is None else argv)
     wants_json = "--json" in args
+    _bytes_safe_output()
     with _sigterm_raises():
         try:
             app.main(args=args, prog_name="vslsp", standalone_mode=False)
@@ -129,6 +130,18 @@ def _no_space(error: OSError) -> None:
         pass
     click.echo(f"error: cannot write {where}: {error.strerror}; free some space and run again", err=True)
     sys.exit(1)
+
+
+def _bytes_safe_output() -> None:
+    """Let stdout carry file names that are not UTF-8 (written back as the bytes they were typed
+    with, as ``ls`` does) instead of ending the command with a UnicodeEncodeError; stderr escapes them."""
+    for stream, errors in ((sys.stdout, "surrogateescape"), (sys.stderr, "backslashreplace")):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None:
+            try:
+                reconfigure(errors=errors)
+            except (ValueError, OSError):  # a stream already written in another way: leave it
+                pass
 
 
 def _fail(message: str, code: int, wants_json: bool) -> None:

@@ -174,7 +174,7 @@ def _parse_budget(name: str) -> Iterator[None]:
             yield
     except _OverBudget:
         raise InputError(
-            f"{name}: reading took more than {PARSE_BUDGET_S:.0f} s and was stopped; the file is too "
+            f"{name}: reading took more than {PARSE_BUDGET_S:g} s and was stopped; the file is too "
             "large for vslsp's reader (plan with Fast Downward directly)"
         ) from None
 

@@ -1,0 +1,87 @@
+"""A user's predicates file: whatever it raises, exits, prints or loops on is reported as its error
+(exit 2, one message, JSON under ``--json``), and its names are PDDL names (issue 27, items 2, 3, 5)."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+
+import pytest
+from helpers.cli import vslsp, vslsp_process
+
+from vslsp.errors import InputError
+from vslsp.grounding import predicate, user_code
+from vslsp.grounding.predicates import collecting
+from vslsp.grounding.synthetic import Square, tabletop_image
+from vslsp.vision.image import write_image
+
+BODIES = {
+    "str-raises": (
+        "class Odd(Exception):\n    def __str__(self):\n        raise RuntimeError('no text')\n",
+        "raise Odd()",
+        "Odd: <its message cannot be shown",
+    ),
+    "repr-raises": (
+        "class Odd:\n    def __repr__(self):\n        raise RuntimeError('no text')\n",
+        "return Odd()",
+        "returned Odd <a Odd whose __repr__ raised>",
+    ),
+    "base-exception": ("class Stop(BaseException):\n    pass\n", "raise Stop('out')", "raised Stop: out"),
+    "sys-exit-0": ("import sys\n", "sys.exit(0)", "raised SystemExit (it called sys.exit(0)"),
+    "prints": ("", "print('chatter'); return 1 / 0", "raised ZeroDivisionError"),
+}
+
+
+@pytest.fixture
+def pair(tmp_path):
+    still = Square("blue", (500, 420))
+    write_image(tmp_path / "pre.png", tabletop_image([Square("purple", (200, 150)), still]))
+    write_image(tmp_path / "post.png", tabletop_image([Square("purple", (220, 410)), still]))
+    return tmp_path / "pre.png", tmp_path / "post.png"
+
+
+def _file(folder, prelude: str, body: str, name: str = "preds.py"):
+    path = folder / name
+    path.write_text(
+        f"from vslsp.grounding import predicate\n{prelude}\n"
+        f"@predicate('odd')\ndef odd(obj, scene):\n{textwrap.indent(body, '    ')}\n"
+    )
+    return path
+
+
+@pytest.mark.parametrize("case", BODIES, ids=str)
+def test_whatever_a_predicate_does_is_reported_as_its_error(tmp_path, pair, case):
+    prelude, body, message = BODIES[case]
+    result = vslsp_process("ground", *pair, "--predicates", _file(tmp_path, prelude, body), "--json")
+    assert result.returncode == 2, result.stderr
+    assert message in result.stderr and "Traceback" not in result.stderr
+    assert message in json.loads(result.stdout)["error"]  # stdout is the JSON alone, print() went to stderr
+
+
+@pytest.mark.parametrize("case", ["base-exception", "sys-exit-0"])
+def test_whatever_a_predicates_file_does_while_loading_is_reported_as_its_error(tmp_path, pair, case):
+    prelude, body, _ = BODIES[case]
+    path = tmp_path / "loading.py"
+    path.write_text(f"{prelude}\n{body}\n")
+    result = vslsp_process("ground", *pair, "--predicates", path, "--json")
+    assert result.returncode == 2 and "cannot load predicates file" in result.stderr, result.stderr
+    assert "error" in json.loads(result.stdout)
+
+
+@pytest.mark.parametrize("where", ["call", "load"])
+def test_a_predicate_that_loops_is_stopped_at_its_time_limit(capsys, monkeypatch, tmp_path, pair, where):
+    monkeypatch.setattr(user_code, "PREDICATE_TIME_LIMIT_S", 0.5)
+    monkeypatch.setattr("vslsp.grounding.predicates.PREDICATE_TIME_LIMIT_S", 0.5)
+    monkeypatch.setattr("vslsp.grounding.loader.LOAD_TIME_LIMIT_S", 0.5)
+    # except BaseException keeps the first stop: the timer fires again every second until it ends
+    loop = "while True:\n    try:\n        pass\n    except BaseException:\n        pass"
+    path = _file(tmp_path, loop if where == "load" else "", loop if where == "call" else "return True")
+    code, _, err = vslsp(capsys, "ground", *pair, "--predicates", path)
+    assert code == 2 and "was stopped" in err, err
+    assert ("while loading" in err) == (where == "load")
+
+
+@pytest.mark.parametrize("name", ["and", "not", "or", "forall", "sometime-before", "near\n", "Near", "9lives"])
+def test_a_predicate_name_that_is_not_a_pddl_name_or_is_a_pddl_word_is_refused(name):
+    with collecting(), pytest.raises(InputError, match="PDDL"):
+        predicate(name)(lambda obj, scene: True)
