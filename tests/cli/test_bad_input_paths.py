@@ -43,11 +43,16 @@ def test_ground_reads_and_writes_paths_that_are_not_utf8(tmp_path, pair):
     assert read_image(overlay).shape[1] == 1280
 
 
+def _run_bytes(*args: object, timeout: float = 600) -> subprocess.CompletedProcess[bytes]:
+    """``python -m vslsp ARGS`` in a UTF-8 locale (where Python's stdout is strict), output as bytes."""
+    env = {**os.environ, "PYTHONPATH": str(REPO), "LC_ALL": "C.UTF-8"}
+    command = [sys.executable, "-m", "vslsp", *(os.fsencode(str(a)) for a in args)]
+    return subprocess.run(command, capture_output=True, env=env, timeout=timeout)
+
+
 def test_scene_writes_into_a_folder_whose_name_is_not_utf8(tmp_path):
     out = tmp_path / f"s{NOT_UTF8}"
-    env = {**os.environ, "PYTHONPATH": str(REPO), "LC_ALL": "C.UTF-8"}  # a UTF-8 terminal: strict stdout
-    command = [sys.executable, "-m", "vslsp", "scene", "--out", out, "--width", "64", "--height", "48"]
-    result = subprocess.run(command, capture_output=True, env=env, timeout=600)
+    result = _run_bytes("scene", "--out", out, "--width", 64, "--height", 48)
     assert result.returncode == 0, result.stderr
     assert result.stdout.endswith(b"to " + os.fsencode(out) + b"\n")  # printed as the bytes it was given
     assert read_image(out / "head.png").shape == (48, 64, 3) and (out / "scene.json").is_file()
@@ -57,7 +62,7 @@ def test_scene_writes_into_a_folder_whose_name_is_not_utf8(tmp_path):
 @pytest.mark.parametrize("command", [("experiment", "house-roof", "--trials", "1"), ("demo",)], ids=lambda c: c[0])
 def test_experiments_and_the_demo_write_reports_into_folders_whose_names_are_not_utf8(tmp_path, command):
     out = tmp_path / f"e{NOT_UTF8}"
-    result = vslsp_process(*command, "--out", out, timeout=900)
+    result = _run_bytes(*command, "--out", out, timeout=900)
     assert result.returncode == 0, result.stderr
     assert (out / "report.md").is_file() and any(out.rglob("*.png"))
 
