@@ -101,11 +101,11 @@ def too_large(path: PathLike, what: str, limit: int) -> InputError:
 
 
 def _size(count: int) -> str:
-    """``count`` bytes in the largest unit that keeps a number of at least 1 (kB, MB, GB, TB; powers of 1000)."""
+    """``count`` bytes in the largest unit that keeps a number of at least 1 (bytes, kB, MB, GB, TB; powers of 1000)."""
     for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
         if count >= scale:
             return f"{count / scale:.3g} {unit}"
-    return f"{count / 1e3:.3g} kB"
+    return f"{count / 1e3:.3g} kB" if count >= 1000 else f"{count} bytes"
 
 
 def read_bytes(path: PathLike, what: str, limit: int) -> bytes:
