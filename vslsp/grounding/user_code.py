@@ -72,7 +72,7 @@ def quiet_stdout() -> Iterator[None]:
 
 def passes_through(error: BaseException) -> bool:
     """Whether ``error`` is not the user's to answer for: Ctrl-C, or one of vslsp's own exceptions."""
-    return isinstance(error, KeyboardInterrupt) or type(error).__module__.startswith("vslsp.")
+    return isinstance(error, KeyboardInterrupt) or str(getattr(type(error), "__module__", "")).startswith("vslsp.")
 
 
 def safe_repr(value: object, limit: int = 200) -> str:

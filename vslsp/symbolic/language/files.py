@@ -3,6 +3,7 @@ text (shared with the planner path, :mod:`vslsp.symbolic.pddl`)."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from vslsp.errors import InputError
@@ -16,6 +17,10 @@ def read_text(path: str | Path, what: str = "PDDL file") -> str:
     """The text of a regular UTF-8 file of at most :data:`MAX_PDDL_BYTES` bytes, or InputError saying what
     is wrong. A FIFO or a device is refused by its ``stat``, never opened; the limit holds while reading
     (:mod:`vslsp.files`)."""
+    try:
+        os.stat(path)
+    except OSError as error:
+        raise InputError(f"{shown(path)}: cannot read the file ({error.strerror})") from None
     size = regular_file(path, what).st_size
     if size > MAX_PDDL_BYTES:
         raise InputError(
