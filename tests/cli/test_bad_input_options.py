@@ -30,3 +30,6 @@ def test_gui_without_a_display_is_refused_with_the_reason(capsys, monkeypatch, t
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     code, _, err = vslsp(capsys, *command, "--gui", "--out", tmp_path / "out")
     assert code == 2 and "no display" in err and "DISPLAY is not set" in err, err
+    monkeypatch.setenv("DISPLAY", ":4077")  # a local display nobody serves
+    code, _, err = vslsp(capsys, *command, "--gui", "--out", tmp_path / "out")
+    assert code == 2 and "no X server listens on DISPLAY=:4077" in err, err

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import sys
 import tempfile
 from collections.abc import Callable
@@ -237,8 +238,15 @@ def check_display(gui: bool) -> None:
     window on (pybullet's GUI would hang or end the process without a word)."""
     if not gui or not sys.platform.startswith("linux"):
         return
-    if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
+    display = os.environ.get("DISPLAY", "")
+    if not display and not os.environ.get("WAYLAND_DISPLAY"):
         raise InputError(
             "--gui: there is no display to open the pybullet window on (DISPLAY is not set); "
             "run without --gui, or under a virtual display (xvfb-run vslsp ...)"
+        )
+    local = re.fullmatch(r"(?:unix)?:(\d+)(?:\.\d+)?", display)
+    if local and not os.environ.get("WAYLAND_DISPLAY") and not os.path.exists(f"/tmp/.X11-unix/X{local.group(1)}"):
+        raise InputError(
+            f"--gui: no X server listens on DISPLAY={display} (no /tmp/.X11-unix/X{local.group(1)}); "
+            "start it, or run without --gui, or under a virtual display (xvfb-run vslsp ...)"
         )
