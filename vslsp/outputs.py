@@ -93,7 +93,11 @@ def atomic_file(path: str | os.PathLike[str], mode: str = "wb") -> Iterator[IO[A
     except OSError as error:
         raise write_error(target, error) from None
     try:
-        with os.fdopen(handle, mode, encoding=None if "b" in mode else "utf-8") as stream:
+        # Text keeps a file name that is not UTF-8 as the bytes it was given (surrogateescape).
+        text = "b" not in mode
+        with os.fdopen(
+            handle, mode, encoding="utf-8" if text else None, errors="surrogateescape" if text else None
+        ) as stream:
             yield stream
             stream.flush()
             os.fsync(stream.fileno())
@@ -176,7 +180,7 @@ def lock_folder(folder: str | os.PathLike[str], option: str = "--out") -> None:
     command = " ".join(["vslsp", *sys.argv[1:]]) if sys.argv else "python"
     with suppress(OSError):  # the record is for people; the lock holds without it
         os.ftruncate(handle, 0)
-        os.write(handle, f"pid {os.getpid()}: {command}\n".encode())
+        os.write(handle, f"pid {os.getpid()}: {command}\n".encode("utf-8", "surrogateescape"))
     _HELD[key] = handle
     atexit.register(_release, key, lock)
 
