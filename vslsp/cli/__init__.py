@@ -31,6 +31,7 @@ COMMANDS: dict[str, str] = {
     "plan": "vslsp.cli.plan:plan",
     "vsl3d": "vslsp.cli.vsl3d:vsl3d",
     "validate": "vslsp.cli.validate:validate",
+    "lsp": "vslsp.cli.lsp:lsp",
     "experiment": "vslsp.cli.experiment:experiment",
     "demo": "vslsp.cli.demo:demo",
 }

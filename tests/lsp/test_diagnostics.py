@@ -1,0 +1,109 @@
+"""Diagnostics on open and on every change, per document, with the engine's messages, severities and
+ranges; a problem is checked with the domain it names (open, or beside it on disk)."""
+
+from pathlib import Path
+
+import pytest
+from lsprotocol import types
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+ERROR = types.DiagnosticSeverity.Error
+WARNING = types.DiagnosticSeverity.Warning
+
+
+def _at(diagnostic: types.Diagnostic) -> tuple[int, int, int, int]:
+    r = diagnostic.range
+    return (r.start.line, r.start.character, r.end.line, r.end.character)
+
+
+async def test_the_shipped_domain_and_problems_open_without_errors(editor, workspace: Path):
+    shipped = workspace / "shipped"
+    assert await editor.open(shipped / "domain.pddl") == []
+    for name in ("pull-in-order.pddl", "simple-push-pull.pddl"):
+        assert await editor.open(shipped / name) == [], name
+    # keep-all-near quantifies over blocks in a constraint: a requirement its domain does not declare
+    found = await editor.open(shipped / "keep-all-near.pddl")
+    assert [(d.severity, d.code) for d in found] == [(WARNING, "undeclared-requirement")]
+
+
+async def test_a_typo_is_an_error_at_the_token_with_did_you_mean(editor, workspace: Path):
+    domain = workspace / "kitchen" / "domain.pddl"
+    assert await editor.open(domain) == []
+    text = domain.read_text().replace("(and (on-counter ?d) (hand-empty))", "(and (on-counter ?d) (hand-emty))")
+    found = await editor.replace(domain, text)
+    assert [(d.severity, d.message, d.code, d.source) for d in found] == [
+        (ERROR, "unknown predicate 'hand-emty' (did you mean 'hand-empty'?)", "unknown-predicate", "vslsp")
+    ]
+    start = editor.position_of(domain, "hand-emty")
+    assert _at(found[0]) == (start.line, start.character, start.line, start.character + len("hand-emty"))
+    assert await editor.replace(domain, domain.read_text()) == []  # fixed: the error goes
+
+
+async def test_every_error_of_a_file_at_once_and_warnings(editor, workspace: Path):
+    domain = workspace / "kitchen" / "domain.pddl"
+    text = (
+        domain.read_text()
+        .replace(":effect (clean ?d))", ":effect (claen ?d))")
+        .replace("(:types cup plate - dish", "(:types cup plate - dish bowl - vessel")
+    )
+    found = await editor.replace(domain, text)
+    messages = {(d.severity, d.message) for d in found}
+    assert (ERROR, "unknown predicate 'claen' (did you mean 'clean'?)") in messages
+    assert any(s == WARNING and "vessel" in m for s, m in messages)  # the undeclared parent type
+    assert any(s == WARNING and "'bowl'" in m and "never used" in m for s, m in messages)
+    await editor.replace(domain, domain.read_text())
+
+
+async def test_keystrokes_are_incremental_changes(editor, workspace: Path):
+    domain = workspace / "kitchen" / "domain.pddl"
+    await editor.replace(domain, domain.read_text())
+    at = editor.position_of(domain, "(holding ?d))", occurrence=1)
+    found = await editor.type_at(domain, at.line, at.character + 1, "x")  # (xholding ?d)
+    assert [d.message for d in found] == ["unknown predicate 'xholding' (did you mean 'holding'?)"]
+    found = await editor.type_at(domain, at.line, at.character + 1, "(")  # an unclosed parenthesis
+    assert any(d.code == "unclosed-parenthesis" for d in found)
+    await editor.replace(domain, domain.read_text())
+
+
+async def test_a_problem_is_checked_against_its_open_domain_and_follows_its_edits(editor, workspace: Path):
+    kitchen = workspace / "kitchen"
+    domain, problem = kitchen / "domain.pddl", kitchen / "problem.pddl"
+    await editor.replace(domain, domain.read_text())
+    text = problem.read_text().replace("sometime-before", "sometimes-before").replace("mug - cup", "mug - cupp")
+    found = await editor.open(problem, text)
+    assert sorted(d.message for d in found) == [
+        "undefined type 'cupp' (did you mean 'cup'?)",
+        "unknown PDDL 3 operator 'sometimes-before' (did you mean 'sometime-before'?)",
+    ]
+    assert all(d.severity == ERROR for d in found)
+    # renaming a predicate in the open domain (unsaved) re-checks the open problem
+    editor.client.diagnostics.pop(editor_uri := _uri(problem), None)
+    await editor.replace(domain, domain.read_text().replace("(clean ", "(washed "))
+    found = await editor.diagnostics(editor_uri)
+    assert "unknown predicate 'clean'" in " ".join(d.message for d in found)
+    await editor.replace(domain, domain.read_text())
+    await editor.close(problem)
+
+
+async def test_a_problem_finds_its_domain_on_disk_or_says_it_is_missing(editor, workspace: Path, tmp_path: Path):
+    alone = tmp_path / "problem.pddl"  # a folder with no domain file
+    alone.write_text(
+        (workspace / "kitchen" / "problem.pddl").read_text().replace("(:domain kitchen)", "(:domain kitchn)")
+    )
+    found = await editor.open(alone)
+    assert [(d.severity, d.code) for d in found] == [(WARNING, "domain-not-found")]
+    assert "no domain 'kitchn'" in found[0].message
+    beside = tmp_path / "domain.pddl"  # the domain put beside it, never opened
+    beside.write_text(
+        (workspace / "kitchen" / "domain.pddl").read_text().replace("(domain kitchen)", "(domain kitchn)")
+    )
+    found = await editor.replace(alone, alone.read_text().replace("(on-counter mug)", "(on-countr mug)", 1))
+    assert [d.message for d in found] == ["unknown predicate 'on-countr' (did you mean 'on-counter'?)"]
+    await editor.close(alone)
+
+
+def _uri(path: Path) -> str:
+    from vslsp.lsp.workspace import uri_of
+
+    return uri_of(path)

@@ -1,0 +1,138 @@
+"""The engine's analysis of an open document, kept while its text (and its domain's) stays the same.
+
+A domain is analysed alone; a problem with the domain it names (:class:`~vslsp.lsp.workspace.Files`
+finds it), so that its predicates, types and constants resolve; a problem whose domain is nowhere
+gets its syntax checked and a warning at ``(:domain NAME)``. Files are named by path in the engine
+(what its messages say) and mapped back to URIs here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from vslsp.lsp.positions import Lines
+from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of
+from vslsp.symbolic.language import WARNING, Analysis, Declaration, Diagnostic, Fix, Reference, Span, analyse, closest
+
+#: How many analyses are kept (the open documents one is working on, and their domains).
+_KEPT = 32
+
+
+@dataclass
+class Checked:
+    """One document's analysis: ``uri`` the document, ``domain_uri`` the domain read with it (the
+    document itself for a domain; None for a problem without its domain), ``analysis`` the engine's
+    result, ``extra`` the server's own diagnostics (the missing domain)."""
+
+    uri: str
+    kind: str
+    domain_uri: str | None
+    analysis: Analysis
+    texts: dict[str, str]  # uri -> the text analysed
+    extra: list[Diagnostic] = field(default_factory=list)
+    _uris: dict[str, str] = field(default_factory=dict)  # engine file name -> uri
+    _lines: dict[str, Lines] = field(default_factory=dict)
+
+    @property
+    def file(self) -> str:
+        """The document's name in the engine's spans."""
+        return path_of(self.uri)
+
+    def uri_of(self, file: str) -> str:
+        return self._uris.get(file, file)
+
+    def lines(self, uri: str) -> Lines:
+        if uri not in self._lines:
+            self._lines[uri] = Lines(self.texts.get(uri, ""))
+        return self._lines[uri]
+
+    def diagnostics(self) -> list[Diagnostic]:
+        """The diagnostics of the document itself (its domain's are published with the domain)."""
+        return [d for d in (*self.analysis.diagnostics, *self.extra) if d.span.file == self.file]
+
+    def symbol_at(self, line: int, column: int) -> Declaration | Reference | None:
+        """The declaration or reference under the 1-based (``line``, ``column``) of the document."""
+        found = self.analysis.index.symbol_at(self.file, line, column)
+        if found is None and column > 1:  # the cursor just after a name still means that name
+            found = self.analysis.index.symbol_at(self.file, line, column - 1)
+        return found
+
+
+class Analyses:
+    """Analyses of documents, redone only when a text they read has changed."""
+
+    def __init__(self, files: Files):
+        self.files = files
+        self._kept: dict[str, Checked] = {}
+
+    def of(self, uri: str) -> Checked | None:
+        """The analysis of ``uri`` (a domain or problem), None for a plan or a file not found."""
+        text = self.files.text(uri)
+        if text is None:
+            return None
+        header = self.files.header(uri)
+        if header.kind == PLAN:
+            return None
+        domain_uri = uri if header.kind != PROBLEM else self.files.domain_for(uri)
+        texts = {uri: text}
+        if domain_uri is not None and domain_uri != uri:
+            domain_text = self.files.text(domain_uri)
+            if domain_text is None:
+                domain_uri = None
+            else:
+                texts[domain_uri] = domain_text
+        kept = self._kept.get(uri)
+        if kept is not None and kept.texts == texts and kept.domain_uri == domain_uri:
+            return kept
+        checked = self._check(uri, header.kind or DOMAIN, domain_uri, texts, header.domain)
+        self._kept.pop(uri, None)
+        self._kept[uri] = checked
+        while len(self._kept) > _KEPT:
+            del self._kept[next(iter(self._kept))]
+        return checked
+
+    def used_in_problems(self, checked: Checked) -> set[Span]:
+        """The declarations of a domain that its problems (open or beside it) use: a type or predicate
+        the domain alone never uses is no "unused" warning when a problem uses it."""
+        used: set[Span] = set()
+        if checked.kind != DOMAIN:
+            return used
+        for problem in self.files.problems_of(checked.uri):
+            other = self.of(problem)
+            if other is None or other.domain_uri != checked.uri:
+                continue
+            used.update(
+                r.declaration.span
+                for r in other.analysis.index.references
+                if r.declaration is not None and r.span.file == other.file
+            )
+        return used
+
+    def forget(self, uri: str) -> None:
+        self._kept.pop(uri, None)
+
+    def _check(self, uri: str, kind: str, domain_uri: str | None, texts: dict[str, str], wanted: str) -> Checked:
+        uris = {path_of(u): u for u in texts}
+        if kind == PROBLEM and domain_uri is not None:
+            analysis = analyse(texts[domain_uri], path_of(domain_uri), texts[uri], path_of(uri))
+        else:
+            analysis = analyse(texts[uri], path_of(uri))
+        checked = Checked(uri, kind, domain_uri, analysis, texts, _uris=uris)
+        if kind == PROBLEM and domain_uri is None and wanted:
+            checked.extra.append(self._no_domain(checked, wanted))
+        return checked
+
+    def _no_domain(self, checked: Checked, wanted: str) -> Diagnostic:
+        """A warning at the problem's ``(:domain NAME)``: no open document or file of its folder defines it."""
+        at = next(
+            (r.span for r in checked.analysis.index.references if r.kind == "domain" and r.span.file == checked.file),
+            Span(checked.file, 1, 1, 1, 1),
+        )
+        names = [self.files.header(u).name for u in self.files.domains_near(checked.uri)]
+        suggestion = closest(wanted, names)
+        message = (
+            f"no domain '{wanted}' among the open documents and the .pddl files of this folder; "
+            "only the problem's syntax is checked (open its domain or put it beside the problem)"
+        )
+        fixes = (Fix(f"change to '{suggestion}'", at, suggestion),) if suggestion else ()
+        return Diagnostic(at, WARNING, message, "domain-not-found", suggestion, fixes)

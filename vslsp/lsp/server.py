@@ -1,0 +1,222 @@
+"""``vslsp lsp``: the PDDL language server (LSP 3.17 over stdin/stdout, pygls).
+
+Every open domain and problem is checked by the language engine (:mod:`vslsp.symbolic.language`) on
+open and on every change, and its diagnostics published; a changed domain re-checks the open
+problems for it. The requests (completion, hover, definition, references, rename, outline, quick
+fixes) read the same analysis; ``vslsp.plan`` and ``vslsp.validate`` run the planner path of the CLI
+in a worker thread (the editor keeps its diagnostics while Fast Downward searches).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import os
+import sys
+from typing import Any
+
+from lsprotocol import types
+from pygls.lsp.server import LanguageServer
+
+from vslsp import __version__
+from vslsp.lsp import completion, fixes, navigation
+from vslsp.lsp.analysis import Analyses, Checked
+from vslsp.lsp.commands import Source, plan_json, validate_json
+from vslsp.lsp.workspace import DOMAIN, PROBLEM, Files, path_of, uri_of
+
+logger = logging.getLogger("vslsp.lsp")
+PLAN_COMMAND = "vslsp.plan"
+VALIDATE_COMMAND = "vslsp.validate"
+
+
+class PddlServer(LanguageServer):
+    """The server's state: the open documents (as the client names them) and their analyses."""
+
+    def __init__(self) -> None:
+        super().__init__("vslsp", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Incremental)
+        self.opened: set[str] = set()
+        self.files = Files(self._open_texts)
+        self.analyses = Analyses(self.files)
+
+    def _open_texts(self) -> dict[str, str]:
+        return {uri: self.workspace.get_text_document(uri).source for uri in self.opened}
+
+    def analysis(self, uri: str) -> Checked | None:
+        return self.analyses.of(uri)
+
+    def publish(self, uri: str) -> None:
+        """Check ``uri`` and publish its diagnostics; a domain also re-checks the open problems for it."""
+        targets = [uri]
+        header = self.files.header(uri)
+        if header.kind == DOMAIN:
+            targets += [p for p in self.files.problems_of(uri) if p in self.opened]
+        elif header.kind == PROBLEM:  # what the problem uses may end the domain's "never used" warnings
+            domain = self.files.domain_for(uri)
+            targets += [domain] if domain in self.opened else []
+        for target in targets:
+            checked = self.analyses.of(target)
+            diagnostics = fixes.published(self.analyses, checked) if checked is not None else []
+            version = self.workspace.get_text_document(target).version if target in self.opened else None
+            self.text_document_publish_diagnostics(
+                types.PublishDiagnosticsParams(uri=target, diagnostics=diagnostics, version=version)
+            )
+
+
+def build_server() -> PddlServer:
+    """A server with every feature registered (not yet started)."""
+    server = PddlServer()
+
+    @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
+    def did_open(ls: PddlServer, params: types.DidOpenTextDocumentParams) -> None:
+        ls.opened.add(params.text_document.uri)
+        ls.publish(params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
+    def did_change(ls: PddlServer, params: types.DidChangeTextDocumentParams) -> None:
+        ls.publish(params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
+    def did_save(ls: PddlServer, params: types.DidSaveTextDocumentParams) -> None:
+        ls.publish(params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
+    def did_close(ls: PddlServer, params: types.DidCloseTextDocumentParams) -> None:
+        uri = params.text_document.uri
+        ls.opened.discard(uri)
+        ls.analyses.forget(uri)
+        ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
+        for problem in ls.opened:  # they read the domain from disk now
+            if ls.files.header(problem).kind == PROBLEM:
+                ls.publish(problem)
+
+    @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["(", ":", "?", "-"]))
+    def complete(ls: PddlServer, params: types.CompletionParams) -> types.CompletionList:
+        uri = params.text_document.uri
+        return completion.complete(ls.analyses, uri, ls.files.text(uri) or "", params.position)
+
+    @server.feature(types.TEXT_DOCUMENT_HOVER)
+    def hover(ls: PddlServer, params: types.HoverParams) -> types.Hover | None:
+        found = _at(ls, params.text_document.uri, params.position)
+        return navigation.hover(*found) if found else None
+
+    @server.feature(types.TEXT_DOCUMENT_DEFINITION)
+    def definition(ls: PddlServer, params: types.DefinitionParams) -> types.Location | None:
+        found = _at(ls, params.text_document.uri, params.position)
+        return navigation.definition(*found) if found else None
+
+    @server.feature(types.TEXT_DOCUMENT_REFERENCES)
+    def references(ls: PddlServer, params: types.ReferenceParams) -> list[types.Location]:
+        found = _at(ls, params.text_document.uri, params.position)
+        if not found:
+            return []
+        return navigation.references(ls.analyses, *found, params.context.include_declaration)
+
+    @server.feature(types.TEXT_DOCUMENT_PREPARE_RENAME)
+    def prepare_rename(ls: PddlServer, params: types.PrepareRenameParams) -> types.Range | None:
+        found = _at(ls, params.text_document.uri, params.position)
+        return navigation.rename_range(*found) if found else None
+
+    @server.feature(types.TEXT_DOCUMENT_RENAME)
+    def rename(ls: PddlServer, params: types.RenameParams) -> types.WorkspaceEdit | None:
+        found = _at(ls, params.text_document.uri, params.position)
+        return navigation.rename(ls.analyses, *found, params.new_name) if found else None
+
+    @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+    def symbols(ls: PddlServer, params: types.DocumentSymbolParams) -> list[types.DocumentSymbol]:
+        checked = ls.analysis(params.text_document.uri)
+        return navigation.outline(checked) if checked is not None else []
+
+    @server.feature(
+        types.TEXT_DOCUMENT_CODE_ACTION, types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix])
+    )
+    def code_action(ls: PddlServer, params: types.CodeActionParams) -> list[types.CodeAction]:
+        checked = ls.analysis(params.text_document.uri)
+        return fixes.code_actions(checked, params.range) if checked is not None else []
+
+    @server.command(PLAN_COMMAND)
+    async def plan(ls: PddlServer, *arguments: Any) -> dict[str, Any]:
+        """``vslsp.plan`` with ``[PROBLEM]``, ``[DOMAIN, PROBLEM]`` or ``[{"domain", "problem", "planner",
+        "compilation", "timeout"}]`` (URIs or paths): ``vslsp plan --json``'s object."""
+        given = _arguments(arguments, ("domain", "problem"))
+        options = {k: given[k] for k in ("planner", "compilation", "timeout") if given.get(k) is not None}
+        failure = {"plan": None, "planner": options.get("planner", "fast-downward")}
+        found = _sources(ls, given, ("domain", "problem"), failure)
+        if isinstance(found, dict):
+            return found
+        return await asyncio.to_thread(plan_json, found["domain"], found["problem"], **options)
+
+    @server.command(VALIDATE_COMMAND)
+    async def validate(ls: PddlServer, *arguments: Any) -> dict[str, Any]:
+        """``vslsp.validate`` with ``[PROBLEM, PLAN]``, ``[DOMAIN, PROBLEM, PLAN]`` or ``[{"domain",
+        "problem", "plan"}]``: ``vslsp validate --json``'s object."""
+        given = _arguments(arguments, ("domain", "problem", "plan"))
+        found = _sources(ls, given, ("domain", "problem", "plan"), {"valid": None})
+        if isinstance(found, dict):
+            return found
+        return await asyncio.to_thread(validate_json, found["domain"], found["problem"], found["plan"])
+
+    return server
+
+
+def _at(ls: PddlServer, uri: str, position: types.Position) -> tuple[Checked, int, int] | None:
+    """The analysis of ``uri`` and the 1-based place of ``position`` in it."""
+    checked = ls.analysis(uri)
+    if checked is None:
+        return None
+    line, column = checked.lines(uri).place(position)
+    return checked, line, column
+
+
+def _arguments(arguments: tuple[Any, ...], names: tuple[str, ...]) -> dict[str, Any]:
+    """A command's arguments by name: one object, or the files in order (the domain may be left out)."""
+    if len(arguments) == 1 and isinstance(arguments[0], dict):
+        return dict(arguments[0])
+    files = [str(a) for a in arguments]
+    return dict(zip(names[len(names) - len(files) :] if len(files) < len(names) else names, files))
+
+
+def _sources(
+    ls: PddlServer, given: dict[str, Any], names: tuple[str, ...], failure: dict[str, Any]
+) -> dict[str, Source] | dict[str, Any]:
+    """The editor's text of each named file (the problem's domain found when not given), or the CLI's
+    failure object (exit code 2) saying what is missing."""
+
+    def fail(message: str) -> dict[str, Any]:
+        return {**failure, "error": message, "exit_code": 2, "warnings": []}
+
+    uris = {name: _uri(str(given[name])) for name in names if given.get(name)}
+    if "problem" not in uris:
+        return fail(f"give the problem: arguments {list(names)} as URIs or paths, or one object with those keys")
+    if "plan" in names and "plan" not in uris:
+        return fail("give the plan to validate (a .plan file, one (action arg ...) per line)")
+    if "domain" not in uris:
+        domain = ls.files.domain_for(uris["problem"])
+        if domain is None:
+            header = ls.files.header(uris["problem"])
+            return fail(
+                f"{path_of(uris['problem'])}: no domain '{header.domain}' among the open documents and the "
+                ".pddl files of its folder; give the domain too"
+            )
+        uris["domain"] = domain
+    sources: dict[str, Source] = {}
+    for name in names:
+        text = ls.files.text(uris[name])
+        if text is None:
+            return fail(f"{path_of(uris[name])}: cannot read the file (not open in the editor, not on disk)")
+        sources[name] = Source(path_of(uris[name]), text)
+    return sources
+
+
+def _uri(given: str) -> str:
+    return given if "://" in given or given.startswith("file:") else uri_of(os.path.abspath(given))
+
+
+def serve() -> None:
+    """Run the server on this process's stdin/stdout until the client ends it."""
+    logging.basicConfig(level=logging.WARNING, stream=sys.stderr, format="vslsp lsp: %(levelname)s: %(message)s")
+    # stdout carries only the protocol: whatever else writes there (a print, a planner's child
+    # process) goes to stderr, the editor's log.
+    protocol_out = os.fdopen(os.dup(sys.stdout.fileno()), "wb")
+    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
+    sys.stdout = sys.stderr
+    build_server().start_io(sys.stdin.buffer, protocol_out)
