@@ -9,13 +9,30 @@ import sys
 from pathlib import Path
 
 from lsprotocol import types
+from pygls.protocol import default_converter
 from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
+from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features
 
 from vslsp.lsp.workspace import uri_of
 
 DATA = Path(__file__).parents[1] / "lsp" / "data"
 SHIPPED = Path(__file__).parents[2] / "pddl"
-SERVER = ClientServerConfig(server_command=[sys.executable, "-m", "vslsp", "lsp"])
+
+
+def _published(client: LanguageClient, params: types.PublishDiagnosticsParams) -> None:
+    client.diagnostics[params.uri] = params.diagnostics
+    client.diagnostic_versions[params.uri] = params.version  # type: ignore[attr-defined]
+
+
+def make_client() -> LanguageClient:
+    """pytest-lsp's test client that also keeps the document version each diagnostics were published for."""
+    client = LanguageClient(converter_factory=default_converter)
+    client.diagnostic_versions = {}  # type: ignore[attr-defined]
+    register_lsp_features(client, {**DEFAULT_CLIENT_FEATURES, types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS: _published})
+    return client
+
+
+SERVER = ClientServerConfig(server_command=[sys.executable, "-m", "vslsp", "lsp"], client_factory=make_client)
 #: How long a test waits for the server's diagnostics before failing (a hang guard, not a speed test).
 PATIENCE_S = 60.0
 
@@ -96,9 +113,10 @@ class Editor:
         self.texts.pop(uri, None)
 
     async def diagnostics(self, uri: str) -> list[types.Diagnostic]:
-        """The next diagnostics published for ``uri`` (waits for them)."""
+        """The diagnostics published for ``uri``'s present version (waits for them)."""
+        published = self.client.diagnostic_versions  # type: ignore[attr-defined]
         for _ in range(int(PATIENCE_S / 0.01)):
-            if uri in self.client.diagnostics:
+            if uri in self.client.diagnostics and published.get(uri) == self.versions.get(uri):
                 return list(self.client.diagnostics[uri])
             await asyncio.sleep(0.01)
         raise AssertionError(f"the server published no diagnostics for {uri}")

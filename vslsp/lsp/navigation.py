@@ -21,6 +21,8 @@ from vslsp.symbolic.language import Declaration, Span
 _DOMAIN_WIDE = ("domain", "type", "constant", "predicate", "function", "action")
 _RENAMABLE = (*_DOMAIN_WIDE, "problem", "object", "parameter", "variable")
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_\-]*\Z")
+_WORD = re.compile(r"[^\s();:.]+")
+_STEP = re.compile(r"\s*(?:\d+(?:\.\d+)?\s*[:.]\s*)?\(?\s*")
 _SYMBOL_KINDS = {
     "domain": types.SymbolKind.Module,
     "problem": types.SymbolKind.Module,
@@ -52,22 +54,24 @@ def hover(checked: Checked, line: int, column: int) -> types.Hover | None:
     declaration = found if isinstance(found, Declaration) else found.declaration
     if declaration is None:
         return None
+    return described(checked, declaration, checked.lines(checked.uri).range(found.span))
+
+
+def described(checked: Checked, declaration: Declaration, shown: types.Range) -> types.Hover:
+    """The hover of ``declaration`` over the range ``shown``."""
     parts = [f"```pddl\n{declaration.signature}\n```"]
     if declaration.comment:
         parts.append(declaration.comment)
     if declaration.span.file != checked.file:
         parts.append(f"*{declaration.kind} of {Path(declaration.span.file).name}, line {declaration.span.line}*")
-    return types.Hover(
-        types.MarkupContent(types.MarkupKind.Markdown, "\n\n".join(parts)),
-        checked.lines(checked.uri).range(found.span),
-    )
+    return types.Hover(types.MarkupContent(types.MarkupKind.Markdown, "\n\n".join(parts)), shown)
 
 
 def definition(checked: Checked, line: int, column: int) -> types.Location | None:
     declaration = declaration_at(checked, line, column)
     if declaration is None:
         return None
-    return _location(checked, declaration.span)
+    return location(checked, declaration.span)
 
 
 def occurrences(analyses: Analyses, checked: Checked, line: int, column: int) -> list[tuple[str, Span]] | None:
@@ -166,6 +170,40 @@ def outline(checked: Checked) -> list[types.DocumentSymbol]:
     return [symbol(d) for d in roots] + members
 
 
+def in_plan(
+    analyses: Analyses, uri: str, text: str, position: types.Position
+) -> tuple[Checked, Declaration, types.Range] | None:
+    """The action or object named under the cursor in a plan, as the domains and problems beside the plan
+    declare it (for hover and go to definition), with the word's range."""
+    lines = text.split("\n")
+    line = lines[position.line] if position.line < len(lines) else ""
+    for match in _WORD.finditer(line):
+        if match.start() <= position.character <= match.end():
+            break
+    else:
+        return None
+    first = _STEP.match(line)
+    is_action = first is not None and first.end() == match.start()
+    files = analyses.files
+    near = [u for u in files.neighbours(uri) if files.header(u).kind in ("domain", "problem")]
+    for other in near:
+        checked = analyses.of(other)
+        if checked is None:
+            continue
+        index = checked.analysis.index
+        found = (
+            index.find("action", match.group())
+            if is_action
+            else index.find("object", match.group()) or index.find("constant", match.group())
+        )
+        if found is not None:
+            shown = types.Range(
+                types.Position(position.line, match.start()), types.Position(position.line, match.end())
+            )
+            return checked, found, shown
+    return None
+
+
 def _same_declaration(checked: Checked, target: Declaration) -> Declaration | None:
     """``target`` as another analysis indexed it (the same kind, name and place)."""
     for declaration in checked.analysis.index.declarations:
@@ -186,7 +224,7 @@ def _inside(inner: Span, outer: Span) -> bool:
     )
 
 
-def _location(checked: Checked, span: Span) -> types.Location:
+def location(checked: Checked, span: Span) -> types.Location:
     uri = checked.uri_of(span.file)
     return types.Location(uri, checked.lines(uri).range(span))
 

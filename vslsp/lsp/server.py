@@ -22,7 +22,7 @@ from vslsp import __version__
 from vslsp.lsp import completion, fixes, navigation
 from vslsp.lsp.analysis import Analyses, Checked
 from vslsp.lsp.commands import Source, plan_json, validate_json
-from vslsp.lsp.workspace import DOMAIN, PROBLEM, Files, path_of, uri_of
+from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of, uri_of
 
 logger = logging.getLogger("vslsp.lsp")
 PLAN_COMMAND = "vslsp.plan"
@@ -96,12 +96,20 @@ def build_server() -> PddlServer:
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     def hover(ls: PddlServer, params: types.HoverParams) -> types.Hover | None:
-        found = _at(ls, params.text_document.uri, params.position)
+        uri = params.text_document.uri
+        if ls.files.header(uri).kind == PLAN:
+            step = navigation.in_plan(ls.analyses, uri, ls.files.text(uri) or "", params.position)
+            return navigation.described(*step) if step else None
+        found = _at(ls, uri, params.position)
         return navigation.hover(*found) if found else None
 
     @server.feature(types.TEXT_DOCUMENT_DEFINITION)
     def definition(ls: PddlServer, params: types.DefinitionParams) -> types.Location | None:
-        found = _at(ls, params.text_document.uri, params.position)
+        uri = params.text_document.uri
+        if ls.files.header(uri).kind == PLAN:
+            step = navigation.in_plan(ls.analyses, uri, ls.files.text(uri) or "", params.position)
+            return navigation.location(step[0], step[1].span) if step else None
+        found = _at(ls, uri, params.position)
         return navigation.definition(*found) if found else None
 
     @server.feature(types.TEXT_DOCUMENT_REFERENCES)
