@@ -148,9 +148,9 @@ def build_server() -> PddlServer:
         given = _arguments(arguments, ("domain", "problem"))
         options = {k: given[k] for k in ("planner", "compilation", "timeout") if given.get(k) is not None}
         failure = {"plan": None, "planner": options.get("planner", "fast-downward")}
-        found = _sources(ls, given, ("domain", "problem"), failure)
-        if isinstance(found, dict):
-            return found
+        found, failed = _sources(ls, given, ("domain", "problem"), failure)
+        if failed:
+            return failed
         return await asyncio.to_thread(plan_json, found["domain"], found["problem"], **options)
 
     @server.command(VALIDATE_COMMAND)
@@ -158,9 +158,9 @@ def build_server() -> PddlServer:
         """``vslsp.validate`` with ``[PROBLEM, PLAN]``, ``[DOMAIN, PROBLEM, PLAN]`` or ``[{"domain",
         "problem", "plan"}]``: ``vslsp validate --json``'s object."""
         given = _arguments(arguments, ("domain", "problem", "plan"))
-        found = _sources(ls, given, ("domain", "problem", "plan"), {"valid": None})
-        if isinstance(found, dict):
-            return found
+        found, failed = _sources(ls, given, ("domain", "problem", "plan"), {"valid": None})
+        if failed:
+            return failed
         return await asyncio.to_thread(validate_json, found["domain"], found["problem"], found["plan"])
 
     return server
@@ -185,12 +185,12 @@ def _arguments(arguments: tuple[Any, ...], names: tuple[str, ...]) -> dict[str, 
 
 def _sources(
     ls: PddlServer, given: dict[str, Any], names: tuple[str, ...], failure: dict[str, Any]
-) -> dict[str, Source] | dict[str, Any]:
-    """The editor's text of each named file (the problem's domain found when not given), or the CLI's
-    failure object (exit code 2) saying what is missing."""
+) -> tuple[dict[str, Source], dict[str, Any]]:
+    """The editor's text of each named file (the problem's domain found when not given), or else the
+    CLI's failure object (exit code 2) saying what is missing."""
 
-    def fail(message: str) -> dict[str, Any]:
-        return {**failure, "error": message, "exit_code": 2, "warnings": []}
+    def fail(message: str) -> tuple[dict[str, Source], dict[str, Any]]:
+        return {}, {**failure, "error": message, "exit_code": 2, "warnings": []}
 
     uris = {name: _uri(str(given[name])) for name in names if given.get(name)}
     if "problem" not in uris:
@@ -212,7 +212,7 @@ def _sources(
         if text is None:
             return fail(f"{path_of(uris[name])}: cannot read the file (not open in the editor, not on disk)")
         sources[name] = Source(path_of(uris[name]), text)
-    return sources
+    return sources, {}
 
 
 def _uri(given: str) -> str:

@@ -1,0 +1,102 @@
+"""The commands vslsp.plan and vslsp.validate: the JSON of ``vslsp plan --json`` / ``vslsp validate --json``
+on the editor's text (saved or not), the planner run off the server's event loop."""
+
+import asyncio
+import json
+from pathlib import Path
+
+import pytest
+from helpers.cli import vslsp
+from helpers.lsp import ident
+from lsprotocol import types
+
+from vslsp.lsp.workspace import uri_of
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+
+async def _run(editor, command: str, *arguments: object) -> dict:
+    return await editor.client.workspace_execute_command_async(
+        types.ExecuteCommandParams(command=command, arguments=list(arguments))
+    )
+
+
+def _cli(capsys, *args: object) -> dict:
+    _, out, _ = vslsp(capsys, *args, "--json")
+    return json.loads(out)
+
+
+def _without_time(result: dict) -> dict:
+    return {k: v for k, v in result.items() if k != "time_s"}
+
+
+async def test_plan_gives_the_cli_s_json_and_finds_the_domain(editor, workspace: Path, capsys):
+    shipped = workspace / "shipped"
+    domain, problem = shipped / "domain.pddl", shipped / "pull-in-order.pddl"
+    await editor.open(problem)
+    result = await _run(editor, "vslsp.plan", uri_of(problem))  # the domain found by (:domain vsl-sp)
+    expected = _cli(capsys, "plan", domain, problem)
+    assert list(result) == list(expected)
+    assert _without_time(result) == _without_time(expected)
+    assert result["plan"] == ["pull orange", "pull green", "pull yellow"]
+    # the domain given, as paths, options in one object
+    result = await _run(editor, "vslsp.plan", {"domain": str(domain), "problem": str(problem), "compilation": "ground"})
+    assert _without_time(result) == _without_time(_cli(capsys, "plan", domain, problem, "--compilation", "ground"))
+    await editor.close(problem)
+
+
+async def test_plan_reads_the_unsaved_text_of_open_documents(editor, workspace: Path):
+    problem = workspace / "kitchen" / "problem.pddl"
+    only_the_mug = problem.read_text().replace(
+        "(:goal (and (clean mug) (clean saucer) (on-counter mug) (on-counter saucer)))", "(:goal (clean mug))"
+    )
+    await editor.open(problem, only_the_mug.replace("(:constraints (sometime-before (clean mug) (clean saucer)))", ""))
+    result = await _run(editor, "vslsp.plan", uri_of(problem))
+    assert result["plan"] == ["pick mug", "wash mug"] and result["warnings"] == []
+    await editor.close(problem)
+
+
+async def test_a_bad_problem_gets_the_cli_s_error_object(editor, workspace: Path, tmp_path: Path, capsys):
+    shipped = workspace / "shipped"
+    broken = tmp_path / "broken.pddl"
+    broken.write_text((shipped / "pull-in-order.pddl").read_text().replace("(far orange)", "(far orange", 1))
+    result = await _run(editor, "vslsp.plan", uri_of(shipped / "domain.pddl"), uri_of(broken))
+    assert result == _cli(capsys, "plan", shipped / "domain.pddl", broken)
+    assert result["plan"] is None and result["exit_code"] == 2 and str(broken) in result["error"]
+    lonely = tmp_path / "lonely.pddl"
+    lonely.write_text(broken.read_text().replace("(:domain vsl-sp)", "(:domain elsewhere)"))
+    result = await _run(editor, "vslsp.plan", str(lonely))
+    assert result["exit_code"] == 2 and "no domain 'elsewhere'" in result["error"]
+
+
+async def test_validate_gives_the_cli_s_json_for_a_plan_document(editor, workspace: Path, capsys):
+    kitchen = workspace / "kitchen"
+    domain, problem, plan = kitchen / "domain.pddl", kitchen / "problem.pddl", kitchen / "tidy.plan"
+    steps = ["pick saucer", "wash saucer", "put-down saucer", "pick mug", "wash mug", "put-down mug"]
+    plan.write_text("".join(f"({step})\n" for step in steps))
+    await editor.open(plan, language="plan")
+    result = await _run(editor, "vslsp.validate", uri_of(problem), uri_of(plan))
+    assert result == _cli(capsys, "validate", domain, problem, plan)
+    assert result["valid"] is True
+    # the mug washed first breaks (sometime-before (clean mug) (clean saucer)): the open, unsaved plan
+    await editor.replace(plan, "".join(f"({step})\n" for step in steps[3:] + steps[:3]))
+    result = await _run(editor, "vslsp.validate", {"problem": str(problem), "plan": uri_of(plan)})
+    plan.write_text(editor.texts[uri_of(plan)])
+    assert result == _cli(capsys, "validate", domain, problem, plan)
+    assert result["valid"] is False and "sometime-before" in result["reason"]
+    await editor.close(plan)
+
+
+async def test_the_server_answers_while_the_planner_runs(editor, workspace: Path):
+    shipped = workspace / "shipped"
+    domain, problem = shipped / "domain.pddl", shipped / "keep-all-near.pddl"
+    await editor.open(domain)
+    planning = asyncio.ensure_future(_run(editor, "vslsp.plan", uri_of(problem)))
+    await asyncio.sleep(0)  # the request is on its way
+    at = editor.position_of(domain, "(far ?b)", occurrence=2, offset=1)
+    shown = await editor.client.text_document_hover_async(types.HoverParams(ident(domain), at))
+    assert "(far ?b - block)" in shown.contents.value
+    assert not planning.done()  # the hover was answered while Fast Downward was still at work
+    result = await planning
+    assert result["plan"] is not None
+    await editor.close(domain)
