@@ -8,12 +8,15 @@ gets its syntax checked and a warning at ``(:domain NAME)``. Files are named by 
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 from vslsp.lsp.positions import Lines
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of
 from vslsp.symbolic.language import WARNING, Analysis, Declaration, Diagnostic, Fix, Reference, Span, analyse, closest
 
+_WORD = re.compile(r"[^\s();]+")
+_COMMENT = re.compile(r";[^\n]*")
 #: How many analyses are kept (the open documents one is working on, and their domains).
 _KEPT = 32
 
@@ -64,6 +67,7 @@ class Analyses:
     def __init__(self, files: Files):
         self.files = files
         self._kept: dict[str, Checked] = {}
+        self._words: dict[str, tuple[str, set[str]]] = {}  # problem uri -> (text, its words)
 
     def of(self, uri: str) -> Checked | None:
         """The analysis of ``uri`` (a domain or problem), None for a plan or a file not found."""
@@ -91,22 +95,21 @@ class Analyses:
             del self._kept[next(iter(self._kept))]
         return checked
 
-    def used_in_problems(self, checked: Checked) -> set[Span]:
-        """The declarations of a domain that its problems (open or beside it) use: a type or predicate
-        the domain alone never uses is no "unused" warning when a problem uses it."""
-        used: set[Span] = set()
+    def names_in_problems(self, checked: Checked) -> set[str]:
+        """The names (lower case) written in a domain's problems, open or beside it: a type or predicate the
+        domain alone never uses is no "unused" warning when a problem names it. Read as words, not
+        analysed: a domain edit then costs one analysis, however many problems sit beside it."""
+        names: set[str] = set()
         if checked.kind != DOMAIN:
-            return used
+            return names
         for problem in self.files.problems_of(checked.uri):
-            other = self.of(problem)
-            if other is None or other.domain_uri != checked.uri:
-                continue
-            used.update(
-                r.declaration.span
-                for r in other.analysis.index.references
-                if r.declaration is not None and r.span.file == other.file
-            )
-        return used
+            text = self.files.text(problem) or ""
+            kept = self._words.get(problem)
+            if kept is None or kept[0] is not text and kept[0] != text:
+                kept = (text, {w.lower() for w in _WORD.findall(_COMMENT.sub(" ", text))})
+                self._words[problem] = kept
+            names |= kept[1]
+        return names
 
     def forget(self, uri: str) -> None:
         self._kept.pop(uri, None)

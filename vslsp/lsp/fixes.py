@@ -26,9 +26,21 @@ def to_lsp(checked: Checked, diagnostic: Diagnostic) -> types.Diagnostic:
 
 
 def published(analyses: Analyses, checked: Checked) -> list[types.Diagnostic]:
-    """The document's diagnostics, less "never used" warnings about what its problems use."""
-    used = analyses.used_in_problems(checked)
-    return [to_lsp(checked, d) for d in checked.diagnostics() if not (d.code.startswith("unused-") and d.span in used)]
+    """The document's diagnostics, less "never used" warnings about what its problems name."""
+    found = checked.diagnostics()
+    if not any(d.code.startswith("unused-") for d in found):
+        return [to_lsp(checked, d) for d in found]
+    used = analyses.names_in_problems(checked)
+    lines = checked.lines(checked.uri)
+    return [
+        to_lsp(checked, d)
+        for d in found
+        if not (d.code.startswith("unused-") and _text(lines.line(d.span.line), d).lower() in used)
+    ]
+
+
+def _text(line: str, diagnostic: Diagnostic) -> str:
+    return line[diagnostic.span.column - 1 : diagnostic.span.end_column - 1]
 
 
 def code_actions(checked: Checked, wanted: types.Range) -> list[types.CodeAction]:
