@@ -45,6 +45,28 @@ async def test_plan_gives_the_cli_s_json_and_finds_the_domain(editor, workspace:
     await editor.close(problem)
 
 
+async def test_without_arguments_the_last_problem_and_plan_and_the_user_is_told(editor, workspace: Path):
+    kitchen = workspace / "kitchen"
+    await editor.open(kitchen / "problem.pddl")
+    editor.client.messages.clear()
+    result = await _run(editor, "vslsp.plan")
+    assert len(result["plan"]) == 6
+    (told,) = editor.client.messages
+    assert told.type == types.MessageType.Info
+    assert (
+        told.message.startswith("vslsp.plan: 6 steps (fast-downward, ")
+        and "1. pick saucer; 2. wash saucer" in told.message
+    )
+    plan = kitchen / "unfinished.plan"
+    await editor.open(plan, "(pick saucer)\n(wash saucer)\n", language="plan")
+    result = await _run(editor, "vslsp.validate")
+    assert result["valid"] is False and "goal" in result["reason"]
+    assert editor.client.messages[-1].type == types.MessageType.Warning
+    assert editor.client.messages[-1].message == f"vslsp.validate: invalid: {result['reason']}"
+    await editor.close(plan)
+    await editor.close(kitchen / "problem.pddl")
+
+
 async def test_plan_reads_the_unsaved_text_of_open_documents(editor, workspace: Path):
     problem = workspace / "kitchen" / "problem.pddl"
     only_the_mug = problem.read_text().replace(

@@ -107,3 +107,9 @@ def _uri(path: Path) -> str:
     from vslsp.lsp.workspace import uri_of
 
     return uri_of(path)
+
+
+async def test_a_file_that_is_no_pddl_gets_no_diagnostics(editor, tmp_path: Path):
+    notes = tmp_path / "notes.txt"
+    assert await editor.open(notes, "shopping: (milk) (bread", language="plaintext") == []
+    await editor.close(notes)

@@ -70,12 +70,13 @@ class Analyses:
         self._words: dict[str, tuple[str, set[str]]] = {}  # problem uri -> (text, its words)
 
     def of(self, uri: str) -> Checked | None:
-        """The analysis of ``uri`` (a domain or problem), None for a plan or a file not found."""
+        """The analysis of ``uri`` (a domain or problem), None for a plan, a file not found, or a file that
+        is neither ``.pddl`` nor begins with ``(define (domain|problem`` (an editor may send any text)."""
         text = self.files.text(uri)
         if text is None:
             return None
         header = self.files.header(uri)
-        if header.kind == PLAN:
+        if header.kind == PLAN or (not header.kind and not uri.lower().endswith(".pddl")):
             return None
         domain_uri = uri if header.kind != PROBLEM else self.files.domain_for(uri)
         texts = {uri: text}

@@ -21,8 +21,8 @@ from pygls.lsp.server import LanguageServer
 from vslsp import __version__
 from vslsp.lsp import completion, fixes, navigation
 from vslsp.lsp.analysis import Analyses, Checked
-from vslsp.lsp.commands import Source, plan_json, validate_json
-from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of, uri_of
+from vslsp.lsp.commands import named, plan_json, sources, told, validate_json
+from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files
 
 logger = logging.getLogger("vslsp.lsp")
 PLAN_COMMAND = "vslsp.plan"
@@ -35,6 +35,8 @@ class PddlServer(LanguageServer):
     def __init__(self) -> None:
         super().__init__("vslsp", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Incremental)
         self.opened: set[str] = set()
+        #: the problem and the plan last opened or edited: what vslsp.plan and vslsp.validate take by default
+        self.last: dict[str, str] = {}
         self.files = Files(self._open_texts)
         self.analyses = Analyses(self.files)
 
@@ -48,6 +50,8 @@ class PddlServer(LanguageServer):
         """Check ``uri`` and publish its diagnostics; a domain also re-checks the open problems for it."""
         targets = [uri]
         header = self.files.header(uri)
+        if header.kind in (PROBLEM, PLAN):
+            self.last[header.kind] = uri
         if header.kind == DOMAIN:
             targets += [p for p in self.files.problems_of(uri) if p in self.opened]
         elif header.kind == PROBLEM:  # what the problem uses may end the domain's "never used" warnings
@@ -143,25 +147,29 @@ def build_server() -> PddlServer:
 
     @server.command(PLAN_COMMAND)
     async def plan(ls: PddlServer, *arguments: Any) -> dict[str, Any]:
-        """``vslsp.plan`` with ``[PROBLEM]``, ``[DOMAIN, PROBLEM]`` or ``[{"domain", "problem", "planner",
-        "compilation", "timeout"}]`` (URIs or paths): ``vslsp plan --json``'s object."""
-        given = _arguments(arguments, ("domain", "problem"))
+        """``vslsp.plan`` with ``[]`` (the problem last opened or edited), ``[PROBLEM]``, ``[DOMAIN, PROBLEM]``
+        or ``[{"domain", "problem", "planner", "compilation", "timeout"}]`` (URIs or paths): ``vslsp plan
+        --json``'s object, also shown to the user as a message."""
+        given = named(arguments, ("domain", "problem"), ls.last)
         options = {k: given[k] for k in ("planner", "compilation", "timeout") if given.get(k) is not None}
         failure = {"plan": None, "planner": options.get("planner", "fast-downward")}
-        found, failed = _sources(ls, given, ("domain", "problem"), failure)
-        if failed:
-            return failed
-        return await asyncio.to_thread(plan_json, found["domain"], found["problem"], **options)
+        found, result = sources(ls.files, given, ("domain", "problem"), failure)
+        if not result:
+            result = await asyncio.to_thread(plan_json, found["domain"], found["problem"], **options)
+        ls.window_show_message(told(PLAN_COMMAND, result))
+        return result
 
     @server.command(VALIDATE_COMMAND)
     async def validate(ls: PddlServer, *arguments: Any) -> dict[str, Any]:
-        """``vslsp.validate`` with ``[PROBLEM, PLAN]``, ``[DOMAIN, PROBLEM, PLAN]`` or ``[{"domain",
-        "problem", "plan"}]``: ``vslsp validate --json``'s object."""
-        given = _arguments(arguments, ("domain", "problem", "plan"))
-        found, failed = _sources(ls, given, ("domain", "problem", "plan"), {"valid": None})
-        if failed:
-            return failed
-        return await asyncio.to_thread(validate_json, found["domain"], found["problem"], found["plan"])
+        """``vslsp.validate`` with ``[]`` (the problem and plan last opened or edited), ``[PROBLEM, PLAN]``,
+        ``[DOMAIN, PROBLEM, PLAN]`` or ``[{"domain", "problem", "plan"}]``: ``vslsp validate --json``'s object,
+        also shown as a message."""
+        given = named(arguments, ("domain", "problem", "plan"), ls.last)
+        found, result = sources(ls.files, given, ("domain", "problem", "plan"), {"valid": None})
+        if not result:
+            result = await asyncio.to_thread(validate_json, found["domain"], found["problem"], found["plan"])
+        ls.window_show_message(told(VALIDATE_COMMAND, result))
+        return result
 
     return server
 
@@ -173,50 +181,6 @@ def _at(ls: PddlServer, uri: str, position: types.Position) -> tuple[Checked, in
         return None
     line, column = checked.lines(uri).place(position)
     return checked, line, column
-
-
-def _arguments(arguments: tuple[Any, ...], names: tuple[str, ...]) -> dict[str, Any]:
-    """A command's arguments by name: one object, or the files in order (the domain may be left out)."""
-    if len(arguments) == 1 and isinstance(arguments[0], dict):
-        return dict(arguments[0])
-    files = [str(a) for a in arguments]
-    return dict(zip(names[len(names) - len(files) :] if len(files) < len(names) else names, files))
-
-
-def _sources(
-    ls: PddlServer, given: dict[str, Any], names: tuple[str, ...], failure: dict[str, Any]
-) -> tuple[dict[str, Source], dict[str, Any]]:
-    """The editor's text of each named file (the problem's domain found when not given), or else the
-    CLI's failure object (exit code 2) saying what is missing."""
-
-    def fail(message: str) -> tuple[dict[str, Source], dict[str, Any]]:
-        return {}, {**failure, "error": message, "exit_code": 2, "warnings": []}
-
-    uris = {name: _uri(str(given[name])) for name in names if given.get(name)}
-    if "problem" not in uris:
-        return fail(f"give the problem: arguments {list(names)} as URIs or paths, or one object with those keys")
-    if "plan" in names and "plan" not in uris:
-        return fail("give the plan to validate (a .plan file, one (action arg ...) per line)")
-    if "domain" not in uris:
-        domain = ls.files.domain_for(uris["problem"])
-        if domain is None:
-            header = ls.files.header(uris["problem"])
-            return fail(
-                f"{path_of(uris['problem'])}: no domain '{header.domain}' among the open documents and the "
-                ".pddl files of its folder; give the domain too"
-            )
-        uris["domain"] = domain
-    sources: dict[str, Source] = {}
-    for name in names:
-        text = ls.files.text(uris[name])
-        if text is None:
-            return fail(f"{path_of(uris[name])}: cannot read the file (not open in the editor, not on disk)")
-        sources[name] = Source(path_of(uris[name]), text)
-    return sources, {}
-
-
-def _uri(given: str) -> str:
-    return given if "://" in given or given.startswith("file:") else uri_of(os.path.abspath(given))
 
 
 def serve() -> None:
