@@ -111,3 +111,12 @@ def test_no_module_is_over_500_lines():
         str(p.relative_to(PACKAGE)): n for p in PACKAGE.rglob("*.py") if (n := len(p.read_text().splitlines())) > 500
     }
     assert long == {}
+
+
+def test_the_language_server_imports_only_the_symbolic_layer():
+    """vslsp.lsp (layer 9, beside the CLI) stands on the PDDL language engine and the planner path alone."""
+    allowed = ("vslsp.lsp", "vslsp.symbolic", "vslsp.errors")
+    for module, targets in import_graph().items():
+        if module.startswith("vslsp.lsp"):
+            upward = [t for t in targets if not t.startswith(allowed)]
+            assert upward == [], f"{module} imports {upward}"

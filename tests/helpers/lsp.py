@@ -44,8 +44,8 @@ def copy_examples(folder: Path) -> Path:
     return folder
 
 
-async def start(client: LanguageClient, root: Path) -> None:
-    await client.initialize_session(
+async def start(client: LanguageClient, root: Path) -> types.InitializeResult:
+    return await client.initialize_session(
         types.InitializeParams(
             capabilities=client_capabilities("visual-studio-code"),
             root_uri=uri_of(root),

@@ -16,7 +16,7 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest_lsp.fixture(config=SERVER, scope="module")
 async def client(lsp_client: LanguageClient, workspace: Path):
-    await start(lsp_client, workspace)
+    lsp_client.initialize_result = await start(lsp_client, workspace)  # type: ignore[attr-defined]
     yield
     await lsp_client.shutdown_session()
 

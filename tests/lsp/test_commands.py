@@ -30,6 +30,17 @@ def _without_time(result: dict) -> dict:
     return {k: v for k, v in result.items() if k != "time_s"}
 
 
+async def test_the_server_announces_its_features_and_commands(editor):
+    announced = editor.client.initialize_result.capabilities
+    assert list(announced.execute_command_provider.commands) == ["vslsp.plan", "vslsp.validate"]
+    assert {"(", "-", ":", "?"} <= set(announced.completion_provider.trigger_characters)
+    assert announced.rename_provider.prepare_provider is True
+    assert list(announced.code_action_provider.code_action_kinds) == [types.CodeActionKind.QuickFix]
+    for feature in ("hover_provider", "definition_provider", "references_provider", "document_symbol_provider"):
+        assert getattr(announced, feature)
+    assert editor.client.initialize_result.server_info.name == "vslsp"
+
+
 async def test_plan_gives_the_cli_s_json_and_finds_the_domain(editor, workspace: Path, capsys):
     shipped = workspace / "shipped"
     domain, problem = shipped / "domain.pddl", shipped / "pull-in-order.pddl"
