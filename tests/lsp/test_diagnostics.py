@@ -113,3 +113,23 @@ async def test_a_file_that_is_no_pddl_gets_no_diagnostics(editor, tmp_path: Path
     notes = tmp_path / "notes.txt"
     assert await editor.open(notes, "shopping: (milk) (bread", language="plaintext") == []
     await editor.close(notes)
+
+
+async def test_ranges_count_utf16_code_units_as_lsp_does(editor, workspace: Path):
+    problem = workspace / "kitchen" / "problem.pddl"
+    text = (
+        problem.read_text()
+        .replace("mug - cup", "\U0001d465mug - cup")  # a name with a character outside the BMP: 2 UTF-16 units
+        .replace(
+            "(:init (on-counter mug) (on-counter saucer) (hand-empty))",
+            "(:init (on-counter \U0001d465mug) (hand-emty))",
+        )
+        .replace("(clean mug)", "(clean \U0001d465mug)")
+        .replace("(on-counter mug)", "(on-counter \U0001d465mug)")
+    )
+    found = await editor.open(problem, text)
+    (typo,) = [d for d in found if "hand-emty" in d.message]
+    line = text.split("\n")[typo.range.start.line]
+    before = line[: line.index("hand-emty")]
+    assert typo.range.start.character == len(before.encode("utf-16-le")) // 2 == len(before) + 1
+    await editor.close(problem)

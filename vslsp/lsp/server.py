@@ -58,8 +58,12 @@ class PddlServer(LanguageServer):
             domain = self.files.domain_for(uri)
             targets += [domain] if domain in self.opened else []
         for target in targets:
-            checked = self.analyses.of(target)
-            diagnostics = fixes.published(self.analyses, checked) if checked is not None else []
+            try:
+                checked = self.analyses.of(target)
+                diagnostics = fixes.published(self.analyses, checked) if checked is not None else []
+            except Exception:  # a bug of ours must not cost the editor its server: logged, nothing shown
+                logger.exception("checking %s failed", target)
+                continue
             version = self.workspace.get_text_document(target).version if target in self.opened else None
             self.text_document_publish_diagnostics(
                 types.PublishDiagnosticsParams(uri=target, diagnostics=diagnostics, version=version)
