@@ -133,3 +133,24 @@ async def test_ranges_count_utf16_code_units_as_lsp_does(editor, workspace: Path
     before = line[: line.index("hand-emty")]
     assert typo.range.start.character == len(before.encode("utf-16-le")) // 2 == len(before) + 1
     await editor.close(problem)
+
+
+async def test_a_plan_is_checked_against_the_problem_beside_it_with_fixes(editor, workspace: Path):
+    kitchen = workspace / "kitchen"
+    plan = kitchen / "typed.plan"
+    found = await editor.open(plan, "0: (pick saucer)\n1: (wahs saucer)\n2: (put-down sauce)\n3: (wash)\n", "plan")
+    assert [(d.range.start.line, d.message, d.code) for d in found] == [
+        (1, "unknown action 'wahs' (did you mean 'wash'?)", "unknown-action"),
+        (2, "unknown object or constant 'sauce' (did you mean 'saucer'?)", "unknown-object"),
+        (3, "'wash' takes 1 argument, 0 given", "arity"),
+    ]
+    actions = await editor.client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(_uri(plan)),
+            range=found[0].range,
+            context=types.CodeActionContext(diagnostics=[found[0]]),
+        )
+    )
+    assert [a.title for a in actions] == ["change to 'wash'"]
+    assert await editor.replace(plan, "(pick saucer)\n(wash saucer)\n") == []
+    await editor.close(plan)

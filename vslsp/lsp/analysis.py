@@ -10,10 +10,12 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from vslsp.lsp.positions import Lines
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of
 from vslsp.symbolic.language import WARNING, Analysis, Declaration, Diagnostic, Fix, Reference, Span, analyse, closest
+from vslsp.symbolic.language.plans import analyse_plan
 
 _WORD = re.compile(r"[^\s();]+")
 _COMMENT = re.compile(r";[^\n]*")
@@ -76,7 +78,9 @@ class Analyses:
         if text is None:
             return None
         header = self.files.header(uri)
-        if header.kind == PLAN or (not header.kind and not uri.lower().endswith(".pddl")):
+        if header.kind == PLAN:
+            return self._plan(uri, text)
+        if not header.kind and not uri.lower().endswith(".pddl"):
             return None
         domain_uri = uri if header.kind != PROBLEM else self.files.domain_for(uri)
         texts = {uri: text}
@@ -114,6 +118,29 @@ class Analyses:
 
     def forget(self, uri: str) -> None:
         self._kept.pop(uri, None)
+
+    def _plan(self, uri: str, text: str) -> Checked | None:
+        """A plan checked against a problem of its folder (an open one first, the most recent; then the
+        folder's files by name; then problems open elsewhere) and that problem's domain: each step's
+        action, arity, objects and their types."""
+        folder = Path(path_of(uri)).parent
+        for other in sorted(self.files.neighbours(uri), key=lambda u: Path(path_of(u)).parent != folder):
+            if self.files.header(other).kind != PROBLEM:
+                continue
+            problem = self.of(other)
+            if problem is None or problem.domain_uri is None:
+                continue
+            texts = {uri: text, **problem.texts}
+            kept = self._kept.get(uri)
+            if kept is not None and kept.texts == texts and kept.domain_uri == problem.domain_uri:
+                return kept
+            steps = analyse_plan(problem.analysis, text, path_of(uri))
+            uris = {path_of(u): u for u in texts}
+            checked = Checked(uri, PLAN, problem.domain_uri, problem.analysis, texts, steps.diagnostics, uris)
+            self._kept.pop(uri, None)
+            self._kept[uri] = checked
+            return checked
+        return None
 
     def _check(self, uri: str, kind: str, domain_uri: str | None, texts: dict[str, str], wanted: str) -> Checked:
         uris = {path_of(u): u for u in texts}

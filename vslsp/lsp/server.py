@@ -34,20 +34,21 @@ class PddlServer(LanguageServer):
 
     def __init__(self) -> None:
         super().__init__("vslsp", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Incremental)
-        self.opened: set[str] = set()
+        self.opened: dict[str, None] = {}  # in the order opened
         #: the problem and the plan last opened or edited: what vslsp.plan and vslsp.validate take by default
         self.last: dict[str, str] = {}
         self.files = Files(self._open_texts)
         self.analyses = Analyses(self.files)
 
     def _open_texts(self) -> dict[str, str]:
-        return {uri: self.workspace.get_text_document(uri).source for uri in self.opened}
+        return {uri: self.workspace.get_text_document(uri).source for uri in reversed(self.opened)}  # latest first
 
     def analysis(self, uri: str) -> Checked | None:
         return self.analyses.of(uri)
 
     def publish(self, uri: str) -> None:
-        """Check ``uri`` and publish its diagnostics; a domain also re-checks the open problems for it."""
+        """Check ``uri`` and publish its diagnostics; a domain also re-checks the open problems for it, a
+        domain or problem the open plans."""
         targets = [uri]
         header = self.files.header(uri)
         if header.kind in (PROBLEM, PLAN):
@@ -57,6 +58,8 @@ class PddlServer(LanguageServer):
         elif header.kind == PROBLEM:  # what the problem uses may end the domain's "never used" warnings
             domain = self.files.domain_for(uri)
             targets += [domain] if domain in self.opened else []
+        if header.kind in (DOMAIN, PROBLEM):
+            targets += [u for u in self.opened if self.files.header(u).kind == PLAN]
         for target in targets:
             try:
                 checked = self.analyses.of(target)
@@ -76,7 +79,7 @@ def build_server() -> PddlServer:
 
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
     def did_open(ls: PddlServer, params: types.DidOpenTextDocumentParams) -> None:
-        ls.opened.add(params.text_document.uri)
+        ls.opened[params.text_document.uri] = None
         ls.publish(params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
@@ -90,12 +93,12 @@ def build_server() -> PddlServer:
     @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
     def did_close(ls: PddlServer, params: types.DidCloseTextDocumentParams) -> None:
         uri = params.text_document.uri
-        ls.opened.discard(uri)
+        ls.opened.pop(uri, None)
         ls.analyses.forget(uri)
         ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
-        for problem in ls.opened:  # they read the domain from disk now
-            if ls.files.header(problem).kind == PROBLEM:
-                ls.publish(problem)
+        for other in list(ls.opened):  # problems and plans read the closed file from disk now
+            if ls.files.header(other).kind in (PROBLEM, PLAN):
+                ls.publish(other)
 
     @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["(", ":", "?", "-"]))
     def complete(ls: PddlServer, params: types.CompletionParams) -> types.CompletionList:
