@@ -22,12 +22,14 @@ SHIPPED = Path(__file__).parents[2] / "pddl"
 def _published(client: LanguageClient, params: types.PublishDiagnosticsParams) -> None:
     client.diagnostics[params.uri] = params.diagnostics
     client.diagnostic_versions[params.uri] = params.version  # type: ignore[attr-defined]
+    client.publications.setdefault(params.uri, []).append(params.version)  # type: ignore[attr-defined]
 
 
 def make_client() -> LanguageClient:
     """pytest-lsp's test client that also keeps the document version each diagnostics were published for."""
     client = LanguageClient(converter_factory=default_converter)
     client.diagnostic_versions = {}  # type: ignore[attr-defined]
+    client.publications = {}  # type: ignore[attr-defined]  # uri -> the versions published, in order
     register_lsp_features(client, {**DEFAULT_CLIENT_FEATURES, types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS: _published})
     return client
 

@@ -154,3 +154,43 @@ async def test_a_plan_is_checked_against_the_problem_beside_it_with_fixes(editor
     assert [a.title for a in actions] == ["change to 'wash'"]
     assert await editor.replace(plan, "(pick saucer)\n(wash saucer)\n") == []
     await editor.close(plan)
+
+
+async def test_a_large_problem_is_checked_after_the_edits_pause(editor, workspace: Path):
+    """A generated problem of about 200 kB: quick edits are re-checked once, for the last version."""
+    kitchen = workspace / "kitchen"
+    dishes = [f"mug{i}" for i in range(12_000)]
+    problem = kitchen / "large.pddl"
+    text = (
+        "(define (problem large) (:domain kitchen)\n"
+        f"  (:objects {' '.join(dishes)} - cup)\n"
+        "  (:init " + "\n    ".join(f"(on-counter {d})" for d in dishes) + ")\n"
+        "  (:goal (clean mug0)))\n"
+    )
+    assert len(text) > 200_000
+    assert await editor.open(problem, text) == []
+    lines = text.split("\n")
+    at = lines.index("    (on-counter mug5)")
+    for number, typed in enumerate("xy"):  # (on-counter mug5xy): two changes in a row
+        await _send_insert(editor, problem, at, len("    (on-counter mug5") + number, typed)
+    found = await editor.diagnostics(_uri(problem))
+    assert [(d.code, d.range.start.line) for d in found] == [("unknown-object", at)]
+    assert found[0].message == "unknown object or constant 'mug5xy' (did you mean 'mug5'?)"
+    assert editor.client.publications[_uri(problem)] == [1, 3]  # the version in between was never checked
+    await editor.close(problem)
+
+
+async def _send_insert(editor, path: Path, line: int, character: int, inserted: str) -> None:
+    """An incremental change sent without waiting for its diagnostics."""
+    uri = _uri(path)
+    editor.versions[uri] += 1
+    lines = editor.texts[uri].split("\n")
+    lines[line] = lines[line][:character] + inserted + lines[line][character:]
+    editor.texts[uri] = "\n".join(lines)
+    at = types.Position(line, character)
+    editor.client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            types.VersionedTextDocumentIdentifier(editor.versions[uri], uri),
+            [types.TextDocumentContentChangePartial(types.Range(at, at), inserted)],
+        )
+    )

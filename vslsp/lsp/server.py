@@ -25,6 +25,10 @@ from vslsp.lsp.commands import named, plan_json, sources, told, validate_json
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files
 
 logger = logging.getLogger("vslsp.lsp")
+#: A document of this many characters or more is re-checked when the edits pause (its analysis takes
+#: tens of milliseconds or more; the engine reads about 1 MB a second).
+LARGE = 100_000
+PAUSE_S = 0.3
 PLAN_COMMAND = "vslsp.plan"
 VALIDATE_COMMAND = "vslsp.validate"
 
@@ -37,6 +41,7 @@ class PddlServer(LanguageServer):
         self.opened: dict[str, None] = {}  # in the order opened
         #: the problem and the plan last opened or edited: what vslsp.plan and vslsp.validate take by default
         self.last: dict[str, str] = {}
+        self._pending: dict[str, asyncio.TimerHandle] = {}  # large documents' re-checks waiting for a pause
         self.files = Files(self._open_texts)
         self.analyses = Analyses(self.files)
 
@@ -45,6 +50,17 @@ class PddlServer(LanguageServer):
 
     def analysis(self, uri: str) -> Checked | None:
         return self.analyses.of(uri)
+
+    def changed(self, uri: str) -> None:
+        """Re-check an edited document: at once when it is small (a few ms), else once the edits pause for
+        :data:`PAUSE_S`, so that typing in a large generated problem re-checks it once, not per key."""
+        pending = self._pending.pop(uri, None)
+        if pending is not None:
+            pending.cancel()
+        if len(self.workspace.get_text_document(uri).source) < LARGE:
+            self.publish(uri)
+        else:
+            self._pending[uri] = asyncio.get_running_loop().call_later(PAUSE_S, self.publish, uri)
 
     def publish(self, uri: str) -> None:
         """Check ``uri`` and publish its diagnostics; a domain also re-checks the open problems for it, a
@@ -83,8 +99,8 @@ def build_server() -> PddlServer:
         ls.publish(params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
-    def did_change(ls: PddlServer, params: types.DidChangeTextDocumentParams) -> None:
-        ls.publish(params.text_document.uri)
+    async def did_change(ls: PddlServer, params: types.DidChangeTextDocumentParams) -> None:
+        ls.changed(params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
     def did_save(ls: PddlServer, params: types.DidSaveTextDocumentParams) -> None:
@@ -94,6 +110,9 @@ def build_server() -> PddlServer:
     def did_close(ls: PddlServer, params: types.DidCloseTextDocumentParams) -> None:
         uri = params.text_document.uri
         ls.opened.pop(uri, None)
+        pending = ls._pending.pop(uri, None)
+        if pending is not None:
+            pending.cancel()
         ls.analyses.forget(uri)
         ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
         for other in list(ls.opened):  # problems and plans read the closed file from disk now
