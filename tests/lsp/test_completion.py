@@ -110,3 +110,18 @@ async def test_nothing_inside_a_comment(editor, workspace: Path):
     domain = workspace / "kitchen" / "domain.pddl"
     text = domain.read_text().replace("; wash the dish in hand", "; wash the (|")
     assert await _complete(editor, domain, text) == []
+
+
+async def test_constants_too_and_the_argument_s_type_first(editor, workspace: Path):
+    kitchen = workspace / "kitchen"
+    domain, problem = kitchen / "domain.pddl", kitchen / "problem.pddl"
+    with_constant = domain.read_text().replace(
+        "  (:predicates\n", "  (:constants tray - plate)\n  (:predicates\n    (full ?c - cup)\n"
+    )
+    await editor.open(domain, with_constant)
+    text = problem.read_text().replace("(:init (on-counter mug)", "(:init (full |")
+    items = await _complete(editor, problem, text)
+    ranked = [item.label for item in sorted(items, key=lambda item: item.sort_text)]
+    assert ranked == ["mug", "saucer", "tray"]  # a cup fits (full ?c - cup); the plates after it
+    assert items[_labels(items).index("tray")].detail == "tray - plate"
+    await editor.close(domain)
