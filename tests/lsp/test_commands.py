@@ -86,6 +86,11 @@ async def test_plan_reads_the_unsaved_text_of_open_documents(editor, workspace: 
     await editor.open(problem, only_the_mug.replace("(:constraints (sometime-before (clean mug) (clean saucer)))", ""))
     result = await _run(editor, "vslsp.plan", uri_of(problem))
     assert result["plan"] == ["pick mug", "wash mug"] and result["warnings"] == []
+    # an unsaved mistake is told at the document's own path (the command read a private copy)
+    await editor.replace(problem, problem.read_text().replace("(:goal (and (clean mug)", "(:goal (and (clean cup1)"))
+    result = await _run(editor, "vslsp.plan", uri_of(problem))
+    assert result["plan"] is None and result["exit_code"] == 2
+    assert result["error"].startswith(f"{problem}:7:") and "cup1" in result["error"]
     await editor.close(problem)
 
 

@@ -1,30 +1,36 @@
-"""The server's commands ``vslsp.plan`` and ``vslsp.validate``: the JSON of ``vslsp plan --json`` and
-``vslsp validate --json`` (docs/cli.md), computed by the same functions on the editor's text.
+"""The server's commands ``vslsp.plan`` and ``vslsp.validate``: exactly the JSON of ``vslsp plan --json``
+and ``vslsp validate --json`` (docs/cli.md), because they run that command.
 
-Both are blocking (the planner runs for seconds): the server calls them off its event loop, one at
-a time (the PDDL warnings are collected process-wide). Their arguments name the files (URIs or paths;
-a problem's domain is found as for diagnostics; none: the problem and plan last opened or edited), and
-the editor's text is used, saved or not. The user is also told the outcome (``window/showMessage``),
-as an editor bound to a key shows nothing of a command's result.
+The command line runs as a child process (``python -m vslsp plan ... --json``), off the server's event
+loop: the server keeps answering while Fast Downward searches, a request the editor cancels stops the
+planner, and whatever the command line prints or adds to its JSON (a conflict's explanation, located
+violations) comes through as the user would see it in a terminal. The editor's text is what is
+planned: a document with unsaved edits is written to a private temporary folder under its own file
+name, and that folder's paths are named back as the document's own in the result. Arguments name
+the files (URIs or paths; a problem's domain is found as for diagnostics; none: the problem and plan
+last opened or edited). The user is also told the outcome (``window/showMessage``), as an editor
+bound to a key shows nothing of a command's result.
 """
 
 from __future__ import annotations
 
+import asyncio
+import json
 import logging
 import os
-import threading
-import warnings
+import sys
+import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from lsprotocol import types
 
-from vslsp.errors import VslspError
+import vslsp
 from vslsp.lsp.workspace import Files, path_of, uri_of
 
 logger = logging.getLogger(__name__)
-_ONE_AT_A_TIME = threading.Lock()
 
 
 @dataclass(frozen=True)
@@ -35,50 +41,94 @@ class Source:
     text: str
 
 
-def plan_json(
-    domain: Source,
-    problem: Source,
-    planner: str = "fast-downward",
-    compilation: str | None = None,
-    timeout: float | None = None,
+def plan_arguments(sources: dict[str, Path], options: dict[str, Any]) -> list[str]:
+    """``vslsp plan``'s command line for ``sources`` (domain, problem) and the options given."""
+    arguments = ["plan", str(sources["domain"]), str(sources["problem"])]
+    for option in ("planner", "compilation", "timeout"):
+        if options.get(option) is not None:
+            arguments += [f"--{option}", str(options[option])]
+    return arguments
+
+
+def validate_arguments(sources: dict[str, Path], options: dict[str, Any]) -> list[str]:
+    return ["validate", str(sources["domain"]), str(sources["problem"]), str(sources["plan"])]
+
+
+async def run_cli(
+    make_arguments: Callable[[dict[str, Path], dict[str, Any]], list[str]],
+    sources: dict[str, Source],
+    options: dict[str, Any],
+    failure: dict[str, Any],
 ) -> dict[str, Any]:
-    """``vslsp plan DOMAIN PROBLEM --json``'s object: ``{"plan", "planner", "time_s", "compilation",
-    "warnings"}``, or ``{"plan": null, "planner", "error", "exit_code", "warnings"}``."""
-    from vslsp.symbolic import Compilation, check_planner, parse_pddl, solve
-
-    def run() -> dict[str, Any]:
-        check_planner(planner)
-        parsed_domain, parsed_problem = parse_pddl(
-            domain.text, problem.text, domain_name=domain.name, problem_name=problem.name
+    """``python -m vslsp ARGUMENTS --json`` on ``sources`` (unsaved ones as private copies), its JSON with
+    the copies' paths named back as the documents' own; ``failure`` + the error should it print none."""
+    with tempfile.TemporaryDirectory(prefix="vslsp-lsp-") as folder:
+        paths: dict[str, Path] = {}
+        renamed: dict[str, str] = {}
+        for role, source in sources.items():
+            if _saved(source):
+                paths[role] = Path(source.name)
+                continue
+            copy = Path(folder, role, Path(source.name).name)
+            copy.parent.mkdir()
+            copy.write_text(source.text, encoding="utf-8")
+            paths[role] = copy
+            renamed[str(copy)] = source.name
+        command = [sys.executable, "-m", "vslsp", *make_arguments(paths, options), "--json"]
+        package_root = str(Path(vslsp.__file__).resolve().parents[1])  # the same vslsp as this server
+        env = {
+            **os.environ,
+            "PYTHONPATH": os.pathsep.join(p for p in (package_root, os.environ.get("PYTHONPATH")) if p),
+        }
+        process = await asyncio.create_subprocess_exec(
+            *command,
+            stdin=asyncio.subprocess.DEVNULL,
+            stdout=asyncio.subprocess.PIPE,
+            stderr=asyncio.subprocess.PIPE,
+            env=env,
         )
-        assert parsed_problem is not None
-        chosen = None
-        if compilation is not None:
-            try:
-                chosen = Compilation(compilation)
-            except ValueError:
-                from vslsp.errors import InputError
+        try:
+            out, err = await process.communicate()
+        except asyncio.CancelledError:  # the editor cancelled the request: stop the planner too
+            process.kill()
+            await process.wait()
+            raise
+    try:
+        result = json.loads(out)
+    except ValueError:
+        said = err.decode(errors="replace").strip().splitlines()
+        logger.error("%s printed no JSON: %s", " ".join(command), "\n".join(said))
+        reason = said[-1] if said else f"exit code {process.returncode}"
+        result = {
+            **failure,
+            "error": f"internal error (vslsp printed no JSON: {reason})",
+            "exit_code": 3,
+            "warnings": [],
+        }
+    return _named_back(result, renamed)
 
-                raise InputError(f"compilation {compilation!r}: choose lifted or ground") from None
-        return solve(parsed_domain, parsed_problem, planner=planner, compilation=chosen, timeout=timeout).to_dict()
 
-    return _as_cli(run, {"plan": None, "planner": planner})
+def _saved(source: Source) -> bool:
+    """Whether ``source``'s file on disk holds the editor's text (then the command reads the file itself)."""
+    try:
+        return Path(source.name).read_bytes().decode("utf-8-sig") == source.text
+    except (OSError, UnicodeDecodeError):
+        return False
 
 
-def validate_json(domain: Source, problem: Source, plan: Source) -> dict[str, Any]:
-    """``vslsp validate DOMAIN PROBLEM PLAN --json``'s object: ``{"valid", "reason", "warnings"}``, or
-    ``{"valid": null, "error", "exit_code", "warnings"}``."""
-    from vslsp.symbolic import parse_pddl, parse_plan, validate
-
-    def run() -> dict[str, Any]:
-        parsed_domain, parsed_problem = parse_pddl(
-            domain.text, problem.text, domain_name=domain.name, problem_name=problem.name
-        )
-        assert parsed_problem is not None
-        steps = parse_plan(plan.text, parsed_domain, parsed_problem, plan.name)
-        return validate(parsed_domain, parsed_problem, steps).to_dict()
-
-    return _as_cli(run, {"valid": None})
+def _named_back(value: Any, renamed: dict[str, str]) -> Any:
+    """``value`` with each private copy's path replaced by the document's own, in every string."""
+    if not renamed:
+        return value
+    if isinstance(value, str):
+        for copy, original in renamed.items():
+            value = value.replace(copy, original)
+        return value
+    if isinstance(value, list):
+        return [_named_back(item, renamed) for item in value]
+    if isinstance(value, dict):
+        return {key: _named_back(item, renamed) for key, item in value.items()}
+    return value
 
 
 def named(arguments: tuple[Any, ...], names: tuple[str, ...], last: dict[str, str]) -> dict[str, Any]:
@@ -141,22 +191,3 @@ def told(command: str, result: dict[str, Any]) -> types.ShowMessageParams:
         return types.ShowMessageParams(types.MessageType.Info, f"{command}: {said}")
     kind = types.MessageType.Info if result["valid"] else types.MessageType.Warning
     return types.ShowMessageParams(kind, f"{command}: {'valid' if result['valid'] else 'invalid'}: {result['reason']}")
-
-
-def _as_cli(run: Callable[[], dict[str, Any]], failure: dict[str, Any]) -> dict[str, Any]:
-    """``run()`` plus its warnings, or ``failure`` with the error as the CLI's edge words it."""
-    from vslsp.symbolic import InternalError, PddlWarning
-
-    with _ONE_AT_A_TIME, warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", PddlWarning)
-        try:
-            result = run()
-        except VslspError as error:
-            result = {**failure, "error": str(error), "exit_code": error.exit_code}
-        except Exception as error:  # a bug or a failure we did not foresee: not the user's input
-            logger.exception("internal error")  # the traceback goes to the server's log (stderr)
-            wrapped = InternalError(
-                f"internal error ({type(error).__name__}: {error}); run with --debug for the traceback"
-            )
-            result = {**failure, "error": str(wrapped), "exit_code": wrapped.exit_code}
-    return {**result, "warnings": [str(w.message) for w in caught if issubclass(w.category, PddlWarning)]}

@@ -3,8 +3,8 @@
 Every open domain and problem is checked by the language engine (:mod:`vslsp.symbolic.language`) on
 open and on every change, and its diagnostics published; a changed domain re-checks the open
 problems for it. The requests (completion, hover, definition, references, rename, outline, quick
-fixes) read the same analysis; ``vslsp.plan`` and ``vslsp.validate`` run the planner path of the CLI
-in a worker thread (the editor keeps its diagnostics while Fast Downward searches).
+fixes) read the same analysis; ``vslsp.plan`` and ``vslsp.validate`` run ``vslsp plan/validate --json``
+as a child process (the editor keeps its diagnostics while Fast Downward searches).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from pygls.lsp.server import LanguageServer
 from vslsp import __version__
 from vslsp.lsp import completion, fixes, navigation
 from vslsp.lsp.analysis import Analyses, Checked
-from vslsp.lsp.commands import named, plan_json, sources, told, validate_json
+from vslsp.lsp.commands import named, plan_arguments, run_cli, sources, told, validate_arguments
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files
 
 logger = logging.getLogger("vslsp.lsp")
@@ -181,7 +181,7 @@ def build_server() -> PddlServer:
         failure = {"plan": None, "planner": options.get("planner", "fast-downward")}
         found, result = sources(ls.files, given, ("domain", "problem"), failure)
         if not result:
-            result = await asyncio.to_thread(plan_json, found["domain"], found["problem"], **options)
+            result = await run_cli(plan_arguments, found, options, failure)
         ls.window_show_message(told(PLAN_COMMAND, result))
         return result
 
@@ -193,7 +193,7 @@ def build_server() -> PddlServer:
         given = named(arguments, ("domain", "problem", "plan"), ls.last)
         found, result = sources(ls.files, given, ("domain", "problem", "plan"), {"valid": None})
         if not result:
-            result = await asyncio.to_thread(validate_json, found["domain"], found["problem"], found["plan"])
+            result = await run_cli(validate_arguments, found, {}, {"valid": None})
         ls.window_show_message(told(VALIDATE_COMMAND, result))
         return result
 

@@ -71,13 +71,10 @@ def read_problem(domain_path: str | Path, problem_path: str | Path) -> Problem:
     return problem
 
 
-def parse_pddl(
-    domain_text: str, problem_text: str | None = None, *, domain_name: str = "<domain>", problem_name: str = "<problem>"
-) -> tuple[Domain, Problem | None]:
-    """:func:`read_pddl` on strings (errors name ``domain_name`` / ``problem_name``: an editor's unsaved text
-    is named after its file)."""
-    with _parse_budget(problem_name if problem_text is not None else domain_name):
-        return _read(domain_text, problem_text, domain_name, problem_name if problem_text is not None else None)
+def parse_pddl(domain_text: str, problem_text: str | None = None) -> tuple[Domain, Problem | None]:
+    """:func:`read_pddl` on strings (errors name ``<domain>`` / ``<problem>``)."""
+    with _parse_budget("<problem>" if problem_text is not None else "<domain>"):
+        return _read(domain_text, problem_text, "<domain>", "<problem>" if problem_text is not None else None)
 
 
 def save(text: str, path: str | Path) -> Path:
