@@ -2,14 +2,14 @@
 and ``vslsp validate --json`` (docs/cli.md), because they run that command.
 
 The command line runs as a child process (``python -m vslsp plan ... --json``), off the server's event
-loop: the server keeps answering while Fast Downward searches, a request the editor cancels stops the
-planner, and whatever the command line prints or adds to its JSON (a conflict's explanation, located
-violations) comes through as the user would see it in a terminal. The editor's text is what is
-planned: a document with unsaved edits is written to a private temporary folder under its own file
-name, and that folder's paths are named back as the document's own in the result. Arguments name
-the files (URIs or paths; a problem's domain is found as for diagnostics; none: the problem and plan
-last opened or edited). The user is also told the outcome (``window/showMessage``), as an editor
-bound to a key shows nothing of a command's result.
+loop: the server keeps answering while Fast Downward searches (``timeout`` bounds a search; the
+server's end stops one still running), and whatever the command line prints or adds to its JSON (a
+conflict's explanation, located violations) comes through as the user would see it in a terminal.
+The editor's text is what is planned: a document with unsaved edits is written to a private
+temporary folder under its own file name, and that folder's paths are named back as the document's
+own in the result. Arguments name the files (URIs or paths; a problem's domain is found as for
+diagnostics; none: the problem and plan last opened or edited). The user is also told the outcome
+(``window/showMessage``), as an editor bound to a key shows nothing of a command's result.
 """
 
 from __future__ import annotations
@@ -89,7 +89,7 @@ async def run_cli(
         )
         try:
             out, err = await process.communicate()
-        except asyncio.CancelledError:  # the editor cancelled the request: stop the planner too
+        except asyncio.CancelledError:  # the server is ending: stop the planner too
             process.kill()
             await process.wait()
             raise
