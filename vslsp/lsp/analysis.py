@@ -12,7 +12,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from vslsp.lsp.positions import Lines
+from vslsp.lsp.positions import UTF16, Lines
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of
 from vslsp.symbolic.language import WARNING, Analysis, Declaration, Diagnostic, Fix, Reference, Span, analyse, closest
 from vslsp.symbolic.language.plans import analyse_plan
@@ -36,6 +36,7 @@ class Checked:
     texts: dict[str, str]  # uri -> the text analysed
     extra: list[Diagnostic] = field(default_factory=list)
     _uris: dict[str, str] = field(default_factory=dict)  # engine file name -> uri
+    encoding: str = UTF16  # the position encoding agreed with the client
     _lines: dict[str, Lines] = field(default_factory=dict)
 
     @property
@@ -48,7 +49,7 @@ class Checked:
 
     def lines(self, uri: str) -> Lines:
         if uri not in self._lines:
-            self._lines[uri] = Lines(self.texts.get(uri, ""))
+            self._lines[uri] = Lines(self.texts.get(uri, ""), self.encoding)
         return self._lines[uri]
 
     def diagnostics(self) -> list[Diagnostic]:
@@ -68,6 +69,7 @@ class Analyses:
 
     def __init__(self, files: Files):
         self.files = files
+        self.encoding = UTF16  # the position encoding agreed at initialize (the server sets it)
         self._kept: dict[str, Checked] = {}
         self._words: dict[str, tuple[str, set[str]]] = {}  # problem uri -> (text, its words)
 
@@ -136,7 +138,9 @@ class Analyses:
                 return kept
             steps = analyse_plan(problem.analysis, text, path_of(uri))
             uris = {path_of(u): u for u in texts}
-            checked = Checked(uri, PLAN, problem.domain_uri, problem.analysis, texts, steps.diagnostics, uris)
+            checked = Checked(
+                uri, PLAN, problem.domain_uri, problem.analysis, texts, steps.diagnostics, uris, self.encoding
+            )
             self._kept.pop(uri, None)
             self._kept[uri] = checked
             return checked
@@ -148,7 +152,7 @@ class Analyses:
             analysis = analyse(texts[domain_uri], path_of(domain_uri), texts[uri], path_of(uri))
         else:
             analysis = analyse(texts[uri], path_of(uri))
-        checked = Checked(uri, kind, domain_uri, analysis, texts, _uris=uris)
+        checked = Checked(uri, kind, domain_uri, analysis, texts, _uris=uris, encoding=self.encoding)
         if kind == PROBLEM and domain_uri is None and wanted:
             checked.extra.append(self._no_domain(checked, wanted))
         return checked

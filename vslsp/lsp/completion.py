@@ -9,6 +9,7 @@ from lsprotocol import types
 
 from vslsp.lsp import context
 from vslsp.lsp.analysis import Analyses, Checked
+from vslsp.lsp.positions import characters, units
 from vslsp.lsp.workspace import PLAN, PROBLEM
 from vslsp.symbolic.language import EFFECT_OPERATORS, GOAL_OPERATORS, PDDL3_NAMES, REQUIREMENTS, Declaration
 from vslsp.symbolic.language.vocabulary import ACTION_KEYWORDS, DOMAIN_SECTIONS, PROBLEM_SECTIONS
@@ -27,7 +28,8 @@ def complete(analyses: Analyses, uri: str, text: str, position: types.Position) 
     header = analyses.files.header(uri)
     lines_before = text.split("\n")[: position.line + 1]
     line_text = lines_before[-1] if lines_before else ""
-    character = _characters(line_text, position.character)
+    encoding = analyses.encoding
+    character = characters(line_text, position.character, encoding)
     offset = sum(len(line) + 1 for line in lines_before[:-1]) + character
     if header.kind == PLAN:
         cursor = context.plan_cursor_at(text, offset)
@@ -36,7 +38,7 @@ def complete(analyses: Analyses, uri: str, text: str, position: types.Position) 
         cursor = context.cursor_at(text, offset)
         checked = analyses.of(uri)
         items = _items(checked, cursor, header.kind, position) if checked is not None else []
-    start = types.Position(position.line, position.character - _units(cursor.prefix))
+    start = types.Position(position.line, position.character - units(cursor.prefix, encoding))
     edit_range = types.Range(start, position)
     for item in items:
         item.text_edit = types.TextEdit(edit_range, item.label)
@@ -138,19 +140,3 @@ def _ancestors(checked: Checked, names: tuple[str, ...]) -> list[str]:
                 chain.append(parent.lower())
         index += 1
     return [*chain, "object"]
-
-
-def _characters(line: str, units: int) -> int:
-    """The character column of a UTF-16 column in ``line``."""
-    if line.isascii():
-        return min(units, len(line))
-    count = 0
-    for index, char in enumerate(line):
-        if count >= units:
-            return index
-        count += 2 if ord(char) > 0xFFFF else 1
-    return len(line)
-
-
-def _units(text: str) -> int:
-    return len(text.encode("utf-16-le")) // 2

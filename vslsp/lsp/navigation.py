@@ -14,7 +14,7 @@ from pathlib import Path
 from lsprotocol import types
 
 from vslsp.lsp.analysis import Analyses, Checked
-from vslsp.lsp.positions import Lines
+from vslsp.lsp.positions import Lines, characters, units
 from vslsp.symbolic.language import Declaration, Span
 
 #: Declarations visible in a domain and all its problems.
@@ -177,8 +177,10 @@ def in_plan(
     declare it (for hover and go to definition), with the word's range."""
     lines = text.split("\n")
     line = lines[position.line] if position.line < len(lines) else ""
+    encoding = analyses.encoding
+    cursor = characters(line, position.character, encoding)
     for match in _WORD.finditer(line):
-        if match.start() <= position.character <= match.end():
+        if match.start() <= cursor <= match.end():
             break
     else:
         return None
@@ -198,7 +200,8 @@ def in_plan(
         )
         if found is not None:
             shown = types.Range(
-                types.Position(position.line, match.start()), types.Position(position.line, match.end())
+                types.Position(position.line, units(line[: match.start()], encoding)),
+                types.Position(position.line, units(line[: match.end()], encoding)),
             )
             return checked, found, shown
     return None

@@ -1,5 +1,7 @@
 """Places in a document: the engine's 1-based line and character columns against LSP's 0-based lines and
-UTF-16 code units (LSP 3.17's default position encoding; PDDL is mostly ASCII, where both agree)."""
+columns in the code units the client and server agreed on at initialize (``utf-16``, LSP's default;
+``utf-8``, which Neovim prefers; ``utf-32``, characters). PDDL is mostly ASCII, where all agree.
+"""
 
 from __future__ import annotations
 
@@ -7,12 +9,36 @@ from lsprotocol import types
 
 from vslsp.symbolic.language.diagnostics import Span
 
+UTF16 = "utf-16"
+
+
+def units(text: str, encoding: str = UTF16) -> int:
+    """How many code units of ``encoding`` ``text`` takes."""
+    if encoding == "utf-8":
+        return len(text.encode("utf-8"))
+    if encoding == "utf-32":
+        return len(text)
+    return len(text.encode("utf-16-le")) // 2
+
+
+def characters(line: str, count: int, encoding: str = UTF16) -> int:
+    """The character column reached after ``count`` code units of ``line`` (past its end: its length)."""
+    if line.isascii():
+        return min(count, len(line))
+    total = 0
+    for index, char in enumerate(line):
+        if total >= count:
+            return index
+        total += units(char, encoding)
+    return len(line)
+
 
 class Lines:
-    """The lines of one text, to convert columns between characters and UTF-16 units."""
+    """The lines of one text, to convert columns between characters and the client's code units."""
 
-    def __init__(self, text: str):
+    def __init__(self, text: str, encoding: str = UTF16):
         self.text = text
+        self.encoding = encoding
         self._lines = text.split("\n")
         self._ascii = text.isascii()
 
@@ -24,8 +50,7 @@ class Lines:
         """LSP position of the 1-based (``line``, ``column``) (a character column)."""
         if self._ascii:
             return types.Position(line - 1, column - 1)
-        prefix = self.line(line)[: column - 1]
-        return types.Position(line - 1, len(prefix.encode("utf-16-le")) // 2)
+        return types.Position(line - 1, units(self.line(line)[: column - 1], self.encoding))
 
     def range(self, span: Span) -> types.Range:
         return types.Range(self.position(span.line, span.column), self.position(span.end_line, span.end_column))
@@ -33,15 +58,7 @@ class Lines:
     def place(self, position: types.Position) -> tuple[int, int]:
         """1-based (line, character column) of an LSP position (past the line's end: its end)."""
         line = position.line + 1
-        text = self.line(line)
-        if self._ascii:
-            return line, min(position.character, len(text)) + 1
-        units = 0
-        for index, char in enumerate(text):
-            if units >= position.character:
-                return line, index + 1
-            units += 2 if ord(char) > 0xFFFF else 1
-        return line, len(text) + 1
+        return line, characters(self.line(line), position.character, self.encoding) + 1
 
     def offset(self, position: types.Position) -> int:
         """0-based character offset of an LSP position in the text."""

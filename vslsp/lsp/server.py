@@ -22,6 +22,7 @@ from vslsp import __version__
 from vslsp.lsp import completion, fixes, navigation
 from vslsp.lsp.analysis import Analyses, Checked
 from vslsp.lsp.commands import named, plan_arguments, run_cli, sources, told, validate_arguments
+from vslsp.lsp.positions import UTF16
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files
 
 logger = logging.getLogger("vslsp.lsp")
@@ -92,6 +93,10 @@ class PddlServer(LanguageServer):
 def build_server() -> PddlServer:
     """A server with every feature registered (not yet started)."""
     server = PddlServer()
+
+    @server.feature(types.INITIALIZED)
+    def initialized(ls: PddlServer, params: types.InitializedParams) -> None:
+        ls.analyses.encoding = str(ls.workspace.position_encoding or UTF16)
 
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
     def did_open(ls: PddlServer, params: types.DidOpenTextDocumentParams) -> None:
