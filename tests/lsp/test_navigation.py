@@ -191,3 +191,16 @@ async def test_the_outline_lists_types_predicates_and_actions_with_parameters(ed
     assert root.name == "tidy-up" and [c.name for c in root.children] == ["mug", "saucer"]
     await editor.close(problem)
     await editor.close(domain)
+
+
+async def test_rename_the_domain_renames_the_problems_domain_line(editor, kitchen: Path):
+    domain, problem = kitchen / "domain.pddl", kitchen / "problem.pddl"
+    await editor.open(domain)
+    at = editor.position_of(domain, "(domain kitchen)", offset=len("(domain "))
+    edit = await editor.client.text_document_rename_async(
+        types.RenameParams(text_document=ident(domain), position=at, new_name="galley")
+    )
+    assert set(edit.changes) == {uri_of(domain), uri_of(problem)}  # the problem is not even open
+    assert "(define (domain galley)" in _apply(domain.read_text(), edit.changes[uri_of(domain)])
+    assert "(:domain galley)" in _apply(problem.read_text(), edit.changes[uri_of(problem)])
+    await editor.close(domain)
