@@ -51,8 +51,10 @@ async def test_plan_gives_the_cli_s_json_and_finds_the_domain(editor, workspace:
     assert _without_time(result) == _without_time(expected)
     assert result["plan"] == ["pull orange", "pull green", "pull yellow"]
     # the domain given, as paths, options in one object
-    result = await _run(editor, "vslsp.plan", {"domain": str(domain), "problem": str(problem), "compilation": "ground"})
-    assert _without_time(result) == _without_time(_cli(capsys, "plan", domain, problem, "--compilation", "ground"))
+    options = {"compilation": "ground", "timeout": 120, "memory": 2048}
+    result = await _run(editor, "vslsp.plan", {"domain": str(domain), "problem": str(problem), **options})
+    expected = _cli(capsys, "plan", domain, problem, "--compilation", "ground", "--timeout", 120, "--memory", 2048)
+    assert _without_time(result) == _without_time(expected) and result["compilation"] == "ground"
     await editor.close(problem)
 
 

@@ -31,6 +31,8 @@ import vslsp
 from vslsp.lsp.workspace import Files, path_of, uri_of
 
 logger = logging.getLogger(__name__)
+#: The options of ``vslsp plan`` a ``vslsp.plan`` object may give (as the command line's ``--NAME VALUE``).
+PLAN_OPTIONS = ("planner", "compilation", "timeout", "memory")
 
 
 @dataclass(frozen=True)
@@ -44,7 +46,7 @@ class Source:
 def plan_arguments(sources: dict[str, Path], options: dict[str, Any]) -> list[str]:
     """``vslsp plan``'s command line for ``sources`` (domain, problem) and the options given."""
     arguments = ["plan", str(sources["domain"]), str(sources["problem"])]
-    for option in ("planner", "compilation", "timeout"):
+    for option in PLAN_OPTIONS:
         if options.get(option) is not None:
             arguments += [f"--{option}", str(options[option])]
     return arguments

@@ -21,7 +21,7 @@ from pygls.lsp.server import LanguageServer
 from vslsp import __version__
 from vslsp.lsp import completion, fixes, navigation
 from vslsp.lsp.analysis import Analyses, Checked
-from vslsp.lsp.commands import named, plan_arguments, run_cli, sources, told, validate_arguments
+from vslsp.lsp.commands import PLAN_OPTIONS, named, plan_arguments, run_cli, sources, told, validate_arguments
 from vslsp.lsp.positions import UTF16
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files
 
@@ -179,10 +179,10 @@ def build_server() -> PddlServer:
     @server.command(PLAN_COMMAND)
     async def plan(ls: PddlServer, *arguments: Any) -> dict[str, Any]:
         """``vslsp.plan`` with ``[]`` (the problem last opened or edited), ``[PROBLEM]``, ``[DOMAIN, PROBLEM]``
-        or ``[{"domain", "problem", "planner", "compilation", "timeout"}]`` (URIs or paths): ``vslsp plan
-        --json``'s object, also shown to the user as a message."""
+        or ``[{"domain", "problem", "planner", "compilation", "timeout", "memory"}]`` (URIs or paths):
+        ``vslsp plan --json``'s object, also shown to the user as a message."""
         given = named(arguments, ("domain", "problem"), ls.last)
-        options = {k: given[k] for k in ("planner", "compilation", "timeout") if given.get(k) is not None}
+        options = {k: given[k] for k in PLAN_OPTIONS if given.get(k) is not None}
         failure = {"plan": None, "planner": options.get("planner", "fast-downward")}
         found, result = sources(ls.files, given, ("domain", "problem"), failure)
         if not result:
