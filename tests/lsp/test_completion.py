@@ -125,3 +125,15 @@ async def test_constants_too_and_the_argument_s_type_first(editor, workspace: Pa
     assert ranked == ["mug", "saucer", "tray"]  # a cup fits (full ?c - cup); the plates after it
     assert items[_labels(items).index("tray")].detail == "tray - plate"
     await editor.close(domain)
+
+
+async def test_a_new_file_offers_a_domain_and_a_problem_to_start_from(editor, workspace: Path):
+    new = workspace / "kitchen" / "new.pddl"
+    items = await _complete(editor, new, "(|")
+    assert [(i.label, i.kind, i.insert_text_format) for i in items] == [
+        ("define domain", types.CompletionItemKind.Snippet, types.InsertTextFormat.Snippet),
+        ("define problem", types.CompletionItemKind.Snippet, types.InsertTextFormat.Snippet),
+    ]
+    problem = items[1].text_edit.new_text
+    assert problem.startswith("(define (problem ${1:name})\n  (:domain ${2:kitchen})")  # the domain beside it
+    assert (items[1].text_edit.range.start.character, items[1].text_edit.range.end.character) == (0, 1)

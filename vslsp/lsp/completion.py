@@ -5,6 +5,8 @@ names and objects in a plan. Items replace the whole name typed so far, hyphens 
 
 from __future__ import annotations
 
+import re
+
 from lsprotocol import types
 
 from vslsp.lsp import context
@@ -15,6 +17,7 @@ from vslsp.symbolic.language import EFFECT_OPERATORS, GOAL_OPERATORS, PDDL3_NAME
 from vslsp.symbolic.language.vocabulary import ACTION_KEYWORDS, DOMAIN_SECTIONS, PROBLEM_SECTIONS
 
 _KIND = types.CompletionItemKind
+_DEFINE = re.compile(r"\(\s*define\b", re.IGNORECASE)
 _OPERATORS = {
     "goal": GOAL_OPERATORS,
     "effect": EFFECT_OPERATORS,
@@ -38,12 +41,46 @@ def complete(analyses: Analyses, uri: str, text: str, position: types.Position) 
         cursor = context.cursor_at(text, offset)
         checked = analyses.of(uri)
         items = _items(checked, cursor, header.kind, position) if checked is not None else []
+        if not header.kind and len(cursor.heads) <= 1 and not _DEFINE.search(text):
+            items = _skeletons(analyses, uri)  # a new file: a domain or a problem to start from
+            if cursor.heads:  # the '(' typed is the skeleton's own
+                cursor = context.Cursor(cursor.want, "(" + cursor.prefix, cursor.start - 1)
     start = types.Position(position.line, position.character - units(cursor.prefix, encoding))
     edit_range = types.Range(start, position)
     for item in items:
-        item.text_edit = types.TextEdit(edit_range, item.label)
-        item.filter_text = item.label
+        item.text_edit = types.TextEdit(edit_range, item.insert_text or item.label)
+        item.filter_text = item.filter_text or item.label
     return types.CompletionList(is_incomplete=False, items=items)
+
+
+def _skeletons(analyses: Analyses, uri: str) -> list[types.CompletionItem]:
+    """``(define (domain ...))`` and ``(define (problem ...))`` to fill in (snippets; the problem names
+    a domain beside the file when there is one)."""
+    domains = [analyses.files.header(u).name for u in analyses.files.domains_near(uri)]
+    domain = domains[0] if domains else "DOMAIN"
+    texts = {
+        "define domain": (
+            "(define (domain ${1:name})\n  (:requirements :strips :typing)\n  (:types ${2:thing})\n"
+            "  (:predicates\n    (${3:ready} ?x - ${2:thing}))\n\n  (:action ${4:act}\n"
+            "    :parameters (?x - ${2:thing})\n    :precondition (${3:ready} ?x)\n"
+            "    :effect (not (${3:ready} ?x))))\n"
+        ),
+        "define problem": (
+            f"(define (problem ${{1:name}})\n  (:domain ${{2:{domain}}})\n  (:objects $3)\n  (:init $4)\n"
+            "  (:goal (and $0)))\n"
+        ),
+    }
+    return [
+        types.CompletionItem(
+            label=label,
+            kind=types.CompletionItemKind.Snippet,
+            insert_text=text,
+            insert_text_format=types.InsertTextFormat.Snippet,
+            filter_text=f"(define {label.split()[1]}",
+            detail=f"a new PDDL {label.split()[1]}",
+        )
+        for label, text in texts.items()
+    ]
 
 
 def _items(checked: Checked, cursor: context.Cursor, kind: str, position: types.Position) -> list[types.CompletionItem]:
