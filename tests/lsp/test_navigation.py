@@ -204,3 +204,14 @@ async def test_rename_the_domain_renames_the_problems_domain_line(editor, kitche
     assert "(define (domain galley)" in _apply(domain.read_text(), edit.changes[uri_of(domain)])
     assert "(:domain galley)" in _apply(problem.read_text(), edit.changes[uri_of(problem)])
     await editor.close(domain)
+
+
+async def test_hover_says_what_a_pddl3_operator_means(editor, kitchen: Path):
+    problem = kitchen / "problem.pddl"
+    await editor.open(problem)
+    at = editor.position_of(problem, "sometime-before", offset=3)
+    shown = await editor.client.text_document_hover_async(types.HoverParams(ident(problem), at))
+    assert shown.contents.value.startswith("`(sometime-before φ ψ)`: whenever φ holds, ψ has held in an earlier state")
+    at = editor.position_of(problem, "(:goal (and", offset=len("(:goal ("))  # 'and' is no PDDL 3 operator
+    assert await editor.client.text_document_hover_async(types.HoverParams(ident(problem), at)) is None
+    await editor.close(problem)

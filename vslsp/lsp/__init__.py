@@ -6,6 +6,7 @@ in context, hover, go to definition, references, rename, the outline, quick fixe
 Modules: :mod:`~vslsp.lsp.workspace` (open documents and the files beside them),
 :mod:`~vslsp.lsp.analysis` (the engine's analysis per document), :mod:`~vslsp.lsp.context` (where the
 cursor is), :mod:`~vslsp.lsp.completion`, :mod:`~vslsp.lsp.navigation`, :mod:`~vslsp.lsp.fixes`,
-:mod:`~vslsp.lsp.commands` (plan and validate as the CLI), :mod:`~vslsp.lsp.server` (pygls wiring).
+:mod:`~vslsp.lsp.operators` (the PDDL 3.0 operators' meanings), :mod:`~vslsp.lsp.commands` (plan and
+validate: the CLI itself), :mod:`~vslsp.lsp.server` (pygls wiring).
 Nothing is imported here: ``vslsp lsp`` loads the server only when it starts.
 """

@@ -22,6 +22,7 @@ from vslsp import __version__
 from vslsp.lsp import completion, fixes, navigation
 from vslsp.lsp.analysis import Analyses, Checked
 from vslsp.lsp.commands import PLAN_OPTIONS, named, plan_arguments, run_cli, sources, told, validate_arguments
+from vslsp.lsp.operators import operator_hover
 from vslsp.lsp.positions import UTF16
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files
 
@@ -136,7 +137,10 @@ def build_server() -> PddlServer:
             step = navigation.in_plan(ls.analyses, uri, ls.files.text(uri) or "", params.position)
             return navigation.described(*step) if step else None
         found = _at(ls, uri, params.position)
-        return navigation.hover(*found) if found else None
+        shown = navigation.hover(*found) if found else None
+        if shown is None and found is not None:  # a PDDL 3.0 operator: its meaning
+            shown = operator_hover(ls.files.text(uri) or "", params.position, found[2] - 1)
+        return shown
 
     @server.feature(types.TEXT_DOCUMENT_DEFINITION)
     def definition(ls: PddlServer, params: types.DefinitionParams) -> types.Location | None:
