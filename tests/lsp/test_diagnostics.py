@@ -25,6 +25,8 @@ async def test_the_shipped_domain_and_problems_open_without_errors(editor, works
     # keep-all-near quantifies over blocks in a constraint: a requirement its domain does not declare
     found = await editor.open(shipped / "keep-all-near.pddl")
     assert [(d.severity, d.code) for d in found] == [(WARNING, "undeclared-requirement")]
+    for name in ("domain.pddl", "pull-in-order.pddl", "simple-push-pull.pddl", "keep-all-near.pddl"):
+        await editor.close(shipped / name)
 
 
 async def test_a_typo_is_an_error_at_the_token_with_did_you_mean(editor, workspace: Path):
@@ -38,6 +40,7 @@ async def test_a_typo_is_an_error_at_the_token_with_did_you_mean(editor, workspa
     start = editor.position_of(domain, "hand-emty")
     assert _at(found[0]) == (start.line, start.character, start.line, start.character + len("hand-emty"))
     assert await editor.replace(domain, domain.read_text()) == []  # fixed: the error goes
+    await editor.close(domain)
 
 
 async def test_every_error_of_a_file_at_once_and_warnings(editor, workspace: Path):
@@ -47,29 +50,30 @@ async def test_every_error_of_a_file_at_once_and_warnings(editor, workspace: Pat
         .replace(":effect (clean ?d))", ":effect (claen ?d))")
         .replace("(:types cup plate - dish", "(:types cup plate - dish bowl - vessel")
     )
+    await editor.open(domain)
     found = await editor.replace(domain, text)
     messages = {(d.severity, d.message) for d in found}
     assert (ERROR, "unknown predicate 'claen' (did you mean 'clean'?)") in messages
     assert any(s == WARNING and "vessel" in m for s, m in messages)  # the undeclared parent type
     assert any(s == WARNING and "'bowl'" in m and "never used" in m for s, m in messages)
-    await editor.replace(domain, domain.read_text())
+    await editor.close(domain)
 
 
 async def test_keystrokes_are_incremental_changes(editor, workspace: Path):
     domain = workspace / "kitchen" / "domain.pddl"
-    await editor.replace(domain, domain.read_text())
+    await editor.open(domain)
     at = editor.position_of(domain, "(holding ?d))", occurrence=1)
     found = await editor.type_at(domain, at.line, at.character + 1, "x")  # (xholding ?d)
     assert [d.message for d in found] == ["unknown predicate 'xholding' (did you mean 'holding'?)"]
     found = await editor.type_at(domain, at.line, at.character + 1, "(")  # an unclosed parenthesis
     assert any(d.code == "unclosed-parenthesis" for d in found)
-    await editor.replace(domain, domain.read_text())
+    await editor.close(domain)
 
 
 async def test_a_problem_is_checked_against_its_open_domain_and_follows_its_edits(editor, workspace: Path):
     kitchen = workspace / "kitchen"
     domain, problem = kitchen / "domain.pddl", kitchen / "problem.pddl"
-    await editor.replace(domain, domain.read_text())
+    await editor.open(domain)
     text = problem.read_text().replace("sometime-before", "sometimes-before").replace("mug - cup", "mug - cupp")
     found = await editor.open(problem, text)
     assert sorted(d.message for d in found) == [
@@ -82,8 +86,8 @@ async def test_a_problem_is_checked_against_its_open_domain_and_follows_its_edit
     await editor.replace(domain, domain.read_text().replace("(clean ", "(washed "))
     found = await editor.diagnostics(editor_uri)
     assert "unknown predicate 'clean'" in " ".join(d.message for d in found)
-    await editor.replace(domain, domain.read_text())
     await editor.close(problem)
+    await editor.close(domain)
 
 
 async def test_a_problem_finds_its_domain_on_disk_or_says_it_is_missing(editor, workspace: Path, tmp_path: Path):
