@@ -75,7 +75,9 @@ async def test_without_arguments_the_last_problem_and_plan_and_the_user_is_told(
     result = await _run(editor, "vslsp.validate")
     assert result["valid"] is False and "goal" in result["reason"]
     assert editor.client.messages[-1].type == types.MessageType.Warning
-    assert editor.client.messages[-1].message == f"vslsp.validate: invalid: {result['reason']}"
+    told = editor.client.messages[-1].message
+    assert told.startswith("vslsp.validate: invalid: ")  # every violation, with its line
+    assert all(f"{v['message']} (line {v['line']})" in told for v in result["violations"])
     await editor.close(plan)
     await editor.close(kitchen / "problem.pddl")
 
@@ -140,3 +142,30 @@ async def test_the_server_answers_while_the_planner_runs(editor, workspace: Path
     result = await planning
     assert result["plan"] is not None
     await editor.close(domain)
+
+
+@pytest.mark.slow
+async def test_no_plan_names_the_conflict_as_the_cli_does(editor, workspace: Path, capsys):
+    kitchen = workspace / "kitchen"
+    never = kitchen / "never-clean.pddl"
+    never.write_text(
+        (kitchen / "problem.pddl")
+        .read_text()
+        .replace("(define (problem tidy-up)", "(define (problem never-clean)")
+        .replace(
+            "(:constraints (sometime-before (clean mug) (clean saucer)))", "(:constraints (always (not (clean mug))))"
+        )
+    )
+    await editor.open(never)
+    editor.client.messages.clear()
+    result = await _run(editor, "vslsp.plan", uri_of(never))
+    assert result == _cli(capsys, "plan", kitchen / "domain.pddl", never)
+    assert result["exit_code"] == 1 and result["conflict_minimal"] is True
+    assert [(c["kind"], c["text"], c["line"]) for c in result["conflict"]] == [
+        ("goal", "(clean mug)", 7),
+        ("constraint", "(always (not (clean mug)))", 8),
+    ]
+    (told,) = editor.client.messages
+    assert told.type == types.MessageType.Warning
+    assert told.message.endswith("these cannot all hold: (clean mug) (line 7); (always (not (clean mug))) (line 8)")
+    await editor.close(never)

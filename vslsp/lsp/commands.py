@@ -32,7 +32,7 @@ from vslsp.lsp.workspace import Files, path_of, uri_of
 
 logger = logging.getLogger(__name__)
 #: The options of ``vslsp plan`` a ``vslsp.plan`` object may give (as the command line's ``--NAME VALUE``).
-PLAN_OPTIONS = ("planner", "compilation", "timeout", "memory")
+PLAN_OPTIONS = ("planner", "compilation", "timeout", "memory", "conflict_budget")
 
 
 @dataclass(frozen=True)
@@ -48,7 +48,7 @@ def plan_arguments(sources: dict[str, Path], options: dict[str, Any]) -> list[st
     arguments = ["plan", str(sources["domain"]), str(sources["problem"])]
     for option in PLAN_OPTIONS:
         if options.get(option) is not None:
-            arguments += [f"--{option}", str(options[option])]
+            arguments += [f"--{option.replace('_', '-')}", str(options[option])]
     return arguments
 
 
@@ -181,10 +181,16 @@ def as_uri(given: str) -> str:
 
 
 def told(command: str, result: dict[str, Any]) -> types.ShowMessageParams:
-    """What the user is shown of a command's result: the plan or the verdict, or the error."""
+    """What the user is shown of a command's result: the plan or the verdict, or the error; why there is
+    no plan (the conflicting goal conjuncts and constraints) and every violation of an invalid plan,
+    each with its line."""
     if "error" in result:
         kind = types.MessageType.Error if result.get("exit_code") != 1 else types.MessageType.Warning
-        return types.ShowMessageParams(kind, f"{command}: {result['error']}")
+        conflict = result.get("conflict") or []
+        why = "; ".join(f"{c['text']} (line {c['line']})" for c in conflict)
+        return types.ShowMessageParams(
+            kind, f"{command}: {result['error']}" + (f"; these cannot all hold: {why}" if why else "")
+        )
     if command.endswith("plan"):
         steps = result["plan"]
         listed = "; ".join(f"{n}. {step}" for n, step in enumerate(steps, 1))
@@ -192,4 +198,8 @@ def told(command: str, result: dict[str, Any]) -> types.ShowMessageParams:
         said = f"{count} ({result['planner']}, {result['time_s']:.2f} s): {listed}"
         return types.ShowMessageParams(types.MessageType.Info, f"{command}: {said}")
     kind = types.MessageType.Info if result["valid"] else types.MessageType.Warning
-    return types.ShowMessageParams(kind, f"{command}: {'valid' if result['valid'] else 'invalid'}: {result['reason']}")
+    broken = result.get("violations") or []
+    said = "; ".join(v["message"] + (f" (line {v['line']})" if v.get("line") else "") for v in broken)
+    return types.ShowMessageParams(
+        kind, f"{command}: {'valid' if result['valid'] else 'invalid'}: {said or result['reason']}"
+    )
