@@ -117,6 +117,7 @@ async def test_validate_gives_the_cli_s_json_for_a_plan_document(editor, workspa
     steps = ["pick saucer", "wash saucer", "put-down saucer", "pick mug", "wash mug", "put-down mug"]
     plan.write_text("".join(f"({step})\n" for step in steps))
     await editor.open(plan, language="plan")
+    await editor.open(problem)
     result = await _run(editor, "vslsp.validate", uri_of(problem), uri_of(plan))
     assert result == _cli(capsys, "validate", domain, problem, plan)
     assert result["valid"] is True
@@ -126,6 +127,11 @@ async def test_validate_gives_the_cli_s_json_for_a_plan_document(editor, workspa
     plan.write_text(editor.texts[uri_of(plan)])
     assert result == _cli(capsys, "validate", domain, problem, plan)
     assert result["valid"] is False and "sometime-before" in result["reason"]
+    # the broken constraint is shown where the problem states it
+    (shown,) = await editor.diagnostics(uri_of(problem))
+    assert (shown.code, shown.range.start.line, shown.severity) == ("violation", 7, types.DiagnosticSeverity.Warning)
+    assert shown.message == result["violations"][0]["message"]
+    await editor.close(problem)
     await editor.close(plan)
 
 
@@ -168,4 +174,12 @@ async def test_no_plan_names_the_conflict_as_the_cli_does(editor, workspace: Pat
     (told,) = editor.client.messages
     assert told.type == types.MessageType.Warning
     assert told.message.endswith("these cannot all hold: (clean mug) (line 7); (always (not (clean mug))) (line 8)")
+    # the conflict is shown in the problem, each formula's whole extent, until the next edit
+    shown = await editor.diagnostics(uri_of(never))
+    assert [(d.code, d.range.start.line, d.range.start.character, d.range.end.character) for d in shown] == [
+        ("conflict", 6, 14, 25),
+        ("conflict", 7, 16, 42),
+    ]
+    assert shown[1].message == "no plan: this constraint cannot hold together with (clean mug)"
+    assert await editor.replace(never, editor.texts[uri_of(never)] + "\n") == []
     await editor.close(never)

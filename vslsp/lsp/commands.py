@@ -18,6 +18,7 @@ import asyncio
 import json
 import logging
 import os
+import re
 import sys
 import tempfile
 from collections.abc import Callable
@@ -29,8 +30,10 @@ from lsprotocol import types
 
 import vslsp
 from vslsp.lsp.workspace import Files, path_of, uri_of
+from vslsp.symbolic.language import WARNING, Diagnostic, Span
 
 logger = logging.getLogger(__name__)
+_NAME = re.compile(r"[^\s()]+")
 #: The options of ``vslsp plan`` a ``vslsp.plan`` object may give (as the command line's ``--NAME VALUE``).
 PLAN_OPTIONS = ("planner", "compilation", "timeout", "memory", "conflict_budget")
 
@@ -203,3 +206,53 @@ def told(command: str, result: dict[str, Any]) -> types.ShowMessageParams:
     return types.ShowMessageParams(
         kind, f"{command}: {'valid' if result['valid'] else 'invalid'}: {said or result['reason']}"
     )
+
+
+def findings(result: dict[str, Any], texts: Callable[[str], str | None]) -> dict[str, list[Diagnostic]]:
+    """A command's findings as diagnostics, by document URI: each goal conjunct and constraint of a
+    proved conflict, and each violation of an invalid plan, at the formula or step it names (``texts``
+    gives a URI's text, to find the formula's extent)."""
+    found: dict[str, list[Diagnostic]] = {}
+    conflict = result.get("conflict") or []
+    for item in conflict:
+        others = [c["text"] for c in conflict if c is not item]
+        message = f"no plan: this {item['kind']} cannot hold together with {', '.join(others) or 'the rest'}"
+        _found_at(found, item, message, "conflict", texts)
+    for item in result.get("violations") or []:
+        _found_at(found, item, item["message"], "violation", texts)
+    return found
+
+
+def _found_at(
+    found: dict[str, list[Diagnostic]],
+    item: dict[str, Any],
+    message: str,
+    code: str,
+    texts: Callable[[str], str | None],
+) -> None:
+    if not item.get("file") or not item.get("line") or not item.get("column"):
+        return
+    uri = as_uri(item["file"])
+    line, column = int(item["line"]), int(item["column"])
+    end = _extent(texts(uri) or "", line, column)
+    span = Span(path_of(uri), line, column, *end)
+    found.setdefault(uri, []).append(Diagnostic(span, WARNING, message, code))
+
+
+def _extent(text: str, line: int, column: int) -> tuple[int, int]:
+    """Where the formula or name starting at (``line``, ``column``) ends (its line and the column after it)."""
+    lines = text.split("\n")
+    if not 0 < line <= len(lines) or column > len(lines[line - 1]):
+        return line, column + 1
+    if lines[line - 1][column - 1] != "(":
+        word = _NAME.match(lines[line - 1], column - 1)
+        return line, column + (len(word.group()) if word else 1)
+    depth = 0
+    for number in range(line, len(lines) + 1):
+        code = lines[number - 1].split(";", 1)[0]
+        start = column - 1 if number == line else 0
+        for index in range(start, len(code)):
+            depth += {"(": 1, ")": -1}.get(code[index], 0)
+            if depth == 0:
+                return number, index + 2
+    return line, column + 1

@@ -21,10 +21,11 @@ from pygls.lsp.server import LanguageServer
 from vslsp import __version__
 from vslsp.lsp import completion, fixes, navigation
 from vslsp.lsp.analysis import Analyses, Checked
-from vslsp.lsp.commands import PLAN_OPTIONS, named, plan_arguments, run_cli, sources, told, validate_arguments
+from vslsp.lsp.commands import PLAN_OPTIONS, findings, named, plan_arguments, run_cli, sources, told, validate_arguments
 from vslsp.lsp.operators import operator_hover
 from vslsp.lsp.positions import UTF16
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files
+from vslsp.symbolic.language import Diagnostic
 
 logger = logging.getLogger("vslsp.lsp")
 #: A document of this many characters or more is re-checked when the edits pause (its analysis takes
@@ -43,7 +44,10 @@ class PddlServer(LanguageServer):
         self.opened: dict[str, None] = {}  # in the order opened
         #: the problem and the plan last opened or edited: what vslsp.plan and vslsp.validate take by default
         self.last: dict[str, str] = {}
-        self._pending: dict[str, asyncio.TimerHandle] = {}  # large documents' re-checks waiting for a pause
+        self._pending: dict[str, asyncio.TimerHandle] = {}
+        self._findings: dict[
+            str, list[Diagnostic]
+        ] = {}  # the last command's conflict or violations, by uri  # large documents' re-checks waiting for a pause
         self.files = Files(self._open_texts)
         self.analyses = Analyses(self.files)
 
@@ -53,9 +57,22 @@ class PddlServer(LanguageServer):
     def analysis(self, uri: str) -> Checked | None:
         return self.analyses.of(uri)
 
+    def found(self, by_uri: dict[str, list[Diagnostic]]) -> None:
+        """Show a command's findings (a conflict, violations) among the documents' diagnostics until the
+        next edit; the previous command's go."""
+        stale = set(self._findings)
+        self._findings = by_uri
+        for uri in (stale | set(by_uri)) & set(self.opened):
+            self.publish(uri)
+
     def changed(self, uri: str) -> None:
         """Re-check an edited document: at once when it is small (a few ms), else once the edits pause for
-        :data:`PAUSE_S`, so that typing in a large generated problem re-checks it once, not per key."""
+        :data:`PAUSE_S`, so that typing in a large generated problem re-checks it once, not per key. A
+        command's findings describe the texts as they were: they go."""
+        if self._findings:
+            stale, self._findings = set(self._findings) - {uri}, {}
+            for other in stale & set(self.opened):
+                self.publish(other)
         pending = self._pending.pop(uri, None)
         if pending is not None:
             pending.cancel()
@@ -82,6 +99,8 @@ class PddlServer(LanguageServer):
             try:
                 checked = self.analyses.of(target)
                 diagnostics = fixes.published(self.analyses, checked) if checked is not None else []
+                if checked is not None:
+                    diagnostics += [fixes.to_lsp(checked, d) for d in self._findings.get(target, [])]
             except Exception:  # a bug of ours must not cost the editor its server: logged, nothing shown
                 logger.exception("checking %s failed", target)
                 continue
@@ -192,6 +211,7 @@ def build_server() -> PddlServer:
         if not result:
             result = await run_cli(plan_arguments, found, options, failure)
         ls.window_show_message(told(PLAN_COMMAND, result))
+        ls.found(findings(result, ls.files.text))
         return result
 
     @server.command(VALIDATE_COMMAND)
@@ -204,6 +224,7 @@ def build_server() -> PddlServer:
         if not result:
             result = await run_cli(validate_arguments, found, {}, {"valid": None})
         ls.window_show_message(told(VALIDATE_COMMAND, result))
+        ls.found(findings(result, ls.files.text))
         return result
 
     return server
