@@ -37,8 +37,25 @@ def test_keep_all_near_generalises_to_other_objects_and_replans_after_a_fault(li
     assert not any(trial.details["final_far"].values())  # ground truth: no block is far
     assert trial.task is not None and not trial.task.ordered
     assert "forall" in str(trial.task.goal).lower() or "?b" in str(trial.task.goal)
-    assert trial.details["faults"]  # seed 3 draws a fault, and the robot saw it and replanned
+    # The fault fired on an executed step, the robot saw the effect missing and replanned.
+    log = trial.details["fault_log"]
+    assert len(log) == 1 and log[0]["expected"] != log[0]["observed"]
+    assert trial.steps[log[0]["step"] - 1].fault == log[0]["kind"] and not trial.steps[log[0]["step"] - 1].ok
+    assert log[0]["recovery"].startswith("replanned: ")
     assert trial.failed_steps >= 1 and trial.replans >= 1
+
+
+@pytest.mark.parametrize("seed", [0, 2])
+def test_a_fault_drawn_past_a_short_plan_fires_on_its_last_step(library, seed):
+    # These seeds draw step 2 (index 1) for a test scene whose plan has a single step: the
+    # fault moves to that step instead of never firing.
+    trial = run_trial("keep-all-near", seed, library, faults=True)
+    assert trial.details["plan_length"] == 1
+    log = trial.details["fault_log"]
+    assert [e["step"] for e in log] == [1] and trial.details["faults"] == {"0": log[0]["kind"]}
+    fired = trial.steps[0]
+    assert fired.fault == log[0]["kind"] and not fired.ok and trial.replans >= 1
+    assert trial.success, trial.error
 
 
 def test_vslsp_demo_runs_pull_in_order_and_writes_the_report(tmp_path, capsys):

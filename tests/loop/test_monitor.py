@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from vslsp.loop.monitor import execute_step
+from vslsp.loop.monitor import StepResult, execute_step, fault_log
 from vslsp.loop.perception import perceive
 from vslsp.sim import SceneSpec, World
 
@@ -47,3 +47,23 @@ def test_a_faulty_step_is_noticed(library, fault):
         assert not result.ok
         assert result.observed_far is True and world.is_far(name)
         assert "expected (far" in result.error
+        # The step says which fault it carried, in the words the report uses.
+        assert result.fault == fault and result.to_dict()["fault"] == fault
+        assert (result.expected, result.observed) == (f"(not (far {name}))", f"(far {name})")
+
+
+def test_the_fault_log_explains_each_fault_and_what_followed_it():
+    skipped = StepResult("pull", "green", False, True, False, "expected ...", fault="skip")
+    again = StepResult("pull", "green", False, False, True, None)
+    nudged = StepResult("push", "red", True, None, False, "expected ...", fault="nudge")
+    vsl_skipped = StepResult("pull", "blue", False, True, False, "expected ...", fault="skip")
+    vsl_again = StepResult("pull", "blue", False, False, True, None)
+    steps = [skipped, again, nudged, vsl_skipped, vsl_again]
+    log = fault_log(steps, {id(skipped), id(again), id(nudged)}, "gave up")
+    assert [(e["step"], e["kind"]) for e in log] == [(1, "skip"), (3, "nudge"), (4, "skip")]
+    assert log[0]["expected"] == "(not (far green))" and log[0]["observed"] == "(far green)"
+    assert log[0]["recovery"] == "replanned: pull green"
+    # The planned run's next step is VSL's, not a recovery of the planner's: none followed it.
+    assert log[1]["observed"] == "red not seen" and log[1]["recovery"] == "none: gave up"
+    assert log[2]["recovery"] == "VSL matched again: pull blue"
+    assert fault_log([again], {id(again)}, "") == []

@@ -41,13 +41,16 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
     check_display(gui)
     from rich.console import Console
 
+    from vslsp import stages
     from vslsp.tasks import Run, write_report
+    from vslsp.tasks.base import cpu_seconds
     from vslsp.tasks.icub import PullInOrder
 
     for report_file in ("report.json", "report.md"):
         refuse_link(out / report_file, "--out")
     console = Console(stderr=True)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), cpu_seconds()
+    stages.reset()
     task = PullInOrder(skills=skills_dir)
     task.check()
     with console.status("loading the skill library") as status:
@@ -59,6 +62,8 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
 
         result = task.run_trial(seed, keep=True, on_stage=stage, gui=gui)
         result.time_s = time.perf_counter() - start
+        result.cpu_s = cpu_seconds() - cpu
+        result.stages_s = stages.split(result.time_s)
     write_report(out, task, Run([result], [seed]))
     trial, details = result.artefacts, result.details
     if trial.domain is not None:

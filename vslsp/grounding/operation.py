@@ -17,6 +17,7 @@ import numpy as np
 
 from vslsp.grounding.predicates import Atom, Predicate, Scene, ground_atoms, scene_of, symbol_names, true_atoms
 from vslsp.grounding.spatial import check_robot_side, far_of, identify_action
+from vslsp.stages import in_stage
 from vslsp.vision.change import detect_change
 from vslsp.vision.landmark import Line, fit_line
 from vslsp.vision.objects import DetectedObject, Segmentation, describe, segment
@@ -78,6 +79,7 @@ class Grounding:
         )
 
 
+@in_stage("perception")
 def ground(
     pre: np.ndarray, post: np.ndarray, robot_side: str = "bottom", predicates: Sequence[Predicate] | None = None
 ) -> Grounding:

@@ -24,9 +24,9 @@ import numpy as np
 
 from vslsp.errors import InputError, TaskFailed, VslspError
 from vslsp.grounding.operation import ground
-from vslsp.loop.monitor import Action, Fault, StepResult, execute_step
+from vslsp.loop.monitor import Action, Fault, StepResult, execute_step, fault_log
 from vslsp.loop.perception import PerceivedState, perceive
-from vslsp.loop.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
+from vslsp.loop.pipeline import Execution, describe_learned, execute_task, explore_skill, learn_models, to_step
 from vslsp.loop.watching import tutor_operation
 from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.skills.library import SkillLibrary
@@ -59,7 +59,8 @@ class Trial:
     replans: int = 0
     failed_steps: int = 0
     time_s: float = 0.0
-    # Artefacts for the report: (title, pre, post, grounding or None), PDDL, trajectories.
+    # Artefacts for the report: (title, pre, post, grounding or None, the executed step or None),
+    # PDDL, trajectories.
     observations: list = field(default_factory=list, repr=False)
     domain: Domain | None = field(default=None, repr=False)
     task: Task | None = field(default=None, repr=False)
@@ -129,6 +130,16 @@ def run_trial(
         trial.success, trial.error = False, str(failure)
     except InputError as failure:  # what the robot learned does not fit the scene: a failed trial
         trial.success, trial.error = False, f"{type(failure).__name__}: {failure}"
+    if faults:  # where each fault fired (the plan may be shorter than the drawn step), explained
+        planned = {id(step) for run in trial.executions for step in run.steps}
+        trial.details["fault_log"] = fault_log(trial.steps, planned, trial.error or "the trial ended")
+        trial.details["faults"] = {str(entry["step"] - 1): entry["kind"] for entry in trial.details["fault_log"]}
+    if trial.domain is not None or trial.task is not None:
+        trial.details["learned"] = describe_learned(trial.domain, trial.task)
+    plans = [plan for run in trial.executions for plan in run.plans]
+    if plans:
+        trial.details["plan_length"] = len(plans[0].steps)
+        trial.details["planning_s"] = round(sum(plan.time_s for plan in plans), 3)
     trial.failed_steps = sum(not s.ok for s in trial.steps)
     if trial.failed_steps:
         trial.details["step_errors"] = [f"{s.action} {s.obj}: {s.error}" for s in trial.steps if not s.ok]
@@ -167,7 +178,7 @@ def _watch(
         grounding = ground(state.image, after.image)
         if recorder is not None:
             recorder.record(state.image, after.image)
-        trial.observations.append((f"{title}, operation {i}", state.image, after.image, grounding))
+        trial.observations.append((f"{title}, operation {i}", state.image, after.image, grounding, None))
         steps.append(to_step(grounding, state, after, trial.predicates))
         state = after
     return steps
@@ -193,7 +204,7 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
             explorations.append(exploration)
             grounding, (pre, post) = exploration.groundings[0], exploration.images[0]
             trial.observations.append(
-                (f"the robot tries {action}" + (f" ({r + 1})" if rounds > 1 else ""), pre, post, grounding)
+                (f"the robot tries {action}" + (f" ({r + 1})" if rounds > 1 else ""), pre, post, grounding, None)
             )
     trial.domain = learn_models(explorations)
     return trial.domain
@@ -242,8 +253,13 @@ def _bring(
         if state.objects[name].far == target:
             return
         action = (Action.PUSH if target else Action.PULL).value
-        result, _ = execute_step(world, library, action, name, state, faults.get(len(trial.steps)))
+        result, after = execute_step(world, library, action, name, state, faults.get(len(trial.steps)))
         trial.steps.append(result)
+        # VSL's own steps, shown in the report (grounded only when drawn: a failed step may show no change)
+        shown = 1 + sum(title.startswith("VSL reproduction") for title, *_ in trial.observations)
+        trial.observations.append(
+            (f"VSL reproduction step {shown}: {action} {name}", state.image, after.image, None, result)
+        )
         if result.ok:
             acted.append(name)
             return
@@ -448,7 +464,7 @@ def _record(trial: Trial, run: Execution) -> None:
         except VslspError:
             grounding = None  # nothing moved (a skipped step): the images still go in the report
         trial.observations.append(
-            (f"execution step {i}: {step.action} {step.obj}", before.image, after.image, grounding)
+            (f"VSL-SP execution step {i}: {step.action} {step.obj}", before.image, after.image, grounding, step)
         )
     if run.error and trial.error is None:
         trial.error = run.error

@@ -52,9 +52,10 @@ class StepResult:
     ok: bool
     error: str | None
     trajectory: HandTrajectory | None = field(default=None, repr=False)
+    fault: str | None = None  # the fault injected into this step (:class:`Fault`), if any
 
     def to_dict(self) -> dict:
-        return {
+        data = {
             "action": self.action,
             "object": self.obj,
             "expected_far": self.expected_far,
@@ -62,6 +63,24 @@ class StepResult:
             "ok": self.ok,
             "error": self.error,
         }
+        if self.fault is not None:
+            data["fault"] = self.fault
+        return data
+
+    @property
+    def expected(self) -> str:
+        """The expected effect as a PDDL literal: ``(far green)`` or ``(not (far green))``."""
+        return far_literal(self.obj, self.expected_far)
+
+    @property
+    def observed(self) -> str:
+        """What the robot saw after the step, in the same words."""
+        return f"{self.obj} not seen" if self.observed_far is None else far_literal(self.obj, self.observed_far)
+
+
+def far_literal(obj: str, far: bool) -> str:
+    """``(far obj)`` or ``(not (far obj))``."""
+    return f"(far {obj})" if far else f"(not (far {obj}))"
 
 
 EXPECTED_FAR = {action.value: action.makes_far for action in Action}
@@ -100,7 +119,10 @@ def execute_step(
             f"expected (far {obj}) to be {EXPECTED_FAR[action]} after {action}, observed "
             f"{'nothing' if observed is None else observed_far}"
         )
-    return StepResult(action, obj, EXPECTED_FAR[action], observed_far, ok, error, trajectory), new_state
+    result = StepResult(
+        action, obj, EXPECTED_FAR[action], observed_far, ok, error, trajectory, None if fault is None else fault.value
+    )
+    return result, new_state
 
 
 def _truth_pose(world: World, colour: str) -> tuple[str, float, float, float] | None:
@@ -110,3 +132,40 @@ def _truth_pose(world: World, colour: str) -> tuple[str, float, float, float] | 
             x, y, yaw = world.cube_pose(cube.name)
             return cube.name, x, y, yaw
     return None
+
+
+FAULT_WHAT = {
+    Fault.NUDGE.value: "the tutor put the cube back after the action",
+    Fault.SKIP.value: "the step was not executed",
+}
+
+
+def fault_log(steps: list[StepResult], planned: set[int], ended: str) -> list[dict]:
+    """Every fault injected into ``steps`` (a trial's executed steps, in order), explained:
+    ``{"step" (1-based), "kind", "expected", "observed", "recovery"}``. The recovery is the
+    step that followed: a new plan's first step for the steps in ``planned`` (their ``id``),
+    VSL's match finding acting again for the others; ``ended`` says why none followed."""
+    log = []
+    for k, step in enumerate(steps):
+        if step.fault is None:
+            continue
+        after = steps[k + 1] if k + 1 < len(steps) and (id(steps[k + 1]) in planned) == (id(step) in planned) else None
+        if step.ok:
+            recovery = "none needed: the effect held"
+        elif after is None:
+            recovery = f"none: {ended}"
+        elif id(step) in planned:
+            recovery = f"replanned: {after.action} {after.obj}"
+        else:
+            recovery = f"VSL matched again: {after.action} {after.obj}"
+        log.append(
+            {
+                "step": k + 1,
+                "kind": step.fault,
+                "what": FAULT_WHAT[step.fault],
+                "expected": step.expected,
+                "observed": step.observed,
+                "recovery": recovery,
+            }
+        )
+    return log

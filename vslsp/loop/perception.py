@@ -14,6 +14,7 @@ import numpy as np
 
 from vslsp.grounding.operation import SceneGrounding, ground_scene
 from vslsp.sim import CUBE_SIZE, TABLE_Z, World
+from vslsp.stages import in_stage
 
 
 @dataclass(frozen=True)
@@ -50,6 +51,7 @@ class PerceivedState:
         }
 
 
+@in_stage("perception")
 def perceive(world: World, camera: str = "head") -> PerceivedState:
     """Observe the scene with ``camera`` and ground every object (the arm is parked first)."""
     observation = world.observe(camera)

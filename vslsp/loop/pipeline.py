@@ -134,8 +134,10 @@ def execute_task(
     """Plan ``task`` in the scene the robot sees and execute the plan, replanning on failures.
 
     ``faults`` maps the index of an executed step (0-based, over the whole run) to a fault to
-    inject there ("nudge" or "skip"), to exercise replanning. The run succeeds when a plan
-    from the last observed state is empty: the goal holds in what the robot sees.
+    inject there ("nudge" or "skip"), to exercise replanning; a fault scheduled past the end of
+    the first plan moves to its last step, so that every scheduled fault fires. The run
+    succeeds when a plan from the last observed state is empty: the goal holds in what the
+    robot sees.
     """
     faults = faults or {}
     run = Execution()
@@ -161,6 +163,8 @@ def execute_task(
         if not plan.steps:
             run.success = True
             return run
+        if not run.steps:
+            faults = {min(step, len(plan.steps) - 1): fault for step, fault in faults.items()}
         for action, args in plan.steps:
             result, state = execute_step(world, library, action, args[0], state, faults.get(len(run.steps)))
             run.steps.append(result)
@@ -175,3 +179,26 @@ def execute_task(
             run.error = f"gave up after {max_replans} replans: {run.steps[-1].error}"
             return run
         run.replans += 1
+
+
+def describe_learned(domain: Domain | None, task: Task | None) -> dict:
+    """What a trial learned, for its record: the action models (the paper's Table 3: each
+    action's parameters, precondition and effects in PDDL, and the whole domain), the goal, the
+    ordering constraints (PDDL 3 ``sometime-before``) and the rules they came from."""
+    data: dict = {}
+    if domain is not None:
+        data["action_models"] = [
+            {
+                "action": action.name,
+                "parameters": " ".join(f"{name} - {kind}" for name, kind in action.parameters),
+                "precondition": action.precondition.to_pddl(),
+                "effects": [effect.to_pddl() for effect in action.effects],
+            }
+            for action in domain.actions
+        ]
+        data["domain_pddl"] = domain.to_pddl()
+    if task is not None:
+        data["goal"] = task.goal.to_pddl()
+        data["constraints"] = [constraint.to_pddl() for constraint in task.constraints]
+        data["rules"] = [str(rule) for rule in task.rules]
+    return data

@@ -9,10 +9,12 @@ from vslsp.sim import World
 from vslsp.sim.robot import READY_POSITION, HandTrajectory
 from vslsp.skills.library import Skill, from_object_frame, resample
 from vslsp.skills.teach import hand_yaw
+from vslsp.stages import in_stage
 
 BEYOND = 0.06  # a push or pull aims to leave the object this far (m) past the line
 
 
+@in_stage("execution")
 def execute_skill(
     world: World, skill: Skill, object_xy: np.ndarray, normal: np.ndarray, line_distance: float | None = None
 ) -> HandTrajectory:

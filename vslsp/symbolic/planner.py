@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from vslsp.errors import InputError, TaskFailed, VslspError
+from vslsp.stages import in_stage
 from vslsp.symbolic.fast_downward import Outcome, bounded_command, kill_tree
 from vslsp.symbolic.fast_downward import failure as fast_downward_failure
 from vslsp.symbolic.fast_downward import run as run_fast_downward
@@ -130,6 +131,7 @@ def solve(
     return solve_timed(domain, problem, planner, compilation, timeout, memory_mb)[0]
 
 
+@in_stage("planning")
 def solve_timed(
     domain: Domain,
     problem: Problem,

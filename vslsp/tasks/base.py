@@ -71,6 +71,8 @@ class TrialResult:
     details: dict = field(default_factory=dict)
     artefacts: Any = field(default=None, repr=False, compare=False)
     cpu_s: float = 0.0
+    stages_s: dict[str, float] | None = None  # wall seconds per stage (vslsp.stages), adding up to time_s
+    video: str | None = None  # the trial's MP4, relative to the report folder (``--video``)
 
     def to_dict(self) -> dict:
         """The trial's JSON record (``results`` of ``report.json``)."""
@@ -84,7 +86,12 @@ class TrialResult:
         }
         if self.operations is not None:
             data["operations"] = self.operations
-        return {**data, **self.details}
+        data = {**data, **self.details}
+        if self.stages_s is not None:
+            data["stages_s"] = self.stages_s
+        if self.video is not None:
+            data["video"] = self.video
+        return data
 
     @property
     def cause(self) -> str:
@@ -146,6 +153,14 @@ class Task:
         """Task-specific lines of ``report.md`` after the summary table."""
         return []
 
+    def pose_errors(self, result: TrialResult) -> list[tuple[float, float]]:
+        """The final pose error of each operation of ``result`` that has one: (mm, deg)."""
+        return []
+
+    def paper_figures(self, data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+        """Rows (measure, ours, the paper's) comparing this run with the figures the paper gives."""
+        return []
+
     def describe(self) -> dict:
         """The entry of ``vslsp experiment --list --json``."""
         return {
@@ -166,8 +181,12 @@ def cpu_seconds() -> float:
 
 def timed(task: Task, seed: int, keep: bool) -> TrialResult:
     """Run one trial and stamp its wall time and CPU time."""
+    from vslsp import stages
+
+    stages.reset()
     start, cpu = time.perf_counter(), cpu_seconds()
     result = task.run_trial(seed, keep)
     result.time_s = time.perf_counter() - start
     result.cpu_s = cpu_seconds() - cpu
+    result.stages_s = stages.split(result.time_s)
     return result

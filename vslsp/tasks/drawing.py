@@ -46,3 +46,38 @@ def grid(panels: list[np.ndarray], columns: int) -> np.ndarray:
         row = panels[i : i + columns]
         rows.append(np.hstack(row + [np.zeros_like(panels[0])] * (columns - len(row))))
     return np.vstack(rows)
+
+
+def caption(image: np.ndarray, lines: list[str], scale: float | None = None) -> np.ndarray:
+    """``image`` (H, W, 3) under a dark band with ``lines`` of white text, wrapped to its width
+    (H + band, W, 3): the words say what the picture shows, without covering any of it."""
+    scale = scale or max(0.5, image.shape[1] / 1600)
+    thickness = max(1, int(round(2 * scale)))
+    margin = int(10 * scale)
+    wrapped = [text for line in lines for text in _wrap(line, image.shape[1] - 2 * margin, scale, thickness)]
+    step = int(34 * scale)
+    band = np.full((step * len(wrapped) + int(12 * scale), image.shape[1], 3), 30, np.uint8)
+    for k, text in enumerate(wrapped):
+        cv2.putText(
+            band,
+            text,
+            (margin, step * (k + 1)),
+            cv2.FONT_HERSHEY_SIMPLEX,
+            scale,
+            (255, 255, 255),
+            thickness,
+            cv2.LINE_AA,
+        )
+    return np.vstack([band, image])
+
+
+def _wrap(text: str, width: int, scale: float, thickness: int) -> list[str]:
+    """``text`` in lines no wider than ``width`` px (a single word wider than that stays whole)."""
+    lines: list[str] = []
+    for word in text.split(" "):
+        trial = f"{lines[-1]} {word}" if lines else word
+        if lines and cv2.getTextSize(trial, cv2.FONT_HERSHEY_SIMPLEX, scale, thickness)[0][0] <= width:
+            lines[-1] = trial
+        else:
+            lines.append(word)
+    return lines

@@ -15,15 +15,12 @@ and a figure of the executed hand trajectories.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from vslsp.outputs import atomic_file, write_text
 from vslsp.tasks.base import Option, System, Task, TrialResult
+from vslsp.tasks.icub_report import fault_lines, learned_lines, matches_table_3, trial_rows, write_artefacts
 from vslsp.tasks.registry import register
 
 DEFAULT_PLANNER = "fast-downward"
@@ -88,25 +85,46 @@ class IcubExperiment(Task):
         )
 
     def summary(self, results: list[TrialResult]) -> dict:
-        return {
+        data = {
             "faults": bool(self.option(Option.FAULTS, False)),
             "replans": sum(r.details.get("replans", 0) for r in results),
             "failed_steps": sum(r.details.get("failed_steps", 0) for r in results),
         }
+        if data["faults"]:
+            data["faults_fired"] = sum(len(r.details.get("fault_log", [])) for r in results)
+            data["trials_with_a_fired_fault"] = sum(bool(r.details.get("fault_log")) for r in results)
+        return data
 
     def shown_seed(self, results: list[TrialResult]) -> int:
         return results[0].seed  # kept by the run (keep_first)
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
+        fired = (
+            f", {data['faults_fired']} faults injected and fired ({data['trials_with_a_fired_fault']} of "
+            f"{data['trials']} trials)"
+            if data["faults"]
+            else ""
+        )
+        lines = [f"{data['replans']} replans, {data['failed_steps']} failed steps{fired}.", ""]
+        lines += trial_rows(data["results"]) + fault_lines(data["results"]) + learned_lines(data["results"])
+        return lines
+
+    def paper_figures(self, data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+        learned = [r["learned"] for r in data["results"] if r.get("learned", {}).get("action_models")]
+        if not learned:
+            return []
+        same = sum(matches_table_3(model) for model in learned)
         return [
-            f"{data['replans']} replans, {data['failed_steps']} failed steps"
-            f"{', faults injected' if data['faults'] else ''}.",
-            "",
+            (
+                "action models (push, pull) as Table 3",
+                f"{same}/{len(learned)} trials learned them",
+                "push: pre (not (far ?b)), eff (far ?b); pull: pre (far ?b), eff (not (far ?b))",
+            )
         ]
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         trial = shown.artefacts
-        files = _write_artefacts(folder, trial)
+        files = write_artefacts(folder, trial, shown.details.get("fault_log", []))
         if trial.task is not None:
             files["rules"] = [str(rule) for rule in trial.task.rules]
         return files
@@ -140,92 +158,3 @@ class PullInOrder(IcubExperiment):
         "The ordered set <orange, green, yellow>, reproduced with VSL from a single demonstration and with "
         "VSL-SP through sometime-before constraints."
     )
-
-
-def _write_artefacts(folder: Path, trial) -> dict:
-    from vslsp.grounding import draw_grounding
-    from vslsp.vision.image import write_image
-
-    files: dict = {"images": []}
-    images = folder / "images"
-    images.mkdir(exist_ok=True)
-    for i, (title, pre, post, grounding) in enumerate(trial.observations, start=1):
-        picture = draw_grounding(pre, post, grounding) if grounding is not None else np.hstack([pre, post])
-        name = f"{i:02d}_{re.sub(r'[^a-z0-9]+', '_', title.lower()).strip('_')}.png"
-        write_image(images / name, picture)
-        stem = name[:-4]
-        (raw := images / "raw").mkdir(exist_ok=True)
-        write_image(raw / f"{stem}_pre.png", pre)  # the camera's own images, for `vslsp ground PRE POST`
-        write_image(raw / f"{stem}_post.png", post)
-        files["images"].append(
-            {
-                "title": title,
-                "file": f"images/{name}",
-                "pre": f"images/raw/{stem}_pre.png",
-                "post": f"images/raw/{stem}_post.png",
-                "grounding": grounding.to_dict() if grounding is not None else None,
-            }
-        )
-    if trial.domain is not None:
-        write_text(folder / "domain.pddl", trial.domain.to_pddl())
-        files["domain"] = "domain.pddl"
-    runs = [run for run in trial.executions if run.problems]
-    if runs:
-        write_text(folder / "problem.pddl", runs[0].problems[0].to_pddl())
-        files["problem"] = "problem.pddl"
-        plans = [plan for run in runs for plan in run.plans]
-        write_text(folder / "plan.txt", plans[0].to_pddl())
-        files["plan"] = "plan.txt"
-        files["plans"] = [plan.to_dict() for plan in plans]
-        files["executions"] = [run.to_dict() for run in runs]
-    if trial.task is not None:
-        files["task"] = trial.task.to_dict()
-    trajectories = [s for s in trial.steps if s.trajectory is not None]
-    if trajectories:
-        _plot_trajectories(folder / "trajectories.png", trial)
-        files["trajectories"] = "trajectories.png"
-    return files
-
-
-def _plot_trajectories(path: Path, trial) -> None:
-    """The executed hand paths (top view) and heights: VSL-SP's plan steps solid, VSL's
-    match-finding reproduction dashed, each in its cube's colour; a dot ends each path."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-
-    from vslsp.sim import COLOURS
-
-    planned = {id(step) for run in trial.executions for step in run.steps}
-    fig, (top, side) = plt.subplots(1, 2, figsize=(12, 4.8))
-    for k, step in enumerate(trial.steps, start=1):
-        if step.trajectory is None:
-            continue
-        p = step.trajectory.position
-        colour = COLOURS.get(step.obj.split("_")[0], (0.3, 0.3, 0.3))
-        style = "-" if id(step) in planned else "--"
-        top.plot(p[:, 1], p[:, 0], style, color=colour, lw=1.8)
-        top.plot(p[-1, 1], p[-1, 0], "o", color=colour)
-        top.annotate(str(k), (p[-1, 1], p[-1, 0]), textcoords="offset points", xytext=(4, 4), fontsize=8)
-        side.plot(step.trajectory.t, p[:, 2] - p[:, 2].min(), style, color=colour, lw=1.5)
-    handles = [
-        Line2D([], [], color="k", ls="-", label="VSL-SP (planned step)"),
-        Line2D([], [], color="k", ls="--", label="VSL (match finding)"),
-        Line2D([], [], color="k", ls="", marker="o", label="end of a path (step number)"),
-    ]
-    handles += [
-        Line2D([], [], color=COLOURS[c], lw=4, label=f"{c} cube")
-        for c in dict.fromkeys(step.obj.split("_")[0] for step in trial.steps)
-        if c in COLOURS
-    ]
-    top.set(xlabel="y (m, robot's left)", ylabel="x (m, away from the robot)", title="executed hand paths, top view")
-    top.invert_xaxis()
-    top.set_aspect("equal")
-    top.legend(handles=handles, fontsize=7, loc="best")
-    side.set(xlabel="t (s)", ylabel="hand height above its lowest point (m)", title="hand height")
-    fig.tight_layout()
-    with atomic_file(path) as stream:
-        fig.savefig(stream, dpi=110, format="png")
-    plt.close(fig)

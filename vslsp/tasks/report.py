@@ -20,6 +20,7 @@ from typing import Any
 from vslsp.outputs import write_text
 from vslsp.tasks.base import Task, TrialResult
 from vslsp.tasks.runner import Run
+from vslsp.tasks.statistics import pose_error, total_stages, wilson_interval
 from vslsp.tasks.trial import run_one
 
 
@@ -39,6 +40,13 @@ def summary(task: Task, run: Run, folder: Path | None = None) -> dict:
         "failures": [{"seed": r.seed, "error": r.error or "goal not reached"} for r in results if not r.success],
         "failure_causes": dict(Counter(r.cause for r in results if not r.success).most_common()),
     }
+    data["success_ci95"] = wilson_interval(successes, len(results))
+    errors = pose_error([e for r in results for e in task.pose_errors(r)])
+    if errors is not None:
+        data["pose_error"] = errors
+    stages = total_stages([r.stages_s for r in results])
+    if stages is not None:
+        data["stages_s"] = stages
     if run.partial or run.interrupted:
         data["partial"] = True
         data["trials_requested"] = len(run.seeds)
@@ -90,13 +98,20 @@ def markdown(task: Task, data: dict) -> str:
             f"{data['trials_requested']} trials; this report holds the finished trials, without figures.",
             "",
         ]
+    lo, hi = data["success_ci95"]
     lines += [
-        "| trials | succeeded | success rate | failures by cause | mean time per trial |",
+        "| trials | succeeded | success rate (95 % CI, Wilson) | failures by cause | mean time per trial |",
         "|---|---|---|---|---|",
         f"| {data['trials']} (seeds {data['seed']}-{data['seed'] + max(data['trials'] - 1, 0)}) | "
-        f"{data['successes']} | {100 * data['success_rate']:.1f} % | {causes} | {data['mean_time_s']} s |",
+        f"{data['successes']} | {100 * data['success_rate']:.1f} % ({100 * lo:.1f}-{100 * hi:.1f} %) | {causes} | "
+        f"{data['mean_time_s']} s |",
         "",
     ]
+    lines += _statistics(data)
+    rows = task.paper_figures(data)
+    if rows:
+        lines += ["| measure | ours | paper |", "|---|---|---|"]
+        lines += [f"| {measure} | {ours} | {paper} |" for measure, ours, paper in rows] + [""]
     lines += task.markdown(data)
     if data["failures"]:
         lines += ["## Failures", ""] + [f"- seed {f['seed']}: {f['error']}" for f in data["failures"][:30]]
@@ -115,7 +130,10 @@ def markdown(task: Task, data: dict) -> str:
                 lines += ["Rules learned from the demonstrations:", ""] + [f"- {rule}" for rule in value] + [""]
             elif key == "images":
                 for image in value:
-                    lines += [f"### {image['title']}", "", f"![{image['title']}]({image['file']})", ""]
+                    lines += [f"### {image['title']}", ""]
+                    if image.get("caption"):
+                        lines += [str(image["caption"]).replace(" / ", "  \n"), ""]
+                    lines += [f"![{image['title']}]({image['file']})", ""]
                     if "pre" in image:
                         lines += [f"Raw images: [pre]({image['pre']}), [post]({image['post']})", ""]
         lines.append("")
@@ -125,6 +143,26 @@ def markdown(task: Task, data: dict) -> str:
             f"| {record['seed']} | {'ok' if record['success'] else 'FAILED'} | {record['time_s']} | {_note(record)} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def _statistics(data: dict) -> list[str]:
+    """The time by stage and the pose errors, in words."""
+    lines = []
+    stages = data.get("stages_s")
+    if stages:
+        total = sum(stages.values()) or 1.0
+        parts = ", ".join(f"{name} {seconds:.1f} s ({100 * seconds / total:.0f} %)" for name, seconds in stages.items())
+        lines += [f"Time by stage, all trials together: {parts}.", ""]
+    errors = data.get("pose_error")
+    if errors:
+        mm, deg = errors["mm"], errors["deg"]
+        lines += [
+            f"Final pose error over {errors['operations']} operations: {mm['mean']} ± {mm['sd']} mm "
+            f"(median {mm['median']}, 95th percentile {mm['p95']}), {deg['mean']} ± {deg['sd']} deg "
+            f"(median {deg['median']}, 95th percentile {deg['p95']}).",
+            "",
+        ]
+    return lines
 
 
 def _note(record: dict) -> str:

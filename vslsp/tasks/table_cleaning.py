@@ -121,6 +121,14 @@ class Vsl3dExperiment(Task):
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         return vsl3d_figures(folder, shown.artefacts)
 
+    def pose_errors(self, result: TrialResult) -> list[tuple[float, float]]:
+        """Each operation's final error against the demonstrated pose (simulator truth)."""
+        return [
+            (op["final_error_mm"], op["final_error_deg"])
+            for op in result.operations or []
+            if op.get("final_error_mm") is not None and op.get("final_error_deg") is not None
+        ]
+
 
 @register
 class TableCleaning(Vsl3dExperiment):

@@ -109,6 +109,24 @@ class TabletopExperiment(Task):
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         return _figures(folder, *shown.artefacts)
 
+    def pose_errors(self, result: TrialResult) -> list[tuple[float, float]]:
+        """The robot's operations against the judge's target pose."""
+        return [
+            (1000.0 * op["position_error_m"], op["angle_error_deg"])
+            for op in result.operations or []
+            if op["actor"] == "robot" and op.get("position_error_m") is not None
+        ]
+
+    def paper_figures(self, data: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+        failed = 100.0 * (1.0 - data["operation_success_rate"]) if data["operations"] else 0.0
+        return [
+            (
+                "pick-and-place operations that failed",
+                f"{failed:.1f} % ({data['operations'] - data['operations_ok']}/{data['operations']})",
+                "less than 5 % (repeatability test)",
+            )
+        ]
+
 
 def make_task(name: str, seed: int):
     """The tabletop task NAME for the trial of ``seed`` (Hanoi: the user intervenes on odd seeds)."""

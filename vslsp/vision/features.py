@@ -11,6 +11,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from vslsp.stages import in_stage
+
 _SIFT = None
 
 
@@ -48,6 +50,7 @@ class Features:
         )
 
 
+@in_stage("perception")
 def extract_features(image: np.ndarray, mask: np.ndarray | None = None) -> Features:
     """SIFT features of an RGB image (H, W, 3) uint8, optionally only where ``mask`` (H, W) is set.
 

@@ -1,4 +1,4 @@
-"""The house-and-roof simulation of the paper ("Simulation", Figure "3Houses"): VSL's
+"""The house-and-roof simulation of the paper ("Simulation", Figure 4, roof placement): VSL's
 disambiguation of alternative matches with adaptive frames, in a 2-D world without a robot.
 
 The world (:mod:`vslsp.vsl.house_world`) holds three identical house bodies and three
@@ -40,6 +40,7 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.geometry.poses import Pose2, compose, relative, wrap
 from vslsp.geometry.trajectory import PickPlaceTrajectory, TrajectoryParameters, pick_and_place
+from vslsp.stages import stage
 from vslsp.vision.features import extract_features
 from vslsp.vision.matching import FrameMode, Match, NoMatch, frame_sizes
 from vslsp.vsl.demonstration import Demonstration, ImagePlane
@@ -192,7 +193,8 @@ def reproduce(
     features = features or ObservationFeatures(demo)
     start, results, pre_place_worlds = world, [], []
     for k, operation in enumerate(demo.demonstration.operations):
-        seen = world.render()
+        with stage("perception"):  # the camera's image of the board
+            seen = world.render()
         pick = match_observation(
             operation.pre_observation,
             seen,
@@ -206,7 +208,8 @@ def reproduce(
             continue
         grasped = world.roof_at((pick.x, pick.y))
         lifted = world if grasped is None else world.with_roof(grasped, None)
-        seen = lifted.render()
+        with stage("perception"):
+            seen = lifted.render()
         pre_place_worlds.append(seen)
         place = match_observation(
             demo.pre_place[k],
@@ -220,14 +223,15 @@ def reproduce(
             results.append(OperationResult(pick, None, pick.theta, 0.0, None, grasped, None, None, "no match"))
             continue
         theta_place = pick.theta + wrap(place.theta + demo.turns[k] - pick.theta)  # the shorter turn
-        trajectory = pick_and_place(
-            _hand_point(REST[:2], REST[2]),
-            _hand_point((pick.x, pick.y)),
-            _hand_point((place.x, place.y)),
-            pick.theta,
-            theta_place,
-            TRAJECTORY,
-        )
+        with stage("execution"):  # the hand's motion (the world below is the board's kinematics)
+            trajectory = pick_and_place(
+                _hand_point(REST[:2], REST[2]),
+                _hand_point((pick.x, pick.y)),
+                _hand_point((place.x, place.y)),
+                pick.theta,
+                theta_place,
+                TRAJECTORY,
+            )
         if grasped is None:
             results.append(
                 OperationResult(pick, place, pick.theta, theta_place, trajectory, None, None, None, "grasp failed")

@@ -1,4 +1,4 @@
-"""The house-and-roof world of the paper's simulation ("Simulation", Figure "3Houses") as
+"""The house-and-roof world of the paper's simulation ("Simulation", Figure 4, roof placement) as
 ground truth: three identical house bodies and three identical roofs at poses (x, y, θ) on a
 board with a static baseline (the landmark L of Algorithm 1 line 2), rendered by compositing
 the sprites of :mod:`vslsp.vsl.house_sprites`.

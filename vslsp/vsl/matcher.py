@@ -28,6 +28,7 @@ from dataclasses import dataclass, replace
 import cv2
 import numpy as np
 
+from vslsp.stages import in_stage
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import as_rgb
 from vslsp.vision.matching import MARGIN, MIN_SCORE, Match, NoMatch, find_best_match
@@ -69,6 +70,7 @@ class Search:
         return cls(rounds, sides)
 
 
+@in_stage("perception")
 def match_observation(
     observation: np.ndarray,
     world: np.ndarray,

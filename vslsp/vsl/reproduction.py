@@ -30,6 +30,7 @@ import cv2
 import numpy as np
 
 from vslsp.geometry.poses import wrap
+from vslsp.stages import in_stage
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
 from vslsp.vision.matching import Match, NoMatch, frame_sizes
@@ -134,6 +135,7 @@ def find_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_fe
     )
 
 
+@in_stage("perception")
 def plan_operation(
     demo: PickPlaceDemonstration,
     k: int,

@@ -17,6 +17,7 @@ import numpy as np
 
 from vslsp.geometry.poses import wrap
 from vslsp.sim.tabletop import Item, PickPlaceResult, Placement, TabletopWorld
+from vslsp.stages import in_stage, stage
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import NoMatch
 from vslsp.vsl import tabletop_scenes as scenes
@@ -133,6 +134,7 @@ class TabletopTask:
         return [robot_operation(world, demo, k, self.anchor_map, keep=keep) for k in range(len(demo.items))]
 
 
+@in_stage("perception")
 def look(world: TabletopWorld) -> np.ndarray:
     """What the robot sees: the camera's image seen from above (:class:`TableView`), (h, w, 3)."""
     return TableView(world).rectify(world.observe())
@@ -213,12 +215,15 @@ def robot_operation(
     )
     if isinstance(planned, NoMatch):
         return OperationOutcome(k, "robot", demo.items[k], "no match", observation=kept)
-    result = world.pick_and_place(planned.pick, planned.place, planned.grasp_width)
+    with stage("execution"):
+        result = world.pick_and_place(planned.pick, planned.place, planned.grasp_width)
     corrected = False
     if result.ok:  # a last look: an object the execution left off its place is put right, once
-        fix = correction(demo.demonstration, k, look(world), TableView(world), planned)
+        with stage("perception"):
+            fix = correction(demo.demonstration, k, look(world), TableView(world), planned)
         if fix is not None:
-            result, corrected = world.pick_and_place(fix.pick, fix.place, fix.grasp_width), True
+            with stage("execution"):
+                result, corrected = world.pick_and_place(fix.pick, fix.place, fix.grasp_width), True
     ok, errors = judge(world, demo, k, anchor_map)
     errors["corrected"] = corrected
     if ok:

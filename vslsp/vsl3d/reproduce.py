@@ -23,6 +23,7 @@ import numpy as np
 
 from vslsp.errors import TaskFailed, VslspError
 from vslsp.sim.cloud_scene import CloudScene, RGBDImage
+from vslsp.stages import stage
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.grasping import Grasp, pick_and_place, plan_grasp
 from vslsp.vsl3d.matching import Match, find_best_match
@@ -111,23 +112,28 @@ def reproduce(
     with the robot, retrying once after a failed grasp."""
     record = Reproduction()
     for retry in range(2):
-        scene.park()
-        image = scene.capture()
-        world = world_of(image)
+        with stage("execution"):
+            scene.park()
+        with stage("perception"):
+            image = scene.capture()
+            world = world_of(image)
         attempt = Attempt(image, world)
         record.attempts.append(attempt)
         try:
-            check_world(world)
-            avoid = [*placed, landmarks(world)] if landmarks is not None else list(placed)
-            search = world.without(np.vstack(avoid)) if avoid else world
-            attempt.match = find_best_match(search, observation, method=method, seed=seed)
-            attempt.grasp = plan_grasp(attempt.match.points, higher=RETRY_HIGHER * retry)
-            motion = motion_for(attempt.match, world)
+            with stage("perception"):
+                check_world(world)
+                avoid = [*placed, landmarks(world)] if landmarks is not None else list(placed)
+                search = world.without(np.vstack(avoid)) if avoid else world
+                attempt.match = find_best_match(search, observation, method=method, seed=seed)
+            with stage("planning"):
+                attempt.grasp = plan_grasp(attempt.match.points, higher=RETRY_HIGHER * retry)
+                motion = motion_for(attempt.match, world)
         except VslspError as error:
             attempt.error = record.diagnosis = str(error)
             return record
-        result = pick_and_place(scene, attempt.grasp, motion, movable)
-        scene.settle()
+        with stage("execution"):
+            result = pick_and_place(scene, attempt.grasp, motion, movable)
+            scene.settle()
         attempt.outcome = "held" if result.ok else result.diagnosis
         attempt.held = result.held
         if result.ok:
