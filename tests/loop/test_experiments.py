@@ -2,6 +2,7 @@
 
 import json
 
+import imageio_ffmpeg
 import pytest
 from helpers.cli import vslsp
 
@@ -70,6 +71,14 @@ def test_vslsp_demo_runs_pull_in_order_and_writes_the_report(tmp_path, capsys):
     for name in ("report.md", "domain.pddl", "trajectories.png"):
         assert (tmp_path / name).stat().st_size > 100
     assert len(list((tmp_path / "images").glob("*.png"))) >= 8
+    # The demo measures itself as the experiments do, and its report says what was learned.
+    assert trial["cpu_s"] > 0 and round(sum(trial["stages_s"].values()), 3) == trial["time_s"]
+    text = (tmp_path / "report.md").read_text()
+    assert "## What was learned" in text and "| push ?b - block | `(not (far ?b))` | `(far ?b)` |" in text
+    assert "(sometime-before" in text and "| action models (push, pull) as Table 3 | 1/1 trials" in text
+    # VSL's own reproduction (operations 4-6) is labelled as VSL and shown.
+    assert [op["system"] for op in trial["operations"]] == ["VSL-SP"] * 3 + ["VSL"] * 3
+    assert "### VSL reproduction step 3: pull yellow" in text
 
 
 def test_experiment_json_and_exit_codes(tmp_path, capsys):
@@ -83,3 +92,30 @@ def test_experiment_json_and_exit_codes(tmp_path, capsys):
     assert data["trials"] == 1 and data["successes"] == 1 and code == 0
     assert data["results"][0]["operations"] and all(op["ok"] for op in data["results"][0]["operations"])
     assert vslsp(capsys, "experiment", "no-such-experiment")[0] == 2
+
+
+def test_video_films_each_trial_and_the_report_links_it_with_a_preview(tmp_path, capsys):
+    code, out, _ = vslsp(
+        capsys,
+        "experiment",
+        "keep-all-near",
+        "--faults",
+        "--video",
+        "--trials",
+        "1",
+        "--seed",
+        "2",
+        "--json",
+        "--out",
+        tmp_path,
+    )
+    data = json.loads(out)
+    record = data["results"][0]
+    assert code == 0 and record["video"] == "videos/trial-2.mp4" and record["fault_log"]
+    frames, seconds = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / record["video"]))
+    assert seconds > 10 and frames > 50  # the exploration, three demonstrations, the execution
+    report = (tmp_path / "report.md").read_text()
+    assert "(videos/trial-2.mp4)" in report and (tmp_path / data["shown_trial"]["video_preview"]).exists()
+    assert all(op["system"] == "VSL-SP" for op in record["operations"])
+    # Only the VSL-SP experiments film their trials.
+    assert vslsp(capsys, "experiment", "house-roof", "--video", "--out", tmp_path / "h")[0] == 2

@@ -36,7 +36,8 @@ from vslsp.outputs import refuse_link
     default=None,
     help="Skill library folder (default: the shipped skills).",
 )
-def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
+@click.option("--video", is_flag=True, help="Film the trial into videos/trial-SEED.mp4 (H.264) in the report folder.")
+def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool) -> None:
     """Run the full VSL-SP pipeline (pull-in-order) on the embedded scene and write a report."""
     check_display(gui)
     from rich.console import Console
@@ -51,7 +52,7 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None) -> None:
     console = Console(stderr=True)
     start, cpu = time.perf_counter(), cpu_seconds()
     stages.reset()
-    task = PullInOrder(skills=skills_dir)
+    task = PullInOrder(skills=skills_dir, video=str(Path(out).resolve()) if video else None)
     task.check()
     with console.status("loading the skill library") as status:
         console.log(f"skills from {task.library_path}")

@@ -54,6 +54,11 @@ MAX_WORKERS = 64
 @click.option(
     "--faults", is_flag=True, help="VSL-SP: inject an execution fault per trial (cube nudged back, step skipped)."
 )
+@click.option(
+    "--video",
+    is_flag=True,
+    help="VSL-SP: film every trial from a scene camera into videos/trial-SEED.mp4 (H.264) in the report folder.",
+)
 @click.option("--planner", default=None, help="VSL-SP: unified-planning oneshot planner [default: fast-downward].")
 @click.option(
     "--skills",
@@ -85,6 +90,7 @@ def experiment(
     backend: str,
     address: str | None,
     faults: bool,
+    video: bool,
     planner: str | None,
     skills_dir: str | None,
     method: str | None,
@@ -117,15 +123,16 @@ def experiment(
         from vslsp.tasks.ray_backend import check_ray
 
         check_ray(address)
+    folder = Path(out) if out else Path("out") / "experiments" / name
     task = get_task(
         name,
         faults=faults,
+        video=str(folder.resolve()) if video else None,
         planner=planner,
         skills=skills_dir,
         method=method,
         predicates=str(Path(predicates_file).resolve()) if predicates_file else None,
     )
-    folder = Path(out) if out else Path("out") / "experiments" / name
     prepare_output_folder(folder)
     for report_file in REPORT_FILES:
         refuse_link(folder / report_file, "--out")

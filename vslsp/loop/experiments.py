@@ -17,25 +17,24 @@ plans, hand trajectories) for the report when asked to.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from pathlib import Path
 
-import cv2
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed, VslspError
 from vslsp.grounding.operation import ground
-from vslsp.loop.monitor import Action, Fault, StepResult, execute_step, fault_log
+from vslsp.loop.monitor import Fault, StepResult, fault_log
 from vslsp.loop.perception import PerceivedState, perceive
 from vslsp.loop.pipeline import Execution, describe_learned, execute_task, explore_skill, learn_models, to_step
+from vslsp.loop.reproduce_vsl import reproduce_vsl
+from vslsp.loop.trial import Trial, scene_for
 from vslsp.loop.watching import tutor_operation
 from vslsp.sim import COLOURS, SceneSpec, World
+from vslsp.sim.video import SceneVideo
 from vslsp.skills.library import SkillLibrary
-from vslsp.symbolic import Domain, Task, learn_task
-from vslsp.vision.features import FeatureMemo
-from vslsp.vision.matching import Match
-from vslsp.vision.objects import dark_mask
+from vslsp.symbolic import Domain, learn_task
 from vslsp.vsl.demonstration import Demonstration, ImagePlane, Operation
-from vslsp.vsl.matcher import Search, match_observation
 from vslsp.vsl.recorder import Recorder
 
 EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order")
@@ -45,57 +44,6 @@ FAULTS = tuple(fault.value for fault in Fault)  # drawn by value: the same seed,
 # an effect or a precondition must hold in every execution, so a predicate that one execution
 # changed by chance (a cube pushed across the image's middle) stays out of the models.
 EXPLORATIONS_WITH_PREDICATES = 3
-
-
-@dataclass
-class Trial:
-    """One trial: its outcome, figures, and (when kept) what the report shows."""
-
-    experiment: str
-    seed: int
-    success: bool = False
-    error: str | None = None
-    details: dict = field(default_factory=dict)
-    replans: int = 0
-    failed_steps: int = 0
-    time_s: float = 0.0
-    # Artefacts for the report: (title, pre, post, grounding or None, the executed step or None),
-    # PDDL, trajectories.
-    observations: list = field(default_factory=list, repr=False)
-    domain: Domain | None = field(default=None, repr=False)
-    task: Task | None = field(default=None, repr=False)
-    executions: list[Execution] = field(default_factory=list, repr=False)
-    steps: list[StepResult] = field(default_factory=list, repr=False)
-    gui: bool = field(default=False, repr=False)
-    on_stage: object = field(default=None, repr=False, compare=False)
-    predicates: tuple = field(default=(), repr=False, compare=False)  # the user's, grounded at every step
-
-    def stage(self, what: str) -> None:
-        """Report progress (the demo's spinner)."""
-        if callable(self.on_stage):
-            self.on_stage(what)
-
-    def to_dict(self) -> dict:
-        return {
-            "experiment": self.experiment,
-            "seed": self.seed,
-            "success": self.success,
-            "error": self.error,
-            "replans": self.replans,
-            "failed_steps": self.failed_steps,
-            "time_s": round(self.time_s, 2),
-            **self.details,
-        }
-
-
-def scene_for(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None = None) -> SceneSpec:
-    """A random scene with these colours (the same seed, the same scene)."""
-    for k in range(50):
-        try:
-            return SceneSpec.random(seed * 101 + k, colours=colours, far=far)
-        except InputError:
-            continue
-    raise InputError(f"no scene found for {len(colours)} cubes with seed {seed}")
 
 
 def run_trial(
@@ -108,14 +56,18 @@ def run_trial(
     gui: bool = False,
     on_stage=None,
     predicates: tuple = (),
+    video: str | Path | None = None,
 ) -> Trial:
     """Run one trial of ``experiment``; user errors propagate, task failures are recorded.
 
     ``predicates``: the user's (:func:`vslsp.grounding.load_predicates`), grounded with ``far``
-    at every observed step; action models, rules and goals are learned over all of them."""
+    at every observed step; action models, rules and goals are learned over all of them.
+    ``video``: an MP4 file to film the trial into (:class:`~vslsp.sim.video.SceneVideo`)."""
     if experiment not in EXPERIMENTS:
         raise InputError(f"unknown experiment {experiment!r}; choose one of {', '.join(EXPERIMENTS)}")
     trial = Trial(experiment, seed, gui=gui, on_stage=on_stage, predicates=tuple(predicates))
+    if video is not None:
+        trial.video = SceneVideo(video)
     start = time.perf_counter()
     rng = np.random.default_rng(seed)
     fault_plan = {int(rng.integers(0, 2)): str(rng.choice(FAULTS))} if faults else {}
@@ -130,6 +82,9 @@ def run_trial(
         trial.success, trial.error = False, str(failure)
     except InputError as failure:  # what the robot learned does not fit the scene: a failed trial
         trial.success, trial.error = False, f"{type(failure).__name__}: {failure}"
+    finally:
+        if trial.video is not None:
+            trial.video.close()
     if faults:  # where each fault fired (the plan may be shorter than the drawn step), explained
         planned = {id(step) for run in trial.executions for step in run.steps}
         trial.details["fault_log"] = fault_log(trial.steps, planned, trial.error or "the trial ended")
@@ -173,6 +128,7 @@ def _watch(
     steps = []
     state = perceive(world)
     for i, (colour, action) in enumerate(operations, start=1):
+        trial.say(f"{title}, operation {i}: the tutor {action}s {colour}")
         tutor_operation(world, colour, action)
         after = perceive(world)
         grounding = ground(state.image, after.image)
@@ -180,6 +136,12 @@ def _watch(
             recorder.record(state.image, after.image)
         trial.observations.append((f"{title}, operation {i}", state.image, after.image, grounding, None))
         steps.append(to_step(grounding, state, after, trial.predicates))
+        seen = "far" if grounding.far_post else "near"
+        trial.show(
+            world,
+            f"{title}, operation {i}: the tutor {action}s {colour}",
+            f"the robot sees {grounding.action} {grounding.name}: now {seen}",
+        )
         state = after
     return steps
 
@@ -199,8 +161,15 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
         for k, action in enumerate(("push", "pull")):
             colour = str(rng.choice(list(COLOURS)))
             spec = scene_for(trial.seed + 2_000_003 + k + 2 * r, (colour,), (action == "pull",))
-            with World(spec, gui=trial.gui) as world:
+            with trial.world(spec) as world:
+                trial.say(f"the robot tries {action} on {colour} to learn what it does")
                 exploration = explore_skill(world, library, action, predicates=trial.predicates)
+                seen = exploration.groundings[0]
+                trial.show(
+                    world,
+                    f"the robot tried {action} on {colour}",
+                    f"it sees (far {colour}): {seen.far_pre} -> {seen.far_post}",
+                )
             explorations.append(exploration)
             grounding, (pre, post) = exploration.groundings[0], exploration.images[0]
             trial.observations.append(
@@ -210,123 +179,12 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
     return trial.domain
 
 
-# --- VSL reproduction (Algorithm 1, part II) ----------------------------------------------------
-
-
-def _reproduce_vsl(
-    world: World, trial: Trial, library: SkillLibrary, demonstration, faults: dict[int, str]
-) -> list[str]:
-    """Reproduce a recorded demonstration by match finding: for each operation, find the
-    demonstrated object in the current scene (SIFT + RANSAC, adaptive frame) and bring it to
-    the demonstrated side of the line. A last look checks every object against its final
-    demonstrated side and acts again on any that a later operation knocked back. Returns the
-    objects acted on, in order."""
-    acted: list[str] = []
-    memo = FeatureMemo()  # an unchanged world and a recorded observation seen again: SIFT once
-    for op in demonstration.operations:
-        _bring(world, trial, library, op, faults, acted, memo)
-    last = {op.symbol: op for op in demonstration.operations}  # each object's final demonstrated side
-    for op in demonstration.operations:
-        if last[op.symbol] is op:
-            _bring(world, trial, library, op, faults, acted, memo)
-    return acted
-
-
-def _bring(
-    world: World,
-    trial: Trial,
-    library: SkillLibrary,
-    op: Operation,
-    faults: dict[int, str],
-    acted: list[str],
-    memo: FeatureMemo,
-) -> None:
-    """Bring the object of operation ``op`` to its demonstrated side (up to 3 attempts)."""
-    for _ in range(3):
-        state = perceive(world)
-        found = _find_object(state, op, memo)
-        target = op.grounding.far_post
-        if found is None:
-            raise TaskFailed(f"VSL finds no {op.symbol} object in the scene")
-        name, how = found
-        trial.details.setdefault("matched_by", []).append(how)
-        if state.objects[name].far == target:
-            return
-        action = (Action.PUSH if target else Action.PULL).value
-        result, after = execute_step(world, library, action, name, state, faults.get(len(trial.steps)))
-        trial.steps.append(result)
-        # VSL's own steps, shown in the report (grounded only when drawn: a failed step may show no change)
-        shown = 1 + sum(title.startswith("VSL reproduction") for title, *_ in trial.observations)
-        trial.observations.append(
-            (f"VSL reproduction step {shown}: {action} {name}", state.image, after.image, None, result)
-        )
-        if result.ok:
-            acted.append(name)
-            return
-        trial.replans += 1
-    raise TaskFailed(f"VSL could not bring {op.symbol} to the demonstrated side after 3 attempts")
-
-
-def _find_object(state: PerceivedState, op: Operation, memo: FeatureMemo | None = None) -> tuple[str, str] | None:
-    """The object of demonstrated operation ``op`` in the current scene, and how it was found.
-
-    Match finding (:func:`~vslsp.vsl.matcher.match_observation`: SIFT + RANSAC with adaptive
-    frames) of the recorded pre-action observation comes first, on both images without the
-    landmark line (the line is no object, and where it crosses the frame its strong edges
-    would align the line rather than the object's texture). The constraint it must fit: the
-    placement lands on an object of the recorded symbol (its colour); one that does not is
-    rejected and the search goes on without the features about it (the next best placement,
-    up to :data:`_PLACEMENTS`). When none fits, the object's symbol decides.
-    """
-    observation, world = _without_landmark(op.pre_observation), _without_landmark(state.image)
-
-    def fits(match: Match) -> bool:
-        found = _object_at(state, match, op.object_size)
-        return found is not None and found.split("_")[0] == op.symbol
-
-    search = Search.growing(None, _PLACEMENTS, op.object_size)
-    memo = memo or FeatureMemo()
-    point = (op.pose_pre.x, op.pose_pre.y)
-    match = match_observation(
-        observation, world, point, op.object_size, search, memo(observation), memo(world), fits=fits
-    )
-    if isinstance(match, Match):
-        name = _object_at(state, match, op.object_size)
-        assert name is not None  # the match fits: an object lies under it
-        return name, "match"
-    if op.symbol in state.objects:
-        return op.symbol, "symbol"
-    return None
-
-
-def _object_at(state: PerceivedState, match: Match, within: float) -> str | None:
-    """The object nearest the match, when its centre is closer than ``within`` px."""
-    best, distance = None, np.inf
-    for name, obj in state.objects.items():
-        d = float(np.hypot(obj.pixel[0] - match.x, obj.pixel[1] - match.y))
-        if d < distance:
-            best, distance = name, d
-    return best if distance < within else None
-
-
-_PLACEMENTS = 3  # placements tried before the symbol decides
-
-
-def _without_landmark(image: np.ndarray) -> np.ndarray:
-    """The image (H, W, 3) with the landmark's dark grey pixels painted in the table's colour
-    (the image's median colour)."""
-    dark = cv2.dilate(dark_mask(image), np.ones((3, 3), np.uint8)) > 0
-    clean = image.copy()
-    clean[dark] = np.median(image.reshape(-1, 3), axis=0).astype(np.uint8)
-    return clean
-
-
 # --- the three experiments ----------------------------------------------------------------------
 
 
 def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=3, replace=False))
-    with World(scene_for(trial.seed, colours), gui=trial.gui) as world:
+    with trial.world(scene_for(trial.seed, colours)) as world:
         start_far = tuple(world.is_far(c.name) for c in world.spec.cubes)
         colours = tuple(c.colour for c in world.spec.cubes)
         recorder = Recorder(ImagePlane(world.observe("head").rgb))
@@ -337,9 +195,9 @@ def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
         trial.details["demonstrated_changes"] = [f"{s.action} {s.obj}: {s.changed()}" for s in watched]
     goal = {op.symbol: op.grounding.far_post for op in demonstration.operations}
     # Reshuffled: new places and a new line pose, each cube on the side it started from.
-    with World(scene_for(trial.seed + 1_000_003, colours, start_far), gui=trial.gui) as world:
+    with trial.world(scene_for(trial.seed + 1_000_003, colours, start_far)) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-        acted = _reproduce_vsl(world, trial, library, demonstration, faults)
+        acted = reproduce_vsl(world, trial, library, demonstration, faults)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     trial.success = final == goal
     trial.details.update(
@@ -369,7 +227,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
             # colours; demonstrations that only ever pull one colour teach that colour alone.
             other = next(k for k, c in enumerate(colours) if c not in pulled)
             far = far[:other] + (True,) + far[other + 1 :]
-        with World(scene_for(trial.seed * 7 + i, colours, far), gui=trial.gui) as world:
+        with trial.world(scene_for(trial.seed * 7 + i, colours, far)) as world:
             pulls = [(c, a) for c, a in _tutor_task(world.spec, rng, world) if a == "pull"]
             pulled |= {c for c, _ in pulls}
             demonstrations.append(_watch(world, trial, pulls, f"demonstration {i + 1}"))
@@ -379,11 +237,20 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
     far = tuple(bool(v) for v in rng.random(n) < 0.6)
     if not any(far):
         far = (True,) + far[1:]
-    with World(scene_for(trial.seed + 1_000_003, colours, far), gui=trial.gui) as world:
+    with trial.world(scene_for(trial.seed + 1_000_003, colours, far)) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         assert trial.domain is not None and trial.task is not None  # learned above
+        before, after = _narration(trial, world)
         run = execute_task(
-            world, library, trial.domain, trial.task, planner=planner, faults=faults, predicates=trial.predicates
+            world,
+            library,
+            trial.domain,
+            trial.task,
+            planner=planner,
+            faults=faults,
+            on_step=after,
+            predicates=trial.predicates,
+            before_step=before,
         )
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
@@ -398,7 +265,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
 def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
     all_far = (True,) * len(ORDERED_COLOURS)
     _explore(trial, rng, library)
-    with World(scene_for(trial.seed, ORDERED_COLOURS, all_far), gui=trial.gui) as world:
+    with trial.world(scene_for(trial.seed, ORDERED_COLOURS, all_far)) as world:
         trial.stage("watching the tutor's demonstration")
         recorder = Recorder(ImagePlane(world.observe("head").rgb))
         steps = _watch(world, trial, [(c, "pull") for c in ORDERED_COLOURS], "demonstration", recorder)
@@ -407,7 +274,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
     trial.task = learn_task([steps], ordered=True, models=trial.domain if trial.predicates else None)
     test_scene = scene_for(trial.seed + 1_000_003, ORDERED_COLOURS, all_far)
     # VSL-SP: the order comes from the sometime-before constraints the planner must respect.
-    with World(test_scene, gui=trial.gui) as world:
+    with trial.world(test_scene) as world:
         became_near: list[str] = []
 
         def watch_truth(result, state, world=world):
@@ -416,6 +283,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
                     became_near.append(cube.colour)
 
         assert trial.domain is not None and trial.task is not None  # learned above
+        before, after = _narration(trial, world, watch_truth)
         run = execute_task(
             world,
             library,
@@ -423,16 +291,17 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
             trial.task,
             planner=planner,
             faults=faults,
-            on_step=watch_truth,
+            on_step=after,
             predicates=trial.predicates,
+            before_step=before,
         )
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
     # VSL: the same test scene, reproduced from the single demonstration by match finding.
     trial.stage("reproducing the demonstration with VSL's match finding")
-    with World(test_scene, gui=trial.gui) as world:
+    with trial.world(test_scene) as world:
         # The executed order: the first action on each object (a knocked-back one is acted on again).
-        acted = list(dict.fromkeys(_reproduce_vsl(world, trial, library, demonstration, {})))
+        acted = list(dict.fromkeys(reproduce_vsl(world, trial, library, demonstration, {})))
         final_vsl = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     sp_ok = run.success and not any(final_sp.values()) and became_near == list(ORDERED_COLOURS)
     vsl_ok = not any(final_vsl.values()) and acted == list(ORDERED_COLOURS)
@@ -452,6 +321,23 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
             f"VSL-SP order {became_near} (goal {'held' if run.success else 'failed'}), "
             f"VSL order {acted}; expected {list(ORDERED_COLOURS)}"
         )
+
+
+def _narration(trial: Trial, world: World, on_step: Callable | None = None) -> tuple[Callable, Callable]:
+    """The callbacks that caption VSL-SP's steps in the video (before: the step and its fault;
+    after: expected and observed), then call ``on_step``."""
+    label = [""]
+
+    def before(number: int, action: str, obj: str, fault: str | None) -> None:
+        label[0] = f"VSL-SP step {number}: {action} {obj} (planned)"
+        trial.say(label[0] + (f", FAULT {fault} injected" if fault else ""))
+
+    def after(result: StepResult, state: PerceivedState) -> None:
+        trial.show_step(world, label[0], result)
+        if on_step is not None:
+            on_step(result, state)
+
+    return before, after
 
 
 def _record(trial: Trial, run: Execution) -> None:

@@ -130,6 +130,7 @@ def execute_task(
     max_replans: int = MAX_REPLANS,
     on_step: Callable[[StepResult, PerceivedState], None] | None = None,
     predicates: Sequence[Predicate] | None = None,
+    before_step: Callable[[int, str, str, str | None], None] | None = None,
 ) -> Execution:
     """Plan ``task`` in the scene the robot sees and execute the plan, replanning on failures.
 
@@ -137,7 +138,8 @@ def execute_task(
     inject there ("nudge" or "skip"), to exercise replanning; a fault scheduled past the end of
     the first plan moves to its last step, so that every scheduled fault fires. The run
     succeeds when a plan from the last observed state is empty: the goal holds in what the
-    robot sees.
+    robot sees. ``before_step(number, action, object, fault)`` is called before each step
+    (1-based over the run), ``on_step(result, state)`` after it.
     """
     faults = faults or {}
     run = Execution()
@@ -166,6 +168,8 @@ def execute_task(
         if not run.steps:
             faults = {min(step, len(plan.steps) - 1): fault for step, fault in faults.items()}
         for action, args in plan.steps:
+            if before_step is not None:
+                before_step(len(run.steps) + 1, action, args[0], faults.get(len(run.steps)))
             result, state = execute_step(world, library, action, args[0], state, faults.get(len(run.steps)))
             run.steps.append(result)
             run.states.append(state)

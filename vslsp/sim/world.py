@@ -9,6 +9,7 @@ byte-identical images.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -92,6 +93,8 @@ class World(PhysicsClient):
         if gui:
             pb.configureDebugVisualizer(pb.COV_ENABLE_GUI, 0, physicsClientId=self.client)
         self._seen: dict[tuple, tuple[tuple, Observation]] = {}
+        # Called after every physics step when set (a video's camera: vslsp.sim.video).
+        self.frame_hook: Callable[[World], None] | None = None
         self.table = self._make_table(gui)
         self.landmark_body = self._make_landmark()
         self.cubes: dict[str, int] = {}
@@ -178,6 +181,8 @@ class World(PhysicsClient):
     def step(self, n: int = 1) -> None:
         for _ in range(n):
             pb.stepSimulation(physicsClientId=self.client)
+            if self.frame_hook is not None:
+                self.frame_hook(self)
 
     def settle(self, max_steps: int = 480) -> None:
         """Step until every cube is at rest (or ``max_steps``)."""
@@ -259,6 +264,10 @@ class World(PhysicsClient):
             seen = (state, Observation(rgb=rgb, depth=depth, camera=view))
             self._seen[(camera, width, height)] = seen
         return Observation(rgb=seen[1].rgb.copy(), depth=seen[1].depth.copy(), camera=view)
+
+    def body_poses(self) -> tuple:
+        """Every movable body's pose and the robot's joints: equal tuples, the same picture."""
+        return self._poses()
 
     def _poses(self) -> tuple:
         """Every movable body's pose and the robot's joint positions, exactly as pybullet has them."""

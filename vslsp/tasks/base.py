@@ -50,6 +50,7 @@ class Option(enum.StrEnum):
     SKILLS = "skills"  # the skill-library folder
     METHOD = "method"  # VSL-3D's match-finding method
     PREDICATES = "predicates"  # a Python file of the user's predicates (vslsp.grounding)
+    VIDEO = "video"  # the report folder: each trial filmed into its videos/trial-SEED.mp4
 
 
 @dataclass
@@ -177,6 +178,11 @@ def cpu_seconds() -> float:
     one): unlike wall-clock time, hardly changed by other programs loading the machine."""
     times = os.times()
     return times.user + times.system + times.children_user + times.children_system
+
+
+def video_path(seed: int) -> str:
+    """Where the video of trial ``seed`` goes, relative to the report folder."""
+    return f"videos/trial-{seed}.mp4"
 
 
 def timed(task: Task, seed: int, keep: bool) -> TrialResult:

@@ -19,7 +19,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from vslsp.tasks.base import Option, System, Task, TrialResult
+from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.icub_report import fault_lines, learned_lines, matches_table_3, trial_rows, write_artefacts
 from vslsp.tasks.registry import register
 
@@ -30,7 +30,7 @@ class IcubExperiment(Task):
     """An iCub experiment: options ``faults``, ``planner`` and ``skills`` (the library folder)."""
 
     system = System.VSL_SP
-    options = frozenset({Option.FAULTS, Option.PLANNER, Option.SKILLS, Option.PREDICATES})
+    options = frozenset({Option.FAULTS, Option.PLANNER, Option.SKILLS, Option.PREDICATES, Option.VIDEO})
     keep_first = True  # a trial takes tens of seconds: the first one's artefacts travel back instead of a re-run
 
     def check(self) -> None:
@@ -61,6 +61,7 @@ class IcubExperiment(Task):
         from vslsp.loop.experiments import run_trial
         from vslsp.skills.library import SkillLibrary
 
+        folder = self.option(Option.VIDEO)
         trial = run_trial(
             self.name,
             seed,
@@ -70,9 +71,14 @@ class IcubExperiment(Task):
             gui=gui,
             on_stage=on_stage,
             predicates=self.predicates(),
+            video=Path(folder) / video_path(seed) if folder else None,
         )
         record = trial.to_dict()
-        operations = [{"operation": i, **step.to_dict()} for i, step in enumerate(trial.steps, start=1)]
+        planned = {id(step) for run in trial.executions for step in run.steps}
+        operations = [
+            {"operation": i, **step.to_dict(), "system": "VSL-SP" if id(step) in planned else "VSL"}
+            for i, step in enumerate(trial.steps, start=1)
+        ]
         details = {k: v for k, v in record.items() if k not in ("experiment", "seed", "success", "error", "time_s")}
         return TrialResult(
             self.name,
@@ -82,6 +88,7 @@ class IcubExperiment(Task):
             operations=operations,
             details=details,
             artefacts=trial if keep else None,
+            video=video_path(seed) if folder else None,
         )
 
     def summary(self, results: list[TrialResult]) -> dict:

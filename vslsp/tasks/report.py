@@ -76,6 +76,12 @@ def write_report(folder: str | Path, task: Task, run: Run, *, figures: bool = Tr
             shown = run_one(task, seed, keep=True)
         files = task.figures(folder, shown) if shown.artefacts is not None else {}
         data["shown_trial"] = {"seed": shown.seed, "success": shown.success, **files}
+        if shown.video is not None and (folder / shown.video).exists():
+            from vslsp.sim.video import preview
+
+            data["shown_trial"]["video"] = shown.video
+            data["shown_trial"]["video_preview"] = str(Path(shown.video).with_suffix(".gif"))
+            preview(folder / shown.video, folder / data["shown_trial"]["video_preview"])
         _write(folder, task, data)
     return data
 
@@ -121,6 +127,14 @@ def markdown(task: Task, data: dict) -> str:
     shown = data.get("shown_trial")
     if shown:
         lines += [f"## Trial {shown['seed']} ({'succeeded' if shown['success'] else 'FAILED'})", ""]
+        if shown.get("video"):
+            lines += [
+                f"[![the trial, filmed (preview)]({shown['video_preview']})]({shown['video']})",
+                "",
+                f"The whole trial as a video: [{shown['video']}]({shown['video']}) (H.264 MP4; the preview above "
+                "plays it faster and smaller).",
+                "",
+            ]
         for key, value in shown.items():
             if isinstance(value, str) and value.endswith(".png"):
                 lines += [f"### {key.replace('_', ' ')}", "", f"![{key}]({value})", ""]
@@ -139,8 +153,10 @@ def markdown(task: Task, data: dict) -> str:
         lines.append("")
     lines += ["## Trials", "", "| seed | result | time (s) | notes |", "|---|---|---|---|"]
     for record in data["results"]:
+        video = f" [video]({record['video']})" if record.get("video") else ""
         lines.append(
-            f"| {record['seed']} | {'ok' if record['success'] else 'FAILED'} | {record['time_s']} | {_note(record)} |"
+            f"| {record['seed']} | {'ok' if record['success'] else 'FAILED'} | {record['time_s']} | "
+            f"{_note(record)}{video} |"
         )
     return "\n".join(lines) + "\n"
 

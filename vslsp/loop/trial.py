@@ -1,0 +1,89 @@
+"""One trial of the iCub experiments: what it found, what it keeps for the report, and the
+worlds it runs in (filmed with ``--video``: :mod:`vslsp.sim.video`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from vslsp.errors import InputError
+from vslsp.loop.monitor import FAULT_WHAT, StepResult
+from vslsp.loop.pipeline import Execution
+from vslsp.sim import SceneSpec, World
+from vslsp.sim.video import SceneVideo
+from vslsp.symbolic import Domain, Task
+
+
+@dataclass
+class Trial:
+    """One trial: its outcome, figures, and (when kept) what the report shows."""
+
+    experiment: str
+    seed: int
+    success: bool = False
+    error: str | None = None
+    details: dict = field(default_factory=dict)
+    replans: int = 0
+    failed_steps: int = 0
+    time_s: float = 0.0
+    # Artefacts for the report: (title, pre, post, grounding or None, the executed step or None),
+    # PDDL, trajectories.
+    observations: list = field(default_factory=list, repr=False)
+    domain: Domain | None = field(default=None, repr=False)
+    task: Task | None = field(default=None, repr=False)
+    executions: list[Execution] = field(default_factory=list, repr=False)
+    steps: list[StepResult] = field(default_factory=list, repr=False)
+    gui: bool = field(default=False, repr=False)
+    on_stage: object = field(default=None, repr=False, compare=False)
+    predicates: tuple = field(default=(), repr=False, compare=False)  # the user's, grounded at every step
+    video: SceneVideo | None = field(default=None, repr=False, compare=False)  # with --video
+
+    def stage(self, what: str) -> None:
+        """Report progress (the demo's spinner)."""
+        if callable(self.on_stage):
+            self.on_stage(what)
+
+    def world(self, spec: SceneSpec) -> World:
+        """A world of ``spec`` for this trial (filmed when the trial makes a video)."""
+        world = World(spec, gui=self.gui)
+        if self.video is not None:
+            self.video.attach(world)
+        return world
+
+    def say(self, *lines: str) -> None:
+        """The video's caption from now on (nothing without a video)."""
+        if self.video is not None:
+            self.video.caption(*lines)
+
+    def show(self, world: World, *lines: str) -> None:
+        """Show ``world`` as it is now under ``lines`` for a moment (a step's outcome)."""
+        if self.video is not None:
+            self.video.caption(*lines)
+            self.video.hold(world)
+
+    def show_step(self, world: World, label: str, result: StepResult) -> None:
+        """A step's outcome in the video: expected and observed, and the fault it carried."""
+        verdict = "ok" if result.ok else "effect MISSING"
+        fault = f" (FAULT {result.fault}: {FAULT_WHAT[result.fault]})" if result.fault else ""
+        self.show(world, f"{label}{fault}", f"expected {result.expected}, observed {result.observed}: {verdict}")
+
+    def to_dict(self) -> dict:
+        return {
+            "experiment": self.experiment,
+            "seed": self.seed,
+            "success": self.success,
+            "error": self.error,
+            "replans": self.replans,
+            "failed_steps": self.failed_steps,
+            "time_s": round(self.time_s, 2),
+            **self.details,
+        }
+
+
+def scene_for(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None = None) -> SceneSpec:
+    """A random scene with these colours (the same seed, the same scene)."""
+    for k in range(50):
+        try:
+            return SceneSpec.random(seed * 101 + k, colours=colours, far=far)
+        except InputError:
+            continue
+    raise InputError(f"no scene found for {len(colours)} cubes with seed {seed}")
