@@ -34,7 +34,7 @@ def _frames(path) -> list[np.ndarray]:
     return [np.frombuffer(frame, np.uint8).reshape(height, width, 3) for frame in reader]
 
 
-def test_a_filmed_motion_is_h264_with_a_frame_per_fifth_of_a_simulated_second(tmp_path):
+def test_a_filmed_motion_is_h264_with_a_frame_per_tick_of_the_simulated_clock(tmp_path):
     video, _ = _film(tmp_path / "a.mp4")
     probe = subprocess.run(
         [imageio_ffmpeg.get_ffmpeg_exe(), "-i", str(tmp_path / "a.mp4")], capture_output=True, text=True

@@ -22,11 +22,12 @@ from typing import Any
 import cv2
 import numpy as np
 
+from vslsp.errors import InputError
 from vslsp.sim.camera import Camera
 from vslsp.sim.client import pb
 from vslsp.sim.scene import TABLE_Z
 
-FPS = 5  # frames per simulated second (and the video's playback rate: real time)
+FPS = 4  # frames per simulated second (and the video's playback rate: real time)
 RENDER_SIZE = (256, 192)  # the scene camera's image (the render's cost grows with its pixels)
 SCALE = 1.5  # shown this much larger under the caption
 RENDER_EVERY = 2  # while cubes move, the render is renewed at most every this many frames
@@ -179,6 +180,16 @@ class _arm_hidden:  # noqa: N801 (a context manager named for what it does)
 
     def __exit__(self, *exc: object) -> None:
         self._colour(True)
+
+
+def check_encoder() -> None:
+    """The ffmpeg binary is there (:class:`InputError` saying how to get it otherwise)."""
+    try:
+        import imageio_ffmpeg
+
+        imageio_ffmpeg.get_ffmpeg_exe()
+    except (ImportError, RuntimeError) as missing:
+        raise InputError(f"--video needs ffmpeg: pip install imageio-ffmpeg ({missing})") from None
 
 
 def _encoder(path: Path, width: int, height: int, fps: int) -> subprocess.Popen:

@@ -42,6 +42,10 @@ class IcubExperiment(Task):
         check_planner(self.option(Option.PLANNER, DEFAULT_PLANNER))
         SkillLibrary.load(self.library_path).require(SKILL_NAMES, self.library_path)
         self.predicates()  # a predicates file that does not load is reported before any work
+        if self.option(Option.VIDEO):
+            from vslsp.sim.video import check_encoder
+
+            check_encoder()
 
     @property
     def library_path(self) -> Path:

@@ -41,7 +41,7 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
     from vslsp.errors import VslspError
     from vslsp.grounding import draw_grounding
     from vslsp.grounding.operation import ground
-    from vslsp.tasks.drawing import caption
+    from vslsp.tasks.drawing import caption, label
     from vslsp.vision.image import write_image
 
     files: dict = {"images": []}
@@ -55,7 +55,10 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
                 grounding = ground(pre, post)
             except VslspError:
                 grounding = None  # nothing moved (a skipped step): the images are still shown
-        picture = draw_grounding(pre, post, grounding) if grounding is not None else np.hstack([pre, post])
+        if grounding is not None:
+            picture = draw_grounding(pre, post, grounding)
+        else:  # nothing moved, so nothing to ground: the two images, named
+            picture = np.hstack([label(pre, "pre"), label(post, "post: no object changed side")])
         fault = faults.get(number.get(id(step), -1)) if step is not None else None
         lines = step_caption(title, grounding, step, fault)
         name = f"{i:02d}_{re.sub(r'[^a-z0-9]+', '_', title.lower()).strip('_')}.png"
