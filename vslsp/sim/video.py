@@ -229,8 +229,9 @@ def _encoder(path: Path, width: int, height: int, fps: int) -> subprocess.Popen:
     return subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
-def preview(video: str | Path, out: str | Path, width: int = 240, fps: int = 3) -> None:
-    """A small animated GIF of ``video`` (for report.md), made by the same ffmpeg."""
+def preview(video: str | Path, out: str | Path, width: int = 240, fps: int = 4, speed: int = 8) -> None:
+    """A small animated GIF of ``video`` (for report.md), ``speed`` times faster, ``fps`` frames
+    a second, ``width`` px wide; made by the same ffmpeg."""
     import imageio_ffmpeg
 
     subprocess.run(
@@ -242,7 +243,7 @@ def preview(video: str | Path, out: str | Path, width: int = 240, fps: int = 3) 
             "-i",
             str(video),
             "-vf",
-            f"fps={fps},scale={width}:-2:flags=lanczos",
+            f"setpts=PTS/{speed},fps={fps},scale={width}:-2:flags=lanczos",
             str(out),
         ],
         check=True,
