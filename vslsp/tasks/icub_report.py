@@ -241,6 +241,14 @@ def plot_trajectories(path: Path, trial) -> None:
             title=f"{name}: hand paths, top view",
             aspect="equal",
         )
+    for top, (name, _) in zip(tops, systems):
+        idle = [
+            f"{k} ({f'fault {s.fault}' if s.fault else 'not executed'})"
+            for k, s in enumerate(trial.steps, start=1)
+            if s.trajectory is None and (id(s) in planned) == name.startswith("VSL-SP")
+        ]
+        if idle:
+            top.text(0.02, 0.02, f"no hand path: step {', '.join(idle)}", transform=top.transAxes, fontsize=8)
     fig.tight_layout()
     fig.canvas.draw()  # the axes' final transforms, to place the step labels in pixels
     for top, (_, steps) in zip(tops, systems):

@@ -23,7 +23,7 @@ import numpy as np
 
 from vslsp.errors import TaskFailed, VslspError
 from vslsp.sim.cloud_scene import CloudScene, RGBDImage
-from vslsp.stages import stage
+from vslsp.stages import in_stage, stage
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.grasping import Grasp, pick_and_place, plan_grasp
 from vslsp.vsl3d.matching import Match, find_best_match
@@ -36,6 +36,7 @@ RETRIED = ("grasp failed", "object slipped")
 RETRY_HIGHER = 0.012  # m: the retry grips this much higher (a round body squeezes out of a low grip)
 
 
+@in_stage("perception")
 def world_of(image: RGBDImage) -> WorldCloud:
     """The world cloud of one capture, cut to :data:`WORKSPACE`."""
     return WorldCloud.capture(image.depth, DepthCamera.of(image.camera), WORKSPACE)

@@ -28,6 +28,7 @@ import numpy as np
 from vslsp.errors import InputError, TaskFailed
 from vslsp.files import load_npz
 from vslsp.outputs import atomic_file
+from vslsp.stages import in_stage
 from vslsp.vsl3d.alignment import align
 from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
 from vslsp.vsl3d.kdtree import KDTree
@@ -226,6 +227,7 @@ def euclidean_clusters(points: np.ndarray, distance: float) -> np.ndarray:
     return rank[labels]
 
 
+@in_stage("perception")
 def get_object(
     pre: WorldCloud,
     post: WorldCloud,
