@@ -7,6 +7,7 @@ import subprocess
 
 import imageio_ffmpeg
 import numpy as np
+import pytest
 
 from vslsp.sim import SceneSpec, World
 from vslsp.sim.scene import TABLE_Z
@@ -67,3 +68,18 @@ def test_the_preview_is_a_small_animated_gif(tmp_path):
     preview(tmp_path / "a.mp4", tmp_path / "a.gif")
     data = (tmp_path / "a.gif").read_bytes()
     assert data[:6] == b"GIF89a" and data.count(b"\x21\xf9\x04") > 1  # more than one frame
+
+
+@pytest.mark.slow
+def test_a_tabletop_trial_is_filmed_without_changing_its_record(tmp_path):
+    from vslsp.tasks import get_task, run_one
+
+    plain = run_one(get_task("alphabet-ordering"), 5)
+    filmed = run_one(get_task("alphabet-ordering", video=str(tmp_path)), 5)
+    assert filmed.video == "videos/trial-5.mp4" and plain.video is None
+    times = ("time_s", "cpu_s", "stages_s", "video")
+    assert {k: v for k, v in filmed.to_dict().items() if k not in times} == {
+        k: v for k, v in plain.to_dict().items() if k not in times
+    }
+    frames, seconds = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / filmed.video))
+    assert frames > 40 and seconds > 10  # the demonstration's settling and four pick-and-place operations

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -147,6 +148,9 @@ class TabletopWorld(PhysicsClient):
         pb.setPhysicsEngineParameter(deterministicOverlappingPairs=1, physicsClientId=c)
         self.table = self._make_table(gui)
         self.panda = Panda(c)
+        # Called after every physics step when set (a video's camera: vslsp.sim.video).
+        self.frame_hook: Callable[[TabletopWorld], None] | None = None
+        self.narrator: Callable[[TabletopWorld, tuple[str, ...], float], None] | None = None
         self.bodies: dict[str, int] = {}
         self.specs: dict[str, Item] = {}
         try:
@@ -240,6 +244,31 @@ class TabletopWorld(PhysicsClient):
     def step(self, n: int = 1) -> None:
         for _ in range(n):
             pb.stepSimulation(physicsClientId=self.client)
+            if self.frame_hook is not None:
+                self.frame_hook(self)
+
+    # -- what a video shows (vslsp.sim.video) -----------------------------------------------
+    def say(self, *lines: str, hold: float = 0.0) -> None:
+        """The caption of a video filming this world (nothing otherwise), and ``hold`` seconds
+        of the world as it is now under it."""
+        if self.narrator is not None:
+            self.narrator(self, lines, hold)
+
+    def movable_poses(self) -> tuple:
+        """The movable items' poses, as pybullet has them."""
+        return tuple(
+            pb.getBasePositionAndOrientation(self.bodies[name], physicsClientId=self.client)
+            for name, item in self.specs.items()
+            if item.movable
+        )
+
+    def arm_chain(self) -> np.ndarray:
+        """The Panda's joints from its base, then the fingertips (K, 3)."""
+        states = pb.getLinkStates(self.panda.body, list(range(7)), physicsClientId=self.client)
+        return np.array([[0.0, 0.0, 0.0]] + [state[4] for state in states] + [self.panda.hand()[0]])
+
+    def arm_body(self) -> int:
+        return self.panda.body
 
     def settle(self, max_steps: int = 480) -> None:
         """Step until every movable item is at rest (or ``max_steps``)."""

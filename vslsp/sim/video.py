@@ -16,6 +16,7 @@ nothing is held in memory, and the encoder works beside the simulation.
 from __future__ import annotations
 
 import subprocess
+import textwrap
 from pathlib import Path
 from typing import Any
 
@@ -34,7 +35,9 @@ RENDER_EVERY = 2  # while cubes move, the render is renewed at most every this m
 ARM = (200, 30, 30)  # RGB: the arm's chain
 HAND = (255, 255, 255)
 TRAIL = 18  # frames of the hand's path drawn behind it
-CAPTION_LINES = 2
+JUMP = 60  # px: a hand that moved further in one frame was reset, not moved
+CAPTION_LINES = 3
+CAPTION_CHARACTERS = 54  # a caption line's width at the caption's font (wrapped beyond)
 HOLD_S = 1.0  # a step's outcome stays on screen this long (simulated seconds)
 STEPS_PER_SECOND = 240  # the world's physics rate (vslsp.sim.robot.TIME_STEP)
 
@@ -49,6 +52,19 @@ def scene_camera(eye: tuple[float, float, float] = (0.74, -0.26, TABLE_Z + 0.78)
         width=RENDER_SIZE[0],
         height=RENDER_SIZE[1],
         fov=40.0,
+    )
+
+
+def tabletop_scene_camera() -> Camera:
+    """A camera beside the Panda's table, looking over the workspace at the robot."""
+    return Camera(
+        "scene",
+        eye=(0.98, -0.58, 0.62),
+        target=(0.42, 0.0, 0.02),
+        up=(0.0, 0.0, 1.0),
+        width=RENDER_SIZE[0],
+        height=RENDER_SIZE[1],
+        fov=42.0,
     )
 
 
@@ -84,15 +100,27 @@ class SceneVideo:
         return 20 * CAPTION_LINES + 8
 
     def attach(self, world) -> None:
-        """Film ``world`` from now on (its steps take the frames) and show it as it is."""
+        """Film ``world`` from now on (its steps take the frames) and show it as it is.
+
+        A filmed world has ``frame_hook`` (called after each physics step), ``live_client``,
+        ``backdrop``, ``movable_poses()`` (the poses of what may move), ``arm_chain()`` (the
+        robot's joints and hand (K, 3), or None) and ``arm_body()`` (the robot's body id)."""
         world.frame_hook = self._on_step
+        if hasattr(world, "narrator"):
+            world.narrator = self._narrate
         self._last = None
         self._trail = []
         self.frame(world)
 
     def caption(self, *lines: str) -> None:
         """The words under the frames from now on (at most :data:`CAPTION_LINES` lines)."""
-        self._text = [line for line in lines if line][:CAPTION_LINES]
+        wrapped = [part for line in lines if line for part in textwrap.wrap(line, CAPTION_CHARACTERS)]
+        self._text = wrapped[:CAPTION_LINES]
+
+    def _narrate(self, world, lines: tuple[str, ...], hold: float) -> None:
+        self.caption(*lines)
+        if hold > 0:
+            self.hold(world, hold)
 
     def hold(self, world, seconds: float = HOLD_S) -> None:
         """Show the world as it is now for ``seconds`` (under the current caption)."""
@@ -106,10 +134,9 @@ class SceneVideo:
 
     def frame(self, world) -> None:
         """Add one frame: the scene camera's picture of ``world`` and its arm, under the caption."""
-        # Cube poses to 1 mm and about 1 deg: a cube settling by less moves less than a pixel.
+        # Poses to 1 mm and about 1 deg: an object settling by less moves less than a pixel.
         cubes = tuple(
-            (np.round(pose[0], 3).tobytes(), np.round(pose[1], 2).tobytes())
-            for pose in world.body_poses()[: len(world.cubes)]
+            (np.round(pose[0], 3).tobytes(), np.round(pose[1], 2).tobytes()) for pose in world.movable_poses()
         )
         if self._last is None or (self._last[0] != cubes and self.frames - self._rendered_at >= RENDER_EVERY):
             with _arm_hidden(world):
@@ -119,20 +146,20 @@ class SceneVideo:
             self._rendered_at = self.frames
             self.rendered += 1
         picture = self._last[1].copy()
-        if world.robot is not None:
-            self._draw_arm(picture, world)
+        chain = world.arm_chain()
+        if chain is not None:
+            self._draw_arm(picture, chain)
         self._write(self._captioned(picture))
 
-    def _draw_arm(self, picture: np.ndarray, world) -> None:
-        """The arm's chain (its joints' positions, then the hand) and the hand's recent path."""
-        robot = world.robot
-        states = pb.getLinkStates(robot.body, robot.ik_indices, physicsClientId=world.live_client)
-        chain = np.array([state[4] for state in states] + [robot.hand_position()])
+    def _draw_arm(self, picture: np.ndarray, chain: np.ndarray) -> None:
+        """The arm's chain (K, 3) (its joints' positions, then the hand) and the hand's recent path."""
         pixels = np.round(self.camera.project(chain) * SCALE).astype(np.int32)
+        if self._trail and np.abs(pixels[-1] - self._trail[-1]).max() > JUMP:
+            self._trail = []  # the arm was put back to its parked pose, not moved there
         self._trail = (self._trail + [pixels[-1]])[-TRAIL:]
         if len(self._trail) > 1:
             cv2.polylines(picture, [np.array(self._trail)], False, (250, 220, 60), 1, cv2.LINE_AA)
-        cv2.polylines(picture, [pixels[2:]], False, ARM, 5, cv2.LINE_AA)  # from the shoulder: the torso is behind
+        cv2.polylines(picture, [pixels], False, ARM, 5, cv2.LINE_AA)
         cv2.circle(picture, tuple(int(v) for v in pixels[-1]), 6, HAND, -1, cv2.LINE_AA)
         cv2.circle(picture, tuple(int(v) for v in pixels[-1]), 6, ARM, 1, cv2.LINE_AA)
 
@@ -166,9 +193,8 @@ class _arm_hidden:  # noqa: N801 (a context manager named for what it does)
 
     def __init__(self, world) -> None:
         self.world = world
-        self.shapes = []
-        if world.robot is not None:
-            self.shapes = pb.getVisualShapeData(world.robot.body, physicsClientId=world.live_client)
+        body = world.arm_body()
+        self.shapes = [] if body is None else pb.getVisualShapeData(body, physicsClientId=world.live_client)
 
     def _colour(self, alpha: bool) -> None:
         for shape in self.shapes:

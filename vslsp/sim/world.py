@@ -265,6 +265,20 @@ class World(PhysicsClient):
             self._seen[(camera, width, height)] = seen
         return Observation(rgb=seen[1].rgb.copy(), depth=seen[1].depth.copy(), camera=view)
 
+    def movable_poses(self) -> tuple:
+        """The cubes' poses (for a video: :mod:`vslsp.sim.video`)."""
+        return self._poses()[: len(self.cubes)]
+
+    def arm_chain(self) -> np.ndarray | None:
+        """The right arm's joints from the shoulder, then the hand (K, 3); None without a robot."""
+        if self.robot is None:
+            return None
+        states = pb.getLinkStates(self.robot.body, self.robot.ik_indices[3:], physicsClientId=self.client)
+        return np.array([state[4] for state in states] + [self.robot.hand_position()])
+
+    def arm_body(self) -> int | None:
+        return None if self.robot is None else self.robot.body
+
     def body_poses(self) -> tuple:
         """Every movable body's pose and the robot's joints: equal tuples, the same picture."""
         return self._poses()

@@ -20,7 +20,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.outputs import atomic_file
-from vslsp.tasks.base import System, Task, TrialResult
+from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.drawing import PICK, PLACE, grid, label, small, square
 from vslsp.tasks.registry import register
 
@@ -32,10 +32,31 @@ class TabletopExperiment(Task):
 
     system = System.VSL
     paper_section = "Real-world Experiments (Table 1)"
+    options = frozenset({Option.VIDEO})
+
+    def check(self) -> None:
+        if self.option(Option.VIDEO):
+            from vslsp.sim.video import check_encoder
+
+            check_encoder()
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         """Demonstrate in the world of ``seed``, reproduce in the world of ``seed +
-        REPRODUCTION_SEED``; ``keep`` holds on to the images for the report."""
+        REPRODUCTION_SEED``; ``keep`` holds on to the images for the report; with the ``video``
+        option, film both into the report folder's ``videos/trial-SEED.mp4``."""
+        from vslsp.sim.video import SceneVideo, tabletop_scene_camera
+
+        folder = self.option(Option.VIDEO)
+        video = SceneVideo(Path(folder) / video_path(seed), camera=tabletop_scene_camera()) if folder else None
+        try:
+            result = self._trial(seed, keep, video)
+        finally:
+            if video is not None:
+                video.close()
+        result.video = video_path(seed) if video is not None else None
+        return result
+
+    def _trial(self, seed: int, keep: bool, video) -> TrialResult:
         from vslsp.sim.tabletop import TabletopWorld
         from vslsp.vsl.tabletop_tasks import look
 
@@ -43,6 +64,9 @@ class TabletopExperiment(Task):
         variant = "intervention" if getattr(task, "intervention", False) else ""
         rng = np.random.default_rng(seed)
         with TabletopWorld(task.layout(rng, "demonstration"), seed) as world:
+            if video is not None:
+                video.attach(world)
+                world.say(f"{self.name}: the tutor's demonstration")
             try:
                 demo = task.demonstrate(world, rng)
             except InputError as unseen:
@@ -52,9 +76,13 @@ class TabletopExperiment(Task):
             goal = look(world) if keep else None
         rng = np.random.default_rng(seed + REPRODUCTION_SEED)
         with TabletopWorld(task.layout(rng, "reproduction"), seed) as world:
+            if video is not None:
+                video.attach(world)
+                world.say(f"{self.name}: the robot reproduces it in a new scene (VSL)", hold=1.0)
             before = look(world) if keep else None
             outcomes = task.reproduce(world, demo, rng, keep)
             success = task.goal(world, demo, outcomes)
+            world.say(f"{self.name}: {'goal reached' if success else 'goal NOT reached'}", hold=2.0)
             finals = (
                 {"demonstration goal": goal, "reproduction start": before, "reproduction end": look(world)}
                 if keep

@@ -151,6 +151,7 @@ def tutor_move(
     ``placement``; the recorder, if any, records the three observations (``pre_pick`` may be
     given: the last post-place one, nothing moved since) and the heights; returns the
     post-place observation when recording."""
+    world.say(f"the tutor puts {name} in place")
     if recorder and pre_pick is None:
         pre_pick = look(world)
     pick_z = world.pose(name)[2] + world.specs[name].size[2]
@@ -214,7 +215,9 @@ def robot_operation(
         demo.demonstration, k, image, TableView(world), features, pick_match=pick_match, place_match=place_match
     )
     if isinstance(planned, NoMatch):
+        world.say(f"robot, operation {k + 1} ({demo.items[k]}): no match found", hold=1.0)
         return OperationOutcome(k, "robot", demo.items[k], "no match", observation=kept)
+    world.say(f"robot, operation {k + 1}: {demo.items[k]} (pick and place found by match finding)")
     with stage("execution"):
         result = world.pick_and_place(planned.pick, planned.place, planned.grasp_width)
     corrected = False
@@ -236,6 +239,12 @@ def robot_operation(
         diagnosis = "ambiguous match"
     else:
         diagnosis = "misplaced"
+    world.say(
+        f"robot, operation {k + 1}: {demo.items[k]}: {diagnosis}",
+        f"{1000 * errors['position_error_m']:.1f} mm, {errors['angle_error_deg']:.1f} deg from the target"
+        + (" (corrected once)" if corrected else ""),
+        hold=1.0,
+    )
     return OperationOutcome(k, "robot", demo.items[k], diagnosis, planned, result, errors, kept)
 
 
