@@ -18,6 +18,7 @@ Frame: x away from the sensor over the table, y to the left, z up, metres.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -152,6 +153,10 @@ class CloudScene(PhysicsClient):
         visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=TABLE_HALF, rgbaColor=TABLE_COLOUR, physicsClientId=c)
         self.table = pb.createMultiBody(0, shape, visual, [*TABLE_CENTRE, -TABLE_HALF[2]], physicsClientId=c)
         self.panda: Panda | None = None
+        # A video's camera and captions (vslsp.sim.video), when one films the scene.
+        self.frame_hook: Callable[[CloudScene], None] | None = None
+        self.narrator: Callable[[CloudScene, tuple[str, ...], float], None] | None = None
+        self.backdrop = None
         if robot:
             pb.setGravity(0, 0, -9.81, physicsClientId=c)
             pb.setTimeStep(TIME_STEP, physicsClientId=c)
@@ -226,6 +231,31 @@ class CloudScene(PhysicsClient):
         """Advance the physics by ``n`` steps of :data:`TIME_STEP`."""
         for _ in range(n):
             pb.stepSimulation(physicsClientId=self.client)
+            if self.frame_hook is not None:
+                self.frame_hook(self)
+
+    # -- what a video shows (vslsp.sim.video) -----------------------------------------------
+    def say(self, *lines: str, hold: float = 0.0) -> None:
+        """The caption of a video filming this scene (nothing otherwise), and ``hold`` seconds
+        of the scene as it is now under it."""
+        if self.narrator is not None:
+            self.narrator(self, lines, hold)
+
+    def movable_poses(self) -> tuple:
+        """The objects' and boxes' poses, as pybullet has them."""
+        return tuple(
+            pb.getBasePositionAndOrientation(body, physicsClientId=self.client) for body in self.bodies.values()
+        )
+
+    def arm_chain(self) -> np.ndarray | None:
+        """The Panda's joints from its base, then the fingertips (K, 3); None without it."""
+        if self.panda is None:
+            return None
+        states = pb.getLinkStates(self.panda.body, list(range(7)), physicsClientId=self.client)
+        return np.array([[0.0, 0.0, 0.0]] + [state[4] for state in states] + [self.panda.hand()[0]])
+
+    def arm_body(self) -> int | None:
+        return None if self.panda is None else self.panda.body
 
     def settle(self, max_steps: int = 960) -> None:
         """Step until every object has been at rest for :data:`REST_STEPS` steps (below 1 mm/s

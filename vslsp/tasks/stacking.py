@@ -8,6 +8,8 @@ new cloud, each object grasped where its matched cloud says and put on its box a
 
 from __future__ import annotations
 
+from typing import Any
+
 from vslsp.tasks.registry import register
 from vslsp.tasks.table_cleaning import Vsl3dExperiment
 
@@ -26,8 +28,8 @@ class Stacking(Vsl3dExperiment):
     )
     summary_line = "Stacks, errors relative to the box"
 
-    def reproduce(self, seed: int) -> tuple[list[dict], dict]:
+    def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
         from vslsp.vsl3d.stacking import run_stacking
 
-        outcome, pictures = run_stacking(seed, self.method)
+        outcome, pictures = run_stacking(seed, self.method, video=video)
         return [op.to_dict() for op in outcome], pictures

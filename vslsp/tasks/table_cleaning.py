@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.errors import InputError
-from vslsp.tasks.base import Option, System, Task, TrialResult
+from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.registry import register
 
 METHODS = ("prerejective_ransac", "sac_ia", "icp")  # as vslsp.vsl3d.alignment.METHODS (heavy to import)
@@ -80,23 +80,36 @@ class Vsl3dExperiment(Task):
     :meth:`reproduce` and the report's sentence (:attr:`summary_line`)."""
 
     system = System.VSL_3D
-    options = frozenset({Option.METHOD})
+    options = frozenset({Option.METHOD, Option.VIDEO})
     summary_line = "Operations"
 
     def check(self) -> None:
         if self.method not in METHODS:
             raise InputError(f"unknown --method {self.method!r}; choose one of {', '.join(METHODS)}")
+        if self.option(Option.VIDEO):
+            from vslsp.sim.video import check_encoder
+
+            check_encoder()
 
     @property
     def method(self) -> str:
         return str(self.option(Option.METHOD, "prerejective_ransac"))
 
-    def reproduce(self, seed: int) -> tuple[list[dict], dict]:
-        """Demonstrate and reproduce the trial of ``seed``: the operations' records and the pictures."""
+    def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
+        """Demonstrate and reproduce the trial of ``seed`` (filmed by ``video``, a
+        :class:`~vslsp.sim.video.SceneVideo`, when given): the operations' records and the pictures."""
         raise NotImplementedError
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
-        operations, pictures = self.reproduce(seed)
+        from vslsp.sim.video import SceneVideo, tabletop_scene_camera
+
+        folder = self.option(Option.VIDEO)
+        video = SceneVideo(Path(folder) / video_path(seed), camera=tabletop_scene_camera()) if folder else None
+        try:
+            operations, pictures = self.reproduce(seed, video)
+        finally:
+            if video is not None:
+                video.close()
         return TrialResult(
             self.name,
             seed,
@@ -105,6 +118,7 @@ class Vsl3dExperiment(Task):
             operations=operations,
             details={"method": self.method},
             artefacts=pictures if keep else None,
+            video=video_path(seed) if video is not None else None,
         )
 
     def summary(self, results: list[TrialResult]) -> dict:
@@ -142,8 +156,8 @@ class TableCleaning(Vsl3dExperiment):
         "(success: each object within 1.5 cm and 15 deg of its demonstrated pose)."
     )
 
-    def reproduce(self, seed: int) -> tuple[list[dict], dict]:
+    def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
         from vslsp.vsl3d.table_cleaning import run_table_cleaning
 
-        outcome, pictures = run_table_cleaning(seed, self.method)
+        outcome, pictures = run_table_cleaning(seed, self.method, video)
         return [op.to_dict() for op in outcome.operations], pictures

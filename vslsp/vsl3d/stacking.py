@@ -16,6 +16,7 @@ object's centre and :data:`TOLERANCE_DEG`.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -25,7 +26,15 @@ from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.matching import Match, find_best_match
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_pictures
 from vslsp.vsl3d.reproduce import Reproduction, reproduce, world_of
-from vslsp.vsl3d.table_cleaning import TOLERANCE_DEG, TOLERANCE_M, RobotOperation, picture, pose_error
+from vslsp.vsl3d.table_cleaning import (
+    TOLERANCE_DEG,
+    TOLERANCE_M,
+    RobotOperation,
+    film,
+    picture,
+    pose_error,
+    say_outcome,
+)
 from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCloud, euclidean_clusters, get_object
 
 OPERATIONS = (("duck", "box1"), ("teddy", "box2"))  # each object goes on top of its box
@@ -111,7 +120,7 @@ def relative_error(
 
 
 def run_stacking(
-    seed: int = 0, method: str = "prerejective_ransac", absent: tuple[str, ...] = ()
+    seed: int = 0, method: str = "prerejective_ransac", absent: tuple[str, ...] = (), video: Any = None
 ) -> tuple[tuple[StackResult, ...], dict]:
     """Demonstrate the two stacks in a seeded random scene, move everything, reproduce with the
     robot. ``absent`` names objects or boxes left out of the new scene (bad input: each is
@@ -125,7 +134,9 @@ def run_stacking(
     goals: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     images = []
     with CloudScene(objects, tray=False, robot=True, boxes=boxes) as scene:
+        film(scene, video, "stacking: the tutor's demonstration")
         for name, box in OPERATIONS:
+            scene.say(f"the tutor stacks {name} on {box}")
             scene.park()
             pre_image = scene.capture()
             x, y = scene.pose(box)[:2, 3]
@@ -167,6 +178,7 @@ def run_stacking(
     results: list[StackResult] = []
     matched, cloud = [], None
     with CloudScene(objects, tray=False, robot=True, boxes=boxes) as scene:
+        film(scene, video, "stacking: the robot reproduces the stacks (VSL-3D)")
         movable = list(scene.bodies.values())
         put_down: list[np.ndarray] = []  # where earlier operations put their objects
         for index, ((name, box), demo) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
@@ -189,6 +201,7 @@ def run_stacking(
                     found["box"].registration.transform @ moved.transform @ np.linalg.inv(match.registration.transform)
                 )
 
+            scene.say(f"robot, operation {index + 1}: {name} onto {box} (both found in the point cloud)")
             record = reproduce(
                 scene,
                 moved.pre,
@@ -201,6 +214,7 @@ def run_stacking(
             )
             fitness = found["box"].registration.fitness if "box" in found else None
             results.append(judge(scene, index, name, box, moved.to_dict(), record, goals[name], fitness))
+            say_outcome(scene, index, results[-1])
             if record.placed is not None:
                 put_down.append(record.placed)
             matched.append(picture(record))

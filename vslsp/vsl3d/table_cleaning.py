@@ -158,6 +158,7 @@ def demonstrate(
     goals: dict[str, np.ndarray] = {}
     images: list[np.ndarray] = []
     for name, (x, y), into_tray in OPERATIONS:
+        scene.say(f"the tutor moves {name}" + (" into the box" if into_tray else ""))
         scene.park()
         pre_image = scene.capture()
         support = scene.surface_height(x, y) if into_tray else 0.0
@@ -183,6 +184,23 @@ def demonstrate(
     return demonstrated, goals, images
 
 
+def film(scene: CloudScene, video: Any, caption: str) -> None:
+    """Let ``video`` (a :class:`~vslsp.sim.video.SceneVideo`, or None) film ``scene`` under ``caption``."""
+    if video is not None:
+        video.attach(scene)
+        scene.say(caption, hold=1.0)
+
+
+def say_outcome(scene: CloudScene, index: int, result: RobotOperation) -> None:
+    """An operation's outcome in the video's caption, held a moment."""
+    error = (
+        f"{result.final_error_mm} mm, {result.final_error_deg} deg from the demonstrated pose"
+        if result.final_error_mm is not None
+        else (result.error or "")
+    )
+    scene.say(f"robot, operation {index + 1}: {'ok' if result.success else 'FAILED'}", error, hold=1.0)
+
+
 def judge(
     scene: CloudScene, index: int, name: str, summary: dict, record: Reproduction, goal: np.ndarray
 ) -> OperationResult:
@@ -196,18 +214,20 @@ def judge(
 
 
 def run_table_cleaning(
-    seed: int = 0, method: str = "prerejective_ransac"
+    seed: int = 0, method: str = "prerejective_ransac", video: Any = None
 ) -> tuple[TableCleaningResult, dict[str, Any]]:
     """Demonstrate the table cleaning in a seeded random scene, reshuffle, reproduce with the
     robot. Returns the outcome and the report's pictures: ``demonstration`` (per operation the
     pre|post RGB (H, 2W, 3) with the found object's frame), ``matched`` (the reproduction's RGB
     views with the matched observation's frame and the grasp), ``cloud`` (the first
     reproduction capture's cloud coloured by segment) and ``final`` (the demonstrated final
-    scene beside the reproduced one, (H, 2W, 3))."""
+    scene beside the reproduced one, (H, 2W, 3)). ``video``: a :class:`~vslsp.sim.video.SceneVideo`
+    that films both scenes."""
     rng = np.random.default_rng(seed)
     names = [name for name, _, _ in OPERATIONS] + ["blob"]  # the blob stays on the table
     layout = random_layout(names, seed, keep_clear=KEEP_CLEAR)
     with CloudScene(layout, robot=True) as scene:
+        film(scene, video, "table cleaning: the tutor's demonstration")
         demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed)
         scene.park()
         demonstrated_final = scene.capture().rgb
@@ -217,6 +237,7 @@ def run_table_cleaning(
     }
     results, matched, cloud = [], [], None
     with CloudScene(reshuffled, robot=True) as scene:
+        film(scene, video, "table cleaning: the robot reproduces it (VSL-3D)")
         movable = list(scene.bodies.values())
         put_down: list[np.ndarray] = []  # where earlier operations put their objects
         for index, ((name, _, _), (moved, failure)) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
@@ -227,10 +248,12 @@ def run_table_cleaning(
             def motion_for(match, world, moved=moved):
                 return moved.transform @ np.linalg.inv(match.registration.transform)  # T_j M_j^-1
 
+            scene.say(f"robot, operation {index + 1}: {name} (found in the point cloud)")
             record = reproduce(
                 scene, moved.pre, motion_for, method=method, seed=seed, movable=movable, placed=tuple(put_down)
             )
             results.append(judge(scene, index, name, moved.to_dict(), record, goals[name]))
+            say_outcome(scene, index, results[-1])
             if record.placed is not None:
                 put_down.append(record.placed)
             matched.append(picture(record))
