@@ -1,5 +1,6 @@
-"""What ``--video`` costs a trial (issue "Reports a researcher can put in a paper"): each iCub
-experiment's trials run with and without filming, interleaved in this process, each seed
+"""What ``--video`` costs a trial (issue "Reports a researcher can put in a paper"): each
+experiment's trials (the iCub ones and a Panda tabletop task by default) run with and without
+filming, through the task framework as ``vslsp experiment`` runs them, interleaved in this process, each seed
 ``--repeat`` times; the figure per seed is its quickest run, in wall-clock seconds and in CPU
 seconds (the process, the planner and the ffmpeg encoder it starts: hardly changed by other
 programs loading the machine). Target: the video adds at most 30 % to a trial.
@@ -15,17 +16,17 @@ import tempfile
 import time
 from pathlib import Path
 
-from vslsp.loop.experiments import run_trial
-from vslsp.skills.library import SkillLibrary, default_library_path
+from vslsp.tasks import get_task, run_one
 from vslsp.tasks.base import cpu_seconds
 
 TARGET = 1.30
 
 
-def measure(experiment: str, seed: int, library: SkillLibrary, video: Path | None) -> tuple[float, float]:
-    """Wall-clock and CPU seconds of one trial (filmed into ``video`` when given)."""
+def measure(experiment: str, seed: int, video: Path | None) -> tuple[float, float]:
+    """Wall-clock and CPU seconds of one trial (filmed into the folder ``video`` when given)."""
+    task = get_task(experiment, video=str(video) if video is not None else None)
     start, cpu = time.perf_counter(), cpu_seconds()
-    trial = run_trial(experiment, seed, library, video=video)
+    trial = run_one(task, seed)
     if not trial.success:
         raise SystemExit(f"{experiment} seed {seed} failed: {trial.error}")
     return time.perf_counter() - start, cpu_seconds() - cpu
@@ -33,13 +34,13 @@ def measure(experiment: str, seed: int, library: SkillLibrary, video: Path | Non
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--experiments", nargs="+", default=["pull-in-order", "keep-all-near"])
+    parser.add_argument("--experiments", nargs="+", default=["pull-in-order", "keep-all-near", "alphabet-ordering"])
     parser.add_argument("--seeds", nargs="+", type=int, default=[5, 6])
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
-    library = SkillLibrary.load(default_library_path())
-    run_trial(args.experiments[0], args.seeds[0], library)  # imports and caches warm
+    for experiment in args.experiments:  # imports and caches warm
+        measure(experiment, args.seeds[0], None)
     figures = {}
     with tempfile.TemporaryDirectory() as folder:
         for experiment in args.experiments:
@@ -47,9 +48,8 @@ def main() -> None:
             filmed: dict[int, list] = {}
             for seed in args.seeds:
                 for _ in range(args.repeat):  # interleaved: a load change hits both alike
-                    plain.setdefault(seed, []).append(measure(experiment, seed, library, None))
-                    video = Path(folder) / f"{experiment}-{seed}.mp4"
-                    filmed.setdefault(seed, []).append(measure(experiment, seed, library, video))
+                    plain.setdefault(seed, []).append(measure(experiment, seed, None))
+                    filmed.setdefault(seed, []).append(measure(experiment, seed, Path(folder) / experiment))
             wall = (
                 sum(min(w for w, _ in plain[s]) for s in args.seeds),
                 sum(min(w for w, _ in filmed[s]) for s in args.seeds),
