@@ -30,14 +30,14 @@ from vslsp.sim.scene import TABLE_Z
 
 FPS = 4  # frames per simulated second (and the video's playback rate: real time)
 RENDER_SIZE = (256, 192)  # the scene camera's image (the render's cost grows with its pixels)
-SCALE = 1.5  # shown this much larger under the caption
+SCALE = 1.25  # shown this much larger under the caption
 RENDER_EVERY = 2  # while cubes move, the render is renewed at most every this many frames
 ARM = (200, 30, 30)  # RGB: the arm's chain
 HAND = (255, 255, 255)
 TRAIL = 18  # frames of the hand's path drawn behind it
 JUMP = 60  # px: a hand that moved further in one frame was reset, not moved
 CAPTION_LINES = 3
-CAPTION_CHARACTERS = 54  # a caption line's width at the caption's font (wrapped beyond)
+CAPTION_CHARACTERS = 50  # a caption line's width at the caption's font (wrapped beyond)
 HOLD_S = 1.0  # a step's outcome stays on screen this long (simulated seconds)
 STEPS_PER_SECOND = 240  # the world's physics rate (vslsp.sim.robot.TIME_STEP)
 
@@ -82,6 +82,7 @@ class SceneVideo:
         self.frames = 0
         self.rendered = 0
         self._text: list[str] = []
+        self._band: np.ndarray | None = None  # the caption band as last drawn (None: to draw)
         self._ticks = 0
         self._every = max(1, STEPS_PER_SECOND // fps)
         self._last: tuple[Any, np.ndarray] | None = None
@@ -116,6 +117,7 @@ class SceneVideo:
         """The words under the frames from now on (at most :data:`CAPTION_LINES` lines)."""
         wrapped = [part for line in lines if line for part in textwrap.wrap(line, CAPTION_CHARACTERS)]
         self._text = wrapped[:CAPTION_LINES]
+        self._band = None
 
     def _narrate(self, world, lines: tuple[str, ...], hold: float) -> None:
         self.caption(*lines)
@@ -164,10 +166,13 @@ class SceneVideo:
         cv2.circle(picture, tuple(int(v) for v in pixels[-1]), 6, ARM, 1, cv2.LINE_AA)
 
     def _captioned(self, picture: np.ndarray) -> np.ndarray:
-        band = np.full((self._band_height, picture.shape[1], 3), 24, np.uint8)
-        for k, text in enumerate(self._text):
-            cv2.putText(band, text, (6, 18 + 20 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.42, (255, 255, 255), 1, cv2.LINE_AA)
-        return np.vstack([picture, band])
+        if self._band is None or self._band.shape[1] != picture.shape[1]:
+            self._band = np.full((self._band_height, picture.shape[1], 3), 24, np.uint8)
+            for k, text in enumerate(self._text):
+                cv2.putText(
+                    self._band, text, (5, 17 + 20 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.38, (255, 255, 255), 1, cv2.LINE_AA
+                )
+        return np.vstack([picture, self._band])
 
     def _write(self, frame: np.ndarray) -> None:
         if self._encoder is None:
