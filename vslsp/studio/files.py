@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path, PurePosixPath
+from urllib.parse import unquote
 
 from vslsp.errors import InputError
 
@@ -35,7 +36,8 @@ def inside(root: Path, rel: str, *, must_exist: bool = True) -> Path:
     if "\x00" in rel or "\\" in rel:
         raise Outside(f"{rel!r}: not a path under the studio's root")
     pure = PurePosixPath(rel)
-    if pure.is_absolute() or any(part == ".." for part in pure.parts) or rel.startswith("~"):
+    decoded = PurePosixPath(unquote(unquote(rel)))  # an encoded '..' (%2e%2e, %252e%252e) is refused too
+    if pure.is_absolute() or ".." in (*pure.parts, *decoded.parts) or rel.startswith("~"):
         raise Outside(f"{rel}: outside the studio's root; give a path relative to it without '..'")
     base = root.resolve()
     target = (base / pure).resolve()
