@@ -17,5 +17,9 @@ def studio_root(tmp_path: Path) -> Path:
     """A root with pddl/ (the shipped domain and problems) and examples/grounding/."""
     root = tmp_path / "root"
     shutil.copytree(REPO / "pddl", root / "pddl", ignore=shutil.ignore_patterns("*.py", "__pycache__"))
-    shutil.copytree(REPO / "examples" / "grounding", root / "examples" / "grounding", ignore=shutil.ignore_patterns("test_*", "__pycache__"))
+    shutil.copytree(
+        REPO / "examples" / "grounding",
+        root / "examples" / "grounding",
+        ignore=shutil.ignore_patterns("test_*", "__pycache__"),
+    )
     return root

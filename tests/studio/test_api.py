@@ -82,9 +82,7 @@ def test_unsolvable_problem_is_a_plan_of_null(studio_root):
     assert response.json()["plan"] is None if response.status_code == 200 else "error" in response.json()
 
 
-@pytest.mark.parametrize(
-    "body", [b"not json", b"[1, 2]", b'{"domain": 3}', b'{"problem": "x"}']
-)
+@pytest.mark.parametrize("body", [b"not json", b"[1, 2]", b'{"domain": 3}', b'{"problem": "x"}'])
 def test_bad_bodies_are_400_never_500(studio_root, body):
     for endpoint in ("/api/check", "/api/plan", "/api/validate", "/api/ground", "/api/runs", "/api/save"):
         response = client(studio_root).post(endpoint, content=body)
@@ -135,7 +133,9 @@ def test_every_way_out_of_the_root_is_refused(studio_root, tmp_path, path):
         response = web.get(url)
         assert response.status_code in (403, 404), url
         assert "secret" != response.text
-    assert web.post("/api/save", json={"path": path if path.endswith("txt") else "escape", "text": "x"}).status_code in (
+    assert web.post(
+        "/api/save", json={"path": path if path.endswith("txt") else "escape", "text": "x"}
+    ).status_code in (
         400,
         403,
     )

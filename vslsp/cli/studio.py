@@ -66,4 +66,6 @@ def _check_port(host: str, port: int) -> None:
         try:
             probe.bind((host, port))
         except OSError as error:
-            raise InputError(f"cannot serve on {host}:{port} ({error.strerror}); choose another --port or --host") from None
+            raise InputError(
+                f"cannot serve on {host}:{port} ({error.strerror}); choose another --port or --host"
+            ) from None

@@ -91,7 +91,11 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
     async def listing(kind: str = "pddl") -> dict:
         suffixes = {"pddl": (".pddl",), "image": IMAGE_SUFFIXES, "predicates": (".py",), "plan": (".plan", ".txt")}
         if kind == "reports":
-            found = [p.rsplit("/", 1)[0] if "/" in p else "." for p in files.listing(root, (".json",)) if p.endswith("report.json")]
+            found = [
+                p.rsplit("/", 1)[0] if "/" in p else "."
+                for p in files.listing(root, (".json",))
+                if p.endswith("report.json")
+            ]
             return {"files": found}
         if kind not in suffixes:
             raise InputError(f"kind must be one of {', '.join([*suffixes, 'reports'])}, got {kind!r}")
@@ -143,7 +147,7 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
     @api.post("/ground")
     async def ground(request: Request) -> dict:
         data = await _body(request)
-        return await run_in_threadpool(_ground, root, data)
+        return await run_in_threadpool(ground_pair, root, data)
 
     @api.post("/upload")
     async def upload(request: Request) -> dict:
@@ -231,10 +235,9 @@ class TokenGate:
         return await self.app(scope, receive, with_cookie)
 
 
-def _ground(root: Path, data: dict) -> dict:
+def ground_pair(root: Path, data: dict) -> dict:
     """``vslsp ground --json`` on two images under the root (predicates only from a file under it)."""
-    from vslsp.grounding import draw_grounding, load_predicates, with_builtins
-    from vslsp.grounding import ground as ground_pair
+    from vslsp.grounding import draw_grounding, ground, load_predicates, with_builtins
     from vslsp.vision.image import read_image, write_image
 
     pre, post = (inside(root, _text(data, key)) for key in ("pre", "post"))
@@ -247,7 +250,7 @@ def _ground(root: Path, data: dict) -> dict:
         predicates = with_builtins(load_predicates(inside(root, _text(data, "predicates"))))
     pre_image = read_image(pre, f"pre-action image {data['pre']}")
     post_image = read_image(post, f"post-action image {data['post']}")
-    grounding = ground_pair(pre_image, post_image, robot_side=side, predicates=predicates)
+    grounding = ground(pre_image, post_image, robot_side=side, predicates=predicates)
     overlay = inside(root, "out/studio/ground/overlay.png", must_exist=False)
     overlay.parent.mkdir(parents=True, exist_ok=True)
     write_image(overlay, draw_grounding(pre_image, post_image, grounding))

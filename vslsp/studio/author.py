@@ -10,12 +10,12 @@ import html
 from pathlib import Path
 from typing import Any
 
-from nicegui import run, ui
+from nicegui import ui
 
 from vslsp.errors import VslspError
 from vslsp.studio import editing, files
 from vslsp.studio import pddl as pddl_work
-from vslsp.studio.layout import frame
+from vslsp.studio.layout import frame, in_thread
 
 STYLE = """
 .vslsp-error { text-decoration: underline wavy #c62828; }
@@ -48,7 +48,7 @@ class Author:
             ui.button("Save", on_click=self.save).props("id=save")
             ui.button("Plan", on_click=self.plan).props("id=plan")
             ui.button("Validate", on_click=self.validate).props("id=validate")
-            ui.label("Ctrl-Space: complete").classes("text-grey-7")
+            ui.label("F2: complete the name at the cursor").classes("text-grey-7")
         with ui.row().classes("w-full no-wrap"):
             self.editors: dict[str, Any] = {}
             for kind in ("domain", "problem"):
@@ -58,7 +58,10 @@ class Author:
                         texts[kind],
                         language="Common Lisp",
                         on_change=lambda _event: self.check(),
-                        keymap={"Ctrl-Space": lambda _event, k=kind: self.complete(k)},
+                        keymap={
+                            "Ctrl-Space": lambda _event, k=kind: self.complete(k),
+                            "F2": lambda _event, k=kind: self.complete(k),
+                        },
                     ).classes(f"w-full h-96 border editor-{kind}")
                     self.editors[kind] = editor
         self.completions = ui.row().classes("completions")
@@ -144,7 +147,7 @@ class Author:
             ui.spinner()
         domain, problem, domain_file, problem_file = self._texts()
         try:
-            answer: dict = await run.io_bound(pddl_work.plan, domain, problem, domain_file, problem_file)
+            answer = await in_thread(pddl_work.plan, domain, problem, domain_file, problem_file)
         except VslspError as error:
             answer = {"plan": None, "error": str(error), "conflict": getattr(error, "conflict", None)}
         self.results.clear()
@@ -157,7 +160,8 @@ class Author:
             ui.label(f"plan: {len(answer['plan'])} steps ({answer['planner']}, {answer['time_s']:.2f} s)")
             with ui.element("ol").classes("plan-steps"):
                 for step in answer["plan"]:
-                    ui.element("li").classes("plan-step").text = f"({step})"
+                    with ui.element("li").classes("plan-step"):
+                        ui.label(f"({step})")
             self.plan_editor.value = "".join(f"({step})\n" for step in answer["plan"])
             self.timeline(answer["timeline"], set())
 
@@ -174,7 +178,7 @@ class Author:
         plan_text = self.plan_editor.value
         self.results.clear()
         try:
-            answer: dict = await run.io_bound(pddl_work.validate, domain, problem, plan_text, domain_file, problem_file)
+            answer = await in_thread(pddl_work.validate, domain, problem, plan_text, domain_file, problem_file)
         except VslspError as error:
             with self.results:
                 ui.label(str(error)).classes("text-negative validate-error")
@@ -215,9 +219,15 @@ class Author:
 
     def mark(self, kind: str, marks: list[tuple[int, str, str]]) -> None:
         editor = self.plan_editor if kind == "plan" else self.editors[kind]
-        kept = [d for d in editor.decorations if not str(d.get("class", "")).startswith(("vslsp-line-violation", "vslsp-line-conflict"))]
+        kept = [
+            d
+            for d in editor.decorations
+            if not str(d.get("class", "")).startswith(("vslsp-line-violation", "vslsp-line-conflict"))
+        ]
         for line, what, message in marks:
-            kept.append({"kind": "line", "line": int(line), "class": f"vslsp-line-{what}", "attributes": {"title": message}})
+            kept.append(
+                {"kind": "line", "line": int(line), "class": f"vslsp-line-{what}", "attributes": {"title": message}}
+            )
         editor.decorations = kept
 
     def timeline(self, timeline: dict, flagged: set[int]) -> None:

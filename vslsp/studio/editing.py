@@ -54,7 +54,12 @@ def decorations(text: str, file: str, checked: dict) -> tuple[list[dict], dict[i
             found.append({"kind": "line", "line": line, "class": f"vslsp-line-{severity}"})
             line_end = starts[line] - 1 if line < len(starts) else len(text)
             found.append(
-                {"kind": "widget", "position": line_end, "text": f"  {diagnostic['message']}", "class": f"vslsp-say-{severity}"}
+                {
+                    "kind": "widget",
+                    "position": line_end,
+                    "text": f"  {diagnostic['message']}",
+                    "class": f"vslsp-say-{severity}",
+                }
             )
     return found, tooltips
 

@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
-from nicegui import ui
+from collections.abc import Callable
+from typing import Any
+
+from nicegui import run, ui
+
+from vslsp.errors import InputError
 
 PAGES = (("Author", "/author"), ("Ground", "/ground"), ("Experiments", "/experiments"), ("Reports", "/reports"))
 
@@ -14,3 +19,11 @@ def frame(title: str) -> None:
         ui.label("vslsp studio").classes("text-h6")
         for name, link in PAGES:
             ui.link(name, link).classes("text-white" + (" text-bold" if name == title else ""))
+
+
+async def in_thread(work: Callable[..., dict], *args: Any) -> dict:
+    """``work(*args)`` in a worker thread (planning, grounding), so the page stays live."""
+    answer = await run.io_bound(work, *args)
+    if answer is None:
+        raise InputError("the studio is stopping; start it again")
+    return answer

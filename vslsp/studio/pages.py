@@ -6,11 +6,11 @@ import json
 from pathlib import Path
 from urllib.parse import quote
 
-from nicegui import events, run, ui
+from nicegui import events, ui
 
 from vslsp.errors import VslspError
 from vslsp.studio import api, files, runs
-from vslsp.studio.layout import frame
+from vslsp.studio.layout import frame, in_thread
 
 
 def _rel_link(rel: str) -> str:
@@ -55,16 +55,16 @@ def ground_page(root: Path, pre: str | None, post: str | None, predicates: str |
 
     with ui.row():
         for kind in ("pre", "post"):
-            ui.upload(label=f"drop a {kind}-action image", auto_upload=True, max_file_size=files.MAX_UPLOAD_BYTES).on_upload(
-                uploaded(kind)
-            ).props("accept=.png,.jpg,.jpeg")
+            ui.upload(
+                label=f"drop a {kind}-action image", auto_upload=True, max_file_size=files.MAX_UPLOAD_BYTES
+            ).on_upload(uploaded(kind)).props("accept=.png,.jpg,.jpeg")
     result = ui.column().classes("w-full ground-result")
 
     async def ground() -> None:
         request = {"pre": chosen["pre"].value, "post": chosen["post"].value, "predicates": chosen_predicates.value}
         result.clear()
         try:
-            answer = await run.io_bound(api._ground, root, request)  # the API's own function
+            answer = await in_thread(api.ground_pair, root, request)  # the API's own function
         except VslspError as error:
             with result:
                 ui.label(str(error)).classes("text-negative ground-error")
@@ -73,7 +73,7 @@ def ground_page(root: Path, pre: str | None, post: str | None, predicates: str |
             ui.image(_rel_link(answer["overlay"]) + f"?v={id(answer)}").classes("w-full max-w-4xl overlay")
             far = {True: "far", False: "not far"}
             ui.label(
-                f"moved: {answer['name']}, {far[answer['far_pre']]} -> {far[answer['far_post']]}, "
+                f"moved: {answer['object']['name']}, {far[answer['far']['pre']]} -> {far[answer['far']['post']]}, "
                 f"action: {answer.get('action') or 'none'}"
             ).classes("moved")
             atoms = answer.get("atoms") or {}
@@ -107,11 +107,15 @@ def experiments_page(root: Path) -> None:
 
     frame("Experiments")
     entries = [cls().describe() for cls in list_tasks()]
-    columns = [{"name": k, "label": k, "field": k, "align": "left"} for k in ("name", "system", "paper_section", "options")]
+    columns = [
+        {"name": k, "label": k, "field": k, "align": "left"} for k in ("name", "system", "paper_section", "options")
+    ]
     rows = [{**e, "options": ", ".join(e["options"]) or "-"} for e in entries]
     ui.table(columns=columns, rows=rows, row_key="name").classes("w-full experiments-table")
     with ui.row().classes("items-end"):
-        name = ui.select([e["name"] for e in entries], value=entries[0]["name"], label="experiment").classes("w-60 pick-experiment")
+        name = ui.select([e["name"] for e in entries], value=entries[0]["name"], label="experiment").classes(
+            "w-60 pick-experiment"
+        )
         trials = ui.number("trials", value=1, min=1, max=1000, precision=0).classes("w-24")
         seed = ui.number("seed", value=0, min=0, precision=0).classes("w-24")
         workers = ui.number("workers", value=1, min=1, precision=0).classes("w-24")
@@ -162,7 +166,11 @@ def reports_page(root: Path, rel: str | None) -> None:
     """A report folder: the summary table, the images in order, plans, videos, VSL-3D's clouds."""
     frame("Reports")
     if not rel:
-        found = [p.rsplit("/", 1)[0] if "/" in p else "." for p in files.listing(root, (".json",)) if p.endswith("report.json")]
+        found = [
+            p.rsplit("/", 1)[0] if "/" in p else "."
+            for p in files.listing(root, (".json",))
+            if p.endswith("report.json")
+        ]
         if not found:
             ui.label("no report folders under the root yet: run an experiment")
         for folder in found:
@@ -178,8 +186,10 @@ def reports_page(root: Path, rel: str | None) -> None:
     plain = {k: v for k, v in summary.items() if isinstance(v, (str, int, float, bool)) or v is None}
     rows = [{"field": k, "value": json.dumps(v) if not isinstance(v, str) else v} for k, v in plain.items()]
     ui.table(
-        columns=[{"name": "field", "label": "field", "field": "field", "align": "left"},
-                 {"name": "value", "label": "value", "field": "value", "align": "left"}],
+        columns=[
+            {"name": "field", "label": "field", "field": "field", "align": "left"},
+            {"name": "value", "label": "value", "field": "value", "align": "left"},
+        ],
         rows=rows,
     ).classes("summary-table")
     for image in report["images"]:

@@ -37,7 +37,9 @@ def check(domain: str, problem: str | None, domain_file: str = "<domain>", probl
         count = len(analysis.errors)
         report["error"] = f"{count} error{'' if count == 1 else 's'}; the first: {analysis.errors[0].format()}"
     index = analysis.index
-    report["names"] = {kind: sorted(index.names(kind)) for kind in ("type", "predicate", "action", "object", "constant")}
+    report["names"] = {
+        kind: sorted(index.names(kind)) for kind in ("type", "predicate", "action", "object", "constant")
+    }
     hovers: dict[str, list[dict]] = {}
     for reference in index.references:
         declaration = reference.declaration

@@ -41,7 +41,9 @@ def checked(request: Any) -> dict:
         raise InputError("name an experiment (GET /api/experiments lists them)")
     unknown = set(request) - {"experiment", "trials", "seed", "workers", "backend", "faults"}
     if unknown:
-        raise InputError(f"unknown field {sorted(unknown)[0]!r}; give experiment, trials, seed, workers, backend, faults")
+        raise InputError(
+            f"unknown field {sorted(unknown)[0]!r}; give experiment, trials, seed, workers, backend, faults"
+        )
     backend = request.get("backend", "local")
     if backend not in ("local", "ray"):
         raise InputError(f"backend must be local or ray, got {backend!r}")
