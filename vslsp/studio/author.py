@@ -57,6 +57,7 @@ class Author:
                     editor = ui.codemirror(
                         texts[kind],
                         language="Common Lisp",
+                        line_wrapping=True,
                         on_change=lambda _event: self.check(),
                         keymap={
                             "Ctrl-Space": lambda _event, k=kind: self.complete(k),
