@@ -74,12 +74,19 @@ def test_a_bad_plan_step_is_a_400_with_the_cli_message(studio_root):
     assert "pul" in response.json()["error"] and response.json()["exit_code"] == 2
 
 
-def test_unsolvable_problem_is_a_plan_of_null(studio_root):
+def test_an_unsolvable_problem_names_its_conflict_on_its_lines(studio_root):
     sent = texts(studio_root)
-    sent["problem"] = sent["problem"].replace("(:goal", "(:constraints (always (far green)))\n  (:goal", 1)
-    response = client(studio_root).post("/api/plan", json=sent)
-    assert response.status_code in (200, 400)
-    assert response.json()["plan"] is None if response.status_code == 200 else "error" in response.json()
+    sent["problem"] = sent["problem"].replace("(:constraints (and", "(:constraints (and (always (far green))", 1)
+    answer = client(studio_root).post("/api/plan", json=sent).json()
+    assert answer["plan"] is None and answer["exit_code"] == 1 and "no plan" in answer["error"]
+    kinds = {(item["kind"], item["line"]) for item in answer["conflict"]}
+    assert ("constraint", 15) in kinds and any(kind == "goal" for kind, _ in kinds)
+
+
+def test_validate_lists_every_violation_with_its_line_and_step(studio_root):
+    sent = {**texts(studio_root), "plan": "(pull yellow)\n(pull green)\n(pull orange)\n"}
+    answer = client(studio_root).post("/api/validate", json=sent).json()
+    assert sorted((v["line"], v["step"]) for v in answer["violations"]) == [(16, 2), (17, 1)]
 
 
 @pytest.mark.parametrize("body", [b"not json", b"[1, 2]", b'{"domain": 3}', b'{"problem": "x"}'])

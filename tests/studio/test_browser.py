@@ -138,6 +138,20 @@ def test_validate_marks_both_violations_on_steps_and_constraint_lines(page, stud
     assert page.locator("table.timeline td.broken").count() == 5
 
 
+def test_an_unsolvable_problem_shows_its_conflict_on_its_lines(page, studio):
+    _author(page, studio)
+    page.locator(".editor-problem .cm-line", has_text="(:constraints (and").click()
+    page.keyboard.press("End")
+    page.keyboard.type(" (always (far green))")  # the goal wants green near: no plan
+    page.locator(".editor-problem .cm-line", has_text="(always (far green))").wait_for()
+    page.locator("#plan").click()
+    page.locator(".plan-error").wait_for()
+    assert "no plan" in page.locator(".plan-error").inner_text(), page.locator(".diagnostics").inner_text()
+    assert page.locator(".conflict-item").count() >= 2
+    marked = page.locator(".editor-problem .cm-line.vslsp-line-conflict").all_inner_texts()
+    assert any("(always (far green))" in text for text in marked)
+
+
 def test_ground_the_example_pair_shows_the_atoms(page, studio):
     rel = "examples/grounding"
     page.goto(f"{studio}/ground?pre={rel}/pre.png&post={rel}/post.png&predicates={rel}/predicates.py")

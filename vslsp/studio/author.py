@@ -73,7 +73,10 @@ class Author:
                 self.plan_editor = ui.codemirror("", language="Common Lisp").classes("w-full h-48 border editor-plan")
             self.results = ui.column().classes("w-2/3 results")
         self.checked: dict = {}
+        self.shown: dict[str, list[dict]] = {}
+        self.drawn = False
         self.check()
+        self.drawn = True
 
     def file(self, kind: str) -> str:
         return self.names[kind].value or f"<{kind}>"
@@ -84,8 +87,7 @@ class Author:
         self.checked = pddl_work.check(domain, problem or None, self.file("domain"), self.file("problem"))
         for kind, editor in self.editors.items():
             found, tips = editing.decorations(editor.value, self.file(kind), self.checked)
-            editor.decorations = found
-            editor.line_tooltips = tips
+            self.draw(kind, found, tips)
         self.diagnostics.clear()
         with self.diagnostics:
             for diagnostic in self.checked["diagnostics"]:
@@ -218,18 +220,30 @@ class Author:
             found.append({"kind": "plan", "line": lines.get("goal"), "step": applied + 1, "message": answer["reason"]})
         return found
 
-    def mark(self, kind: str, marks: list[tuple[int, str, str]]) -> None:
+    def draw(self, kind: str, found: list[dict], tips: dict[int, str] | None = None) -> None:
+        """Decorations (and line tooltips) through the editor's own methods, not its props: a props
+        update would send the server's copy of the text too, which lags the keys still in flight."""
         editor = self.plan_editor if kind == "plan" else self.editors[kind]
+        self.shown[kind] = found
+        if not self.drawn:  # the page is being built: its props go out with it
+            editor.decorations = found
+            editor.line_tooltips = tips or {}
+            return
+        editor.run_method("setDecorations", found)
+        if tips is not None:
+            editor.run_method("setLineTooltips", {str(line): text for line, text in tips.items()})
+
+    def mark(self, kind: str, marks: list[tuple[int, str, str]]) -> None:
         kept = [
             d
-            for d in editor.decorations
+            for d in self.shown.get(kind, [])
             if not str(d.get("class", "")).startswith(("vslsp-line-violation", "vslsp-line-conflict"))
         ]
         for line, what, message in marks:
             kept.append(
                 {"kind": "line", "line": int(line), "class": f"vslsp-line-{what}", "attributes": {"title": message}}
             )
-        editor.decorations = kept
+        self.draw(kind, kept)
 
     def timeline(self, timeline: dict, flagged: set[int]) -> None:
         """States s_0..s_n as rows: the step, the atoms true after it, each constraint's mark."""
