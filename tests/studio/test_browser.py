@@ -37,12 +37,28 @@ def _free_port() -> int:
         return probe.getsockname()[1]
 
 
+TOKEN = "a-token-for-the-browser-test"
+
+
 @pytest.fixture
-def studio(studio_root: Path) -> Iterator[str]:
-    """``vslsp studio --root ROOT --no-browser`` on a free port; its address once it serves."""
+def studio(studio_root: Path, request: pytest.FixtureRequest) -> Iterator[str]:
+    """``vslsp studio --root ROOT --no-browser`` on a free port (with ``--token`` for tests marked
+    ``token``); its address once it serves."""
     port = _free_port()
+    token = ["--token", TOKEN] if request.node.get_closest_marker("token") else []
     process = subprocess.Popen(
-        [sys.executable, "-m", "vslsp", "studio", "--root", str(studio_root), "--port", str(port), "--no-browser"],
+        [
+            sys.executable,
+            "-m",
+            "vslsp",
+            "studio",
+            "--root",
+            str(studio_root),
+            "--port",
+            str(port),
+            "--no-browser",
+            *token,
+        ],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         env={k: v for k, v in os.environ.items() if not k.startswith("PYTEST")},  # NiceGUI reads them as its own tests
@@ -177,6 +193,16 @@ def test_start_a_run_watch_it_finish_and_open_its_report(page, studio):
     images.first.wait_for()
     assert images.count() >= 3
     assert page.evaluate("() => [...document.querySelectorAll('.report-image img')].every(i => i.naturalWidth > 0)")
+
+
+@pytest.mark.token
+def test_with_a_token_the_page_needs_it_and_works_with_it(page, studio):
+    refused = page.goto(f"{studio}/author")
+    assert refused is not None and refused.status == 401
+    page.goto(f"{studio}/author?domain=pddl/domain.pddl&problem=pddl/pull-in-order.pddl&token={TOKEN}")
+    page.locator(".no-diagnostics").wait_for()
+    page.locator("#plan").click()  # the page's websocket carries the cookie the first visit set
+    page.locator(".plan-step").nth(2).wait_for()
 
 
 def test_the_screenshot_for_the_readme_is_made_here(tmp_path):
