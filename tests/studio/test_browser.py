@@ -195,6 +195,24 @@ def test_start_a_run_watch_it_finish_and_open_its_report(page, studio):
     assert page.evaluate("() => [...document.querySelectorAll('.report-image img')].every(i => i.naturalWidth > 0)")
 
 
+def test_a_report_with_a_vsl3d_cloud_shows_it_in_3d(page, studio, studio_root):
+    import json
+
+    import numpy as np
+
+    from vslsp.vsl3d.cloud import Frame
+    from vslsp.vsl3d.vsl import CloudObservation
+
+    folder = studio_root / "out" / "clouds"
+    folder.mkdir(parents=True)
+    (folder / "report.json").write_text(json.dumps({"experiment": "table-cleaning", "trials": 1}))
+    grid = np.stack(np.meshgrid(np.linspace(0, 0.1, 20), np.linspace(0, 0.1, 20), [0.0, 0.05]), -1).reshape(-1, 3)
+    CloudObservation(grid, Frame((0, 0, 0), (0.1, 0.1, 0.05)), np.zeros(3)).save(folder / "object.npz")
+    page.goto(f"{studio}/reports/out/clouds")
+    page.locator(".cloud-view canvas").wait_for()
+    assert "800 points" in page.locator(".q-card", has_text="object.npz").inner_text()
+
+
 @pytest.mark.token
 def test_with_a_token_the_page_needs_it_and_works_with_it(page, studio):
     refused = page.goto(f"{studio}/author")

@@ -196,6 +196,8 @@ def reports_page(root: Path, rel: str | None) -> None:
         with ui.card():
             ui.label(image).classes("text-caption")
             ui.image(_rel_link(image)).classes("w-full max-w-3xl report-image")
+    for cloud in report["clouds"]:
+        cloud_view(root, cloud)
     for video in report["videos"]:
         ui.video(_rel_link(video)).classes("max-w-3xl report-video")
     for plan in report["plans"]:
@@ -209,6 +211,36 @@ def reports_page(root: Path, rel: str | None) -> None:
     if report["markdown"]:
         with ui.expansion("report.md").classes("w-full"):
             ui.markdown(report["markdown"].replace("](", "](/files/" + quote(report["folder"]) + "/"))
+
+
+#: The most points a 3-D view draws (a cloud is subsampled evenly beyond it).
+MAX_VIEW_POINTS = 20_000
+
+
+def cloud_view(root: Path, rel: str) -> None:
+    """A VSL-3D point cloud (an ``.npz`` with ``points`` (N, 3), as ``CloudObservation.save`` writes
+    it) as an interactive 3-D view (orbit with the mouse), coloured by height."""
+    import numpy as np
+
+    try:
+        with np.load(files.inside(root, rel), allow_pickle=False) as data:
+            points = np.asarray(data["points"], dtype=float)
+    except (OSError, KeyError, ValueError):
+        return  # an .npz that is not a cloud: not shown
+    if points.ndim != 2 or points.shape[1] != 3 or not len(points):
+        return
+    points = points[:: max(1, len(points) // MAX_VIEW_POINTS)]
+    centred = points - points.mean(axis=0)
+    scale = float(np.abs(centred).max()) or 1.0
+    centred = centred / scale  # about a unit cube, where the view's camera looks
+    low, high = float(centred[:, 2].min()), float(centred[:, 2].max())
+    heat = (centred[:, 2] - low) / ((high - low) or 1.0)
+    colours = np.stack([heat, 0.4 * np.ones_like(heat), 1.0 - heat], axis=1)
+    with ui.card():
+        ui.label(f"{rel}: {len(points)} points (drag to turn, scroll to zoom)").classes("text-caption")
+        with ui.scene(width=640, height=420, grid=False).classes("cloud-view") as view:
+            view.point_cloud(centred.tolist(), colours.tolist(), point_size=0.02)
+            view.move_camera(x=1.5, y=-1.5, z=1.2, look_at_x=0, look_at_y=0, look_at_z=0)
 
 
 def register(root: Path) -> None:
