@@ -192,7 +192,11 @@ def test_start_a_run_watch_it_finish_and_open_its_report(page, studio):
     images = page.locator(".report-image img")
     images.first.wait_for()
     assert images.count() >= 3
-    assert page.evaluate("() => [...document.querySelectorAll('.report-image img')].every(i => i.naturalWidth > 0)")
+    page.wait_for_function("() => document.querySelector('.report-image img').naturalWidth > 0")  # drawn
+    sources = page.evaluate("() => [...document.querySelectorAll('.report-image img')].map(i => i.src)")
+    for source in sources:  # the ones below the fold load when scrolled to: each is served as a PNG
+        answer = page.request.get(source)
+        assert answer.ok and answer.body()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_a_report_with_a_vsl3d_cloud_shows_it_in_3d(page, studio, studio_root):
