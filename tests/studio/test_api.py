@@ -206,3 +206,11 @@ def test_a_run_goes_to_done_with_its_report(studio_root):
     report = web.get(f"/api/reports/{status['report']}").json()
     assert report["summary"]["trials"] == 1 and report["images"]
     assert web.get(f"/files/{report['images'][0]}").status_code == 200
+
+
+def test_a_rendered_scene_gives_images_under_the_root(studio_root):
+    web = client(studio_root)
+    answer = web.post("/api/scene", json={"seed": 2}).json()
+    assert answer["folder"] == "out/studio/scenes/seed-2" and answer["images"]
+    assert all((studio_root / image).read_bytes()[:4] == b"\x89PNG" for image in answer["images"])
+    assert web.post("/api/scene", json={"seed": -1}).status_code == 400

@@ -199,6 +199,15 @@ def test_start_a_run_watch_it_finish_and_open_its_report(page, studio):
         assert answer.ok and answer.body()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_a_dropped_image_is_uploaded_under_the_root_and_chosen(page, studio, studio_root):
+    page.goto(f"{studio}/ground")
+    page.locator("input[type=file]").first.set_input_files(str(studio_root / "examples/grounding/pre.png"))
+    page.wait_for_function("() => document.querySelector('.pick-pre input').value === 'out/studio/uploads/pre.png'")
+    assert (studio_root / "out/studio/uploads/pre.png").read_bytes() == (
+        studio_root / "examples/grounding/pre.png"
+    ).read_bytes()
+
+
 def test_a_report_with_a_vsl3d_cloud_shows_it_in_3d(page, studio, studio_root):
     import json
 

@@ -149,6 +149,11 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
         data = await _body(request)
         return await run_in_threadpool(ground_pair, root, data)
 
+    @api.post("/scene")
+    async def scene(request: Request) -> dict:
+        data = await _body(request)
+        return await run_in_threadpool(render_scene, root, data.get("seed"))
+
     @api.post("/upload")
     async def upload(request: Request) -> dict:
         declared = int(request.headers.get("content-length") or 0)
@@ -255,6 +260,27 @@ def ground_pair(root: Path, data: dict) -> dict:
     overlay.parent.mkdir(parents=True, exist_ok=True)
     write_image(overlay, draw_grounding(pre_image, post_image, grounding))
     return {**grounding.to_dict(), "overlay": relative(root, overlay)}
+
+
+def render_scene(root: Path, seed: object) -> dict:
+    """``vslsp scene --seed S`` into ``out/studio/scenes/seed-S`` under the root: ``{"folder", "images"}``."""
+    import subprocess
+    import sys
+
+    if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed <= 2**32 - 1:
+        raise InputError(f"seed must be a whole number from 0 to 4294967295, got {seed!r}")
+    folder = inside(root, f"out/studio/scenes/seed-{seed}", must_exist=False)
+    done = subprocess.run(
+        [sys.executable, "-m", "vslsp", "scene", "--seed", str(seed), "--out", str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    if done.returncode != 0:
+        lines = done.stderr.strip().splitlines() or ["the scene could not be rendered"]
+        raise InputError(lines[-1].removeprefix("error: "))
+    images = sorted(relative(root, p) for p in folder.glob("*.png"))
+    return {"folder": relative(root, folder), "images": images}
 
 
 def read_report(root: Path, rel: str) -> dict:

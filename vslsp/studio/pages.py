@@ -48,12 +48,23 @@ def ground_page(root: Path, pre: str | None, post: str | None, predicates: str |
             target.parent.mkdir(parents=True, exist_ok=True)
             target.write_bytes(content)
             rel = files.relative(root, target)
-            chosen[kind].options = sorted({*chosen[kind].options, rel})
-            chosen[kind].value = rel
+            chosen[kind].set_options(sorted({*chosen[kind].options, rel}), value=rel)
 
         return handle
 
-    with ui.row():
+    async def render() -> None:
+        try:
+            answer = await in_thread(api.render_scene, root, int(seed.value or 0))
+        except VslspError as error:
+            ui.notify(str(error), type="negative")
+            return
+        for select in chosen.values():
+            select.set_options(sorted({*select.options, *answer["images"]}), value=select.value)
+        ui.notify(f"rendered {', '.join(answer['images'])}")
+
+    with ui.row().classes("items-end"):
+        seed = ui.number("scene seed", value=0, min=0, precision=0).classes("w-28")
+        ui.button("Render scene", on_click=render).props("id=render flat")
         for kind in ("pre", "post"):
             ui.upload(
                 label=f"drop a {kind}-action image", auto_upload=True, max_file_size=files.MAX_UPLOAD_BYTES
