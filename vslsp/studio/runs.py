@@ -17,6 +17,7 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.studio.files import Missing
+from vslsp.studio.worker import write_status
 
 #: Where the runs live, relative to the root.
 RUNS = "out/studio/runs"
@@ -79,7 +80,7 @@ def start(root: Path, request: Any) -> str:
         "started": time.time(),
     }
     path = folder / "status.json"
-    path.write_text(json.dumps(status))
+    write_status(path, status)
     with open(folder / "log.txt", "wb") as log:
         process = subprocess.Popen(
             [sys.executable, "-m", "vslsp.studio.worker", str(path)],
@@ -89,8 +90,6 @@ def start(root: Path, request: Any) -> str:
             stderr=subprocess.STDOUT,
             start_new_session=True,  # not ended with the studio's terminal: the run goes on
         )
-    status["pid"] = process.pid
-    path.write_text(json.dumps(status))
     _children[run_id] = process
     return run_id
 

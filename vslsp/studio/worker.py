@@ -27,6 +27,8 @@ def main(status_path: str) -> int:
     path = Path(status_path)
     status = json.loads(path.read_text())
     request = status["request"]
+    status["pid"] = os.getpid()  # a later studio tells a live run from a dead one by it
+    write_status(path, status)
     folder = path.parent / "report"
     try:
         task = get_task(request["experiment"], faults=bool(request.get("faults")))
