@@ -5,7 +5,6 @@ atoms, an experiment run watched to its report. The studio runs as ``vslsp studi
 from __future__ import annotations
 
 import os
-import shutil
 import socket
 import subprocess
 import sys
@@ -106,7 +105,7 @@ def test_a_typo_shows_its_diagnostic_on_its_line_and_goes_when_fixed(page, studi
     flagged.wait_for()
     assert "(fars ?b)" in flagged.inner_text() and "unknown predicate 'fars'" in flagged.inner_text()
     page.locator(".diagnostic-error", has_text="pddl/domain.pddl:12:").wait_for()
-    page.screenshot(path=str(tmp_path / "studio-author.png"))
+    page.screenshot(path=str(tmp_path / "studio-author.png"))  # README's docs/images/studio-author.png, copied once
     page.keyboard.press("Backspace")
     page.locator(".no-diagnostics").wait_for()
     assert page.locator(".editor-domain .cm-line.vslsp-line-error").count() == 0
@@ -234,12 +233,3 @@ def test_with_a_token_the_page_needs_it_and_works_with_it(page, studio):
     page.locator(".no-diagnostics").wait_for()
     page.locator("#plan").click()  # the page's websocket carries the cookie the first visit set
     page.locator(".plan-step").nth(2).wait_for()
-
-
-def test_the_screenshot_for_the_readme_is_made_here(tmp_path):
-    """docs/images/studio-author.png came from test_a_typo_...: it is a PNG (copied into docs by hand)."""
-    shipped = Path(__file__).resolve().parents[2] / "docs" / "images" / "studio-author.png"
-    if not shipped.exists():
-        pytest.skip("docs/images/studio-author.png not copied yet")
-    assert shipped.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    shutil.copy(shipped, tmp_path / "copy.png")
