@@ -120,3 +120,14 @@ def test_the_language_server_imports_only_the_symbolic_layer():
         if module.startswith("vslsp.lsp"):
             upward = [t for t in targets if not t.startswith(allowed)]
             assert upward == [], f"{module} imports {upward}"
+
+
+def test_the_studio_stands_beside_the_cli():
+    """vslsp.studio (layer 9, beside the CLI) imports the layers below and the language server's cursor
+    context, never the CLI; only vslsp.cli.studio imports it, and the web stack only inside it."""
+    for module, targets in import_graph().items():
+        if module.startswith("vslsp.studio"):
+            upward = [t for t in targets if t.startswith("vslsp.cli")]
+            assert upward == [], f"{module} imports {upward}"
+        elif not module.startswith("vslsp.cli.studio"):
+            assert not [t for t in targets if t.startswith("vslsp.studio")], module

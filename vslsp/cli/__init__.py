@@ -34,6 +34,7 @@ COMMANDS: dict[str, str] = {
     "lsp": "vslsp.cli.lsp:lsp",
     "experiment": "vslsp.cli.experiment:experiment",
     "demo": "vslsp.cli.demo:demo",
+    "studio": "vslsp.cli.studio:studio",
 }
 
 

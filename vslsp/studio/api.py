@@ -1,0 +1,305 @@
+"""The studio's JSON API under ``/api`` and its files under ``/files`` (docs/studio.md).
+
+Every answer is JSON. Bad input is a 4xx with the CLI's one-line message (``{"error", "exit_code": 2}``):
+400 a bad request, 403 a path out of the root, 404 a missing file or run, 413 too large. A task that
+fails on good input (no plan, an invalid plan) is a 200 with the CLI's JSON (``"exit_code": 1``).
+Heavy work (planning, grounding) runs in a worker thread so the pages stay live.
+"""
+
+from __future__ import annotations
+
+import hmac
+import json
+from pathlib import Path
+from typing import Any
+
+from fastapi import APIRouter, FastAPI, Request
+from fastapi.responses import FileResponse, JSONResponse
+from starlette.concurrency import run_in_threadpool
+
+from vslsp.errors import InputError, VslspError
+from vslsp.studio import files, runs
+from vslsp.studio import pddl as pddl_work
+from vslsp.studio.files import MAX_UPLOAD_BYTES, Missing, Outside, inside, relative
+
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
+UPLOADS = "out/studio/uploads"
+
+
+class TooLarge(InputError):
+    """A request body over its limit (HTTP 413)."""
+
+
+def _status(error: VslspError) -> int:
+    if isinstance(error, Outside):
+        return 403
+    if isinstance(error, Missing):
+        return 404
+    if isinstance(error, TooLarge):
+        return 413
+    return 400 if error.exit_code == 2 else 500
+
+
+async def _body(request: Request, limit: int = files.MAX_TEXT_CHARS * 3) -> dict:
+    raw = await request.body()
+    if len(raw) > limit:
+        raise TooLarge(f"the request is over {limit // (1024 * 1024)} MiB")
+    try:
+        data = json.loads(raw or b"{}")
+    except (ValueError, UnicodeDecodeError):
+        raise InputError("the request body is not JSON; send a JSON object") from None
+    if not isinstance(data, dict):
+        raise InputError("send a JSON object")
+    return data
+
+
+def _text(data: dict, key: str, required: bool = True) -> str:
+    value = data.get(key)
+    if value is None and not required:
+        return ""
+    if not isinstance(value, str):
+        raise InputError(f"{key!r} must be text (the {key} file's content)")
+    if len(value) > files.MAX_TEXT_CHARS:
+        raise TooLarge(f"{key} is over {files.MAX_TEXT_CHARS // 1024} KiB")
+    return value
+
+
+def _name(data: dict, key: str, default: str) -> str:
+    value = data.get(key)
+    return value if isinstance(value, str) and value and len(value) < 300 else default
+
+
+def install(app: FastAPI, root: Path, token: str | None = None) -> None:
+    """Add the API, ``/files`` and (with ``token``) the token check to ``app``."""
+    root = root.resolve()
+    api = APIRouter(prefix="/api")
+
+    @app.exception_handler(VslspError)
+    async def _refused(request: Request, error: VslspError) -> JSONResponse:
+        return JSONResponse({"error": str(error), "exit_code": error.exit_code}, status_code=_status(error))
+
+    if token is not None:
+        app.add_middleware(TokenGate, token=token)
+
+    @api.get("/experiments")
+    async def experiments() -> dict:
+        from vslsp.tasks import list_tasks
+
+        return {"experiments": [cls().describe() for cls in list_tasks()]}
+
+    @api.get("/list")
+    async def listing(kind: str = "pddl") -> dict:
+        suffixes = {"pddl": (".pddl",), "image": IMAGE_SUFFIXES, "predicates": (".py",), "plan": (".plan", ".txt")}
+        if kind == "reports":
+            found = [
+                p.rsplit("/", 1)[0] if "/" in p else "."
+                for p in files.listing(root, (".json",))
+                if p.endswith("report.json")
+            ]
+            return {"files": found}
+        if kind not in suffixes:
+            raise InputError(f"kind must be one of {', '.join([*suffixes, 'reports'])}, got {kind!r}")
+        return {"files": await run_in_threadpool(files.listing, root, suffixes[kind])}
+
+    @api.get("/text")
+    async def text(path: str) -> dict:
+        return {"path": path, "text": files.read_small(root, path)}
+
+    @api.post("/save")
+    async def save(request: Request) -> dict:
+        data = await _body(request)
+        path = data.get("path")
+        if not isinstance(path, str) or not path.endswith((".pddl", ".plan", ".txt", ".py")):
+            raise InputError("path must name a .pddl, .plan, .txt or .py file under the root")
+        written = files.write_text(root, path, _text(data, "text"))
+        return {"path": relative(root, written)}
+
+    @api.post("/check")
+    async def check(request: Request) -> dict:
+        data = await _body(request)
+        return pddl_work.check(
+            _text(data, "domain"),
+            _text(data, "problem", required=False) or None,
+            _name(data, "domain_file", "<domain>"),
+            _name(data, "problem_file", "<problem>"),
+        )
+
+    @api.post("/plan")
+    async def plan(request: Request) -> JSONResponse:
+        data = await _body(request)
+        args = (_text(data, "domain"), _text(data, "problem"))
+        names = (_name(data, "domain_file", "<domain>"), _name(data, "problem_file", "<problem>"))
+        try:
+            return JSONResponse(await run_in_threadpool(pddl_work.plan, *args, *names))
+        except VslspError as error:
+            if error.exit_code != 1:
+                raise
+            answer = {"plan": None, "planner": "fast-downward", "error": str(error), "exit_code": 1}
+            return JSONResponse({**answer, "conflict": getattr(error, "conflict", None)})
+
+    @api.post("/validate")
+    async def validate(request: Request) -> dict:
+        data = await _body(request)
+        args = (_text(data, "domain"), _text(data, "problem"), _text(data, "plan"))
+        names = (_name(data, "domain_file", "<domain>"), _name(data, "problem_file", "<problem>"))
+        return await run_in_threadpool(pddl_work.validate, *args, *names)
+
+    @api.post("/ground")
+    async def ground(request: Request) -> dict:
+        data = await _body(request)
+        return await run_in_threadpool(ground_pair, root, data)
+
+    @api.post("/scene")
+    async def scene(request: Request) -> dict:
+        data = await _body(request)
+        return await run_in_threadpool(render_scene, root, data.get("seed"))
+
+    @api.post("/upload")
+    async def upload(request: Request) -> dict:
+        declared = int(request.headers.get("content-length") or 0)
+        if declared > MAX_UPLOAD_BYTES + 4096:
+            raise TooLarge(f"the upload is over {MAX_UPLOAD_BYTES // (1024 * 1024)} MiB, the most an image may be")
+        form = await request.form(max_files=1, max_part_size=MAX_UPLOAD_BYTES)
+        sent = form.get("file")
+        if sent is None or isinstance(sent, str):
+            raise InputError("send one image as the multipart field 'file'")
+        name = Path(sent.filename or "image.png").name
+        if Path(name).suffix.lower() not in IMAGE_SUFFIXES:
+            raise InputError(f"{name}: upload a PNG or JPEG image")
+        content = await sent.read(MAX_UPLOAD_BYTES + 1)
+        if len(content) > MAX_UPLOAD_BYTES:
+            raise TooLarge(f"{name} is over {MAX_UPLOAD_BYTES // (1024 * 1024)} MiB, the most an image may be")
+        target = inside(root, f"{UPLOADS}/{name}", must_exist=False)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_bytes(content)
+        return {"path": relative(root, target)}
+
+    @api.post("/runs")
+    async def start_run(request: Request) -> dict:
+        data = await _body(request)
+        return {"id": await run_in_threadpool(runs.start, root, data)}
+
+    @api.get("/runs")
+    async def all_runs() -> dict:
+        return {"runs": runs.listing(root)}
+
+    @api.get("/runs/{run_id}")
+    async def one_run(run_id: str) -> dict:
+        return runs.get(root, run_id)
+
+    @api.get("/reports/{rel:path}")
+    async def report(rel: str) -> dict:
+        return read_report(root, rel)
+
+    app.include_router(api)
+
+    @app.get("/files/{rel:path}")
+    async def serve(rel: str) -> FileResponse:
+        path = inside(root, rel)
+        if not path.is_file():
+            raise Missing(f"{rel}: not a file")
+        return FileResponse(path)
+
+
+class TokenGate:
+    """ASGI middleware: every HTTP request and websocket must carry the token (``?token=``, the cookie
+    set by the first such visit, or ``Authorization: Bearer``); 401 otherwise."""
+
+    def __init__(self, app: Any, token: str) -> None:
+        self.app, self.token = app, token
+
+    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
+        if scope["type"] not in ("http", "websocket"):
+            return await self.app(scope, receive, send)
+        from starlette.requests import HTTPConnection
+
+        connection = HTTPConnection(scope)
+        in_query = connection.query_params.get("token")
+        given = (
+            in_query
+            or connection.cookies.get("vslsp_token")
+            or connection.headers.get("authorization", "").removeprefix("Bearer ")
+        )
+        if not hmac.compare_digest((given or "").encode(), self.token.encode()):
+            if scope["type"] == "websocket":
+                return await send({"type": "websocket.close", "code": 1008})
+            refused = JSONResponse(
+                {"error": "this studio needs its token: open the address it printed (?token=...)", "exit_code": 2},
+                status_code=401,
+            )
+            return await refused(scope, receive, send)
+        if scope["type"] == "websocket" or not in_query:
+            return await self.app(scope, receive, send)
+        cookie = f"vslsp_token={self.token}; Path=/; HttpOnly; SameSite=Strict".encode()
+
+        async def with_cookie(message: dict) -> None:
+            if message["type"] == "http.response.start":
+                message = {**message, "headers": [*message.get("headers", []), (b"set-cookie", cookie)]}
+            await send(message)
+
+        return await self.app(scope, receive, with_cookie)
+
+
+def ground_pair(root: Path, data: dict) -> dict:
+    """``vslsp ground --json`` on two images under the root (predicates only from a file under it)."""
+    from vslsp.grounding import draw_grounding, ground, load_predicates, with_builtins
+    from vslsp.vision.image import read_image, write_image
+
+    pre, post = (inside(root, _text(data, key)) for key in ("pre", "post"))
+    side = data.get("robot_side", "bottom")
+    if side not in ("bottom", "top", "left", "right"):
+        raise InputError(f"robot_side must be bottom, top, left or right, got {side!r}")
+    predicates_rel = data.get("predicates")
+    predicates = None
+    if predicates_rel:
+        predicates = with_builtins(load_predicates(inside(root, _text(data, "predicates"))))
+    pre_image = read_image(pre, f"pre-action image {data['pre']}")
+    post_image = read_image(post, f"post-action image {data['post']}")
+    grounding = ground(pre_image, post_image, robot_side=side, predicates=predicates)
+    overlay = inside(root, "out/studio/ground/overlay.png", must_exist=False)
+    overlay.parent.mkdir(parents=True, exist_ok=True)
+    write_image(overlay, draw_grounding(pre_image, post_image, grounding))
+    return {**grounding.to_dict(), "overlay": relative(root, overlay)}
+
+
+def render_scene(root: Path, seed: object) -> dict:
+    """``vslsp scene --seed S`` into ``out/studio/scenes/seed-S`` under the root: ``{"folder", "images"}``."""
+    import subprocess
+    import sys
+
+    if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed <= 2**32 - 1:
+        raise InputError(f"seed must be a whole number from 0 to 4294967295, got {seed!r}")
+    folder = inside(root, f"out/studio/scenes/seed-{seed}", must_exist=False)
+    done = subprocess.run(
+        [sys.executable, "-m", "vslsp", "scene", "--seed", str(seed), "--out", str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    if done.returncode != 0:
+        lines = done.stderr.strip().splitlines() or ["the scene could not be rendered"]
+        raise InputError(lines[-1].removeprefix("error: "))
+    images = sorted(relative(root, p) for p in folder.glob("*.png"))
+    return {"folder": relative(root, folder), "images": images}
+
+
+def read_report(root: Path, rel: str) -> dict:
+    """A report folder: ``summary`` (report.json), ``markdown`` (report.md), ``images`` (in order),
+    ``videos``, ``clouds`` (.ply/.npz), ``trials`` (per-trial sub-folders with their files)."""
+    folder = inside(root, rel)
+    summary_file = folder / "report.json"
+    if not summary_file.is_file():
+        raise Missing(f"{rel}: not a report folder (no report.json)")
+    try:
+        summary = json.loads(summary_file.read_text())
+    except ValueError:
+        raise InputError(f"{rel}/report.json: not JSON") from None
+    markdown = (folder / "report.md").read_text() if (folder / "report.md").is_file() else ""
+    found: dict[str, list[str]] = {"images": [], "videos": [], "clouds": [], "plans": []}
+    kinds = {".png": "images", ".jpg": "images", ".mp4": "videos", ".webm": "videos", ".ply": "clouds"}
+    kinds.update({".npz": "clouds", ".pddl": "plans", ".plan": "plans", ".txt": "plans"})
+    for path in sorted(folder.rglob("*")):
+        kind = kinds.get(path.suffix.lower())
+        if kind and path.is_file() and path.resolve().is_relative_to(root):
+            found[kind].append(relative(root, path))
+    return {"folder": relative(root, folder), "summary": summary, "markdown": markdown, **found}

@@ -1,0 +1,271 @@
+"""The author page (``/author?domain=REL&problem=REL``): domain and problem editors with the language
+engine's diagnostics live as you type (marks, the message at the line's end, quick fixes), hover
+titles, completion (Ctrl-Space), Save, Plan (steps and the state timeline with each constraint's
+marks), Validate a plan (each violation on its step and its constraint's line), an unsolvable
+problem's conflict on its lines. Paper: "Implementation" (PDDL 3.0 domains and constraints)."""
+
+from __future__ import annotations
+
+import html
+from pathlib import Path
+from typing import Any
+
+from nicegui import ui
+
+from vslsp.errors import VslspError
+from vslsp.studio import editing, files
+from vslsp.studio import pddl as pddl_work
+from vslsp.studio.layout import frame, in_thread
+
+STYLE = """
+.vslsp-error { text-decoration: underline wavy #c62828; }
+.vslsp-warning { text-decoration: underline wavy #ef6c00; }
+.vslsp-line-error { background: #ffebee; } .vslsp-line-warning { background: #fff3e0; }
+.vslsp-say-error { color: #c62828; font-style: italic; } .vslsp-say-warning { color: #ef6c00; font-style: italic; }
+.vslsp-line-violation { background: #fce4ec; border-left: 3px solid #ad1457; }
+.vslsp-line-conflict { background: #ede7f6; border-left: 3px solid #4527a0; }
+.vslsp-ref { text-decoration: underline dotted #90a4ae; }
+table.timeline { border-collapse: collapse; font-family: monospace; font-size: 12px; }
+table.timeline td, table.timeline th { border: 1px solid #ccc; padding: 2px 6px; vertical-align: top; }
+td.kept { background: #e8f5e9; } td.broken { background: #ffcdd2; } td.open { background: #fffde7; }
+"""
+
+
+class Author:
+    """One author page: two editors and what they show."""
+
+    def __init__(self, root: Path, domain: str | None, problem: str | None) -> None:
+        self.root = root
+        self.paths = {"domain": domain or "", "problem": problem or ""}
+        texts = {kind: files.read_small(root, rel) if rel else "" for kind, rel in self.paths.items()}
+        ui.add_css(STYLE)
+        with ui.row().classes("w-full items-center"):
+            self.names = {
+                kind: ui.input(f"{kind} (relative to the root)", value=self.paths[kind]).classes("w-72")
+                for kind in ("domain", "problem")
+            }
+            ui.button("Open", on_click=self.open_files).props("id=open")
+            ui.button("Save", on_click=self.save).props("id=save")
+            ui.button("Plan", on_click=self.plan).props("id=plan")
+            ui.button("Validate", on_click=self.validate).props("id=validate")
+            ui.label("F2: complete the name at the cursor").classes("text-grey-7")
+        with ui.row().classes("w-full no-wrap"):
+            self.editors: dict[str, Any] = {}
+            for kind in ("domain", "problem"):
+                with ui.column().classes("w-1/2"):
+                    ui.label(kind.capitalize()).classes("text-bold")
+                    editor = ui.codemirror(
+                        texts[kind],
+                        language="Common Lisp",
+                        line_wrapping=True,
+                        on_change=lambda _event: self.check(),
+                        keymap={
+                            "Ctrl-Space": lambda _event, k=kind: self.complete(k),
+                            "F2": lambda _event, k=kind: self.complete(k),
+                        },
+                    ).classes(f"w-full h-96 border editor-{kind}")
+                    self.editors[kind] = editor
+        self.completions = ui.row().classes("completions")
+        self.diagnostics = ui.column().classes("w-full diagnostics")
+        with ui.row().classes("w-full no-wrap"):
+            with ui.column().classes("w-1/3"):
+                ui.label("Plan to validate (one (action arg ...) per line)").classes("text-bold")
+                self.plan_editor = ui.codemirror("", language="Common Lisp").classes("w-full h-48 border editor-plan")
+            self.results = ui.column().classes("w-2/3 results")
+        self.checked: dict = {}
+        self.shown: dict[str, list[dict]] = {}
+        self.drawn = False
+        self.check()
+        self.drawn = True
+
+    def file(self, kind: str) -> str:
+        return self.names[kind].value or f"<{kind}>"
+
+    def check(self) -> None:
+        """The language engine on both editors' text; marks, messages and quick fixes redrawn."""
+        domain, problem = self.editors["domain"].value, self.editors["problem"].value
+        self.checked = pddl_work.check(domain, problem or None, self.file("domain"), self.file("problem"))
+        for kind, editor in self.editors.items():
+            found, tips = editing.decorations(editor.value, self.file(kind), self.checked)
+            self.draw(kind, found, tips)
+        self.diagnostics.clear()
+        with self.diagnostics:
+            for diagnostic in self.checked["diagnostics"]:
+                with ui.row().classes(f"items-center diagnostic diagnostic-{diagnostic['severity']}"):
+                    where = f"{diagnostic['file']}:{diagnostic['line']}:{diagnostic['column']}"
+                    ui.label(f"{where}: {diagnostic['severity']}: {diagnostic['message']}")
+                    for fix in diagnostic["fixes"]:
+                        ui.button(fix["title"], on_click=lambda _e, f=fix, d=diagnostic: self.apply(d, f)).props(
+                            "flat dense no-caps"
+                        ).classes("quick-fix")
+            if not self.checked["diagnostics"]:
+                ui.label("no errors, no warnings").classes("text-positive no-diagnostics")
+
+    def apply(self, diagnostic: dict, fix: dict) -> None:
+        kind = next((k for k in self.editors if self.file(k) == diagnostic["file"]), "domain")
+        text = self.editors[kind].value
+        starts = editing.line_starts(text)
+        begin = editing.offset(starts, text, fix["line"], fix["column"])
+        end = editing.offset(starts, text, fix["end_line"], fix["end_column"])
+        self.editors[kind].value = text[:begin] + fix["text"] + text[end:]
+        self.check()
+
+    async def complete(self, kind: str) -> None:
+        editor = self.editors[kind]
+        at = await ui.run_javascript(f"getElement({editor.id}).editor.state.selection.main.head")
+        offered = editing.complete(editor.value, int(at), self.checked, kind == "problem")
+        self.completions.clear()
+        with self.completions:
+            for item in offered["items"]:
+                ui.button(item, on_click=lambda _e, i=item: self.insert(kind, offered["from"], int(at), i)).props(
+                    "dense outline no-caps"
+                ).classes("completion")
+
+    def insert(self, kind: str, begin: int, end: int, text: str) -> None:
+        value = self.editors[kind].value
+        self.editors[kind].value = value[:begin] + text + value[end:]
+        self.completions.clear()
+        self.check()
+
+    def open_files(self) -> None:
+        query = "&".join(f"{k}={self.names[k].value}" for k in ("domain", "problem") if self.names[k].value)
+        ui.navigate.to(f"/author?{query}")
+
+    def save(self) -> None:
+        try:
+            for kind, editor in self.editors.items():
+                if self.names[kind].value:
+                    files.write_text(self.root, self.names[kind].value, editor.value)
+        except VslspError as error:
+            ui.notify(str(error), type="negative")
+            return
+        ui.notify("saved", type="positive")
+
+    def _texts(self) -> tuple[str, str, str, str]:
+        return (self.editors["domain"].value, self.editors["problem"].value, self.file("domain"), self.file("problem"))
+
+    async def plan(self) -> None:
+        self.results.clear()
+        with self.results:
+            ui.spinner()
+        domain, problem, domain_file, problem_file = self._texts()
+        try:
+            answer = await in_thread(pddl_work.plan, domain, problem, domain_file, problem_file)
+        except VslspError as error:
+            answer = {"plan": None, "error": str(error), "conflict": getattr(error, "conflict", None)}
+        self.results.clear()
+        self.mark("problem", [])
+        with self.results:
+            if answer.get("plan") is None:
+                ui.label(f"no plan: {answer['error']}").classes("text-negative plan-error")
+                self.show_conflict(answer.get("conflict") or [])
+                return
+            ui.label(f"plan: {len(answer['plan'])} steps ({answer['planner']}, {answer['time_s']:.2f} s)")
+            with ui.element("ol").classes("plan-steps"):
+                for step in answer["plan"]:
+                    with ui.element("li").classes("plan-step"):
+                        ui.label(f"({step})")
+            self.plan_editor.value = "".join(f"({step})\n" for step in answer["plan"])
+            self.timeline(answer["timeline"], set())
+
+    def show_conflict(self, conflict: list[dict]) -> None:
+        if not conflict:
+            return
+        ui.label("these cannot all hold (a minimal conflict):").classes("text-bold")
+        for item in conflict:
+            ui.label(f"line {item.get('line')}: {item.get('kind')} {item.get('text')}").classes("conflict-item")
+        self.mark("problem", [(i["line"], "conflict", str(i.get("text"))) for i in conflict if i.get("line")])
+
+    async def validate(self) -> None:
+        domain, problem, domain_file, problem_file = self._texts()
+        plan_text = self.plan_editor.value
+        self.results.clear()
+        try:
+            answer = await in_thread(pddl_work.validate, domain, problem, plan_text, domain_file, problem_file)
+        except VslspError as error:
+            with self.results:
+                ui.label(str(error)).classes("text-negative validate-error")
+            return
+        with self.results:
+            verdict = "valid" if answer["valid"] else "invalid"
+            ui.label(f"{verdict}: {answer['reason']}").classes(f"verdict verdict-{verdict}")
+            lines = editing.formula_lines(problem, problem_file)
+            violations = self.violations(answer, lines)
+            for violation in violations:
+                ui.label(violation["message"]).classes("violation")
+            self.mark("problem", [(v["line"], "violation", v["message"]) for v in violations if v.get("line")])
+            self.mark("plan", [(v["step"], "violation", v["message"]) for v in violations if v.get("step")])
+            self.timeline(answer["timeline"], {v["step"] for v in violations if v.get("step")})
+
+    @staticmethod
+    def violations(answer: dict, lines: dict) -> list[dict]:
+        """Every violation with its problem line and plan step: the symbolic layer's own list where it
+        gives one, else the timeline's broken constraints and the step that did not apply."""
+        if "violations" in answer:
+            return [
+                {**v, "line": v.get("line") if v.get("file") != "<plan>" else None, "step": v.get("step")}
+                for v in answer["violations"]
+            ]
+        if answer["valid"]:
+            return []
+        timeline, found = answer["timeline"], []
+        for number, constraint in enumerate(timeline["constraints"]):
+            if "broken" in constraint["status"]:
+                step = constraint["status"].index("broken")
+                line = lines["constraints"][number]["line"] if number < len(lines["constraints"]) else None
+                message = f"{constraint['text']} is broken after step {step}"
+                found.append({"kind": "constraint", "line": line, "step": step, "message": message})
+        if not found:
+            applied = len(timeline["steps"])
+            found.append({"kind": "plan", "line": lines.get("goal"), "step": applied + 1, "message": answer["reason"]})
+        return found
+
+    def draw(self, kind: str, found: list[dict], tips: dict[int, str] | None = None) -> None:
+        """Decorations (and line tooltips) through the editor's own methods, not its props: a props
+        update would send the server's copy of the text too, which lags the keys still in flight."""
+        editor = self.plan_editor if kind == "plan" else self.editors[kind]
+        self.shown[kind] = found
+        if not self.drawn:  # the page is being built: its props go out with it
+            editor.decorations = found
+            editor.line_tooltips = tips or {}
+            return
+        editor.run_method("setDecorations", found)
+        if tips is not None:
+            editor.run_method("setLineTooltips", {str(line): text for line, text in tips.items()})
+
+    def mark(self, kind: str, marks: list[tuple[int, str, str]]) -> None:
+        kept = [
+            d
+            for d in self.shown.get(kind, [])
+            if not str(d.get("class", "")).startswith(("vslsp-line-violation", "vslsp-line-conflict"))
+        ]
+        for line, what, message in marks:
+            kept.append(
+                {"kind": "line", "line": int(line), "class": f"vslsp-line-{what}", "attributes": {"title": message}}
+            )
+        self.draw(kind, kept)
+
+    def timeline(self, timeline: dict, flagged: set[int]) -> None:
+        """States s_0..s_n as rows: the step, the atoms true after it, each constraint's mark."""
+        marks = {"kept": "✓ kept", "broken": "✗ broken", "open": "… open"}
+        head = "".join(f"<th>{html.escape(c['text'])}</th>" for c in timeline["constraints"])
+        rows = []
+        for i, atoms in enumerate(timeline["states"]):
+            step = "initial state" if i == 0 else f"{i}. ({timeline['steps'][i - 1]})"
+            cells = "".join(
+                f"<td class='{c['status'][i]}'>{marks[c['status'][i]]}</td>" for c in timeline["constraints"]
+            )
+            flag = " class='flagged'" if i in flagged else ""
+            rows.append(f"<tr{flag}><td>{html.escape(step)}</td><td>{html.escape(' '.join(atoms))}</td>{cells}</tr>")
+        table = f"<table class='timeline'><tr><th>after</th><th>atoms true</th>{head}</tr>{''.join(rows)}</table>"
+        ui.html(table, sanitize=False).classes("timeline-view")
+
+
+def register(root: Path) -> None:
+    @ui.page("/author")
+    def author_page(domain: str | None = None, problem: str | None = None) -> None:
+        frame("Author")
+        try:
+            Author(root, domain, problem)
+        except VslspError as error:
+            ui.label(str(error)).classes("text-negative page-error")

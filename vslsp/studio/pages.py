@@ -1,0 +1,276 @@
+"""The ground, experiments and reports pages (the author page: :mod:`vslsp.studio.author`)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from urllib.parse import quote
+
+from nicegui import events, ui
+
+from vslsp.errors import VslspError
+from vslsp.studio import api, files, runs
+from vslsp.studio.layout import frame, in_thread
+
+
+def _rel_link(rel: str) -> str:
+    return "/files/" + quote(rel)
+
+
+def ground_page(root: Path, pre: str | None, post: str | None, predicates: str | None) -> None:
+    """Pick or drop a pre/post image pair, a predicates file under the root; the overlay, the moved
+    object and the true atoms before and after. Paper: "VSL" (getObject by image subtraction)."""
+    frame("Ground")
+    images = files.listing(root, api.IMAGE_SUFFIXES)
+    predicate_files = [p for p in files.listing(root, (".py",)) if "predicate" in Path(p).name]
+    with ui.row().classes("items-end"):
+        chosen = {
+            "pre": ui.select(images, value=pre, label="pre-action image", with_input=True).classes("w-80 pick-pre"),
+            "post": ui.select(images, value=post, label="post-action image", with_input=True).classes("w-80 pick-post"),
+        }
+        chosen_predicates = ui.select(
+            predicate_files, value=predicates, label="predicates file (under the root)", clearable=True
+        ).classes("w-80 pick-predicates")
+        button = ui.button("Ground").props("id=ground")
+        edit = ui.button("Edit predicates").props("flat")
+
+    def uploaded(kind: str):
+        async def handle(event: events.UploadEventArguments) -> None:
+            content = await event.file.read()
+            if len(content) > files.MAX_UPLOAD_BYTES:
+                ui.notify("the image is over the upload limit", type="negative")
+                return
+            name = Path(event.file.name).name
+            if Path(name).suffix.lower() not in api.IMAGE_SUFFIXES:
+                ui.notify(f"{name}: upload a PNG or JPEG image", type="negative")
+                return
+            target = files.inside(root, f"{api.UPLOADS}/{name}", must_exist=False)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(content)
+            rel = files.relative(root, target)
+            chosen[kind].set_options(sorted({*chosen[kind].options, rel}), value=rel)
+
+        return handle
+
+    async def render() -> None:
+        try:
+            answer = await in_thread(api.render_scene, root, int(seed.value or 0))
+        except VslspError as error:
+            ui.notify(str(error), type="negative")
+            return
+        for select in chosen.values():
+            select.set_options(sorted({*select.options, *answer["images"]}), value=select.value)
+        ui.notify(f"rendered {', '.join(answer['images'])}")
+
+    with ui.row().classes("items-end"):
+        seed = ui.number("scene seed", value=0, min=0, precision=0).classes("w-28")
+        ui.button("Render scene", on_click=render).props("id=render flat")
+        for kind in ("pre", "post"):
+            ui.upload(
+                label=f"drop a {kind}-action image", auto_upload=True, max_file_size=files.MAX_UPLOAD_BYTES
+            ).on_upload(uploaded(kind)).props("accept=.png,.jpg,.jpeg")
+    result = ui.column().classes("w-full ground-result")
+
+    async def ground() -> None:
+        request = {"pre": chosen["pre"].value, "post": chosen["post"].value, "predicates": chosen_predicates.value}
+        result.clear()
+        try:
+            answer = await in_thread(api.ground_pair, root, request)  # the API's own function
+        except VslspError as error:
+            with result:
+                ui.label(str(error)).classes("text-negative ground-error")
+            return
+        with result:
+            ui.image(_rel_link(answer["overlay"]) + f"?v={id(answer)}").classes("w-full max-w-4xl overlay")
+            far = {True: "far", False: "not far"}
+            ui.label(
+                f"moved: {answer['object']['name']}, {far[answer['far']['pre']]} -> {far[answer['far']['post']]}, "
+                f"action: {answer.get('action') or 'none'}"
+            ).classes("moved")
+            atoms = answer.get("atoms") or {}
+            for when in ("pre", "post"):
+                ui.label(f"{when}: {' '.join(atoms.get(when, [])) or '(none true)'}").classes(f"atoms atoms-{when}")
+
+    button.on_click(ground)
+
+    def open_editor() -> None:
+        if not chosen_predicates.value:
+            ui.notify("choose a predicates file first", type="warning")
+            return
+        rel = chosen_predicates.value
+        with ui.dialog() as dialog, ui.card().classes("w-2/3"):
+            editor = ui.codemirror(files.read_small(root, rel), language="Python").classes("w-full h-96")
+
+            def save() -> None:
+                files.write_text(root, rel, editor.value)
+                dialog.close()
+                ui.notify(f"saved {rel}; ground again to use it")
+
+            ui.button("Save", on_click=save)
+        dialog.open()
+
+    edit.on_click(open_editor)
+
+
+def experiments_page(root: Path) -> None:
+    """The registered experiments; start a run in the background and watch it (it goes on when the page closes)."""
+    from vslsp.tasks import list_tasks
+
+    frame("Experiments")
+    entries = [cls().describe() for cls in list_tasks()]
+    columns = [
+        {"name": k, "label": k, "field": k, "align": "left"} for k in ("name", "system", "paper_section", "options")
+    ]
+    rows = [{**e, "options": ", ".join(e["options"]) or "-"} for e in entries]
+    ui.table(columns=columns, rows=rows, row_key="name").classes("w-full experiments-table")
+    with ui.row().classes("items-end"):
+        name = ui.select([e["name"] for e in entries], value=entries[0]["name"], label="experiment").classes(
+            "w-60 pick-experiment"
+        )
+        trials = ui.number("trials", value=1, min=1, max=1000, precision=0).classes("w-24")
+        seed = ui.number("seed", value=0, min=0, precision=0).classes("w-24")
+        workers = ui.number("workers", value=1, min=1, precision=0).classes("w-24")
+        backend = ui.select(["local", "ray"], value="local", label="backend").classes("w-24")
+        faults = ui.checkbox("faults")
+        start = ui.button("Start").props("id=start")
+    board = ui.column().classes("w-full runs")
+
+    def start_run() -> None:
+        request = {
+            "experiment": name.value,
+            "trials": int(trials.value or 1),
+            "seed": int(seed.value or 0),
+            "workers": int(workers.value or 1),
+            "backend": backend.value,
+            "faults": bool(faults.value),
+        }
+        try:
+            run_id = runs.start(root, request)
+        except VslspError as error:
+            ui.notify(str(error), type="negative")
+            return
+        ui.notify(f"started run {run_id}")
+        refresh()
+
+    def refresh() -> None:
+        board.clear()
+        with board:
+            for status in runs.listing(root)[:20]:
+                request = status.get("request") or {}
+                text = (
+                    f"{status['id']}: {request.get('experiment')} — {status['state']}, "
+                    f"{status['done']}/{status['total']} trials, {status['successes']} succeeded"
+                )
+                with ui.row().classes(f"items-center run run-{status['state']}"):
+                    ui.label(text)
+                    if status.get("report"):
+                        ui.link("report", f"/reports/{status['report']}").classes("report-link")
+                    if status.get("error"):
+                        ui.label(status["error"]).classes("text-negative")
+
+    start.on_click(start_run)
+    refresh()
+    ui.timer(1.0, refresh)
+
+
+def reports_page(root: Path, rel: str | None) -> None:
+    """A report folder: the summary table, the images in order, plans, videos, VSL-3D's clouds."""
+    frame("Reports")
+    if not rel:
+        found = [
+            p.rsplit("/", 1)[0] if "/" in p else "."
+            for p in files.listing(root, (".json",))
+            if p.endswith("report.json")
+        ]
+        if not found:
+            ui.label("no report folders under the root yet: run an experiment")
+        for folder in found:
+            ui.link(folder, f"/reports/{folder}").classes("report-folder")
+        return
+    try:
+        report = api.read_report(root, rel)
+    except VslspError as error:
+        ui.label(str(error)).classes("text-negative page-error")
+        return
+    summary = report["summary"]
+    ui.label(f"{summary.get('experiment')} — {report['folder']}").classes("text-h5")
+    plain = {k: v for k, v in summary.items() if isinstance(v, (str, int, float, bool)) or v is None}
+    rows = [{"field": k, "value": json.dumps(v) if not isinstance(v, str) else v} for k, v in plain.items()]
+    ui.table(
+        columns=[
+            {"name": "field", "label": "field", "field": "field", "align": "left"},
+            {"name": "value", "label": "value", "field": "value", "align": "left"},
+        ],
+        rows=rows,
+    ).classes("summary-table")
+    for image in report["images"]:
+        with ui.card():
+            ui.label(image).classes("text-caption")
+            ui.image(_rel_link(image)).classes("w-full max-w-3xl report-image")
+    for cloud in report["clouds"]:
+        cloud_view(root, cloud)
+    for video in report["videos"]:
+        ui.video(_rel_link(video)).classes("max-w-3xl report-video")
+    for plan in report["plans"]:
+        with ui.expansion(plan).classes("w-full report-plan"):
+            ui.code(files.read_small(root, plan))
+    trials = summary.get("results") or []
+    with ui.expansion(f"{len(trials)} trials (records, trajectories)").classes("w-full"):
+        for record in trials:
+            with ui.expansion(f"seed {record.get('seed')}: {'success' if record.get('success') else 'failure'}"):
+                ui.code(json.dumps(record, indent=1), language="json")
+    if report["markdown"]:
+        with ui.expansion("report.md").classes("w-full"):
+            ui.markdown(report["markdown"].replace("](", "](/files/" + quote(report["folder"]) + "/"))
+
+
+#: The most points a 3-D view draws (a cloud is subsampled evenly beyond it).
+MAX_VIEW_POINTS = 20_000
+
+
+def cloud_view(root: Path, rel: str) -> None:
+    """A VSL-3D point cloud (an ``.npz`` with ``points`` (N, 3), as ``CloudObservation.save`` writes
+    it) as an interactive 3-D view (orbit with the mouse), coloured by height."""
+    import numpy as np
+
+    try:
+        with np.load(files.inside(root, rel), allow_pickle=False) as data:
+            points = np.asarray(data["points"], dtype=float)
+    except (OSError, KeyError, ValueError):
+        return  # an .npz that is not a cloud: not shown
+    if points.ndim != 2 or points.shape[1] != 3 or not len(points):
+        return
+    points = points[:: max(1, len(points) // MAX_VIEW_POINTS)]
+    centred = points - points.mean(axis=0)
+    scale = float(np.abs(centred).max()) or 1.0
+    centred = centred / scale  # about a unit cube, where the view's camera looks
+    low, high = float(centred[:, 2].min()), float(centred[:, 2].max())
+    heat = (centred[:, 2] - low) / ((high - low) or 1.0)
+    colours = np.stack([heat, 0.4 * np.ones_like(heat), 1.0 - heat], axis=1)
+    with ui.card():
+        ui.label(f"{rel}: {len(points)} points (drag to turn, scroll to zoom)").classes("text-caption")
+        with ui.scene(width=640, height=420, grid=False).classes("cloud-view") as view:
+            view.point_cloud(centred.tolist(), colours.tolist(), point_size=0.02)
+            view.move_camera(x=1.5, y=-1.5, z=1.2, look_at_x=0, look_at_y=0, look_at_z=0)
+
+
+def register(root: Path) -> None:
+    @ui.page("/ground")
+    def _ground(pre: str | None = None, post: str | None = None, predicates: str | None = None) -> None:
+        ground_page(root, pre, post, predicates)
+
+    @ui.page("/experiments")
+    def _experiments() -> None:
+        experiments_page(root)
+
+    @ui.page("/reports")
+    def _reports_index() -> None:
+        reports_page(root, None)
+
+    @ui.page("/reports/{rel:path}")
+    def _reports(rel: str) -> None:
+        reports_page(root, rel)
+
+    @ui.page("/")
+    def _home() -> None:
+        ui.navigate.to("/author")

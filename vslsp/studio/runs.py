@@ -1,0 +1,143 @@
+"""Experiment runs started from the studio: each in its own process (:mod:`vslsp.studio.worker`),
+started in a new session so that it goes on when the page, or the studio, is closed. A run lives in
+``ROOT/out/studio/runs/ID/``: ``status.json`` (its request and progress) and ``report/`` (the report
+folder, as ``vslsp experiment --out`` writes it)."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import secrets
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from vslsp.errors import InputError
+from vslsp.studio.files import Missing
+from vslsp.studio.worker import write_status
+
+#: Where the runs live, relative to the root.
+RUNS = "out/studio/runs"
+_ID = re.compile(r"^[0-9]{8}-[0-9]{6}-[0-9a-f]{6}$")
+
+
+def _integer(request: dict, key: str, default: int, low: int, high: int) -> int:
+    value = request.get(key, default)
+    if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= high:
+        raise InputError(f"{key} must be a whole number from {low} to {high}, got {value!r}")
+    return value
+
+
+def checked(request: Any) -> dict:
+    """The run request with its defaults, or InputError (found before any trial runs, as the CLI's)."""
+    from vslsp.tasks import get_task
+
+    if not isinstance(request, dict):
+        raise InputError('send a JSON object such as {"experiment": "house-roof", "trials": 1}')
+    name = request.get("experiment")
+    if not isinstance(name, str) or not name:
+        raise InputError("name an experiment (GET /api/experiments lists them)")
+    unknown = set(request) - {"experiment", "trials", "seed", "workers", "backend", "faults"}
+    if unknown:
+        raise InputError(
+            f"unknown field {sorted(unknown)[0]!r}; give experiment, trials, seed, workers, backend, faults"
+        )
+    backend = request.get("backend", "local")
+    if backend not in ("local", "ray"):
+        raise InputError(f"backend must be local or ray, got {backend!r}")
+    faults = request.get("faults", False)
+    if not isinstance(faults, bool):
+        raise InputError(f"faults must be true or false, got {faults!r}")
+    get_task(name, faults=faults)  # an unknown experiment or an option it does not take: InputError
+    return {
+        "experiment": name,
+        "trials": _integer(request, "trials", 1, 1, 1000),
+        "seed": _integer(request, "seed", 0, 0, 2**32 - 1),
+        "workers": _integer(request, "workers", 1, 1, max(1, os.cpu_count() or 1)),
+        "backend": backend,
+        "faults": faults,
+    }
+
+
+def start(root: Path, request: Any) -> str:
+    """Start a run of the (checked) request; returns its id."""
+    request = checked(request)
+    run_id = time.strftime("%Y%m%d-%H%M%S", time.gmtime()) + "-" + secrets.token_hex(3)
+    folder = root.resolve() / RUNS / run_id
+    folder.mkdir(parents=True)
+    status = {
+        "id": run_id,
+        "state": "running",
+        "done": 0,
+        "total": request["trials"],
+        "successes": 0,
+        "report": None,
+        "folder": f"{RUNS}/{run_id}",
+        "request": request,
+        "started": time.time(),
+    }
+    path = folder / "status.json"
+    write_status(path, status)
+    with open(folder / "log.txt", "wb") as log:
+        process = subprocess.Popen(
+            [sys.executable, "-m", "vslsp.studio.worker", str(path)],
+            cwd=root.resolve(),
+            stdin=subprocess.DEVNULL,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,  # not ended with the studio's terminal: the run goes on
+        )
+    _children[run_id] = process
+    return run_id
+
+
+_children: dict[str, subprocess.Popen] = {}
+
+
+def get(root: Path, run_id: str) -> dict:
+    """The run's ``state`` (running, done, failed), ``done``, ``total``, ``successes``, ``report`` (the
+    report folder relative to the root, when done), ``error`` (when failed), ``latest`` (a picture)."""
+    if not _ID.match(run_id):
+        raise Missing(f"no run {run_id!r}")
+    path = root.resolve() / RUNS / run_id / "status.json"
+    try:
+        status = json.loads(path.read_text())
+    except (OSError, ValueError):
+        raise Missing(f"no run {run_id!r}") from None
+    if status.get("state") not in ("done", "failed") and not _alive(run_id, status.get("pid")):
+        time.sleep(0.2)  # the worker may have written its last status as it ended
+        status = json.loads(path.read_text())
+        if status.get("state") not in ("done", "failed"):
+            status.update(state="failed", error="the run's process ended without a report (see its log.txt)")
+    if status.get("state") not in ("done", "failed"):
+        status["state"] = "running"
+    return {key: status.get(key) for key in ("id", "state", "done", "total", "successes", "report", "error", "request")}
+
+
+def listing(root: Path) -> list[dict]:
+    """Every run under the root, newest first."""
+    folder = root.resolve() / RUNS
+    found = sorted((p.name for p in folder.iterdir() if _ID.match(p.name)), reverse=True) if folder.is_dir() else []
+    runs = []
+    for run_id in found[:50]:
+        try:
+            runs.append(get(root, run_id))
+        except InputError:
+            continue
+    return runs
+
+
+def _alive(run_id: str, pid: Any) -> bool:
+    child = _children.get(run_id)
+    if child is not None:
+        return child.poll() is None
+    if not isinstance(pid, int):
+        return False
+    try:
+        os.kill(pid, 0)  # a run started by an earlier studio: is its process still there?
+    except OSError:
+        return False
+    return True

@@ -1,0 +1,56 @@
+"""One experiment run of the studio, in its own process (``python -m vslsp.studio.worker STATUS``):
+it outlives the page that started it. It reads its request from the status file, runs the trials
+with :func:`vslsp.tasks.run_trials` and writes progress to the status file after each trial
+(``state``, ``done``, ``total``, ``successes``, ``latest``: the newest picture), then the report."""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+
+def write_status(path: Path, data: dict[str, Any]) -> None:
+    """Replace the status file at once (a reader never sees half of it)."""
+    temporary = path.with_suffix(".tmp")
+    temporary.write_text(json.dumps(data))
+    os.replace(temporary, path)
+
+
+def main(status_path: str) -> int:
+    """Run the request in ``status_path``; 0 when the report is written, 1 when the run failed."""
+    from vslsp.errors import VslspError
+    from vslsp.tasks import get_task, run_trials, write_report
+
+    path = Path(status_path)
+    status = json.loads(path.read_text())
+    request = status["request"]
+    status["pid"] = os.getpid()  # a later studio tells a live run from a dead one by it
+    write_status(path, status)
+    folder = path.parent / "report"
+    try:
+        task = get_task(request["experiment"], faults=bool(request.get("faults")))
+        seeds = list(range(request["seed"], request["seed"] + request["trials"]))
+
+        def done(result: Any) -> None:
+            status["done"] += 1
+            status["successes"] += int(result.success)
+            write_status(path, status)
+
+        run = run_trials(task, seeds, workers=request["workers"], backend=request["backend"], on_done=done)
+        status["state"] = "writing report"
+        write_status(path, status)
+        write_report(folder, task, run)
+        status.update(state="done", report=f"{status['folder']}/report")
+    except VslspError as error:
+        status.update(state="failed", error=str(error))
+    except Exception as error:  # a trial's own failure is in the report; this is the run itself failing
+        status.update(state="failed", error=f"internal error ({type(error).__name__}: {error})")
+    write_status(path, status)
+    return 0 if status["state"] == "done" else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))
