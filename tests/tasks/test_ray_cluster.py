@@ -204,3 +204,22 @@ def test_a_cluster_that_requires_a_token_is_named_as_such(head_with_token, tmp_p
     right = experiment_on(head_with_token.gcs_address, tmp_path / "right", RAY_AUTH_MODE="token", RAY_AUTH_TOKEN=TOKEN)
     assert right.returncode in (0, 1), right.stderr
     assert json.loads(right.stdout)["trials"] == 2
+
+
+def test_a_token_counts_as_given_as_ray_would_send_it(monkeypatch, tmp_path):
+    from vslsp.tasks.ray_backend import _token_configured
+
+    for name in ("RAY_AUTH_MODE", "RAY_AUTH_TOKEN", "RAY_AUTH_TOKEN_PATH"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("HOME", str(tmp_path))
+    assert not _token_configured()
+    (tmp_path / ".ray").mkdir()
+    (tmp_path / ".ray" / "auth_token").write_text(TOKEN)
+    assert _token_configured()  # Ray turns token authentication on by itself when a token exists
+    monkeypatch.setenv("RAY_AUTH_MODE", "disabled")
+    assert not _token_configured()
+    monkeypatch.setenv("RAY_AUTH_MODE", "token")
+    (tmp_path / ".ray" / "auth_token").unlink()
+    assert not _token_configured()
+    monkeypatch.setenv("RAY_AUTH_TOKEN", TOKEN)
+    assert _token_configured()

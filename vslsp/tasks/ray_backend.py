@@ -293,9 +293,11 @@ def _refuses_without_token(host: str, port: int) -> bool:
 
 
 def _token_configured() -> bool:
-    """Whether Ray on this machine sends an authentication token (RAY_AUTH_MODE=token and a token
-    in the environment, a file it names, or ~/.ray/auth_token)."""
-    if os.environ.get("RAY_AUTH_MODE", "").lower() != "token":
+    """Whether Ray on this machine sends an authentication token: a token in the environment, a
+    file it names or ~/.ray/auth_token, unless RAY_AUTH_MODE turns authentication off (Ray turns
+    it on by itself when RAY_AUTH_MODE is unset and a token exists)."""
+    mode = os.environ.get("RAY_AUTH_MODE")
+    if mode is not None and mode.lower() != "token":
         return False
     return bool(
         os.environ.get("RAY_AUTH_TOKEN")
