@@ -52,7 +52,7 @@ def test_pddl_check_and_validate_exit_2_with_json_on_a_malformed_domain(capsys, 
         code, out, err = vslsp(capsys, *command, "--json")
         data = one_object(out)
         assert code == 2 and data["exit_code"] == 2, (command, out)
-        assert "Traceback" not in err and str(path) in err
+        assert "Traceback" not in err
 
 
 def test_validate_exits_2_with_json_on_a_malformed_plan(capsys, tmp_path):

@@ -104,6 +104,12 @@ def _stop(head: subprocess.Popen[str], folder: Path) -> None:
     except ProcessLookupError:
         pass
     head.wait(timeout=HANG_S)
+    _end_processes_naming(folder)
+    shutil.rmtree(folder, ignore_errors=True)
+
+
+def _end_processes_naming(folder: Path) -> None:
+    """End every process left whose command line names ``folder`` (Ray's, started for a test)."""
     deadline = time.monotonic() + HANG_S
     while (left := _processes_naming(folder)) and time.monotonic() < deadline:
         for pid in left:
@@ -112,7 +118,6 @@ def _stop(head: subprocess.Popen[str], folder: Path) -> None:
             except ProcessLookupError:
                 pass
         time.sleep(0.2)
-    shutil.rmtree(folder, ignore_errors=True)
 
 
 def _processes_naming(folder: Path) -> list[int]:
@@ -127,3 +132,15 @@ def _processes_naming(folder: Path) -> list[int]:
             except OSError:  # gone meanwhile, or not ours to read
                 continue
     return found
+
+
+@contextmanager
+def ray_folder() -> Iterator[Path]:
+    """A short temporary folder for what a local Ray instance writes (its sessions: give it as
+    RAY_TMPDIR); on leaving, the processes left that name it are ended and it is removed."""
+    folder = Path(tempfile.mkdtemp(prefix="vslsp-ray-"))  # short: Ray's socket paths must stay < 108 bytes
+    try:
+        yield folder
+    finally:
+        _end_processes_naming(folder)
+        shutil.rmtree(folder, ignore_errors=True)

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers.events import HANG_S, experiment_program, process_gone, wait_until
+from helpers.ray_head import ray_folder
 
 from vslsp.errors import InputError
 from vslsp.tasks import System, Task, TrialResult, get_task, run_trials
@@ -131,26 +132,29 @@ class WaitsForCtrlC(Task):
 def cluster(tmp_path_factory):
     """A local Ray cluster of 2 CPUs for this module; the backend runs on it (the process is
     connected). HOME is a temporary folder while it runs (Ray writes ~/.ray/auth_token for a new
-    local cluster), and the environment, which ``ray.init`` changes, is restored after."""
+    local cluster), so are Ray's session files, and the environment, which ``ray.init``
+    changes, is restored after."""
     saved = dict(os.environ)
     os.environ["PYTHONPATH"] = os.pathsep.join(
         [str(HERE), str(HERE.parent), str(ROOT)] + ([saved["PYTHONPATH"]] if "PYTHONPATH" in saved else [])
     )
     os.environ["HOME"] = str(tmp_path_factory.mktemp("home"))
-    ray.init(
-        address="local",
-        num_cpus=2,
-        _node_ip_address="127.0.0.1",
-        include_dashboard=False,
-        log_to_driver=False,
-        logging_level=logging.ERROR,
-    )
-    try:
-        yield ray.get_runtime_context().gcs_address
-    finally:
-        ray.shutdown()
-        os.environ.clear()
-        os.environ.update(saved)
+    with ray_folder() as folder:
+        os.environ["RAY_TMPDIR"] = str(folder)
+        ray.init(
+            address="local",
+            num_cpus=2,
+            _node_ip_address="127.0.0.1",
+            include_dashboard=False,
+            log_to_driver=False,
+            logging_level=logging.ERROR,
+        )
+        try:
+            yield ray.get_runtime_context().gcs_address
+        finally:
+            ray.shutdown()
+            os.environ.clear()
+            os.environ.update(saved)
 
 
 def records(results: list[TrialResult]) -> list[dict]:
@@ -228,10 +232,14 @@ def test_a_malformed_address_is_refused(address):
 def cli(*args: str, home: Path | None = None, code: str = "") -> subprocess.CompletedProcess:
     """``vslsp`` in a fresh interpreter, after ``code`` (e.g. one that makes ``import ray`` fail),
     with HOME in ``home`` (a local Ray instance writes ~/.ray); None: this process's HOME (the
-    ``cluster``'s while it runs: its authentication token)."""
+    ``cluster``'s while it runs: its authentication token). Ray's session files go to a
+    temporary folder."""
     program = f"import sys\n{code}\nfrom vslsp.cli import main\nmain(sys.argv[1:])"
-    env = {**os.environ, **({"HOME": str(home)} if home is not None else {})}
-    return subprocess.run([sys.executable, "-c", program, *args], capture_output=True, text=True, timeout=600, env=env)
+    with ray_folder() as folder:
+        env = {**os.environ, "RAY_TMPDIR": str(folder), **({"HOME": str(home)} if home is not None else {})}
+        return subprocess.run(
+            [sys.executable, "-c", program, *args], capture_output=True, text=True, timeout=600, env=env
+        )
 
 
 def test_cli_without_ray_says_how_to_install_it(tmp_path):
@@ -327,6 +335,11 @@ def test_cli_starts_a_local_ray_instance_for_the_run(tmp_path):
 
 @pytest.mark.slow
 def test_ctrl_c_on_the_command_line_cancels_and_writes_the_partial_report(tmp_path):
+    with ray_folder() as folder:  # Ray's session files
+        _ctrl_c_cancels_and_writes_the_partial_report(tmp_path, folder)
+
+
+def _ctrl_c_cancels_and_writes_the_partial_report(tmp_path: Path, ray_tmp: Path) -> None:
     markers, out = tmp_path / "markers", tmp_path / "report"
     markers.mkdir()
     # A real Ctrl-C: SIGINT to the command's process group, once seed 0's result is in the driver.
@@ -336,6 +349,7 @@ def test_ctrl_c_on_the_command_line_cancels_and_writes_the_partial_report(tmp_pa
     env = {
         **os.environ,
         "HOME": str(tmp_path),
+        "RAY_TMPDIR": str(ray_tmp),
         "VSLSP_TEST_MARKERS": str(markers),
         "PYTHONPATH": os.pathsep.join([str(HERE), str(HERE.parent), str(ROOT)] + [os.environ.get("PYTHONPATH", "")]),
     }
