@@ -123,7 +123,8 @@ def test_an_interrupt_stops_the_run_ends_the_workers_and_keeps_the_finished_tria
     finally:
         if process.poll() is None:
             os.killpg(process.pid, signal.SIGKILL)
-    assert process.returncode == {"SIGINT": 130, "SIGTERM": 143}[signal_name], stderr  # 128 + the signal (docs/bad-input.md)
+    # 128 + the signal's number (docs/bad-input.md)
+    assert process.returncode == {"SIGINT": 130, "SIGTERM": 143}[signal_name], stderr
     data = json.loads(stdout)
     assert data["partial"] and data["interrupted"] == signal_name and 1 <= data["trials"] < 40  # no drain of all 40
     assert data["trials_requested"] == 40 and f"{signal_name}: stopping now" in stderr
