@@ -16,16 +16,7 @@ import pytest
 from helpers.cli import REPO
 from helpers.events import HANG_S, wait_until
 
-import vslsp.errors
-
-pytestmark = [
-    pytest.mark.slow,
-    # The interrupt contract of docs/bad-input.md (exit 130/143, the planner's process tree and
-    # folders ended) comes with vslsp.errors.Interrupted (issue 27's interrupts).
-    pytest.mark.skipif(
-        not hasattr(vslsp.errors, "Interrupted"), reason="interrupts exit 130/143 once vslsp.errors.Interrupted exists"
-    ),
-]
+pytestmark = pytest.mark.slow
 
 EXIT = {"SIGINT": 130, "SIGTERM": 143}  # 128 + the signal's number
 STAGES = {
