@@ -3,14 +3,12 @@ traceback (docs/bad-input.md lists every class and what each command answers).""
 
 from __future__ import annotations
 
-import hashlib
 import json
 import re
 import shutil
-from pathlib import Path
 
 import pytest
-from helpers.cli import REPO, unwritable_folder, vslsp, vslsp_process
+from helpers.cli import checkout_copy, tree_digest, unwritable_folder, vslsp, vslsp_process
 
 from vslsp.skills import default_library_path
 
@@ -123,24 +121,23 @@ def test_a_malformed_scene_file_is_an_input_error(capsys, tmp_path, content, exp
 
 
 # -- teach: the shipped library is written only on request -------------------------------------
-def digest(folder: Path) -> dict[str, str]:
-    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.iterdir()) if p.is_file()}
-
-
 @pytest.mark.parametrize("where", ["shipped skills", "shipped pddl", "package", "source tree"])
-def test_teach_refuses_vslsp_own_folders_without_force(capsys, monkeypatch, tmp_path, where):
-    monkeypatch.chdir(tmp_path)
+def test_teach_refuses_vslsp_own_folders_without_force(tmp_path, where):
+    # On a copy of the checkout (the command runs from it), so that a regression writes there,
+    # never into the real source tree.
+    checkout = checkout_copy(tmp_path / "checkout")
     folder = {
-        "shipped skills": default_library_path(),
-        "shipped pddl": REPO / "pddl",
-        "package": REPO / "vslsp" / "skills",
-        "source tree": REPO,
+        "shipped skills": checkout / "skills",
+        "shipped pddl": checkout / "pddl",
+        "package": checkout / "vslsp" / "skills",
+        "source tree": checkout,
     }[where]
-    before = digest(default_library_path())
-    code, out, err = vslsp(capsys, "teach", "push", "--out", folder)
-    assert code == 2 and out == ""
-    assert f"--out: {folder} is" in err and "only with --force" in err
-    assert digest(default_library_path()) == before
+    before = tree_digest(checkout)
+    done = vslsp_process("teach", "push", "--out", folder, cwd=tmp_path, checkout=checkout, timeout=120)
+    assert done.returncode == 2 and done.stdout == "", done.stderr
+    assert f"--out: {folder} is" in done.stderr and "only with --force" in done.stderr
+    assert "Traceback" not in done.stderr
+    assert tree_digest(checkout) == before and not (tmp_path / "out").exists()
 
 
 def test_teach_refuses_a_damaged_library_without_force(capsys, tmp_path):

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import os
+import re
 from pathlib import Path
 
 import click
 import pytest
-from helpers.cli import unwritable_folder
+from helpers.cli import read_only_folder, unwritable_folder
 
 from vslsp.cli.params import (
     MAX_SEED,
@@ -104,8 +104,14 @@ def test_sizes_and_durations_must_be_positive_and_bounded(option, value):
     assert code == 2 and option in message
 
 
-@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
-def test_a_read_only_folder_is_refused(tmp_path):
-    folder = unwritable_folder(tmp_path)
-    with pytest.raises(InputError, match="Permission denied"):
+def test_an_existing_read_only_folder_is_refused_with_the_reason(tmp_path):
+    folder = read_only_folder(tmp_path)
+    assert folder.is_dir()  # it exists: the write probe, not the mkdir, finds the problem
+    with pytest.raises(InputError) as refused:
         prepare_output_folder(folder)
+    assert re.fullmatch(
+        rf"--out: cannot write into the folder {re.escape(str(folder))} "
+        r"\((Permission denied|Read-only file system|Operation not permitted)\); choose a writable output folder",
+        str(refused.value),
+    ), str(refused.value)
+    assert not list(folder.glob(".vslsp-write-probe-*"))

@@ -233,20 +233,29 @@ def test_reproduction_and_goal_error_at_least_as_good_as_movement_primitives(dem
 
 
 # -- devices -----------------------------------------------------------------------------------
-def test_coupled_rollouts_run_on_the_cpu_by_default_without_cuda(dmp):
-    if not torch.cuda.is_available():
-        assert dmp.device == torch.device("cpu")
+def test_coupled_rollouts_run_on_cuda_when_there_is_one_else_on_the_cpu(dmp):
+    assert dmp.device == torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    assert DMP(3, device="cpu").device == torch.device("cpu")  # a device asked for is kept
 
 
-@pytest.mark.skipif(not torch.cuda.is_available(), reason="no CUDA device")
-def test_cuda_coupled_rollouts_equal_cpu_rollouts(dmp, demo):
+DEVICES = ["cpu"] + (["cuda"] if torch.cuda.is_available() else [])
+
+
+@pytest.mark.parametrize("device", DEVICES)
+def test_coupled_rollouts_on_each_device_equal_the_closed_form_rollouts(dmp, demo, device):
+    # A zero coupling force takes the stepped (torch) path on the device; it must give the
+    # closed-form superposition of the uncoupled rollout, for a batch of starts.
     _, y = demo
     starts = y[0] + np.random.default_rng(5).normal(0, 0.1, (16, 3))
-    on_gpu = DMP.from_arrays(dmp.to_arrays())
-    on_gpu.device = torch.device("cuda")
+    on_device = DMP.from_arrays(dmp.to_arrays())
+    on_device.device = torch.device(device)
+    seen: list[torch.device] = []
 
     def no_force(t, y_now, z):
+        seen.append(y_now.device)
         return torch.zeros_like(y_now)
 
-    stepped = on_gpu.rollout(starts, y[-1], coupling_force=no_force).y
+    stepped = on_device.rollout(starts, y[-1], coupling_force=no_force).y
+    assert seen and {d.type for d in seen} == {device}  # the coupling ran on the device asked for
+    assert stepped.shape == (16, 131, 3)
     assert stepped == pytest.approx(dmp.rollout(starts, y[-1]).y, abs=1e-9)

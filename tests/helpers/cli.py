@@ -4,7 +4,9 @@ standard input, the installed entry point's behaviour)."""
 
 from __future__ import annotations
 
+import hashlib
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -26,11 +28,15 @@ def vslsp(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, 
 
 
 def vslsp_process(
-    *args: object, cwd: Path | None = None, input: str | None = None, timeout: float = 600
+    *args: object,
+    cwd: Path | None = None,
+    input: str | None = None,
+    timeout: float = 600,
+    checkout: Path = REPO,
 ) -> subprocess.CompletedProcess[str]:
-    """Run ``python -m vslsp ARGS`` as a subprocess (this checkout first on the path), with
-    ``input`` on its standard input."""
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")])}
+    """Run ``python -m vslsp ARGS`` as a subprocess (``checkout``, this one by default, first on
+    the path), with ``input`` on its standard input."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(checkout), os.environ.get("PYTHONPATH", "")])}
     return subprocess.run(
         [sys.executable, "-m", "vslsp", *map(str, args)],
         capture_output=True,
@@ -42,6 +48,26 @@ def vslsp_process(
     )
 
 
+def checkout_copy(folder: Path) -> Path:
+    """A copy of this source checkout in ``folder`` (the package, the shipped skills/ and pddl/,
+    pyproject.toml): for tests of what vslsp does to its own folders, which must never touch
+    the real ones. Give it to :func:`vslsp_process` as ``checkout``."""
+    ignore = shutil.ignore_patterns("__pycache__", "*.pyc")
+    for name in ("vslsp", "skills", "pddl"):
+        shutil.copytree(REPO / name, folder / name, ignore=ignore)
+    shutil.copy2(REPO / "pyproject.toml", folder / "pyproject.toml")
+    return folder
+
+
+def tree_digest(folder: Path) -> dict[str, str]:
+    """Every file under ``folder`` (relative path) with the SHA-256 of its bytes."""
+    return {
+        str(p.relative_to(folder)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file() and "__pycache__" not in p.parts
+    }
+
+
 def unwritable_folder(tmp_path: Path) -> Path:
     """A folder nobody can write into: a read-only folder, or (as root, who ignores permissions)
     a folder under sysfs, which refuses new files."""
@@ -51,3 +77,14 @@ def unwritable_folder(tmp_path: Path) -> Path:
         folder.chmod(0o555)
         return folder
     return Path("/sys/vslsp-not-writable")
+
+
+def read_only_folder(tmp_path: Path) -> Path:
+    """An existing folder nobody can add a file to: a folder made read-only, or (as root, who
+    ignores permissions, as CI runs) a sysfs folder, where the kernel refuses new files."""
+    if os.geteuid() != 0:
+        return unwritable_folder(tmp_path)
+    folder = Path("/sys/kernel")
+    if not folder.is_dir():
+        pytest.skip("as root, a read-only folder needs sysfs (/sys/kernel)")
+    return folder

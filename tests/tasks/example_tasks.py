@@ -47,7 +47,8 @@ class DiceBelowFive(Task):
 @register
 class Troublesome(Task):
     """Trials that raise (seed 1), kill their worker once (seed 2: a flag file in
-    $VSLSP_TEST_FLAGS marks the first attempt) or sleep (seeds >= 10: for interrupts)."""
+    $VSLSP_TEST_FLAGS marks the first attempt) or sleep (seeds >= 10: for interrupts; with
+    $VSLSP_TEST_MARKERS set, each writes '<seed>.running' there first, holding its process id)."""
 
     name = "troublesome"
     system = System.VSL
@@ -62,5 +63,26 @@ class Troublesome(Task):
                 flag.write_text("died")
                 os._exit(3)
         if seed >= 10:
+            if os.environ.get("VSLSP_TEST_MARKERS"):
+                (Path(os.environ["VSLSP_TEST_MARKERS"]) / f"{seed}.running").write_text(str(os.getpid()))
             time.sleep(1.5)
         return TrialResult(self.name, seed, True)
+
+
+@register
+class CrashesOnOdd(Task):
+    """The worker process running an odd seed's trial dies, on every attempt (as a crash or an
+    out-of-memory kill would end it); even seeds succeed."""
+
+    name = "crashes-on-odd"
+    system = System.VSL
+    paper_section = "tests"
+
+    def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
+        if seed % 2:
+            os._exit(3)
+        return TrialResult(self.name, seed, True)
+
+    def shown_seed(self, results: list[TrialResult]) -> int:
+        # The report re-runs the trial it shows in the calling process: an even one, which lives.
+        return next(r.seed for r in results if r.seed % 2 == 0)

@@ -8,12 +8,12 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 from example_tasks import DiceBelowFive, Troublesome
 from helpers.cli import vslsp
+from helpers.events import HANG_S, experiment_program, process_gone, wait_until
 
 from vslsp.errors import InputError
 from vslsp.tasks import Run, get_task, list_tasks, run_trials, write_report
@@ -95,28 +95,47 @@ def test_a_raising_trial_is_recorded_and_a_dying_worker_is_replaced(tmp_path, mo
 
 
 @pytest.mark.slow
-def test_sigterm_stops_the_run_and_keeps_the_finished_trials(tmp_path):
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(HERE), os.environ.get("PYTHONPATH", "")])}
-    script = (
-        "import example_tasks; from vslsp.cli import main; "
-        f"main(['experiment', 'troublesome', '--trials', '40', '--seed', '10', '--workers', '2', "
-        f"'--json', '--out', {str(tmp_path)!r}])"
-    )
+@pytest.mark.parametrize("signal_name", ["SIGTERM", "SIGINT"])
+def test_an_interrupt_stops_the_run_ends_the_workers_and_keeps_the_finished_trials(tmp_path, signal_name):
+    markers, out = tmp_path / "markers", tmp_path / "report"
+    markers.mkdir()
+    env = {
+        **os.environ,
+        "VSLSP_TEST_MARKERS": str(markers),
+        "PYTHONPATH": os.pathsep.join([str(HERE), str(HERE.parent), os.environ.get("PYTHONPATH", "")]),
+    }
+    arguments = ["experiment", "troublesome", "--trials", "40", "--seed", "10", "--workers", "2", "--json"]
     process = subprocess.Popen(
-        [sys.executable, "-c", script], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        [sys.executable, "-c", experiment_program("import example_tasks"), *arguments, "--out", str(out)],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
     )
-    time.sleep(12)
-    process.send_signal(signal.SIGTERM)
-    start = time.perf_counter()
-    out, err = process.communicate(timeout=60)
-    assert time.perf_counter() - start < 15  # stops quickly, no drain of the 40 trials
-    assert process.returncode == 143, err  # 128 + SIGTERM (docs/bad-input.md)
-    data = json.loads(out)
-    assert data["partial"] and data["interrupted"] == "SIGTERM" and 1 <= data["trials"] < 40
-    assert data["trials_requested"] == 40 and "SIGTERM" in err
-    report = json.loads((tmp_path / "report.json").read_text())
+    try:
+        wait_until(lambda: any(markers.glob("*.reported")) or process.poll() is not None, "a trial's result")
+        if signal_name == "SIGINT":
+            os.killpg(process.pid, signal.SIGINT)  # Ctrl-C: the terminal signals the whole process group
+        else:
+            process.send_signal(signal.SIGTERM)
+        stdout, stderr = process.communicate(timeout=HANG_S)
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+    # 128 + the signal's number (docs/bad-input.md)
+    assert process.returncode == {"SIGINT": 130, "SIGTERM": 143}[signal_name], stderr
+    data = json.loads(stdout)
+    assert data["partial"] and data["interrupted"] == signal_name and 1 <= data["trials"] < 40  # no drain of all 40
+    assert data["trials_requested"] == 40 and f"{signal_name}: stopping now" in stderr
+    report = json.loads((out / "report.json").read_text())
     assert [r["seed"] for r in report["results"]] == list(range(10, 10 + data["trials"]))
-    assert "Partial run" in (tmp_path / "report.md").read_text()
+    assert "Partial run" in (out / "report.md").read_text()
+    # every worker that ran a trial has ended with the command
+    # (a file may be empty: its worker was ended while writing it)
+    workers = {int(text) for running in markers.glob("*.running") if (text := running.read_text())}
+    assert workers and os.getpid() not in workers and process.pid not in workers  # trials ran in worker processes
+    wait_until(lambda: all(process_gone(pid) for pid in workers), f"the workers {sorted(workers)} to end")
 
 
 def test_the_report_of_a_run_is_byte_equal_for_the_same_seeds_on_one_or_two_workers(tmp_path):

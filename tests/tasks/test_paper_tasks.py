@@ -30,9 +30,13 @@ def test_every_panda_task_succeeds_on_a_second_seed(name, seed):
         assert result.details["variant"] == "" and len(robot) == 7  # no intervention: the robot makes all 7 moves
 
 
-def test_the_adaptive_frame_never_does_worse_than_the_fixed_one():
+def test_the_adaptive_frame_succeeds_where_the_fixed_one_fails():
     run = run_trials(get_task("house-roof"), range(20, 24), workers=2)
     adaptive = [r.details["adaptive"]["success"] for r in run.results]
     fixed = [r.details["fixed"]["success"] for r in run.results]
     assert all(adaptive), [r.error for r in run.results]
-    assert all(a or not f for a, f in zip(adaptive, fixed))
+    # ... where the fixed frame misplaces or loses a piece on some of these seeds (20, 21, 22:
+    # why the frames adapt to the object's size)
+    assert not all(fixed)
+    lost = [op["diagnosis"] for r in run.results for op in r.details["fixed"]["operations"] if op["diagnosis"] != "ok"]
+    assert lost and set(lost) <= {"wrong place", "no match"}

@@ -17,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.events import HANG_S, experiment_program, process_gone, wait_until
+from helpers.ray_head import ray_folder
 
 from vslsp.errors import InputError
 from vslsp.tasks import System, Task, TrialResult, get_task, run_trials
@@ -88,8 +90,9 @@ class AlwaysDies(Task):
 
 
 class Slow(Task):
-    """Seed 0 is quick (it writes '0.done'); the others write 'started', wait for seed 0 to be
-    done (a worker may start late on a loaded machine), sleep, then write 'finished'."""
+    """Seed 0 returns once seed 1's trial has started; the others write '<seed>.started' (holding
+    their worker's process id), then wait for a 'release' file that the tests never write, then
+    write '<seed>.finished': only a trial left running could ever finish."""
 
     name = "ray-test-slow"
     system = System.VSL
@@ -97,19 +100,15 @@ class Slow(Task):
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         folder = Path(self.settings["folder"])
-        if seed == 0:
-            (folder / "0.done").write_text("")
-        else:
-            (folder / f"{seed}.started").write_text("")
-            deadline = time.monotonic() + 60.0
-            while not (folder / "0.done").exists() and time.monotonic() < deadline:
-                time.sleep(0.05)
-            time.sleep(SLOW_S)
+        awaited = folder / ("1.started" if seed == 0 else "release")
+        if seed:
+            (folder / f"{seed}.started").write_text(str(os.getpid()))
+        deadline = time.monotonic() + HANG_S
+        while not awaited.exists() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        if seed:
             (folder / f"{seed}.finished").write_text("")
         return TrialResult(self.name, seed, True)
-
-
-SLOW_S = 8.0  # a slow trial's time after seed 0 is done: the cancel must come before
 
 
 class WaitsForCtrlC(Task):
@@ -130,26 +129,32 @@ class WaitsForCtrlC(Task):
 
 
 @pytest.fixture(scope="module")
-def cluster():
-    """A local Ray cluster of 2 CPUs for this module; the backend runs on it (the process is connected)."""
-    saved = os.environ.get("PYTHONPATH")
-    os.environ["PYTHONPATH"] = os.pathsep.join([str(HERE), str(ROOT)] + ([saved] if saved else []))
-    ray.init(
-        address="local",
-        num_cpus=2,
-        _node_ip_address="127.0.0.1",
-        include_dashboard=False,
-        log_to_driver=False,
-        logging_level=logging.ERROR,
+def cluster(tmp_path_factory):
+    """A local Ray cluster of 2 CPUs for this module; the backend runs on it (the process is
+    connected). HOME is a temporary folder while it runs (Ray writes ~/.ray/auth_token for a new
+    local cluster), so are Ray's session files, and the environment, which ``ray.init``
+    changes, is restored after."""
+    saved = dict(os.environ)
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        [str(HERE), str(HERE.parent), str(ROOT)] + ([saved["PYTHONPATH"]] if "PYTHONPATH" in saved else [])
     )
-    try:
-        yield ray.get_runtime_context().gcs_address
-    finally:
-        ray.shutdown()
-        if saved is None:
-            os.environ.pop("PYTHONPATH", None)
-        else:
-            os.environ["PYTHONPATH"] = saved
+    os.environ["HOME"] = str(tmp_path_factory.mktemp("home"))
+    with ray_folder() as folder:
+        os.environ["RAY_TMPDIR"] = str(folder)
+        ray.init(
+            address="local",
+            num_cpus=2,
+            _node_ip_address="127.0.0.1",
+            include_dashboard=False,
+            log_to_driver=False,
+            logging_level=logging.ERROR,
+        )
+        try:
+            yield ray.get_runtime_context().gcs_address
+        finally:
+            ray.shutdown()
+            os.environ.clear()
+            os.environ.update(saved)
 
 
 def records(results: list[TrialResult]) -> list[dict]:
@@ -203,9 +208,12 @@ def test_sigterm_cancels_the_outstanding_trials_and_keeps_the_finished(cluster, 
     run = run_trials(Slow(folder=str(tmp_path)), [0, 1, 2, 3], workers=2, backend="ray", on_done=stop)
     assert run.interrupted == "SIGTERM" and run.partial
     assert [r.seed for r in run.results] == [0]
-    time.sleep(SLOW_S + 1.0)  # longer than a slow trial: a cancelled one never finishes
+    # The trial of seed 1 had started; its worker process is ended by the cancel (it would
+    # otherwise wait, then write '1.finished').
+    worker = int((tmp_path / "1.started").read_text())
+    wait_until(lambda: process_gone(worker), f"the worker of seed 1 (process {worker}) to end")
     assert not list(tmp_path.glob("*.finished"))
-    assert not (tmp_path / "3.started").exists()  # never submitted: at most 2 in flight
+    assert not (tmp_path / "2.started").exists() and not (tmp_path / "3.started").exists()  # never submitted
 
 
 def test_worker_env_passes_pythonpath_only_when_set(monkeypatch):
@@ -221,22 +229,48 @@ def test_a_malformed_address_is_refused(address):
         check_ray(address)
 
 
-def cli(*args: str, code: str = "") -> subprocess.CompletedProcess:
-    """``vslsp`` in a fresh interpreter, after ``code`` (e.g. one that makes ``import ray`` fail)."""
+def cli(*args: str, home: Path | None = None, code: str = "") -> subprocess.CompletedProcess:
+    """``vslsp`` in a fresh interpreter, after ``code`` (e.g. one that makes ``import ray`` fail),
+    with HOME in ``home`` (a local Ray instance writes ~/.ray); None: this process's HOME (the
+    ``cluster``'s while it runs: its authentication token). Ray's session files go to a
+    temporary folder."""
     program = f"import sys\n{code}\nfrom vslsp.cli import main\nmain(sys.argv[1:])"
-    return subprocess.run([sys.executable, "-c", program, *args], capture_output=True, text=True, timeout=600)
+    with ray_folder() as folder:
+        env = {**os.environ, "RAY_TMPDIR": str(folder), **({"HOME": str(home)} if home is not None else {})}
+        return subprocess.run(
+            [sys.executable, "-c", program, *args], capture_output=True, text=True, timeout=600, env=env
+        )
 
 
 def test_cli_without_ray_says_how_to_install_it(tmp_path):
     out = tmp_path / "report"
-    done = cli("experiment", "house-roof", "--backend", "ray", "--out", str(out), code="sys.modules['ray'] = None")
+    done = cli(
+        "experiment",
+        "house-roof",
+        "--backend",
+        "ray",
+        "--out",
+        str(out),
+        home=tmp_path,
+        code="sys.modules['ray'] = None",
+    )
     assert done.returncode == 2
     assert done.stderr.strip() == f"error: --backend ray needs Ray, which is not installed: {INSTALL}"
     assert not out.exists()  # refused before any work
 
 
 def test_cli_refuses_an_address_where_no_cluster_answers(tmp_path):
-    done = cli("experiment", "house-roof", "--backend", "ray", "--address", "127.0.0.1:1", "--out", str(tmp_path))
+    done = cli(
+        "experiment",
+        "house-roof",
+        "--backend",
+        "ray",
+        "--address",
+        "127.0.0.1:1",
+        "--out",
+        str(tmp_path),
+        home=tmp_path,
+    )
     assert done.returncode == 2 and "Traceback" not in done.stderr
     assert "no Ray cluster answers at --address 127.0.0.1:1" in done.stderr
 
@@ -257,7 +291,7 @@ def test_house_roof_on_the_cluster_equals_local(cluster, tmp_path):
         "--address",
         cluster,
         "--out",
-        str(tmp_path),
+        str(tmp_path / "report"),
         "--json",
     )
     assert done.returncode in (0, 1), done.stderr
@@ -267,8 +301,9 @@ def test_house_roof_on_the_cluster_equals_local(cluster, tmp_path):
         for r in data["results"]
     ]
     assert on_ray == records(local.results)
-    assert (tmp_path / "report.md").exists()
-    # the command disconnected from the cluster at the end and left it running
+    assert (tmp_path / "report" / "report.md").exists()
+    # the cluster runs on after the command ended (that the run disconnects from it is shown in
+    # process by test_ray_cluster.py)
     assert records(run_trials(Draw(), [1, 2], workers=2, backend="ray").results) == records(
         run_trials(Draw(), [1, 2]).results
     )
@@ -288,30 +323,35 @@ def test_cli_starts_a_local_ray_instance_for_the_run(tmp_path):
         "--backend",
         "ray",
         "--out",
-        str(tmp_path),
+        str(tmp_path / "report"),
         "--json",
+        home=tmp_path,
     )
     assert done.returncode in (0, 1), done.stderr
     data = json.loads(done.stdout)
     assert data["trials"] == 2 and [r["seed"] for r in data["results"]] == [3, 4]
-    assert json.loads((tmp_path / "report.json").read_text())["trials"] == 2
+    assert json.loads((tmp_path / "report" / "report.json").read_text())["trials"] == 2
 
 
 @pytest.mark.slow
 def test_ctrl_c_on_the_command_line_cancels_and_writes_the_partial_report(tmp_path):
+    with ray_folder() as folder:  # Ray's session files
+        _ctrl_c_cancels_and_writes_the_partial_report(tmp_path, folder)
+
+
+def _ctrl_c_cancels_and_writes_the_partial_report(tmp_path: Path, ray_tmp: Path) -> None:
     markers, out = tmp_path / "markers", tmp_path / "report"
     markers.mkdir()
-    # A real Ctrl-C: SIGINT to the command's process group. The command restores Python's
-    # KeyboardInterrupt handler (a shell that starts jobs in the background has it ignored).
-    program = (
-        "import signal, sys\nsignal.signal(signal.SIGINT, signal.default_int_handler)\n"
-        "from vslsp.tasks import register\nimport test_ray_backend\nregister(test_ray_backend.WaitsForCtrlC)\n"
-        "from vslsp.cli import main\nmain(sys.argv[1:])"
+    # A real Ctrl-C: SIGINT to the command's process group, once seed 0's result is in the driver.
+    program = experiment_program(
+        "from vslsp.tasks import register\nimport test_ray_backend\nregister(test_ray_backend.WaitsForCtrlC)"
     )
     env = {
         **os.environ,
+        "HOME": str(tmp_path),
+        "RAY_TMPDIR": str(ray_tmp),
         "VSLSP_TEST_MARKERS": str(markers),
-        "PYTHONPATH": os.pathsep.join([str(HERE), str(ROOT)] + [os.environ.get("PYTHONPATH", "")]),
+        "PYTHONPATH": os.pathsep.join([str(HERE), str(HERE.parent), str(ROOT)] + [os.environ.get("PYTHONPATH", "")]),
     }
     command = subprocess.Popen(
         [
@@ -336,13 +376,13 @@ def test_ctrl_c_on_the_command_line_cancels_and_writes_the_partial_report(tmp_pa
         start_new_session=True,
     )
     try:
-        deadline = time.monotonic() + 300
-        while not (markers / "0.done").exists() and command.poll() is None and time.monotonic() < deadline:
-            time.sleep(0.2)
-        assert (markers / "0.done").exists()
-        time.sleep(1.0)  # the result reaches the driver
+        wait_until(
+            lambda: (markers / "0.reported").exists() or command.poll() is not None, "seed 0's result in the driver"
+        )
+        assert command.poll() is None, command.communicate()[1]
+        wait_until(lambda: (markers / "1.started").exists(), "seed 1's trial to start")
         os.killpg(command.pid, signal.SIGINT)
-        stdout, stderr = command.communicate(timeout=60)
+        stdout, stderr = command.communicate(timeout=HANG_S)
     finally:
         if command.poll() is None:
             os.killpg(command.pid, signal.SIGKILL)

@@ -3,8 +3,8 @@ recovered; an absent object is not matched."""
 
 import numpy as np
 import pytest
+from helpers.vsl3d import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, WORKSPACE, assert_within_bounds, demonstrate, world
 
-from tests.vsl3d.conftest import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, WORKSPACE, assert_within_bounds, demonstrate, world
 from vslsp.errors import InputError, TaskFailed
 from vslsp.sim.cloud_scene import SENSOR, CloudScene
 from vslsp.vsl3d.cloud import DepthCamera

@@ -3,8 +3,8 @@ pre-/post-action observations and its 6-DoF motion, or says clearly why not."""
 
 import numpy as np
 import pytest
+from helpers.vsl3d import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, assert_within_bounds, demonstrate, world
 
-from tests.vsl3d.conftest import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, assert_within_bounds, demonstrate, world
 from vslsp.errors import TaskFailed
 from vslsp.sim.cloud_scene import CloudScene
 from vslsp.vsl3d.registration import transform_error

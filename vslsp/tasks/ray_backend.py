@@ -15,7 +15,12 @@ contract (:mod:`vslsp.tasks.runner`):
 - a trial whose worker process dies (crash, out of memory, node lost) is retried by Ray
   (:data:`RETRIES` task retries), then recorded as failed ("worker died ...");
 - an interrupt while waiting (Ctrl-C, SIGTERM) cancels the outstanding Ray tasks, shuts down a
-  Ray instance started here, and is re-raised so that the runner writes the partial report.
+  Ray instance started here, and is re-raised so that the runner writes the partial report;
+- Ray's own messages (e.g. "(raylet) A worker died ...") go to stderr, never to stdout, which
+  carries only vslsp's output (one JSON object under ``--json``);
+- an address is checked before ``ray.init``, which would retry for ever: nothing listening, a
+  server that does not speak gRPC (not Ray) and a cluster that requires an authentication token
+  this machine does not have are each refused within seconds, with their own message.
 
 Ray is an optional extra (``pip install 'vslsp[ray]'``); without it :func:`check_ray` raises an
 :class:`~vslsp.errors.InputError` before any work. See ``docs/ray.md`` for running on a cluster.
@@ -23,12 +28,15 @@ Ray is an optional extra (``pip install 'vslsp[ray]'``); without it :func:`check
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
 import re
 import socket
+import sys
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
 from types import ModuleType
 from typing import Any
 
@@ -37,9 +45,16 @@ from vslsp.tasks.base import Task, TrialResult
 from vslsp.tasks.trial import run_one
 
 RETRIES = 1  # Ray re-runs a trial whose worker died once (the local backend's rule), then it is failed
-PROBE_S = 5.0  # how long a cluster's address may take to accept a connection
+PROBE_S = 4.0  # how long a cluster's address may take to accept a connection, then to answer
 WAIT_S = 0.5  # longest wait for a result before the driver looks at signals again
 INSTALL = "pip install 'vslsp[ray]'"
+# The client's connection preface of HTTP/2 (RFC 9113, 3.4) and an empty SETTINGS frame: a gRPC
+# server (Ray's GCS and its client server are) answers with a SETTINGS frame of its own.
+_HTTP2_PREFACE = b"PRI * HTTP/2.0\r\n\r\nSM\r\n\r\n" + bytes([0, 0, 0, 4, 0, 0, 0, 0, 0])
+_SETTINGS = 4
+# A GCS call that needs no arguments (an empty message): refused UNAUTHENTICATED by a cluster that
+# requires token authentication (RAY_AUTH_MODE=token) when the caller sends no token.
+_GCS_CLUSTER_ID = "/ray.rpc.NodeInfoGcsService/GetClusterId"
 _HOST_PORT = re.compile(r"^(?P<host>[A-Za-z0-9._-]+|\[[0-9A-Fa-f:]+\]):(?P<port>\d{1,5})$")
 
 
@@ -94,14 +109,32 @@ def run_on_ray(
     call ``finished(result)`` once per seed as the results come back (in any order).
 
     ``keep``: the seeds whose trials keep their artefacts. ``address``: see :func:`check_ray`;
-    None starts a local Ray instance with ``workers`` CPUs for the run (shut down at the end; a
-    cluster's connection is closed at the end), unless this process is already connected to Ray
-    (``ray.init`` called by the caller), whose connection is then used and left open.
+    None starts a local Ray instance with ``workers`` CPUs for the run (shut down at the end); a
+    cluster's address is connected to for the run and disconnected from at the end (the cluster
+    keeps running). When this process is already connected to Ray (``ray.init`` called by the
+    caller), that connection is used and left open.
     Raises :class:`InputError` when Ray is missing or the cluster cannot be reached; re-raises an
     interrupt after cancelling the outstanding trials.
     """
     ray = check_ray(address)
-    connected = _connect(ray, address, workers)
+    with _ray_output_on_stderr():
+        connected = _connect(ray, address, workers)
+        try:
+            _run(ray, task, seeds, keep, workers, finished)
+        finally:
+            if connected:
+                ray.shutdown()  # stops a local instance started here; leaves a cluster running
+
+
+def _run(
+    ray: ModuleType,
+    task: Task,
+    seeds: Sequence[int],
+    keep: set[int],
+    workers: int,
+    finished: Callable[[TrialResult], None],
+) -> None:
+    """Submit the trials (at most ``workers`` in flight) and hand back their results."""
     pending: dict[Any, int] = {}
     try:
         task_ref = ray.put(task)  # once: the workers fetch it from the object store
@@ -119,9 +152,28 @@ def run_on_ray(
     except BaseException:  # an interrupt (KeyboardInterrupt, runner.Interrupted) or an error: stop every trial
         _cancel(ray, list(pending))
         raise
+
+
+@contextlib.contextmanager
+def _ray_output_on_stderr() -> Iterator[None]:
+    """Send what is written to stdout while Ray runs here to stderr: Ray's driver threads print
+    its messages ("(raylet) ...") to ``sys.stdout``, and the processes that ``ray.init`` starts
+    inherit file descriptor 1. Restored once Ray is shut down (its threads have stopped)."""
+    sys.stdout.flush()
+    try:
+        saved = os.dup(1)
+    except OSError:  # no file descriptor 1 (a closed stdout): only Python's stream is redirected
+        saved = None
+    if saved is not None:
+        os.dup2(2, 1)
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            yield
     finally:
-        if connected:
-            ray.shutdown()  # stops a local instance started here; leaves a cluster running
+        sys.stderr.flush()
+        if saved is not None:
+            os.dup2(saved, 1)
+            os.close(saved)
 
 
 def _trial(task: Task, seed: int, keep: bool) -> TrialResult:
@@ -142,27 +194,41 @@ def _connect(ray: ModuleType, address: str | None, workers: int) -> bool:
             ray.shutdown()
             raise
         return True
-    _probe(ray, address)
+    needs_token = _probe(ray, address)
+    if needs_token and not _token_configured():
+        raise InputError(
+            f"the Ray cluster at --address {address} requires token authentication and this machine "
+            "has no token: set RAY_AUTH_MODE=token and the cluster's token in RAY_AUTH_TOKEN (or a file "
+            "named by RAY_AUTH_TOKEN_PATH, or ~/.ray/auth_token)"
+        )
     try:
         ray.init(address=address, **quiet)
     except (ConnectionError, TimeoutError, RuntimeError, ValueError, ray.exceptions.RayError) as error:
         reason = " ".join(str(error).split())[:400] or type(error).__name__
+        if needs_token:
+            raise InputError(
+                f"the Ray cluster at --address {address} requires token authentication and refused "
+                f"this machine's token ({reason}): give the cluster's token in RAY_AUTH_TOKEN, "
+                "RAY_AUTH_TOKEN_PATH or ~/.ray/auth_token, with RAY_AUTH_MODE=token"
+            ) from None
         raise InputError(
             f"cannot connect to the Ray cluster at --address {address}: {reason}; start its head with "
             "`ray start --head --port 6379` (and workers with `ray start --address HEAD:6379`), "
             "or leave --address out for a local Ray instance"
         ) from None
-    return False
+    return True  # a cluster's connection made here: closed at the end of the run
 
 
-def _probe(ray: ModuleType, address: str) -> None:
-    """Refuse an address where no Ray cluster answers (``ray.init`` would retry for ever)."""
+def _probe(ray: ModuleType, address: str) -> bool:
+    """Refuse an address where no Ray cluster answers (``ray.init`` would retry for ever): nothing
+    listening, or a server that is not gRPC. True when the cluster requires token authentication
+    (it refused a call without a token)."""
     target = address[len("ray://") :] if address.startswith("ray://") else address
     if address == "auto":
         try:
             found = ray._private.services.canonicalize_bootstrap_address(address)
         except (AttributeError, ConnectionError, ValueError):  # Ray's own lookup; let ray.init say the rest
-            return
+            return False
         if found is None:
             raise InputError(
                 "--address auto: no Ray cluster was started on this machine (`ray start --head "
@@ -171,15 +237,73 @@ def _probe(ray: ModuleType, address: str) -> None:
             )
         target = found
     host, _, port = target.rpartition(":")
+    host = host.strip("[]")
+    via = f" (found by 'auto': {target})" if address == "auto" else ""
     try:
-        socket.create_connection((host.strip("[]"), int(port)), timeout=PROBE_S).close()
+        with socket.create_connection((host, int(port)), timeout=PROBE_S) as connection:
+            connection.settimeout(PROBE_S)
+            answer = _answer_to_http2(connection)
     except OSError as error:
-        via = f" (found by 'auto': {target})" if address == "auto" else ""
         raise InputError(
             f"no Ray cluster answers at --address {address}{via}: {error.strerror or error}; start "
             "its head with `ray start --head --port 6379`, or leave --address out for a local Ray "
             "instance"
         ) from None
+    if len(answer) < 9 or answer[3] != _SETTINGS:
+        port_hint = (
+            "the Ray client server's port (10001 by default)"
+            if address.startswith("ray://")
+            else ("the head's GCS port (6379 by default)")
+        )
+        raise InputError(
+            f"--address {address}{via}: the server there is not a Ray cluster (it does not answer as "
+            f"a gRPC server); give {port_hint}, or leave --address out for a local Ray instance"
+        )
+    return not address.startswith("ray://") and _refuses_without_token(host, int(port))
+
+
+def _answer_to_http2(connection: socket.socket) -> bytes:
+    """The first 9 bytes (a frame header) a server sends back after the HTTP/2 preface; fewer
+    when it closes the connection or stays silent for ``PROBE_S``."""
+    connection.sendall(_HTTP2_PREFACE)
+    answer = b""
+    with contextlib.suppress(TimeoutError, OSError):
+        while len(answer) < 9:
+            chunk = connection.recv(9 - len(answer))
+            if not chunk:
+                break
+            answer += chunk
+    return answer
+
+
+def _refuses_without_token(host: str, port: int) -> bool:
+    """Whether the GCS at ``host:port`` refuses a call that carries no authentication token
+    (False when gRPC, Ray's client transport, is not installed: ``ray.init`` then says it)."""
+    try:
+        import grpc
+    except ImportError:
+        return False
+    target = f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+    with grpc.insecure_channel(target) as channel:
+        try:
+            channel.unary_unary(_GCS_CLUSTER_ID)(b"", timeout=PROBE_S)
+        except grpc.RpcError as error:
+            return bool(error.code() == grpc.StatusCode.UNAUTHENTICATED)
+    return False
+
+
+def _token_configured() -> bool:
+    """Whether Ray on this machine sends an authentication token: a token in the environment, a
+    file it names or ~/.ray/auth_token, unless RAY_AUTH_MODE turns authentication off (Ray turns
+    it on by itself when RAY_AUTH_MODE is unset and a token exists)."""
+    mode = os.environ.get("RAY_AUTH_MODE")
+    if mode is not None and mode.lower() != "token":
+        return False
+    return bool(
+        os.environ.get("RAY_AUTH_TOKEN")
+        or os.environ.get("RAY_AUTH_TOKEN_PATH")
+        or (Path.home() / ".ray" / "auth_token").is_file()
+    )
 
 
 def _outcome(ray: ModuleType, ref: Any, name: str, seed: int) -> TrialResult:

@@ -1,0 +1,146 @@
+"""A Ray cluster started the way a user starts one (``ray start --head``) for the tests of the
+Ray backend's addresses: HOST:PORT, ``auto`` and ``ray://`` (the Ray client).
+
+Everything the cluster writes (its sessions, logs, the address file that ``auto`` reads, what
+Ray puts in ``~``) goes to one temporary folder, removed with the cluster. Stopping it ends only
+the processes it started: its process group, then any process left whose command line names
+that folder (Ray's workers start sessions of their own).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+STARTED = "Ray runtime started"
+HANG_S = 180.0  # guards against a hang only: a head starts in seconds, a few tens on a loaded machine
+
+
+@dataclass(frozen=True)
+class RayHead:
+    folder: Path  # the cluster's temporary folder (RAY_TMPDIR and HOME of the head)
+    gcs_address: str  # HOST:PORT of the head's GCS: --address HOST:PORT
+    client_address: str  # ray://HOST:PORT of its Ray client server
+
+
+def free_port() -> int:
+    """A TCP port that nothing listens on at the moment."""
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+@contextmanager
+def ray_head(pythonpath: list[Path], env: dict[str, str] | None = None, cpus: int = 2) -> Iterator[RayHead]:
+    """Start a one-node Ray cluster (``ray start --head --block``) on 127.0.0.1 whose workers
+    import from ``pythonpath``; ``env``: more environment variables of the head (e.g. its
+    authentication). Stops it, and removes its folder, on leaving."""
+    folder = Path(tempfile.mkdtemp(prefix="vslsp-ray-"))  # short: Ray's socket paths must stay < 108 bytes
+    port, client_port = free_port(), free_port()
+    head_env = {
+        **os.environ,
+        "HOME": str(folder),
+        "RAY_TMPDIR": str(folder),
+        "PYTHONPATH": os.pathsep.join(str(p) for p in pythonpath),
+        # a Ray client's own server may start slowly on a loaded machine (Ray's default: 30 s)
+        "RAY_CLIENT_SERVER_CHECK_CHANNEL_TIMEOUT_S": str(int(HANG_S)),
+        **(env or {}),
+    }
+    command = [
+        str(Path(sys.executable).parent / "ray"),
+        "start",
+        "--head",
+        f"--port={port}",
+        f"--ray-client-server-port={client_port}",
+        f"--num-cpus={cpus}",
+        "--node-ip-address=127.0.0.1",
+        "--include-dashboard=false",
+        "--disable-usage-stats",
+        "--block",
+    ]
+    head = subprocess.Popen(
+        command, env=head_env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
+    )
+    try:
+        _wait_until_started(head)
+        yield RayHead(folder, f"127.0.0.1:{port}", f"ray://127.0.0.1:{client_port}")
+    finally:
+        _stop(head, folder)
+
+
+def _wait_until_started(head: subprocess.Popen[str]) -> None:
+    """Read the head's output until it says the cluster runs (then drain it in the background)."""
+    assert head.stdout is not None
+    seen: list[str] = []
+    timer = threading.Timer(HANG_S, head.kill)  # a head that never starts ends the read below
+    timer.start()
+    try:
+        for line in head.stdout:
+            seen.append(line)
+            if STARTED in line:
+                break
+    finally:
+        timer.cancel()
+    if not seen or STARTED not in seen[-1]:
+        raise RuntimeError("`ray start --head` did not start:\n" + "".join(seen[-30:]))
+    threading.Thread(target=head.stdout.read, daemon=True).start()  # a full pipe must not block it
+
+
+def _stop(head: subprocess.Popen[str], folder: Path) -> None:
+    """End the head's process group and every process left that names ``folder``; remove it."""
+    try:
+        os.killpg(head.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    head.wait(timeout=HANG_S)
+    _end_processes_naming(folder)
+    shutil.rmtree(folder, ignore_errors=True)
+
+
+def _end_processes_naming(folder: Path) -> None:
+    """End every process left whose command line names ``folder`` (Ray's, started for a test)."""
+    deadline = time.monotonic() + HANG_S
+    while (left := _processes_naming(folder)) and time.monotonic() < deadline:
+        for pid in left:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+        time.sleep(0.2)
+
+
+def _processes_naming(folder: Path) -> list[int]:
+    """The processes whose command line holds ``folder`` (those this cluster started)."""
+    needle = str(folder).encode()
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit() and int(entry.name) != os.getpid():
+            try:
+                if needle in (entry / "cmdline").read_bytes():
+                    found.append(int(entry.name))
+            except OSError:  # gone meanwhile, or not ours to read
+                continue
+    return found
+
+
+@contextmanager
+def ray_folder() -> Iterator[Path]:
+    """A short temporary folder for what a local Ray instance writes (its sessions: give it as
+    RAY_TMPDIR); on leaving, the processes left that name it are ended and it is removed."""
+    folder = Path(tempfile.mkdtemp(prefix="vslsp-ray-"))  # short: Ray's socket paths must stay < 108 bytes
+    try:
+        yield folder
+    finally:
+        _end_processes_naming(folder)
+        shutil.rmtree(folder, ignore_errors=True)
