@@ -25,7 +25,9 @@ def test_table_cleaning_is_executed_by_the_robot(tmp_path, capsys):
         assert op["match_fitness"] > 0.5 and op["final_error_deg"] < 15.0 and op["grasp"]["width_m"] < 0.08
     for key in ("demonstration_3", "reproduction_1", "cloud", "final"):
         assert (tmp_path / report["shown_trial"][key]).stat().st_size > 10_000
-    assert "| 1 (seeds 0-0) | 1 | 100.0 % |" in (tmp_path / "report.md").read_text()
+    markdown = (tmp_path / "report.md").read_text()
+    assert "| 1 (seeds 0-0) | 1 | 100.0 % (" in markdown  # the rate, then its Wilson interval
+    assert "| 0 | ok |" in markdown and "None" not in markdown.split("## Trials")[-1]
 
 
 @pytest.mark.slow

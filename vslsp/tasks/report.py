@@ -186,7 +186,8 @@ def _note(record: dict) -> str:
         return str(record["error"]).replace("|", "/")[:200]
     operations = record.get("operations") or []
     diagnoses = Counter(
-        str(op.get("diagnosis", "ok" if op.get("success", True) else "failed"))
+        # A diagnosis of None is an operation that went as planned (VSL-3D's records say so).
+        str(op.get("diagnosis") or ("ok" if op.get("success", True) else "failed"))
         for op in operations
         if isinstance(op, dict)
     )
