@@ -13,7 +13,8 @@ A recorded observation (pre-pick or pre-place) is found in the new world in two 
    frames grew while it was ambiguous); with comparison frames every candidate's colour
    correlation with the observation is measured as the frame grows, until one beats the others
    by :data:`~vslsp.vision.matching.MARGIN` (the paper's adaptive frame telling identical
-   objects apart by their surroundings).
+   objects apart by their surroundings). Before a frame rules the beaten candidates out, each
+   is re-fitted (:func:`refit`) and compared again: see :func:`match_observation`.
 
 What differs between the tasks is data, a :class:`Search`: the rounds of placements (their
 frame sides, how many, how far about each the world features are left out) and the comparison
@@ -32,6 +33,7 @@ from vslsp.stages import in_stage
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import as_rgb
 from vslsp.vision.matching import MARGIN, MIN_SCORE, Match, NoMatch, find_best_match
+from vslsp.vision.transform import decompose
 
 
 @dataclass(frozen=True)
@@ -93,13 +95,33 @@ def match_observation(
     candidates = _candidates(observation, world, point, object_size, search, observation_features, world_features, fits)
     if not candidates:
         return NoMatch("no placement of the observation fits in the world at any frame size")
-    chosen = None
+    chosen, refitted, seen = None, [False] * len(candidates), world.astype(np.float32)
     for size in search.compare:
-        scores = np.array([frame_correlation(observation, world, point, size, c.transform) for c in candidates])
+        scores = np.array([_correlation(observation, seen, point, size, c.transform) for c in candidates])
         order = np.argsort(-scores, kind="stable")
         if chosen is not None and scores[order[0]] < chosen.score - MARGIN:
             break  # the frame has grown past what the demonstration and this world share
         unique = len(candidates) == 1 or scores[order[0]] - scores[order[1]] >= MARGIN
+        if unique and len(candidates) > 1:
+            # The rule: a candidate is ruled out on its place, not on its fit. RANSAC on the few
+            # features a small frame holds (two, at times) may fit a copy a few px, degrees or a
+            # fifth in scale off, and that copy then correlates poorly although its place is as
+            # good as the winner's; a frame too small to see what tells them apart would then
+            # decide alone, unflagged. So before a frame decides, every beaten candidate is
+            # re-fitted at it; when one comes within MARGIN the winner is re-fitted too (the
+            # comparison stays even-handed) and the frame keeps growing while they stay close.
+            # Where the beaten stay beaten, nothing changes (re-fitting the winner could only
+            # widen its lead).
+            for everyone in (False, True):
+                for i in range(len(candidates)):
+                    if not refitted[i] and (everyone or i != order[0]):
+                        candidates[i] = refit(observation, seen, point, size, candidates[i])
+                        refitted[i] = True
+                scores = np.array([_correlation(observation, seen, point, size, c.transform) for c in candidates])
+                order = np.argsort(-scores, kind="stable")
+                unique = _stands_out(candidates, scores, order, object_size)
+                if unique:
+                    break
         chosen = replace(
             candidates[order[0]],
             score=float(scores[order[0]]),
@@ -149,13 +171,80 @@ def frame_correlation(
 ) -> float:
     """Normalised cross-correlation (colour) of the square frame of side ``size`` around
     ``point`` in ``observation`` with the world seen through ``transform`` (3, 3)."""
+    return _correlation(observation, world.astype(np.float32), point, size, transform)
+
+
+REFIT_STEP = (4.0, np.radians(4.0))  # the re-fit's first step: px, rad
+REFIT_STOP = 0.5  # px: the re-fit stops when its step is this small
+_REFIT_MOVES = 60  # at most this many steps uphill
+
+
+def refit(observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, match: Match) -> Match:
+    """``match`` re-fitted to the ``world`` (H, W, 3) at the frame of side ``size``:
+    made rigid about its place (scale 1: the same camera sees the same board, so a fit that
+    scaled the frame fitted its few features, not the copy), then moved and turned about its
+    place, steps of :data:`REFIT_STEP` halving down to :data:`REFIT_STOP`, to the nearby
+    placement whose frame correlates best with the observation. Its score is that correlation."""
+    world = world if world.dtype == np.float32 else world.astype(np.float32)
+    here = np.array([match.x, match.y])
+    scale = float(np.sqrt(abs(np.linalg.det(match.transform[:2, :2]))))
+    transform = _about(here, 0.0, 0.0, 0.0, 1.0 / scale) @ match.transform
+    score = _correlation(observation, world, point, size, transform)
+    step, turn, moves = *REFIT_STEP, 0
+    while step >= REFIT_STOP and moves < _REFIT_MOVES:
+        here = (transform @ np.array([point[0], point[1], 1.0]))[:2]
+        tried = [
+            _about(here, dx, dy, dt) @ transform
+            for dx, dy, dt in ((step, 0, 0), (-step, 0, 0), (0, step, 0), (0, -step, 0), (0, 0, turn), (0, 0, -turn))
+        ]
+        scores = [_correlation(observation, world, point, size, t) for t in tried]
+        best = int(np.argmax(scores))
+        if scores[best] > score:
+            transform, score, moves = tried[best], scores[best], moves + 1
+        else:
+            step, turn = step / 2.0, turn / 2.0
+    x, y = (transform @ np.array([point[0], point[1], 1.0]))[:2]
+    decomposition = decompose(transform)
+    return replace(
+        match,
+        x=float(x),
+        y=float(y),
+        theta=decomposition.theta,
+        score=float(score),
+        transform=transform,
+        decomposition=decomposition,
+    )
+
+
+def _about(centre: np.ndarray, dx: float, dy: float, turn: float, scale: float = 1.0) -> np.ndarray:
+    """The similarity (3, 3) that scales by ``scale`` and turns by ``turn`` about ``centre``
+    (x, y px), then shifts by (``dx``, ``dy``)."""
+    c, s = scale * np.cos(turn), scale * np.sin(turn)
+    x, y = float(centre[0]), float(centre[1])
+    return np.array([[c, -s, x + dx - c * x + s * y], [s, c, y + dy - s * x - c * y], [0.0, 0.0, 1.0]])
+
+
+def _stands_out(candidates: list[Match], scores: np.ndarray, order: np.ndarray, object_size: float) -> bool:
+    """Whether the best candidate beats by ``MARGIN`` every other one that lies more than half
+    an object from it (a re-fit may move a candidate onto another's place: the same place)."""
+    best = candidates[order[0]]
+    others = [
+        scores[i] for i in order[1:] if np.hypot(candidates[i].x - best.x, candidates[i].y - best.y) > object_size / 2.0
+    ]
+    return not others or scores[order[0]] - max(others) >= MARGIN
+
+
+def _correlation(
+    observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, transform: np.ndarray
+) -> float:
+    """:func:`frame_correlation` with the world (H, W, 3) already float32."""
     half = size / 2.0
     x0, y0 = int(max(0, round(point[0] - half))), int(max(0, round(point[1] - half)))
     x1 = int(min(observation.shape[1], round(point[0] + half)))
     y1 = int(min(observation.shape[0], round(point[1] + half)))
     to_world = transform @ np.array([[1.0, 0.0, x0], [0.0, 1.0, y0], [0.0, 0.0, 1.0]])
     flags = cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP
-    seen = cv2.warpPerspective(world.astype(np.float32), to_world, (x1 - x0, y1 - y0), flags=flags)
+    seen = cv2.warpPerspective(world, to_world, (x1 - x0, y1 - y0), flags=flags)
     inside = cv2.warpPerspective(np.ones(world.shape[:2], np.float32), to_world, (x1 - x0, y1 - y0), flags=flags) > 0.99
     if inside.sum() < 0.5 * inside.size:
         return -1.0
