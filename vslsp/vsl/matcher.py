@@ -108,14 +108,15 @@ def match_observation(
             # fifth in scale off, and that copy then correlates poorly although its place is as
             # good as the winner's; a frame too small to see what tells them apart would then
             # decide alone, unflagged. So before a frame decides, every beaten candidate is
-            # re-fitted at it; when one comes within MARGIN the winner is re-fitted too (the
+            # re-fitted; when one comes within MARGIN the winner is re-fitted too (the
             # comparison stays even-handed) and the frame keeps growing while they stay close.
             # Where the beaten stay beaten, nothing changes (re-fitting the winner could only
-            # widen its lead).
+            # widen its lead). A fit is made at the first, smallest frame: the place and its
+            # nearest surroundings, which is what the fit is about (and the cheapest to search).
             for everyone in (False, True):
                 for i in range(len(candidates)):
                     if not refitted[i] and (everyone or i != order[0]):
-                        candidates[i] = refit(observation, seen, point, size, candidates[i])
+                        candidates[i] = refit(observation, seen, point, search.compare[0], candidates[i])
                         refitted[i] = True
                 scores = np.array([_correlation(observation, seen, point, size, c.transform) for c in candidates])
                 order = np.argsort(-scores, kind="stable")
