@@ -277,7 +277,9 @@ def place_search(frame: FrameMode | str, object_size: float) -> Search:
     """How the pre-place observation is found: up to :data:`_COPIES` copies of the place's
     surroundings at the first of the :func:`place_frames` and the best placement at each larger
     one are the candidates, compared by colour correlation as the frame grows until one beats
-    the others by ``MARGIN``. When none does, the best candidate of the largest frame that
+    the others by ``MARGIN``, each beaten one re-fitted first (a poor RANSAC fit of a free
+    body's copy must not lose it the comparison at a frame too small to see the roofs; see
+    :func:`~vslsp.vsl.matcher.match_observation`). When none does, the best candidate of the largest frame that
     still sees what the demonstration saw (the best correlation has not dropped by ``MARGIN``)
     is taken, flagged ambiguous; with a single (fixed) frame that is the first place that
     matches best."""
