@@ -99,6 +99,9 @@ def test_a_poor_fit_is_refitted_to_its_copy(demo):
     assert np.hypot(fitted.x - good.x, fitted.y - good.y) < 1.5
     assert abs(fitted.theta - good.theta) < np.radians(1.0)
     assert np.sqrt(np.linalg.det(fitted.transform[:2, :2])) == pytest.approx(1.0)
+    # A degenerate fit (RANSAC collapsed the frame) has no pose to start from: it stays as it is.
+    collapsed = replace(good, transform=np.array([[0.0, 0.0, good.x], [0.0, 0.0, good.y], [0.0, 0.0, 1.0]]))
+    assert refit(op.pre_place, seen, point, size, collapsed) is collapsed
 
 
 def test_a_frame_too_small_to_see_the_roofs_does_not_decide_on_a_poor_fit():

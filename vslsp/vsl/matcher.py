@@ -178,6 +178,7 @@ def frame_correlation(
 REFIT_STEP = (4.0, np.radians(4.0))  # the re-fit's first step: px, rad
 REFIT_STOP = 0.5  # px: the re-fit stops when its step is this small
 _REFIT_MOVES = 60  # at most this many steps uphill
+_DEGENERATE = 1e-6  # a fit whose scale is below this is no placement
 
 
 def refit(observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, match: Match) -> Match:
@@ -189,6 +190,8 @@ def refit(observation: np.ndarray, world: np.ndarray, point: tuple[float, float]
     world = world if world.dtype == np.float32 else world.astype(np.float32)
     here = np.array([match.x, match.y])
     scale = float(np.sqrt(abs(np.linalg.det(match.transform[:2, :2]))))
+    if not scale > _DEGENERATE:
+        return match  # a fit that collapses the frame to a line or a point has no pose to start from
     transform = _about(here, 0.0, 0.0, 0.0, 1.0 / scale) @ match.transform
     score = _correlation(observation, world, point, size, transform)
     step, turn, moves = *REFIT_STEP, 0
