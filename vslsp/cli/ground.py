@@ -59,7 +59,7 @@ def _ground(
             "--overlay",
         )
     predicates = with_builtins(load_predicates(predicates_file)) if predicates_file else None
-    pre_image, post_image = read_image(pre, f"pre-action image {pre}"), read_image(post, f"post-action image {post}")
+    pre_image, post_image = read_image(pre, "pre-action image"), read_image(post, "post-action image")
     grounding = ground_pair(pre_image, post_image, robot_side=robot_side, predicates=predicates)
     if overlay:
         write_image(overlay, draw_grounding(pre_image, post_image, grounding))
