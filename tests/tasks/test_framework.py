@@ -14,6 +14,7 @@ import pytest
 from example_tasks import DiceBelowFive, Troublesome
 from helpers.cli import vslsp
 from helpers.events import HANG_S, experiment_program, process_gone, wait_until
+from helpers.records import without_times
 
 from vslsp.errors import InputError
 from vslsp.tasks import Run, get_task, list_tasks, run_trials, write_report
@@ -77,10 +78,8 @@ def test_results_come_in_seed_order_the_same_on_one_or_two_workers():
     task = get_task("dice-below-five")
     one = run_trials(task, range(10, 16), workers=1)
     two = run_trials(task, range(10, 16), workers=2)
-    strip = [{k: v for k, v in r.to_dict().items() if k not in ("time_s", "cpu_s", "stages_s")} for r in one.results]
-    assert strip == [
-        {k: v for k, v in r.to_dict().items() if k not in ("time_s", "cpu_s", "stages_s")} for r in two.results
-    ]
+    strip = [without_times(r.to_dict()) for r in one.results]
+    assert strip == [without_times(r.to_dict()) for r in two.results]
     assert [r.seed for r in two.results] == list(range(10, 16)) and not two.partial
 
 

@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 from helpers.events import HANG_S, experiment_program, process_gone, wait_until
 from helpers.ray_head import ray_folder
+from helpers.records import without_times
 
 from vslsp.errors import InputError
 from vslsp.tasks import System, Task, TrialResult, get_task, run_trials
@@ -159,10 +160,7 @@ def cluster(tmp_path_factory):
 
 def records(results: list[TrialResult]) -> list[dict]:
     """The JSON records of the trials, times excepted."""
-    return [
-        {k: v for k, v in r.to_dict().items() if k not in ("time_s", "cpu_s", "reproduction_ms", "stages_s")}
-        for r in results
-    ]
+    return [without_times(r.to_dict()) for r in results]
 
 
 def test_ray_gives_the_local_results_in_seed_order(cluster):
@@ -296,10 +294,7 @@ def test_house_roof_on_the_cluster_equals_local(cluster, tmp_path):
     )
     assert done.returncode in (0, 1), done.stderr
     data = json.loads(done.stdout)
-    on_ray = [
-        {k: v for k, v in r.items() if k not in ("time_s", "cpu_s", "reproduction_ms", "stages_s")}
-        for r in data["results"]
-    ]
+    on_ray = [without_times(r) for r in data["results"]]
     assert on_ray == records(local.results)
     assert (tmp_path / "report" / "report.md").exists()
     # the cluster runs on after the command ended (that the run disconnects from it is shown in

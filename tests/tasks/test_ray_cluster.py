@@ -22,6 +22,7 @@ import pytest
 from example_tasks import DiceBelowFive
 from helpers.cli import REPO, vslsp
 from helpers.ray_head import RayHead, free_port, ray_head
+from helpers.records import without_times
 
 from vslsp.tasks import TrialResult, run_trials
 
@@ -34,7 +35,7 @@ SEEDS = list(range(20, 26))
 
 def records(results: list[TrialResult]) -> list[dict]:
     """The JSON records of the trials, times excepted."""
-    return [{k: v for k, v in r.to_dict().items() if k not in ("time_s", "cpu_s")} for r in results]
+    return [without_times(r.to_dict()) for r in results]
 
 
 @pytest.fixture(scope="module")

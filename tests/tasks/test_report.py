@@ -9,6 +9,7 @@ from collections import Counter
 
 import pytest
 from example_tasks import DiceBelowFive
+from helpers.records import without_times
 from helpers.report import assert_links_resolve
 
 from vslsp.tasks import Run, get_task, run_trials, write_report
@@ -18,7 +19,7 @@ SEEDS = range(0, 12)  # the die shows 5 or 6 on some of these seeds, less on the
 
 
 def record(result) -> dict:
-    return {k: v for k, v in result.to_dict().items() if k not in ("time_s", "cpu_s", "reproduction_ms")}
+    return without_times(result.to_dict())
 
 
 def test_failures_are_tallied_by_cause_and_listed_in_their_section(tmp_path):
