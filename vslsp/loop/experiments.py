@@ -241,17 +241,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         assert trial.domain is not None and trial.task is not None  # learned above
         before, after = _narration(trial, world)
-        run = execute_task(
-            world,
-            library,
-            trial.domain,
-            trial.task,
-            planner=planner,
-            faults=faults,
-            on_step=after,
-            predicates=trial.predicates,
-            before_step=before,
-        )
+        run = _execute(trial, world, library, faults, planner, before, after)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
     trial.success = run.success and not any(final.values())
@@ -260,6 +250,22 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
     )
     if not trial.success and trial.error is None:
         trial.error = f"objects still far in the simulator: {[c for c, f in final.items() if f]}"
+
+
+def _execute(trial: Trial, world, library, faults, planner, before, after):
+    """Plan the learned task and execute it in ``world`` with the skills, narrated step by step."""
+    assert trial.domain is not None and trial.task is not None  # learned before the test scene
+    return execute_task(
+        world,
+        library,
+        trial.domain,
+        trial.task,
+        planner=planner,
+        faults=faults,
+        on_step=after,
+        predicates=trial.predicates,
+        before_step=before,
+    )
 
 
 def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
@@ -284,17 +290,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
 
         assert trial.domain is not None and trial.task is not None  # learned above
         before, after = _narration(trial, world, watch_truth)
-        run = execute_task(
-            world,
-            library,
-            trial.domain,
-            trial.task,
-            planner=planner,
-            faults=faults,
-            on_step=after,
-            predicates=trial.predicates,
-            before_step=before,
-        )
+        run = _execute(trial, world, library, faults, planner, before, after)
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     _record(trial, run)
     # VSL: the same test scene, reproduced from the single demonstration by match finding.
