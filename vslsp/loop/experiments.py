@@ -239,7 +239,6 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
         far = (True,) + far[1:]
     with trial.world(scene_for(trial.seed + 1_000_003, colours, far)) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-        assert trial.domain is not None and trial.task is not None  # learned above
         before, after = _narration(trial, world)
         run = _execute(trial, world, library, faults, planner, before, after)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
@@ -288,7 +287,6 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
                 if not world.is_far(cube.name) and cube.colour not in became_near:
                     became_near.append(cube.colour)
 
-        assert trial.domain is not None and trial.task is not None  # learned above
         before, after = _narration(trial, world, watch_truth)
         run = _execute(trial, world, library, faults, planner, before, after)
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
