@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from vslsp.live import publish
 from vslsp.sim.quiet import quiet
 from vslsp.sim.scene import TABLE_Z
 
@@ -97,6 +99,12 @@ class Camera:
             flags=pb.ER_NO_SEGMENTATION_MASK,
             physicsClientId=client,
         )
+        rgb, depth = self._finish(rgba, depth_buffer, backdrop)
+        publish(rgb)  # the studio's live picture of a running trial (vslsp.live), when asked for
+        return rgb, depth
+
+    def _finish(self, rgba: Any, depth_buffer: Any, backdrop: Backdrop | None) -> tuple[np.ndarray, np.ndarray]:
+        """The RGB and depth of pybullet's buffers, the ``backdrop`` drawn where no body was."""
         buffer = np.asarray(depth_buffer, dtype=np.float64).reshape(self.height, self.width)
         depth = (FAR * NEAR / (FAR - (FAR - NEAR) * buffer)).astype(np.float32)
         if backdrop is None:

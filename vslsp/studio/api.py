@@ -21,6 +21,7 @@ from vslsp.errors import InputError, VslspError
 from vslsp.studio import files, runs
 from vslsp.studio import pddl as pddl_work
 from vslsp.studio.files import MAX_UPLOAD_BYTES, Missing, Outside, inside, relative
+from vslsp.studio.report_data import read_report, read_trial, report_folders, split_trial
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
 UPLOADS = "out/studio/uploads"
@@ -69,6 +70,27 @@ def _name(data: dict, key: str, default: str) -> str:
     return value if isinstance(value, str) and value and len(value) < 300 else default
 
 
+def _completion_request(data: dict) -> tuple[str, str | None, str, int, str, str]:
+    """``POST /api/complete``'s fields: both texts, the editor (``in``) and the offset ``at`` in it."""
+    domain, problem = _text(data, "domain"), _text(data, "problem", required=False) or None
+    editor = data.get("in", "domain")
+    if editor not in ("domain", "problem"):
+        raise InputError(f"'in' must be domain or problem, got {editor!r}")
+    at, text = data.get("at"), domain if editor == "domain" else problem or ""
+    if not isinstance(at, int) or isinstance(at, bool) or not 0 <= at <= len(text):
+        raise InputError(f"'at' must be an offset in the {editor} text (0 to {len(text)}), got {at!r}")
+    names = (_name(data, "domain_file", "<domain>"), _name(data, "problem_file", "<problem>"))
+    return domain, problem, editor, at, *names
+
+
+def report_or_trial(root: Path, rel: str) -> dict:
+    """``REL`` a report folder (:func:`read_report`), or ``REL/trials/SEED`` one of its trials."""
+    trial = split_trial(rel)
+    if trial is not None and not (inside(root, rel, must_exist=False) / "report.json").is_file():
+        return read_trial(root, *trial)
+    return read_report(root, rel)
+
+
 def install(app: FastAPI, root: Path, token: str | None = None) -> None:
     """Add the API, ``/files`` and (with ``token``) the token check to ``app``."""
     root = root.resolve()
@@ -91,12 +113,7 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
     async def listing(kind: str = "pddl") -> dict:
         suffixes = {"pddl": (".pddl",), "image": IMAGE_SUFFIXES, "predicates": (".py",), "plan": (".plan", ".txt")}
         if kind == "reports":
-            found = [
-                p.rsplit("/", 1)[0] if "/" in p else "."
-                for p in files.listing(root, (".json",))
-                if p.endswith("report.json")
-            ]
-            return {"files": found}
+            return {"files": await run_in_threadpool(report_folders, root)}
         if kind not in suffixes:
             raise InputError(f"kind must be one of {', '.join([*suffixes, 'reports'])}, got {kind!r}")
         return {"files": await run_in_threadpool(files.listing, root, suffixes[kind])}
@@ -189,7 +206,12 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
 
     @api.get("/reports/{rel:path}")
     async def report(rel: str) -> dict:
-        return read_report(root, rel)
+        return await run_in_threadpool(report_or_trial, root, rel)
+
+    @api.post("/complete")
+    async def complete(request: Request) -> dict:
+        data = await _body(request)
+        return await run_in_threadpool(pddl_work.complete, *_completion_request(data))
 
     app.include_router(api)
 
@@ -281,25 +303,3 @@ def render_scene(root: Path, seed: object) -> dict:
         raise InputError(lines[-1].removeprefix("error: "))
     images = sorted(relative(root, p) for p in folder.glob("*.png"))
     return {"folder": relative(root, folder), "images": images}
-
-
-def read_report(root: Path, rel: str) -> dict:
-    """A report folder: ``summary`` (report.json), ``markdown`` (report.md), ``images`` (in order),
-    ``videos``, ``clouds`` (.ply/.npz), ``trials`` (per-trial sub-folders with their files)."""
-    folder = inside(root, rel)
-    summary_file = folder / "report.json"
-    if not summary_file.is_file():
-        raise Missing(f"{rel}: not a report folder (no report.json)")
-    try:
-        summary = json.loads(summary_file.read_text())
-    except ValueError:
-        raise InputError(f"{rel}/report.json: not JSON") from None
-    markdown = (folder / "report.md").read_text() if (folder / "report.md").is_file() else ""
-    found: dict[str, list[str]] = {"images": [], "videos": [], "clouds": [], "plans": []}
-    kinds = {".png": "images", ".jpg": "images", ".mp4": "videos", ".webm": "videos", ".ply": "clouds"}
-    kinds.update({".npz": "clouds", ".pddl": "plans", ".plan": "plans", ".txt": "plans"})
-    for path in sorted(folder.rglob("*")):
-        kind = kinds.get(path.suffix.lower())
-        if kind and path.is_file() and path.resolve().is_relative_to(root):
-            found[kind].append(relative(root, path))
-    return {"folder": relative(root, folder), "summary": summary, "markdown": markdown, **found}

@@ -7,6 +7,7 @@ problem's conflict on its lines. Paper: "Implementation" (PDDL 3.0 domains and c
 from __future__ import annotations
 
 import html
+import json
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +32,43 @@ td.kept { background: #e8f5e9; } td.broken { background: #ffcdd2; } td.open { ba
 """
 
 
+#: Ctrl-Space in an editor: CodeMirror's own completion list at the cursor, its items from
+#: ``POST /api/complete`` (the language engine's names that fit there, :func:`vslsp.studio.pddl.complete`).
+#: A completion source in the editor's language data, which CodeMirror's autocompletion (in NiceGUI's
+#: editor) asks on Ctrl-Space; offsets go to the server in characters (code points), as Python counts.
+COMPLETION_JS = """
+(async (ids) => {
+  const CM = await import("nicegui-codemirror");
+  const text = (kind) => getElement(ids[kind]).editor.state.doc.toString();
+  for (const [kind, id] of Object.entries(ids)) {
+    let element = getElement(id);
+    while (!element || !element.editor) {
+      await new Promise((resolve) => setTimeout(resolve, 50));
+      element = getElement(id);
+    }
+    const view = element.editor;
+    if (view.vslspCompletion) continue;
+    view.vslspCompletion = true;
+    const source = async (context) => {
+      if (!context.explicit) return null;
+      const doc = context.state.doc.toString();
+      const at = [...doc.slice(0, context.pos)].length;
+      const body = {domain: text("domain"), problem: text("problem"), in: kind, at};
+      const answer = await fetch(window.path_prefix + "/api/complete", {
+        method: "POST", headers: {"content-type": "application/json"}, body: JSON.stringify(body),
+      });
+      if (!answer.ok) return null;
+      const found = await answer.json();
+      const from = [...doc].slice(0, found.from).join("").length;
+      return {from, options: found.items.map((label) => ({label})), validFor: /^[?\\w-]*$/};
+    };
+    const data = CM.EditorState.languageData.of(() => [{autocomplete: source}]);
+    view.dispatch({effects: CM.StateEffect.appendConfig.of(data)});
+  }
+})(%s);
+"""
+
+
 class Author:
     """One author page: two editors and what they show."""
 
@@ -48,7 +86,7 @@ class Author:
             ui.button("Save", on_click=self.save).props("id=save")
             ui.button("Plan", on_click=self.plan).props("id=plan")
             ui.button("Validate", on_click=self.validate).props("id=validate")
-            ui.label("F2: complete the name at the cursor").classes("text-grey-7")
+            ui.label("Ctrl-Space: complete the name at the cursor (F2: the names as buttons)").classes("text-grey-7")
         with ui.row().classes("w-full no-wrap"):
             self.editors: dict[str, Any] = {}
             for kind in ("domain", "problem"):
@@ -59,10 +97,7 @@ class Author:
                         language="Common Lisp",
                         line_wrapping=True,
                         on_change=lambda _event: self.check(),
-                        keymap={
-                            "Ctrl-Space": lambda _event, k=kind: self.complete(k),
-                            "F2": lambda _event, k=kind: self.complete(k),
-                        },
+                        keymap={"F2": lambda _event, k=kind: self.complete(k)},
                     ).classes(f"w-full h-96 border editor-{kind}")
                     self.editors[kind] = editor
         self.completions = ui.row().classes("completions")
@@ -77,6 +112,9 @@ class Author:
         self.drawn = False
         self.check()
         self.drawn = True
+        ids = {kind: editor.id for kind, editor in self.editors.items()}
+        client = ui.context.client
+        client.on_connect(lambda: client.run_javascript(COMPLETION_JS % json.dumps(ids)))
 
     def file(self, kind: str) -> str:
         return self.names[kind].value or f"<{kind}>"

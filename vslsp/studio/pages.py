@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from urllib.parse import quote
 
 from nicegui import events, ui
 
 from vslsp.errors import VslspError
-from vslsp.studio import api, files, runs
+from vslsp.studio import api, files, reports, runs
+from vslsp.studio.board import RunBoard
 from vslsp.studio.layout import frame, in_thread
 
 
@@ -133,7 +133,6 @@ def experiments_page(root: Path) -> None:
         backend = ui.select(["local", "ray"], value="local", label="backend").classes("w-24")
         faults = ui.checkbox("faults")
         start = ui.button("Start").props("id=start")
-    board = ui.column().classes("w-full runs")
 
     def start_run() -> None:
         request = {
@@ -150,108 +149,10 @@ def experiments_page(root: Path) -> None:
             ui.notify(str(error), type="negative")
             return
         ui.notify(f"started run {run_id}")
-        refresh()
-
-    def refresh() -> None:
-        board.clear()
-        with board:
-            for status in runs.listing(root)[:20]:
-                request = status.get("request") or {}
-                text = (
-                    f"{status['id']}: {request.get('experiment')} — {status['state']}, "
-                    f"{status['done']}/{status['total']} trials, {status['successes']} succeeded"
-                )
-                with ui.row().classes(f"items-center run run-{status['state']}"):
-                    ui.label(text)
-                    if status.get("report"):
-                        ui.link("report", f"/reports/{status['report']}").classes("report-link")
-                    if status.get("error"):
-                        ui.label(status["error"]).classes("text-negative")
+        board.refresh()
 
     start.on_click(start_run)
-    refresh()
-    ui.timer(1.0, refresh)
-
-
-def reports_page(root: Path, rel: str | None) -> None:
-    """A report folder: the summary table, the images in order, plans, videos, VSL-3D's clouds."""
-    frame("Reports")
-    if not rel:
-        found = [
-            p.rsplit("/", 1)[0] if "/" in p else "."
-            for p in files.listing(root, (".json",))
-            if p.endswith("report.json")
-        ]
-        if not found:
-            ui.label("no report folders under the root yet: run an experiment")
-        for folder in found:
-            ui.link(folder, f"/reports/{folder}").classes("report-folder")
-        return
-    try:
-        report = api.read_report(root, rel)
-    except VslspError as error:
-        ui.label(str(error)).classes("text-negative page-error")
-        return
-    summary = report["summary"]
-    ui.label(f"{summary.get('experiment')} — {report['folder']}").classes("text-h5")
-    plain = {k: v for k, v in summary.items() if isinstance(v, (str, int, float, bool)) or v is None}
-    rows = [{"field": k, "value": json.dumps(v) if not isinstance(v, str) else v} for k, v in plain.items()]
-    ui.table(
-        columns=[
-            {"name": "field", "label": "field", "field": "field", "align": "left"},
-            {"name": "value", "label": "value", "field": "value", "align": "left"},
-        ],
-        rows=rows,
-    ).classes("summary-table")
-    for image in report["images"]:
-        with ui.card():
-            ui.label(image).classes("text-caption")
-            ui.image(_rel_link(image)).classes("w-full max-w-3xl report-image")
-    for cloud in report["clouds"]:
-        cloud_view(root, cloud)
-    for video in report["videos"]:
-        ui.video(_rel_link(video)).classes("max-w-3xl report-video")
-    for plan in report["plans"]:
-        with ui.expansion(plan).classes("w-full report-plan"):
-            ui.code(files.read_small(root, plan))
-    trials = summary.get("results") or []
-    with ui.expansion(f"{len(trials)} trials (records, trajectories)").classes("w-full"):
-        for record in trials:
-            with ui.expansion(f"seed {record.get('seed')}: {'success' if record.get('success') else 'failure'}"):
-                ui.code(json.dumps(record, indent=1), language="json")
-    if report["markdown"]:
-        with ui.expansion("report.md").classes("w-full"):
-            ui.markdown(report["markdown"].replace("](", "](/files/" + quote(report["folder"]) + "/"))
-
-
-#: The most points a 3-D view draws (a cloud is subsampled evenly beyond it).
-MAX_VIEW_POINTS = 20_000
-
-
-def cloud_view(root: Path, rel: str) -> None:
-    """A VSL-3D point cloud (an ``.npz`` with ``points`` (N, 3), as ``CloudObservation.save`` writes
-    it) as an interactive 3-D view (orbit with the mouse), coloured by height."""
-    import numpy as np
-
-    try:
-        with np.load(files.inside(root, rel), allow_pickle=False) as data:
-            points = np.asarray(data["points"], dtype=float)
-    except (OSError, KeyError, ValueError):
-        return  # an .npz that is not a cloud: not shown
-    if points.ndim != 2 or points.shape[1] != 3 or not len(points):
-        return
-    points = points[:: max(1, len(points) // MAX_VIEW_POINTS)]
-    centred = points - points.mean(axis=0)
-    scale = float(np.abs(centred).max()) or 1.0
-    centred = centred / scale  # about a unit cube, where the view's camera looks
-    low, high = float(centred[:, 2].min()), float(centred[:, 2].max())
-    heat = (centred[:, 2] - low) / ((high - low) or 1.0)
-    colours = np.stack([heat, 0.4 * np.ones_like(heat), 1.0 - heat], axis=1)
-    with ui.card():
-        ui.label(f"{rel}: {len(points)} points (drag to turn, scroll to zoom)").classes("text-caption")
-        with ui.scene(width=640, height=420, grid=False).classes("cloud-view") as view:
-            view.point_cloud(centred.tolist(), colours.tolist(), point_size=0.02)
-            view.move_camera(x=1.5, y=-1.5, z=1.2, look_at_x=0, look_at_y=0, look_at_z=0)
+    board = RunBoard(root)
 
 
 def register(root: Path) -> None:
@@ -265,11 +166,11 @@ def register(root: Path) -> None:
 
     @ui.page("/reports")
     def _reports_index() -> None:
-        reports_page(root, None)
+        reports.reports_page(root, None)
 
     @ui.page("/reports/{rel:path}")
     def _reports(rel: str) -> None:
-        reports_page(root, rel)
+        reports.reports_page(root, rel)
 
     @ui.page("/")
     def _home() -> None:

@@ -54,6 +54,24 @@ def check(domain: str, problem: str | None, domain_file: str = "<domain>", probl
     return report
 
 
+def complete(
+    domain: str,
+    problem: str | None,
+    editor: str,
+    at: int,
+    domain_file: str = "<domain>",
+    problem_file: str = "<problem>",
+) -> dict:
+    """Completion at offset ``at`` of the ``editor`` ("domain" or "problem"), the names the language
+    engine indexed in both texts: ``{"from": the offset where the name typed starts, "items": [...]}``
+    (what ``POST /api/complete`` answers and the editors' Ctrl-Space shows)."""
+    from vslsp.studio.editing import complete as complete_at
+
+    checked = check(domain, problem, domain_file, problem_file)
+    text = domain if editor == "domain" else problem or ""
+    return complete_at(text, at, checked, editor == "problem")
+
+
 def _diagnostic(diagnostic: Any) -> dict:
     data = dict(diagnostic.to_dict())
     data.setdefault("end_line", diagnostic.span.end_line)

@@ -1,7 +1,8 @@
 """Experiment runs started from the studio: each in its own process (:mod:`vslsp.studio.worker`),
 started in a new session so that it goes on when the page, or the studio, is closed. A run lives in
-``ROOT/out/studio/runs/ID/``: ``status.json`` (its request and progress) and ``report/`` (the report
-folder, as ``vslsp experiment --out`` writes it)."""
+``ROOT/out/studio/runs/ID/``: ``status.json`` (its request and progress), ``live.png`` (the newest view
+of a camera of its trials, :mod:`vslsp.live`) and ``report/`` (the report folder, as ``vslsp experiment
+--out`` writes it)."""
 
 from __future__ import annotations
 
@@ -21,6 +22,8 @@ from vslsp.studio.worker import write_status
 
 #: Where the runs live, relative to the root.
 RUNS = "out/studio/runs"
+#: The picture the run's trials publish (:mod:`vslsp.live`), in the run's folder.
+LIVE = "live.png"
 _ID = re.compile(r"^[0-9]{8}-[0-9]{6}-[0-9a-f]{6}$")
 
 
@@ -81,10 +84,13 @@ def start(root: Path, request: Any) -> str:
     }
     path = folder / "status.json"
     write_status(path, status)
+    from vslsp.live import ENV
+
     with open(folder / "log.txt", "wb") as log:
         process = subprocess.Popen(
             [sys.executable, "-m", "vslsp.studio.worker", str(path)],
             cwd=root.resolve(),
+            env={**os.environ, ENV: str(folder / LIVE)},  # the trials' cameras publish their newest view there
             stdin=subprocess.DEVNULL,
             stdout=log,
             stderr=subprocess.STDOUT,
@@ -99,7 +105,8 @@ _children: dict[str, subprocess.Popen] = {}
 
 def get(root: Path, run_id: str) -> dict:
     """The run's ``state`` (running, done, failed), ``done``, ``total``, ``successes``, ``report`` (the
-    report folder relative to the root, when done), ``error`` (when failed), ``latest`` (a picture)."""
+    report folder relative to the root, when done), ``error`` (when failed), ``latest`` (its newest
+    picture relative to the root, or None)."""
     if not _ID.match(run_id):
         raise Missing(f"no run {run_id!r}")
     path = root.resolve() / RUNS / run_id / "status.json"
@@ -114,7 +121,22 @@ def get(root: Path, run_id: str) -> dict:
             status.update(state="failed", error="the run's process ended without a report (see its log.txt)")
     if status.get("state") not in ("done", "failed"):
         status["state"] = "running"
-    return {key: status.get(key) for key in ("id", "state", "done", "total", "successes", "report", "error", "request")}
+    keys = ("id", "state", "done", "total", "successes", "report", "error", "request")
+    return {**{key: status.get(key) for key in keys}, "latest": latest_picture(root, run_id)}
+
+
+def latest_picture(root: Path, run_id: str) -> str | None:
+    """The run's newest picture, relative to the root: the view its trial's cameras published last
+    (``live.png``) or, once the report is being written, its newest figure."""
+    folder = root.resolve() / RUNS / run_id
+    found = [folder / LIVE, *(folder / "report").glob("**/*.png")]
+    dated = []
+    for path in found:
+        try:
+            dated.append((path.stat().st_mtime_ns, path))
+        except OSError:
+            continue
+    return max(dated)[1].relative_to(root.resolve()).as_posix() if dated else None
 
 
 def listing(root: Path) -> list[dict]:

@@ -53,6 +53,7 @@ def vsl3d_figures(folder: Path, pictures: dict) -> dict[str, Any]:
     """Write a VSL-3D trial's pictures (see :func:`vslsp.vsl3d.table_cleaning.run_table_cleaning`)."""
     from vslsp.tasks.drawing import label
     from vslsp.vision.image import write_image
+    from vslsp.vsl3d.pictures import write_clouds
 
     (folder / "images").mkdir(parents=True, exist_ok=True)
     files: dict[str, Any] = {}
@@ -71,7 +72,7 @@ def vsl3d_figures(folder: Path, pictures: dict) -> dict[str, Any]:
         write(f"reproduction_{index}", image, f"reproduction {index}: matched observation (red), grasp (yellow)")
     write("cloud", pictures["cloud"], "the reproduction's point cloud, one colour per segment")
     write("final", pictures["final"], "demonstrated final scene | reproduced final scene")
-    return files
+    return {**files, **write_clouds(folder, pictures.get("clouds") or {})}
 
 
 class Vsl3dExperiment(Task):

@@ -1,17 +1,28 @@
 """Pictures of VSL-3D for the reports (paper, section "VSL-3D", the figures of the table
 cleaning: the RGB view with the observation's frame, the point cloud segmented into objects):
-the frame's cuboid and the grasp drawn on the RGB view, and a rendered oblique view of a cloud
-coloured by its Euclidean segments.
+the frame's cuboid and the grasp drawn on the RGB view, a rendered oblique view of a cloud
+coloured by its Euclidean segments, and the clouds themselves (decimated, ``.npz``) for a 3-D
+viewer: each demonstration's pre- and post-action scene with the object getObject found, and
+each reproduction's capture with the matched observation (:func:`trial_clouds`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
 import cv2
 import numpy as np
 
-from vslsp.vsl3d.cloud import DepthCamera, Frame
+from vslsp.outputs import atomic_file
+from vslsp.vsl3d.cloud import DepthCamera, Frame, voxel_downsample
 from vslsp.vsl3d.grasping import Grasp
-from vslsp.vsl3d.vsl import euclidean_clusters
+from vslsp.vsl3d.kdtree import KDTree
+from vslsp.vsl3d.vsl import MovedObject, euclidean_clusters
+
+if TYPE_CHECKING:
+    from vslsp.vsl3d.reproduce import Reproduction
 
 SEGMENT_GAP = 0.01  # points closer than this are one segment in the cloud picture
 PALETTE = np.array(
@@ -99,13 +110,73 @@ def trial_pictures(
     cloud: np.ndarray | None,
     demonstrated_final: np.ndarray,
     reproduced_final: np.ndarray,
+    clouds: Mapping[str, dict[str, np.ndarray]] | None = None,
 ) -> dict:
     """A VSL-3D trial's pictures for the report: the demonstration's views, the matched views,
-    the cloud view (the final scene where no cloud was seen) and the final scenes side by side."""
+    the cloud view (the final scene where no cloud was seen), the final scenes side by side and
+    the ``clouds`` for a 3-D view (:func:`trial_clouds`)."""
     final = np.hstack([demonstrated_final, reproduced_final])
     return {
         "demonstration": demonstration,
         "matched": matched,
         "cloud": cloud if cloud is not None else final,
         "final": final,
+        "clouds": dict(clouds or {}),
     }
+
+
+#: A report's cloud is decimated to this voxel (m), and evenly to at most this many points.
+CLOUD_VOXEL = 0.004
+MAX_CLOUD_POINTS = 12_000
+
+
+def labelled_cloud(scene: np.ndarray, found: np.ndarray, caption: str) -> dict[str, np.ndarray]:
+    """A cloud for the report: ``scene`` (N, 3) and the object's points ``found`` (M, 3), both
+    decimated; ``labels`` (K,) is 1 on the object's points and 0 on the rest of the scene (the
+    scene's points within a voxel of the object's are the object's)."""
+    found = voxel_downsample(found, CLOUD_VOXEL) if len(found) else np.zeros((0, 3))
+    rest = voxel_downsample(scene, CLOUD_VOXEL) if len(scene) else np.zeros((0, 3))
+    if len(found) and len(rest):
+        gap, _ = KDTree(found).query(rest, 1, CLOUD_VOXEL)
+        rest = rest[gap[:, 0] > CLOUD_VOXEL]
+    points = np.vstack([rest, found])
+    labels = np.r_[np.zeros(len(rest), np.uint8), np.ones(len(found), np.uint8)]
+    keep = slice(None, None, max(1, -(-len(points) // MAX_CLOUD_POINTS)))
+    return {"points": points[keep].astype(np.float32), "labels": labels[keep], "caption": np.array(caption)}
+
+
+def trial_clouds(
+    demonstrated: Sequence[MovedObject | None], reproduced: Mapping[int, Reproduction]
+) -> dict[str, dict[str, np.ndarray]]:
+    """The clouds a person wants to turn in 3-D, by name: per demonstrated operation J (from 1)
+    ``demonstration_J_pre`` and ``demonstration_J_post`` (the scene getObject was given, the
+    object it found labelled), and per reproduced operation (``reproduced``: the operation's
+    index from 0 -> its record) ``reproduction_J`` (the last attempt's capture, the matched
+    observation labelled where findBestMatch put it)."""
+    clouds: dict[str, dict[str, np.ndarray]] = {}
+    for number, moved in enumerate(demonstrated, start=1):
+        if moved is not None and moved.scenes is not None:
+            pre, post = moved.scenes
+            caption = f"demonstration {number}: the %s-action scene, the object getObject found (red)"
+            clouds[f"demonstration_{number}_pre"] = labelled_cloud(pre, moved.pre.points, caption % "pre")
+            clouds[f"demonstration_{number}_post"] = labelled_cloud(post, moved.post.points, caption % "post")
+    for index, record in sorted(reproduced.items()):
+        attempt = record.last
+        if attempt is not None and attempt.match is not None:
+            caption = f"reproduction {index + 1}: the capture, the matched observation (red) where it was found"
+            clouds[f"reproduction_{index + 1}"] = labelled_cloud(attempt.world.points, attempt.match.points, caption)
+    return clouds
+
+
+def write_clouds(folder: Path, clouds: Mapping[str, dict[str, np.ndarray]]) -> dict[str, list[str]]:
+    """Write each cloud of :func:`trial_clouds` to ``folder/clouds/NAME.npz`` (no pickle: ``points``
+    (N, 3) float32, ``labels`` (N,) uint8, ``caption``); ``{"clouds": [paths relative to folder]}``."""
+    if not clouds:
+        return {}
+    (folder / "clouds").mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, cloud in clouds.items():
+        written.append(f"clouds/{name}.npz")
+        with atomic_file(folder / written[-1]) as stream:
+            np.savez_compressed(stream, points=cloud["points"], labels=cloud["labels"], caption=cloud["caption"])
+    return {"clouds": written}

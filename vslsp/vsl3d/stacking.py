@@ -24,7 +24,7 @@ from vslsp.errors import TaskFailed, VslspError
 from vslsp.sim.cloud_scene import BOXES, CloudScene, random_layout
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.matching import Match, find_best_match
-from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_pictures
+from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_clouds, trial_pictures
 from vslsp.vsl3d.reproduce import Reproduction, reproduce, world_of
 from vslsp.vsl3d.table_cleaning import (
     TOLERANCE_DEG,
@@ -176,7 +176,7 @@ def run_stacking(
     }
     boxes = {box: moved_layout[box] for box in BOXES if box not in absent}
     results: list[StackResult] = []
-    matched, cloud = [], None
+    matched, cloud, records = [], None, {}
     with CloudScene(objects, tray=False, robot=True, boxes=boxes) as scene:
         film(scene, video, "stacking: the robot reproduces the stacks (VSL-3D)")
         movable = list(scene.bodies.values())
@@ -218,10 +218,12 @@ def run_stacking(
             if record.placed is not None:
                 put_down.append(record.placed)
             matched.append(picture(record))
+            records[index] = record
             if cloud is None and record.last is not None:
                 cloud = cloud_view(record.last.world.points)
         scene.park()
-        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.capture().rgb)
+        clouds = trial_clouds([None if isinstance(d, str) else d[0] for d in demonstrated], records)
+        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.capture().rgb, clouds)
     return tuple(results), pictures
 
 

@@ -26,7 +26,7 @@ import numpy as np
 from vslsp.errors import VslspError
 from vslsp.sim.cloud_scene import TRAY_POSITION, CloudScene, random_layout
 from vslsp.vsl3d.cloud import DepthCamera
-from vslsp.vsl3d.pictures import cloud_view, draw_frame, draw_grasp, trial_pictures
+from vslsp.vsl3d.pictures import cloud_view, draw_frame, draw_grasp, trial_clouds, trial_pictures
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.reproduce import WORKSPACE, Reproduction, reproduce, world_of
 from vslsp.vsl3d.vsl import MovedObject, get_object
@@ -235,7 +235,7 @@ def run_table_cleaning(
     reshuffled = {
         name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()
     }
-    results, matched, cloud = [], [], None
+    results, matched, cloud, records = [], [], None, {}
     with CloudScene(reshuffled, robot=True) as scene:
         film(scene, video, "table cleaning: the robot reproduces it (VSL-3D)")
         movable = list(scene.bodies.values())
@@ -257,10 +257,12 @@ def run_table_cleaning(
             if record.placed is not None:
                 put_down.append(record.placed)
             matched.append(picture(record))
+            records[index] = record
             if cloud is None and record.last is not None:
                 cloud = cloud_view(record.last.world.points)
         scene.park()
-        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.capture().rgb)
+        clouds = trial_clouds([moved for moved, _ in demonstrated], records)
+        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.capture().rgb, clouds)
     return TableCleaningResult(seed, method, tuple(results)), pictures
 
 

@@ -18,7 +18,7 @@ to 3D Tasks"; Algorithm 1 with clouds for images).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -165,11 +165,13 @@ class CloudObservation:
 @dataclass(frozen=True, eq=False)
 class MovedObject:
     """What ``getObject`` finds: the object's ``pre`` and ``post`` observations and its motion,
-    ``registration.transform`` (4, 4), taking the pre points onto the post points."""
+    ``registration.transform`` (4, 4), taking the pre points onto the post points; ``scenes``:
+    the pre- and post-action worlds' points it was found in (the report's clouds)."""
 
     pre: CloudObservation
     post: CloudObservation
     registration: Registration
+    scenes: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
     @property
     def transform(self) -> np.ndarray:
@@ -295,6 +297,7 @@ def get_object(
         CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
         CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
         registration,
+        (pre.points, post.points),
     )
 
 
