@@ -4,87 +4,14 @@ atoms, an experiment run watched to its report. The studio runs as ``vslsp studi
 
 from __future__ import annotations
 
-import os
-import socket
-import subprocess
-import sys
-import time
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
-CHROMIUM = "/usr/bin/chromium"
+from tests.studio.browsing import CHROMIUM, TOKEN
+
 pytestmark = pytest.mark.skipif(not Path(CHROMIUM).exists(), reason=f"no {CHROMIUM} (apt-get install chromium)")
-playwright_sync = pytest.importorskip("playwright.sync_api", reason="pip install playwright")
-
-ARGS = [
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--no-first-run",
-    "--disable-sync",
-]
-#: How long a page may take to show what a step did (the machine may be loaded; not a speed test).
-WAIT_MS = 60_000
-
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
-TOKEN = "a-token-for-the-browser-test"
-
-
-@pytest.fixture
-def studio(studio_root: Path, request: pytest.FixtureRequest) -> Iterator[str]:
-    """``vslsp studio --root ROOT --no-browser`` on a free port (with ``--token`` for tests marked
-    ``token``); its address once it serves."""
-    port = _free_port()
-    token = ["--token", TOKEN] if request.node.get_closest_marker("token") else []
-    process = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "vslsp",
-            "studio",
-            "--root",
-            str(studio_root),
-            "--port",
-            str(port),
-            "--no-browser",
-            *token,
-        ],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        env={k: v for k, v in os.environ.items() if not k.startswith("PYTEST")},  # NiceGUI reads them as its own tests
-    )
-    address = f"http://127.0.0.1:{port}"
-    try:
-        for _ in range(600):
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=0.2).close()
-                break
-            except OSError:
-                assert process.poll() is None, process.stderr.read().decode() if process.stderr else ""
-                time.sleep(0.1)
-        yield address
-    finally:
-        process.terminate()
-        process.wait(timeout=20)
-
-
-@pytest.fixture
-def page(studio: str) -> Iterator:
-    with playwright_sync.sync_playwright() as driver:
-        browser = driver.chromium.launch(executable_path=CHROMIUM, args=ARGS, headless=True)
-        tab = browser.new_page(viewport={"width": 1500, "height": 1100})
-        tab.set_default_timeout(WAIT_MS)
-        yield tab
-        browser.close()
+pytest.importorskip("playwright.sync_api", reason="pip install playwright")
 
 
 def _author(page, studio: str) -> None:
@@ -127,6 +54,24 @@ def test_a_quick_fix_and_completion(page, studio):
     page.keyboard.press("F2")
     page.locator(".completion").first.wait_for()
     assert "far" in page.locator(".completion").all_inner_texts()
+
+
+def test_ctrl_space_completes_the_name_at_the_cursor(page, studio):
+    _author(page, studio)
+    page.locator(".editor-domain .cm-line", has_text=":precondition (not (far ?b))").click()
+    page.keyboard.press("End")
+    for _ in range(len(" ?b))")):
+        page.keyboard.press("ArrowLeft")
+    page.keyboard.press("Backspace")
+    page.keyboard.press("Backspace")  # (not (f ?b)): an unknown predicate
+    page.locator(".diagnostic-error", has_text="unknown predicate 'f'").wait_for()
+    page.keyboard.press("Control+Space")
+    offered = page.locator(".cm-tooltip-autocomplete li")
+    offered.first.wait_for()
+    assert "far" in offered.all_inner_texts()
+    page.keyboard.press("Enter")  # the first, "far", is chosen
+    page.locator(".no-diagnostics").wait_for()
+    assert page.locator(".editor-domain .cm-line", has_text=":precondition (not (far ?b))").count() == 1
 
 
 def test_plan_shows_the_steps_and_the_timeline(page, studio):

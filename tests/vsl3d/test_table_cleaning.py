@@ -3,6 +3,7 @@ command line: demonstrate, reshuffle, reproduce with the Panda, check against th
 
 import json
 
+import numpy as np
 import pytest
 from helpers.cli import vslsp
 
@@ -25,6 +26,12 @@ def test_table_cleaning_is_executed_by_the_robot(tmp_path, capsys):
         assert op["match_fitness"] > 0.5 and op["final_error_deg"] < 15.0 and op["grasp"]["width_m"] < 0.08
     for key in ("demonstration_3", "reproduction_1", "cloud", "final"):
         assert (tmp_path / report["shown_trial"][key]).stat().st_size > 10_000
+    clouds = report["shown_trial"]["clouds"]  # for a 3-D view: each demonstration's scenes, each match
+    assert clouds == [f"clouds/demonstration_{n}_{when}.npz" for n in (1, 2, 3) for when in ("pre", "post")] + [
+        f"clouds/reproduction_{n}.npz" for n in (1, 2, 3)
+    ]
+    with np.load(tmp_path / clouds[-1], allow_pickle=False) as cloud:
+        assert cloud["points"].shape[1] == 3 and 100 < cloud["labels"].sum() < len(cloud["labels"])
     markdown = (tmp_path / "report.md").read_text()
     assert "| 1 (seeds 0-0) | 1 | 100.0 % (" in markdown  # the rate, then its Wilson interval
     assert "| 0 | ok |" in markdown and "None" not in markdown.split("## Trials")[-1]
