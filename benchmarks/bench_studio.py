@@ -1,5 +1,6 @@
-"""Studio benchmark (issue 29): ``vslsp studio``'s start-up to serving (target < 3 s) and the author
-page's check of a keystroke on the shipped domain and problem (target < 100 ms).
+"""Studio benchmark (issue 29): ``vslsp studio``'s start-up to serving (target < 3 s), the author
+page's check of a keystroke on the shipped domain and problem (target < 100 ms) and its completion
+(Ctrl-Space: ``POST /api/complete``, the same engine and the completion context).
 
 Start-up: from spawning ``python -m vslsp studio --no-browser`` to the first answer of ``GET /author``
 (the page a browser opens), against the reference ``python -m vslsp --help`` measured in the same run
@@ -82,6 +83,23 @@ def checks(port: int, count: int) -> list[float]:
     return times
 
 
+def completions(port: int, count: int) -> list[float]:
+    """Ctrl-Space after ``(not (f`` in the shipped domain: ``POST /api/complete`` round trips."""
+    domain = DOMAIN.read_text().replace("(not (far ?b))", "(not (f ?b))", 1)
+    at = domain.index("(not (f") + len("(not (f")
+    body = json.dumps({"domain": domain, "problem": PROBLEM.read_text(), "in": "domain", "at": at}).encode()
+    times = []
+    for _ in range(count):
+        request = urllib.request.Request(
+            f"http://127.0.0.1:{port}/api/complete", body, {"content-type": "application/json"}
+        )
+        began = time.perf_counter()
+        with urllib.request.urlopen(request) as answer:
+            assert "far" in json.loads(answer.read())["items"]
+        times.append(time.perf_counter() - began)
+    return times
+
+
 def engine(count: int) -> list[float]:
     domain, problem = DOMAIN.read_text(), PROBLEM.read_text()
     times = []
@@ -109,6 +127,7 @@ def main() -> None:
             starts.append(seconds)
         reference = min(reference_start() for _ in range(options.starts))
         round_trips = checks(port, options.checks)
+        completing = completions(port, options.checks)
         alone = engine(options.checks)
         assert process is not None
         process.terminate()
@@ -123,6 +142,11 @@ def main() -> None:
         f"check round trip (POST /api/check, shipped domain + problem): min {1000 * min(round_trips):.1f} ms, "
         f"median {1000 * statistics.median(round_trips):.1f} ms (target < 100 ms); the engine alone: "
         f"min {1000 * min(alone):.1f} ms; ratio {min(round_trips) / min(alone):.1f}x"
+    )
+    print(
+        f"completion round trip (POST /api/complete, Ctrl-Space): min {1000 * min(completing):.1f} ms, "
+        f"median {1000 * statistics.median(completing):.1f} ms; ratio to the engine alone "
+        f"{min(completing) / min(alone):.1f}x"
     )
     print(f"cpus: {os.cpu_count()}, load: {os.getloadavg()[0]:.1f}")
 

@@ -44,8 +44,10 @@ def studio(root: str, host: str, port: int, no_browser: bool, token: str | None)
         raise InputError("--token: give at least 16 characters (or leave it out to get one generated)")
     if not _loopback(host) and token is None:
         token = secrets.token_urlsafe(24)
+    from vslsp.studio.app import import_web_stack
+
     try:
-        import nicegui  # noqa: F401
+        import_web_stack()
     except ImportError:
         raise InputError("the studio needs its extra: pip install 'vslsp[studio]'") from None
     _check_port(host, port)
