@@ -1,11 +1,11 @@
-"""The live picture of a running trial (vslsp.live): written only when asked for, only for real views,
+"""The live picture of a running trial (vslsp.sim.live): written only when asked for, only for real views,
 at most one per interval, the file replaced whole."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from vslsp import live
+from vslsp.sim import live
 from vslsp.vision.image import read_image
 
 

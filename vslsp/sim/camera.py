@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from vslsp.live import publish
+from vslsp.sim.live import publish
 from vslsp.sim.quiet import quiet
 from vslsp.sim.scene import TABLE_Z
 
@@ -100,7 +100,7 @@ class Camera:
             physicsClientId=client,
         )
         rgb, depth = self._finish(rgba, depth_buffer, backdrop)
-        publish(rgb)  # the studio's live picture of a running trial (vslsp.live), when asked for
+        publish(rgb)  # the studio's live picture of a running trial (vslsp.sim.live), when asked for
         return rgb, depth
 
     def _finish(self, rgba: Any, depth_buffer: Any, backdrop: Backdrop | None) -> tuple[np.ndarray, np.ndarray]:

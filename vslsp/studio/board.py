@@ -1,5 +1,5 @@
 """The experiments page's runs, live: each run's state, trials done and successes so far, and the
-newest picture of its current trial (what its cameras last saw, :mod:`vslsp.live`), refreshed every
+newest picture of its current trial (what its cameras last saw, :mod:`vslsp.sim.live`), refreshed every
 second in place (a picture is fetched again only when it changed)."""
 
 from __future__ import annotations

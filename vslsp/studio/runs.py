@@ -1,7 +1,7 @@
 """Experiment runs started from the studio: each in its own process (:mod:`vslsp.studio.worker`),
 started in a new session so that it goes on when the page, or the studio, is closed. A run lives in
 ``ROOT/out/studio/runs/ID/``: ``status.json`` (its request and progress), ``live.png`` (the newest view
-of a camera of its trials, :mod:`vslsp.live`) and ``report/`` (the report folder, as ``vslsp experiment
+of a camera of its trials, :mod:`vslsp.sim.live`) and ``report/`` (the report folder, as ``vslsp experiment
 --out`` writes it)."""
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from vslsp.studio.worker import write_status
 
 #: Where the runs live, relative to the root.
 RUNS = "out/studio/runs"
-#: The picture the run's trials publish (:mod:`vslsp.live`), in the run's folder.
+#: The picture the run's trials publish (:mod:`vslsp.sim.live`), in the run's folder.
 LIVE = "live.png"
 _ID = re.compile(r"^[0-9]{8}-[0-9]{6}-[0-9a-f]{6}$")
 
@@ -84,7 +84,7 @@ def start(root: Path, request: Any) -> str:
     }
     path = folder / "status.json"
     write_status(path, status)
-    from vslsp.live import ENV
+    from vslsp.sim.live import ENV
 
     with open(folder / "log.txt", "wb") as log:
         process = subprocess.Popen(

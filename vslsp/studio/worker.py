@@ -2,7 +2,7 @@
 it outlives the page that started it. It reads its request from the status file, runs the trials
 with :func:`vslsp.tasks.run_trials` and writes progress to the status file after each trial
 (``state``, ``done``, ``total``, ``successes``), then the report. Its trials' cameras publish their
-newest view to the file the studio named in the environment (:mod:`vslsp.live`)."""
+newest view to the file the studio named in the environment (:mod:`vslsp.sim.live`)."""
 
 from __future__ import annotations
 

@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 
 from vslsp.geometry.poses import Pose2, relative, wrap
-from vslsp.live import publish
+from vslsp.sim.live import publish
 from vslsp.vsl.house_sprites import board, body_sprite, covers, paste, roof_sprite
 
 WORLD_SIZE = (960, 720)  # (W, H) px
@@ -74,7 +74,7 @@ class HouseWorld:
         for roof in self.roofs:
             if roof is not None:
                 paste(image, _ROOF, roof)
-        publish(image)  # the studio's live picture of a running trial (vslsp.live), when asked for
+        publish(image)  # the studio's live picture of a running trial (vslsp.sim.live), when asked for
         return image
 
     def with_roof(self, index: int, pose: Pose2 | None) -> HouseWorld:
