@@ -21,7 +21,7 @@ from vslsp.errors import InputError, VslspError
 from vslsp.studio import files, runs
 from vslsp.studio import pddl as pddl_work
 from vslsp.studio.files import MAX_UPLOAD_BYTES, Missing, Outside, inside, relative
-from vslsp.studio.report_data import read_report, read_trial, report_folders, split_trial
+from vslsp.studio.report_data import read_report, read_trial, report_folders, trial_of
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
 UPLOADS = "out/studio/uploads"
@@ -85,10 +85,8 @@ def _completion_request(data: dict) -> tuple[str, str | None, str, int, str, str
 
 def report_or_trial(root: Path, rel: str) -> dict:
     """``REL`` a report folder (:func:`read_report`), or ``REL/trials/SEED`` one of its trials."""
-    trial = split_trial(rel)
-    if trial is not None and not (inside(root, rel, must_exist=False) / "report.json").is_file():
-        return read_trial(root, *trial)
-    return read_report(root, rel)
+    trial = trial_of(root, rel)
+    return read_trial(root, *trial) if trial is not None else read_report(root, rel)
 
 
 def install(app: FastAPI, root: Path, token: str | None = None) -> None:

@@ -36,6 +36,14 @@ def split_trial(rel: str) -> tuple[str, int] | None:
     return (found["folder"], int(found["seed"])) if found else None
 
 
+def trial_of(root: Path, rel: str) -> tuple[str, int] | None:
+    """``(folder, seed)`` when ``rel`` is ``FOLDER/trials/SEED`` and not itself a report folder."""
+    trial = split_trial(rel)
+    if trial is None or (inside(root, rel, must_exist=False) / "report.json").is_file():
+        return None
+    return trial
+
+
 def _summary(root: Path, rel: str) -> tuple[Path, dict]:
     folder = inside(root, rel)
     summary_file = folder / "report.json"
@@ -105,20 +113,15 @@ def read_trial(root: Path, rel: str, seed: int) -> dict:
     images: list[dict] = []
     files: list[dict] = []
     for key, value in drawn.items():
-        if key == "images" and isinstance(value, list):
+        if key == "images" and isinstance(value, list):  # VSL-SP: each observed pair with its caption
             for image in value:
-                if isinstance(image, dict) and under(image.get("file")):
-                    images.append(
-                        {
-                            "file": under(image["file"]),
-                            "title": str(image.get("title")),
-                            "caption": image.get("caption"),
-                        }
-                    )
-        elif isinstance(value, str) and value.lower().endswith((".png", ".jpg")) and under(value):
-            images.append({"file": under(value), "title": key.replace("_", " "), "caption": None})
-        elif isinstance(value, str) and value.endswith((".pddl", ".plan", ".txt")) and under(value):
-            files.append({"title": key, "file": under(value)})
+                path = under(image.get("file")) if isinstance(image, dict) else None
+                if path:
+                    images.append({"file": path, "title": str(image.get("title")), "caption": image.get("caption")})
+        elif (path := under(value)) and path.lower().endswith((".png", ".jpg")):
+            images.append({"file": path, "title": key.replace("_", " "), "caption": None})
+        elif path and path.endswith((".pddl", ".plan", ".txt")):
+            files.append({"title": key, "file": path})
     video = under(record.get("video")) or under(f"videos/trial-{seed}.mp4")
     clouds = [path for path in (under(c) for c in drawn.get("clouds") or []) if path]
     trajectories = next((i["file"] for i in images if i["title"] in ("trajectories", "trajectory")), None)

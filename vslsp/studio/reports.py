@@ -14,7 +14,7 @@ from nicegui import ui
 from vslsp.errors import VslspError
 from vslsp.studio import files
 from vslsp.studio.layout import frame
-from vslsp.studio.report_data import read_report, read_trial, report_folders, split_trial
+from vslsp.studio.report_data import read_report, read_trial, report_folders, trial_of
 
 #: The most points a 3-D view draws (a cloud is subsampled evenly beyond it).
 MAX_VIEW_POINTS = 20_000
@@ -77,7 +77,7 @@ def cloud_viewer(root: Path, clouds: list[str]) -> None:
         caption = ui.label().classes("text-caption cloud-caption")
         with ui.scene(width=720, height=460, grid=False).classes("cloud-view") as view:
             shown = view.point_cloud(loaded[first]["points"], loaded[first]["colours"], point_size=0.015)
-            view.move_camera(x=0.7, y=-1.0, z=0.8, look_at_x=0, look_at_y=0, look_at_z=0)
+            view.move_camera(x=0.8, y=-1.3, z=1.3, look_at_x=0, look_at_y=0, look_at_z=0)
 
         def show(rel: str) -> None:
             cloud = loaded[rel]
@@ -140,8 +140,11 @@ def trial_page(root: Path, rel: str, seed: int) -> None:
     if record.get("error"):
         ui.label(str(record["error"])).classes("text-negative trial-error")
     if not trial["shown"]:
-        note = "the report drew its figures for trial {} only".format(trial["shown_seed"])
-        ui.label(f"{note}; this trial has its record{' and video' if trial['video'] else ''}.").classes("text-grey-7")
+        drawn = trial["shown_seed"]
+        note = "the report drew no figures" if drawn is None else f"the report drew its figures for trial {drawn} only"
+        ui.label(f"{note}; this trial has its record{' and video' if trial['video'] else ''}.").classes(
+            "text-grey-7 trial-note"
+        )
     if trial["video"]:
         ui.video(file_link(trial["video"])).classes("max-w-3xl trial-video")
     for number, image in enumerate(trial["images"], start=1):
@@ -180,8 +183,8 @@ def reports_page(root: Path, rel: str | None) -> None:
         index_page(root)
         return
     try:
-        trial = split_trial(rel)
-        if trial is not None and not (files.inside(root, rel, must_exist=False) / "report.json").is_file():
+        trial = trial_of(root, rel)
+        if trial is not None:
             trial_page(root, *trial)
         else:
             report_page(root, rel)
