@@ -44,7 +44,7 @@ def test_a_trial_page_opened_by_its_address_shows_its_pictures_in_order(page, st
     page.wait_for_function("() => [...document.querySelectorAll('.trial-image img')].every(i => i.naturalWidth > 0)")
     widths = page.evaluate("() => [...document.querySelectorAll('.trial-image img')].map(i => i.naturalWidth)")
     assert widths == [120, 90, 60]  # each picture is its own file, in the report's order
-    assert page.locator(".trial-plan").all_inner_texts()[1].split() == ["replan", "1", "(pull", "green)"]
+    assert page.locator(".trial-plan").all_inner_texts()[1].split() == ["replan", "1", "1.", "(pull", "green)"]
     page.locator(".cloud-view canvas").wait_for()
     first, second = (
         studio_root / trial_report / "clouds" / name for name in ("demonstration_1_pre.npz", "reproduction_1.npz")

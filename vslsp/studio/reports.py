@@ -128,8 +128,8 @@ def report_page(root: Path, rel: str) -> None:
 
 
 def trial_page(root: Path, rel: str, seed: int) -> None:
-    """One trial: its outcome, the annotated images in the report's order, the plan and replans, the
-    trajectories, its video, the clouds in 3-D and its whole record."""
+    """One trial: its outcome, its video, the plan and replans, the clouds in 3-D, the annotated images
+    in the report's order (the trajectories among them), its files, operations and whole record."""
     trial = read_trial(root, rel, seed)
     record = trial["record"]
     ui.link(f"← {trial['folder']}", f"/reports/{trial['folder']}").classes("back-link")
@@ -147,25 +147,26 @@ def trial_page(root: Path, rel: str, seed: int) -> None:
         )
     if trial["video"]:
         ui.video(file_link(trial["video"])).classes("max-w-3xl trial-video")
+    if trial["plans"]:
+        ui.label("Plan and replans").classes("text-h6")
+        with ui.row().classes("items-start"):
+            for plan in trial["plans"]:
+                with ui.column().classes("trial-plan gap-0 q-mr-lg"):
+                    ui.label(plan["title"]).classes("text-bold")
+                    for number, step in enumerate(plan["plan"], start=1):
+                        ui.label(f"{number}. ({step})").classes("trial-plan-step")
+                    if not plan["plan"]:
+                        ui.label("no steps: the goal already holds").classes("text-grey-7")
+    cloud_viewer(root, trial["clouds"])
     for number, image in enumerate(trial["images"], start=1):
         with ui.card().classes("w-full max-w-4xl trial-image-card"):
             ui.label(f"{number}. {image['title']}").classes("text-bold trial-image-title")
             if image["caption"]:
                 ui.label(str(image["caption"])).classes("text-caption")
             ui.image(file_link(image["file"])).classes("w-full trial-image")
-    if trial["plans"]:
-        ui.label("Plan and replans").classes("text-h6")
-        for plan in trial["plans"]:
-            with ui.column().classes("trial-plan"):
-                ui.label(plan["title"]).classes("text-bold")
-                with ui.element("ol"):
-                    for step in plan["plan"]:
-                        with ui.element("li").classes("trial-plan-step"):
-                            ui.label(f"({step})")
     for item in trial["files"]:
         with ui.expansion(f"{item['title']}: {item['file']}").classes("w-full trial-file"):
             ui.code(files.read_small(root, item["file"]))
-    cloud_viewer(root, trial["clouds"])
     operations = record.get("operations") or []
     if operations:
         with ui.expansion(f"{len(operations)} operations (trajectories, outcomes)").classes("w-full trial-operations"):
