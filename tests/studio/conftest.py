@@ -92,7 +92,9 @@ def trial_report(studio_root: Path) -> str:
             **drawn,
             "plan": "plan.txt",
             "outside": "../../../secret.png",
-            "executions": [{"plans": [{"plan": ["pull orange", "pull green"]}, {"plan": ["pull green"]}]}],
+            "executions": [
+                {"plans": [{"plan": ["pull orange", "pull green"]}, {"plan": ["pull green"]}, {"plan": []}]}
+            ],
         },
     }
     (folder / "report.json").write_text(json.dumps(summary))

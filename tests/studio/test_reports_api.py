@@ -19,7 +19,7 @@ def test_a_trial_of_a_report_its_pictures_in_the_reports_order(studio_root, tria
     assert trial["shown"] is True and trial["record"]["seed"] == 3
     assert [image["title"] for image in trial["images"]] == ["demonstration 1", "reproduction 1", "final"]
     assert all(image["file"].startswith(f"{trial_report}/images/") for image in trial["images"])
-    assert [plan["title"] for plan in trial["plans"]] == ["plan", "replan 1"]
+    assert [plan["title"] for plan in trial["plans"]] == ["plan", "replan 1", "goal check"]
     assert trial["plans"][1]["plan"] == ["pull green"]
     assert trial["files"] == [{"title": "plan", "file": f"{trial_report}/plan.txt"}]
     assert trial["clouds"] == [

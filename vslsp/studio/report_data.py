@@ -142,16 +142,20 @@ def read_trial(root: Path, rel: str, seed: int) -> dict:
 
 def plans_of(data: dict) -> list[dict]:
     """The plans of a trial's record or figures, in order: each execution's first plan, then its
-    replans (VSL-SP's execution monitor replans when a step's effect is missing)."""
+    replans (VSL-SP's execution monitor replans when a step's effect is missing), and the empty plan
+    that confirms the goal holds once a plan has run ("goal check")."""
     executions = data.get("executions")
     if not isinstance(executions, list):
         executions = [data] if isinstance(data.get("plans"), list) else []
     found = []
     for number, execution in enumerate(executions, start=1):
         plans = execution.get("plans") if isinstance(execution, dict) else None
+        replans = 0
         for index, plan in enumerate(plans or []):
             if isinstance(plan, dict) and isinstance(plan.get("plan"), list):
-                title = "plan" if index == 0 else f"replan {index}"
+                if index > 0 and plan["plan"]:
+                    replans += 1
+                title = "plan" if index == 0 else f"replan {replans}" if plan["plan"] else "goal check"
                 if len(executions) > 1:
                     title = f"execution {number}: {title}"
                 found.append({"title": title, "plan": [str(step) for step in plan["plan"]]})
