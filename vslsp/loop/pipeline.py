@@ -20,7 +20,6 @@ from vslsp.grounding import Predicate, unary_literals, with_builtins
 from vslsp.grounding.operation import Grounding, ground
 from vslsp.loop.monitor import StepResult, execute_step
 from vslsp.loop.perception import PerceivedState, perceive
-from vslsp.loop.watching import ObservedStep
 from vslsp.sim import World
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, PlanResult, Step, Task, learn_domain, make_problem, solve
@@ -42,10 +41,6 @@ def to_step(
 ) -> Step:
     """A grounded operation as the symbolic layer learns from it."""
     return Step(grounding.action, grounding.name, literals(before, predicates), literals(after, predicates))
-
-
-def observed_to_steps(observed: list[ObservedStep], predicates: Sequence[Predicate] | None = None) -> list[Step]:
-    return [to_step(s.grounding, s.before, s.after, predicates) for s in observed]
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.outputs import write_text
-from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.base import Task
 from vslsp.tasks.runner import Run
 from vslsp.tasks.statistics import pose_error, total_stages, wilson_interval
 from vslsp.tasks.trial import run_one
@@ -192,8 +192,3 @@ def _note(record: dict) -> str:
         if isinstance(op, dict)
     )
     return ", ".join(f"{k}: {v}" for k, v in diagnoses.items()) if diagnoses else ""
-
-
-def result_lines(results: list[TrialResult]) -> list[str]:
-    """One line per failed trial, for the command line."""
-    return [f"  seed {r.seed}: {r.error or 'goal not reached'}" for r in results if not r.success]

@@ -35,11 +35,12 @@ CONFIDENT_FITNESS = 0.75
 CLEARLY_BETTER = 0.05  # the fitness by which a window's match must beat a weak global one
 # Objects and boxes rest on a support as they did when recorded: a pose that tips the observation
 # over is judged by its fitness less this much per unit of (1 - cos tilt) (0.4 at 90 deg), in the
-# alignment's ranking and when the global match and the windows' are compared. Single views fit
-# tipped poses deceptively well: box1 upside down (89 %, stacking seed 60), the near-cubic box2 on
-# its side (87 %, seeds 46 and 63), the teddy's far side flipped onto its near side (64 % against
-# 57 % upright, seeds 27 and 39: the window's upright 57 % must beat the flip by 5 %); an object
-# that really fell over fits its tipped pose far better than any upright one.
+# alignment's ranking and when the global match and the windows' are compared. A single view fits
+# tipped poses deceptively well (a box upside down or a near-cube on its side can fit nearly 90 %,
+# an object's far side flipped onto its near side better than its upright pose), so an upright
+# pose must lose by more than the tilt's penalty before a tipped one wins; an object that really
+# fell over fits its tipped pose far better than any upright one. tests/vsl3d/test_hard_cases.py
+# pins the cases.
 UPRIGHT_WEIGHT = 0.4
 
 

@@ -9,9 +9,8 @@ fails or an object that slips is seen in the next capture, which starts a second
 attempt (gripping a little higher); an unreachable or ungraspable object is reported as such. Every failure is a
 diagnosis in the record, never an exception. Neither an object the robot has already put where
 an earlier operation wanted it nor a landmark is a candidate for the object of a later one:
-the world within a centimetre of them is left out of the search for the object (the teddy's
-view, turned 60 deg from where it was recorded, fitted its landmark box's corner better than the
-teddy itself, stacking seed 27).
+the world within a centimetre of them is left out of the search for the object (a view of an
+object turned far from its recorded pose can fit a box's corner better than the object itself).
 """
 
 from __future__ import annotations
