@@ -38,6 +38,7 @@ import time
 import numpy as np
 
 from vslsp.errors import VslspError
+from vslsp.outcomes import NoMatch
 from vslsp.sim.cloud_scene import TRAY_POSITION, CloudScene, random_layout
 from vslsp.vsl3d.alignment import FEATURE_VOXEL
 from vslsp.vsl3d.cloud import DepthCamera, Frame, voxel_downsample
@@ -117,7 +118,10 @@ def _trial(seed: int, method: str, max_yaw: float) -> dict:
         start = time.process_time()
         try:
             match = find_best_match(world, moved.pre, method=method, seed=seed)
-            result["match"] = transform_error(match.registration.transform, truth, moved.pre.centroid)
+            if isinstance(match, NoMatch):
+                result["match_error"] = f"no match: {match.reason}"[:90]
+            else:
+                result["match"] = transform_error(match.registration.transform, truth, moved.pre.centroid)
         except VslspError as error:
             result["match_error"] = str(error)[:90]
         result["match_seconds"] = time.process_time() - start

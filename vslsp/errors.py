@@ -21,9 +21,22 @@ class InputError(VslspError):
 
 
 class TaskFailed(VslspError):
-    """The input was fine but the task itself failed (no plan, grounding failed, a skill missed)."""
+    """The input was fine but the task itself failed (no plan, grounding failed, a skill missed).
+
+    ``cause``: the failure's short name, what a report tallies failed trials by ("no plan",
+    "exploring push on green"); the whole message when not given (a failure that names no
+    shorter cause is its own cause).
+    """
 
     exit_code = 1
+
+    def __init__(self, message: str, *, cause: str | None = None) -> None:
+        super().__init__(message)
+        self.cause: str = message if cause is None else cause
+
+    def __reduce__(self) -> tuple:
+        # Rebuilt from its state, whatever a subclass's constructor takes (crossing processes).
+        return (_restored, (type(self), self.args, self.__dict__))
 
 
 class GroundingFailed(TaskFailed, InputError):
@@ -33,6 +46,13 @@ class GroundingFailed(TaskFailed, InputError):
     input (a recorder, a trial) goes on doing so."""
 
     exit_code = 1
+
+
+def _restored(kind: type[TaskFailed], args: tuple, state: dict) -> TaskFailed:
+    error = kind.__new__(kind)
+    error.args = args
+    error.__dict__.update(state)
+    return error
 
 
 class UnreachableError(VslspError):

@@ -13,8 +13,9 @@ import pytest
 from helpers.cli import REPO, vslsp
 from helpers.processes import alive, planner_processes, start, wait_until
 
-from vslsp.symbolic.fast_downward import Outcome, failure
+from vslsp.symbolic.fast_downward import failure
 from vslsp.symbolic.fast_downward import run as run_fast_downward
+from vslsp.symbolic.outcomes import PlanStatus
 from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S, DIRECT
 
 DOMAIN = REPO / "pddl" / "domain.pddl"
@@ -44,7 +45,9 @@ def test_the_defaults_are_stated_and_a_plan_is_unaffected(capsys):
 
 def test_reaching_the_time_limit_is_exit_1_naming_it(capsys):
     code, out, err = vslsp(capsys, "plan", DOMAIN, FORALL, "--timeout", "1", "--memory", "700", "--json")
-    assert code == 1 and "time limit of 1 s reached" in json.loads(out)["error"]
+    data = json.loads(out)
+    assert code == 1 and "time limit of 1 s reached" in data["error"]
+    assert data["status"] == "timeout"  # the planner's status, typed: not "unsolvable_proven"
     assert "Fast Downward failed" not in err
 
 
@@ -85,7 +88,7 @@ def test_sigterm_to_plan_leaves_no_planner_and_no_folder(tmp_path, how):
 
 def test_a_fast_downward_failure_names_the_component_and_its_last_line():
     run = run_fast_downward("(define (domain broken", "(define (problem p))", DIRECT["fast-downward"], timeout=60)
-    assert run.outcome is Outcome.ERROR
+    assert run.outcome is PlanStatus.INTERNAL_ERROR
     message = failure(run)
     assert message.startswith("Fast Downward's translator stopped with exit code")
     assert message.split(": ", 1)[1].strip()  # its last line, not an empty "failed:"

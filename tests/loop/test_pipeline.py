@@ -1,13 +1,16 @@
 """VSL-SP's loop: action models learned from the robot's own observed executions, then a task
 planned and executed in closed loop, replanning when a step's effect is missing."""
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
+from vslsp.loop.experiments import _record
 from vslsp.loop.pipeline import execute_task, explore_skill, learn_models
+from vslsp.loop.trial import Trial
 from vslsp.sim import SceneSpec, World
-from vslsp.symbolic import Atom, Not, Step, Task, learn_task, read_domain
+from vslsp.symbolic import Atom, Not, PlanStatus, SometimeBefore, Step, Task, learn_task, read_domain
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -77,3 +80,49 @@ def test_a_missing_effect_makes_the_robot_replan(library, domain):
         assert run.replans == 1 and not run.steps[0].ok
         assert run.success, run.error
         assert not world.is_far("blue")
+
+
+def _red_then_blue() -> Task:
+    """The demonstrated order: red pulled near, then blue (PDDL 3 ``sometime-before``)."""
+    both_far = {"red": {"far": True}, "blue": {"far": True}}
+    red_near = {"red": {"far": False}, "blue": {"far": True}}
+    both_near = {"red": {"far": False}, "blue": {"far": False}}
+    return learn_task(
+        [[Step("pull", "red", both_far, red_near), Step("pull", "blue", red_near, both_near)]], ordered=True
+    )
+
+
+def test_a_planner_timeout_ends_the_run_as_a_timeout_and_keeps_the_order(library, domain):
+    # Out of time, the planner proved nothing: the order is not dropped (as it is when no plan
+    # exists), the run ends there and says the planner's time limit was reached.
+    task = _red_then_blue()
+    assert task.ordered and task.constraints
+    spec = SceneSpec.random(7, colours=("red", "blue"), far=(True, True))
+    with World(spec) as world:
+        run = execute_task(world, library, domain, task, planner_timeout=0.01)
+        assert world.is_far("red") and world.is_far("blue")  # nothing executed
+    assert not run.success and run.steps == [] and run.plans == []
+    assert run.planning_status is PlanStatus.TIMEOUT and run.cause == "planner time limit"
+    assert run.error == "no plan: the planner's time limit of 0.01 s reached (raise it with --timeout)"
+    assert run.notes == []  # not replanned without the demonstrated order
+    assert run.to_dict()["planning_status"] == "timeout"
+    trial = Trial("pull-in-order", 7)  # the trial's record and the report's failure cause say so too
+    _record(trial, run)
+    assert trial.to_dict()["planning_status"] == "timeout" and trial.error == run.error
+    assert trial.cause == "planner time limit" and not trial.success
+
+
+def test_an_order_no_plan_can_keep_is_dropped_and_the_goal_reached(library, domain):
+    # Red near only after blue, and blue only after red (two demonstrations in opposite orders):
+    # the planner proves there is no plan, so the loop keeps the goal and replans without the order.
+    task = _red_then_blue()
+    (red_first,) = task.constraints
+    task = replace(task, constraints=(red_first, SometimeBefore(red_first.before, red_first.formula)))
+    spec = SceneSpec.random(8, colours=("red", "blue"), far=(True, True))
+    with World(spec) as world:
+        run = execute_task(world, library, domain, task)
+        assert not world.is_far("red") and not world.is_far("blue")
+    assert run.success, run.error
+    assert run.planning_status is None and "planning_status" not in run.to_dict()
+    assert len(run.notes) == 1 and run.notes[0].startswith("no plan: ")
+    assert run.notes[0].endswith("; replanning without the demonstrated order")

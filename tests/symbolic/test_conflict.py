@@ -127,6 +127,7 @@ def test_plan_names_the_conflict_with_positions(capsys, tmp_path):
     code, out, _ = vslsp(capsys, "plan", tmp_path / "domain.pddl", problem, "--json")
     data = json.loads(out)
     assert code == 1 and data["plan"] is None and data["conflict_minimal"] is True
+    assert data["status"] == "unsolvable_proven"
     assert [(c["kind"], c["text"], c["line"], c["column"]) for c in data["conflict"]] == [
         ("goal", "(not (far a))", 6, 15),
         ("constraint", "(sometime-before (not (far a)) (not (far b)))", 9, 5),  # two lines, as written

@@ -4,7 +4,19 @@ compiled PDDL 3.0 constraints, dropped on request, unsolvable problems reported 
 import pytest
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.symbolic import Always, Atom, Not, PlanResult, SometimeBefore, check_planner, solve, validate
+from vslsp.symbolic import (
+    Always,
+    Atom,
+    NoPlan,
+    Not,
+    PlanResult,
+    PlanStatus,
+    SometimeBefore,
+    Unsolvable,
+    check_planner,
+    solve,
+    validate,
+)
 
 DEMONSTRATED = ["pull orange", "pull green", "pull yellow"]
 
@@ -49,10 +61,22 @@ def test_planning_is_deterministic_and_other_planners_are_selectable(pull_in_ord
 
 def test_unsolvable_problems_raise_no_plan(pull_in_order):
     domain, problem = pull_in_order
-    with pytest.raises(TaskFailed, match=r"^no plan: .*proved by Fast Downward"):
+    with pytest.raises(TaskFailed, match=r"^no plan: .*proved by Fast Downward") as proved:
         solve(domain, problem.with_constraint(Always(Atom("far", ("green",)))))
-    with pytest.raises(TaskFailed, match=r"^no plan: \(sometime-before \(not \(far green\)\).*already true"):
+    assert isinstance(proved.value, Unsolvable) and proved.value.status is PlanStatus.UNSOLVABLE_PROVEN
+    assert proved.value.cause == "no plan"  # what a report tallies, typed: not read from the message
+    with pytest.raises(TaskFailed, match=r"^no plan: \(sometime-before \(not \(far green\)\).*already true") as broken:
         solve(domain, problem.without_init(Atom("far", ("green",))))
+    assert broken.value.status is PlanStatus.UNSOLVABLE_PROVEN
+
+
+@pytest.mark.parametrize("planner", ["fast-downward", "fast-downward-opt"])
+def test_a_planner_out_of_time_says_so_in_its_status_not_unsolvable(pull_in_order, planner):
+    # fast-downward: the driver run directly; fast-downward-opt: through unified-planning's engine.
+    with pytest.raises(NoPlan, match=r"^no plan: the planner's time limit of 0.01 s reached") as stopped:
+        solve(*pull_in_order, planner=planner, timeout=0.01)
+    assert stopped.value.status is PlanStatus.TIMEOUT and stopped.value.status.limit_reached
+    assert not isinstance(stopped.value, Unsolvable) and stopped.value.cause == "planner time limit"
 
 
 def test_unknown_planner_is_an_input_error(pull_in_order):

@@ -1,14 +1,17 @@
 """VSL-3D's findBestMatch: a recorded observation is found in a reshuffled world and its pose
 recovered; an absent object is not matched."""
 
+import re
+
 import numpy as np
 import pytest
 from helpers.vsl3d import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, WORKSPACE, assert_within_bounds, demonstrate, world
 
-from vslsp.errors import InputError, TaskFailed
+from vslsp.errors import InputError
+from vslsp.outcomes import NoMatch
 from vslsp.sim.cloud_scene import SENSOR, CloudScene
 from vslsp.vsl3d.cloud import DepthCamera
-from vslsp.vsl3d.matching import find_best_match, object_windows
+from vslsp.vsl3d.matching import Match, find_best_match, object_windows
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.vsl import CloudObservation, WorldCloud, get_object
 
@@ -30,6 +33,7 @@ def test_find_best_match_finds_a_recorded_observation_in_a_reshuffled_world(tmp_
         captured = world(scene)
         truth = scene.pose("teddy") @ np.linalg.inv(recorded_pose)
         match = find_best_match(captured, observation)
+        assert isinstance(match, Match), match
         assert_within_bounds(match.points, scene, "teddy")
     translation, rotation = transform_error(match.registration.transform, truth, observation.centroid)
     assert translation < TOLERANCE_M and rotation < TOLERANCE_DEG
@@ -41,8 +45,9 @@ def test_an_absent_object_is_not_matched(duck_view):
     observation = CloudObservation(points, WORKSPACE, sensor)
     with CloudScene({"mug": (0.5, -0.1, 0.0), "blob": (0.62, 0.05, 1.0)}, tray=False) as scene:
         captured = world(scene)
-    with pytest.raises(TaskFailed, match="no match: .* nor in any of 2 object-sized windows"):
-        find_best_match(captured, observation)
+    found = find_best_match(captured, observation)
+    assert isinstance(found, NoMatch) and not found  # a typed outcome, as 2-D match finding's
+    assert re.search(r".+; nor in any of 2 object-sized windows of the world$", found.reason), found.reason
 
 
 def test_bad_observation_files_and_methods(tmp_path, duck_view):

@@ -26,7 +26,7 @@ from vslsp.outputs import NO_SPACE, write_error
 def pddl_edge(as_json: bool, debug: bool, failure: dict[str, Any] | None = None) -> Iterator[list[str]]:
     """Run a PDDL command: collects the PddlWarnings (the list yielded, printed on stderr at the end);
     on an error prints ``failure`` + ``{"error": ...}`` as JSON when ``as_json``, the traceback when ``debug``."""
-    from vslsp.symbolic import InternalError, PddlWarning
+    from vslsp.symbolic import InternalError, NoPlan, PddlWarning
 
     collected: list[str] = []
     try:
@@ -54,7 +54,13 @@ def pddl_edge(as_json: bool, debug: bool, failure: dict[str, Any] | None = None)
         if as_json:
             click.echo(
                 json.dumps(
-                    {**(failure or {}), "error": str(error), "exit_code": error.exit_code, "warnings": collected}
+                    {
+                        **(failure or {}),
+                        "error": str(error),
+                        "exit_code": error.exit_code,
+                        "warnings": collected,
+                        **({"status": error.status.value} if isinstance(error, NoPlan) else {}),
+                    }
                 )
             )
             error.json_printed = True  # type: ignore[attr-defined]

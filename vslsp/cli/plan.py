@@ -117,7 +117,7 @@ def plan(
             lines = _explained(parsed_domain, parsed_problem, problem, planner, conflict_budget, memory, failure)
             if as_json:
                 raise
-            raise Unsolvable("\n".join([str(error), *lines])) from None
+            raise Unsolvable("\n".join([error.reason, *lines])) from None
         if target is not None:
             save(result.to_pddl(), target)
     if as_json:

@@ -99,9 +99,8 @@ def teach(skill: str, demos: int, seed: int, out: Path, force: bool) -> None:
             except UnreachableError as unreachable:
                 skipped.append(f"demonstration {k}: {unreachable}")
     if len(recorded) < demos:
-        raise TaskFailed(
-            f"only {len(recorded)} of {demos} {skill} demonstrations could be recorded: " + "; ".join(skipped[:3])
-        )
+        too_few = f"only {len(recorded)} of {demos} {skill} demonstrations could be recorded"
+        raise TaskFailed(f"{too_few}: " + "; ".join(skipped[:3]), cause=too_few)
     learned = learn_skill(skill, recorded)
     learned.meta["seed"] = seed
     library.skills[skill] = learned

@@ -79,9 +79,9 @@ def run_trial(
     try:
         runner(trial, rng, library, fault_plan, planner)
     except TaskFailed as failure:
-        trial.success, trial.error = False, str(failure)
+        trial.fail(str(failure), failure.cause)
     except InputError as failure:  # what the robot learned does not fit the scene: a failed trial
-        trial.success, trial.error = False, f"{type(failure).__name__}: {failure}"
+        trial.fail(f"{type(failure).__name__}: {failure}", type(failure).__name__)
     finally:
         if trial.video is not None:
             trial.video.close()
@@ -210,7 +210,7 @@ def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
         }
     )
     if not trial.success:
-        trial.error = f"final far {final} differs from the demonstrated {goal}"
+        trial.fail(f"final far {final} differs from the demonstrated {goal}", "final far differs from the demonstrated")
 
 
 def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
@@ -248,7 +248,10 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
         {"goal": "no block is far", "test_objects": list(colours), "initial_far": initial, "final_far": final}
     )
     if not trial.success and trial.error is None:
-        trial.error = f"objects still far in the simulator: {[c for c, f in final.items() if f]}"
+        trial.fail(
+            f"objects still far in the simulator: {[c for c, f in final.items() if f]}",
+            "objects still far in the simulator",
+        )
 
 
 def _execute(trial: Trial, world, library, faults, planner, before, after):
@@ -346,5 +349,7 @@ def _record(trial: Trial, run: Execution) -> None:
         trial.observations.append(
             (f"VSL-SP execution step {i}: {step.action} {step.obj}", before.image, after.image, grounding, step)
         )
+    if run.planning_status is not None:
+        trial.details["planning_status"] = run.planning_status.value
     if run.error and trial.error is None:
-        trial.error = run.error
+        trial.fail(run.error, run.cause)

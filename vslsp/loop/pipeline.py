@@ -22,9 +22,13 @@ from vslsp.loop.monitor import StepResult, execute_step
 from vslsp.loop.perception import PerceivedState, perceive
 from vslsp.sim import World
 from vslsp.skills.library import SkillLibrary
-from vslsp.symbolic import Domain, PlanResult, Step, Task, learn_domain, make_problem, solve
+from vslsp.symbolic import Domain, NoPlan, PlanResult, PlanStatus, Step, Task, learn_domain, make_problem, solve
+from vslsp.symbolic.planner import DEFAULT_TIMEOUT_S
 
 MAX_REPLANS = 4
+#: The planner's statuses that say the problem has no plan (proved, or the whole search gave up):
+#: for an ordered task, the order can no longer be kept, and the loop replans without it.
+NO_PLAN_EXISTS = (PlanStatus.UNSOLVABLE_PROVEN, PlanStatus.UNSOLVABLE_INCOMPLETELY)
 
 
 def literals(state: PerceivedState, predicates: Sequence[Predicate] | None = None) -> dict[str, dict[str, bool]]:
@@ -72,7 +76,7 @@ def explore_skill(
         raise TaskFailed(f"the robot sees no {'far' if start_far else 'near'} object to try {action} on")
     result, after = execute_step(world, library, action, name, state)
     if not result.ok:
-        raise TaskFailed(f"exploring {action} on {name}: {result.error}")
+        raise TaskFailed(f"exploring {action} on {name}: {result.error}", cause=f"exploring {action} on {name}")
     grounding = ground(state.image, after.image)
     if grounding.action != action:
         raise TaskFailed(f"the robot executed {action} but saw {grounding.action or 'no change of far'}")
@@ -86,7 +90,12 @@ def learn_models(explorations: list[Exploration]) -> Domain:
 
 @dataclass
 class Execution:
-    """A task executed in closed loop: every plan made, every step run, and the outcome."""
+    """A task executed in closed loop: every plan made, every step run, and the outcome.
+
+    ``error`` says why it failed and ``cause`` names that in short (the report's tally);
+    ``planning_status`` is how the planner's run ended when the loop stopped for want of a plan
+    (a limit reached, or no plan even without the demonstrated order).
+    """
 
     plans: list[PlanResult] = field(default_factory=list)
     problems: list = field(default_factory=list)
@@ -96,14 +105,21 @@ class Execution:
     success: bool = False
     error: str | None = None
     notes: list[str] = field(default_factory=list)
+    cause: str | None = None
+    planning_status: PlanStatus | None = None
 
     @property
     def executed(self) -> list[str]:
         """The objects acted on successfully, in order: ``["orange", "green", ...]``."""
         return [s.obj for s in self.steps if s.ok]
 
+    def fail(self, error: str, cause: str | None = None) -> Execution:
+        """The run failed: ``error`` says why, ``cause`` names it in short (None: the error is its own)."""
+        self.error, self.cause = error, cause
+        return self
+
     def to_dict(self) -> dict:
-        return {
+        data = {
             "success": self.success,
             "replans": self.replans,
             "plans": [p.to_dict() for p in self.plans],
@@ -112,6 +128,9 @@ class Execution:
             "error": self.error,
             "notes": self.notes,
         }
+        if self.planning_status is not None:
+            data["planning_status"] = self.planning_status.value
+        return data
 
 
 def execute_task(
@@ -126,6 +145,7 @@ def execute_task(
     on_step: Callable[[StepResult, PerceivedState], None] | None = None,
     predicates: Sequence[Predicate] | None = None,
     before_step: Callable[[int, str, str, str | None], None] | None = None,
+    planner_timeout: float | None = DEFAULT_TIMEOUT_S,
 ) -> Execution:
     """Plan ``task`` in the scene the robot sees and execute the plan, replanning on failures.
 
@@ -135,6 +155,11 @@ def execute_task(
     succeeds when a plan from the last observed state is empty: the goal holds in what the
     robot sees. ``before_step(number, action, object, fault)`` is called before each step
     (1-based over the run), ``on_step(result, state)`` after it.
+
+    When the planner finds no plan for the ordered task, the order can no longer be kept (a
+    later object already changed): the loop replans for the goal alone. When it stops at its
+    time or memory limit (or fails), nothing is known about the order: the run ends there,
+    reporting the planner's status.
     """
     faults = faults or {}
     run = Execution()
@@ -143,20 +168,18 @@ def execute_task(
     while True:
         problem = make_problem(domain, task, literals(state, predicates))
         try:
-            plan = solve(domain, problem, planner)
-        except TaskFailed as failure:
-            if not task.ordered:
-                run.error = str(failure)
-                return run
-            # The order can no longer be kept (e.g. a later object already changed): keep the goal.
-            run.notes.append(f"{failure}; replanning without the demonstrated order")
-            task = task.without_order()
-            continue
+            plan = solve(domain, problem, planner, timeout=planner_timeout)
+        except NoPlan as failure:
+            if task.ordered and failure.status in NO_PLAN_EXISTS:
+                run.notes.append(f"{failure}; replanning without the demonstrated order")
+                task = task.without_order()
+                continue
+            run.planning_status = failure.status
+            return run.fail(str(failure), failure.cause)
         run.plans.append(plan)
         run.problems.append(problem)
         if len(run.plans) > max_replans + 3:
-            run.error = f"the goal still does not hold after {len(run.plans) - 1} plans"
-            return run
+            return run.fail(f"the goal still does not hold after {len(run.plans) - 1} plans")
         if not plan.steps:
             run.success = True
             return run
@@ -175,8 +198,9 @@ def execute_task(
         else:
             continue  # the whole plan ran: the next plan from the observed state should be empty
         if run.replans >= max_replans:
-            run.error = f"gave up after {max_replans} replans: {run.steps[-1].error}"
-            return run
+            return run.fail(
+                f"gave up after {max_replans} replans: {run.steps[-1].error}", f"gave up after {max_replans} replans"
+            )
         run.replans += 1
 
 

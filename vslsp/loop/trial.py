@@ -21,6 +21,7 @@ class Trial:
     seed: int
     success: bool = False
     error: str | None = None
+    cause: str | None = None  # the failure's short cause for the report's tally (None: the error is its own)
     details: dict = field(default_factory=dict)
     replans: int = 0
     failed_steps: int = 0
@@ -36,6 +37,10 @@ class Trial:
     on_stage: object = field(default=None, repr=False, compare=False)
     predicates: tuple = field(default=(), repr=False, compare=False)  # the user's, grounded at every step
     video: SceneVideo | None = field(default=None, repr=False, compare=False)  # with --video
+
+    def fail(self, error: str, cause: str | None = None) -> None:
+        """The trial failed: ``error`` says why, ``cause`` names it in short (the report's tally)."""
+        self.success, self.error, self.cause = False, error, cause
 
     def stage(self, what: str) -> None:
         """Report progress (the demo's spinner)."""

@@ -19,6 +19,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.geometry import trajectory
+from vslsp.outcomes import Diagnosis
 from vslsp.sim.panda import (
     CONTACT_THRESHOLD,
     FINGER_FORCE,
@@ -55,12 +56,12 @@ PROBE_OFFSETS = ((0.0, 0.0), (0.015, 0.0), (-0.015, 0.0), (0.0, 0.015), (0.0, -0
 
 @dataclass(frozen=True, eq=False)
 class PickPlaceResult:
-    """How a pick-and-place went: ``ok``, the ``diagnosis`` of a failure (None, "grasp failed",
-    "object slipped", "unreachable"), the item ``held`` (ground truth, for reports and tests),
+    """How a pick-and-place went: ``ok``, the ``diagnosis`` of a failure (None, GRASP_FAILED,
+    OBJECT_SLIPPED, UNREACHABLE), the item ``held`` (ground truth, for reports and tests),
     the ``hand_path`` (T, 4) x, y, z, θ as executed and the simulated ``duration_s``."""
 
     ok: bool
-    diagnosis: str | None
+    diagnosis: Diagnosis | None
     held: str | None
     hand_path: np.ndarray
     duration_s: float
@@ -171,7 +172,7 @@ class Operation:
                 self.panda.drive(self.panda.joints())  # stop there: pressing on would jam the fingers
                 return
 
-    def result(self, diagnosis: str | None, held: str | None) -> PickPlaceResult:
+    def result(self, diagnosis: Diagnosis | None, held: str | None) -> PickPlaceResult:
         path = np.array(self.path) if self.path else np.zeros((0, 4))
         return PickPlaceResult(diagnosis is None, diagnosis, held, path, self.steps * TIME_STEP)
 
@@ -270,7 +271,7 @@ def execute_between(
     below = xyz[at_place] - np.outer(np.arange(1, int(MAX_DESCENT / drop) + 1) * drop, [0.0, 0.0, 1.0])
     descent, descent_error, _ = panda.plan(below, np.full(len(below), theta_place), joints[at_place])
     if max(position_error, descent_error) > IK_POSITION_TOLERANCE or angle_error > IK_ANGLE_TOLERANCE:
-        return op.result("unreachable", None)
+        return op.result(Diagnosis.UNREACHABLE, None)
 
     names = {body: name for name, body in world.bodies.items()}
     panda.fingers_to(each)
@@ -282,13 +283,13 @@ def execute_between(
         op.release()
         op.follow(joints[at_pick::-1], t[: at_pick + 1])
         op.follow(np.array([joints[0], PARK]), np.array([0.0, SWING_TIME]))
-        return op.result("grasp failed", None)
+        return op.result(Diagnosis.GRASP_FAILED, None)
 
     op.follow(joints[at_pick : at_place + 1], t[at_pick : at_place + 1])
     op.converge(joints[at_place])
     diagnosis = None
     if panda.between_fingers([held]) is None:
-        diagnosis = "object slipped"
+        diagnosis = Diagnosis.OBJECT_SLIPPED
     else:
         op.guarded_descent(descent, held)
     op.release()

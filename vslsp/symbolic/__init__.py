@@ -45,7 +45,7 @@ if TYPE_CHECKING:
         make_problem,
     )
     from vslsp.symbolic.model import Action, Domain, Predicate, Problem, When
-    from vslsp.symbolic.outcomes import Compilation, InternalError, Unsolvable
+    from vslsp.symbolic.outcomes import Compilation, InternalError, NoPlan, PlanStatus, Unsolvable
     from vslsp.symbolic.pddl import parse_pddl, read_domain, read_pddl, read_problem, save
     from vslsp.symbolic.pddl_errors import PddlWarning
     from vslsp.symbolic.planner import PlanResult, check_planner, solve, solve_timed
@@ -86,6 +86,8 @@ _HOME = {
     "When": "vslsp.symbolic.model",
     "Compilation": "vslsp.symbolic.outcomes",
     "InternalError": "vslsp.symbolic.outcomes",
+    "NoPlan": "vslsp.symbolic.outcomes",
+    "PlanStatus": "vslsp.symbolic.outcomes",
     "Unsolvable": "vslsp.symbolic.outcomes",
     "parse_pddl": "vslsp.symbolic.pddl",
     "read_domain": "vslsp.symbolic.pddl",
@@ -139,10 +141,12 @@ __all__ = [
     "Forall",
     "Imply",
     "InternalError",
+    "NoPlan",
     "Not",
     "Or",
     "PddlWarning",
     "PlanResult",
+    "PlanStatus",
     "Predicate",
     "Problem",
     "Rule",

@@ -154,7 +154,8 @@ def explain(
         if verdict is None:
             raise TaskFailed(
                 f"cannot explain: the planner did not prove the problem unsolvable within {budget_s:g} s "
-                "(give more time)"
+                "(give more time)",
+                cause="cannot explain",
             )
     kept = _deleted(parts, unsolvable)
     ordered = sorted(kept, key=lambda p: (p.kind != "goal", p.index))

@@ -21,45 +21,34 @@ import sys
 import tempfile
 import time
 from dataclasses import dataclass
-from enum import Enum
 from pathlib import Path
 
 from vslsp.errors import InputError
 from vslsp.outputs import NO_SPACE, write_error
-
-
-class Outcome(Enum):
-    """What a Fast Downward run ended with (from the driver's exit code)."""
-
-    SOLVED = "solved"
-    UNSOLVABLE = "unsolvable"  # proved: the translator or a complete search found no plan
-    UNSOLVED = "unsolved"  # an incomplete search gave up
-    TIMEOUT = "timeout"
-    MEMOUT = "memout"
-    ERROR = "error"  # the translator or the search failed
-
+from vslsp.symbolic.outcomes import PlanStatus
 
 _CODES = {
-    0: Outcome.SOLVED,
-    1: Outcome.SOLVED,
-    2: Outcome.SOLVED,
-    3: Outcome.SOLVED,
-    10: Outcome.UNSOLVABLE,
-    11: Outcome.UNSOLVABLE,
-    12: Outcome.UNSOLVED,
-    20: Outcome.MEMOUT,
-    21: Outcome.TIMEOUT,
-    22: Outcome.MEMOUT,
-    23: Outcome.TIMEOUT,
-    24: Outcome.TIMEOUT,
+    0: PlanStatus.SOLVED,
+    1: PlanStatus.SOLVED,
+    2: PlanStatus.SOLVED,
+    3: PlanStatus.SOLVED,
+    10: PlanStatus.UNSOLVABLE_PROVEN,  # the translator proved it
+    11: PlanStatus.UNSOLVABLE_PROVEN,  # a complete search proved it
+    12: PlanStatus.UNSOLVABLE_INCOMPLETELY,  # an incomplete search gave up
+    20: PlanStatus.MEMOUT,
+    21: PlanStatus.TIMEOUT,
+    22: PlanStatus.MEMOUT,
+    23: PlanStatus.TIMEOUT,
+    24: PlanStatus.TIMEOUT,
 }
 
 
 @dataclass(frozen=True)
 class Run:
-    """A Fast Downward run: its outcome, the plan's steps (lower case), the log's tail and the time taken."""
+    """A Fast Downward run: how it ended (from the driver's exit code), the plan's steps (lower
+    case), the log's tail and the time taken."""
 
-    outcome: Outcome
+    outcome: PlanStatus
     steps: tuple[tuple[str, tuple[str, ...]], ...]
     log: str
     time_s: float
@@ -143,7 +132,7 @@ def run(
         except subprocess.TimeoutExpired:
             kill_tree(process)
             log, _ = process.communicate()
-            return Run(Outcome.TIMEOUT, (), log[-4000:], time.perf_counter() - start, None)
+            return Run(PlanStatus.TIMEOUT, (), log[-4000:], time.perf_counter() - start, None)
         except BaseException:  # Ctrl-C, SIGTERM, an error: the translator and the search go too
             kill_tree(process)
             raise
@@ -151,36 +140,36 @@ def run(
         translate = re.search(r"Done! \[[\d.]+s CPU, ([\d.]+)s wall-clock\]", log)
         outcome = outcome_of(process.returncode, log, timed=bool(timeout), limited=bool(memory_mb))
         steps: tuple = ()
-        if outcome is Outcome.SOLVED and not translate_only:
+        if outcome is PlanStatus.SOLVED and not translate_only:
             if (Path(folder) / "plan").exists():
                 steps = _read_plan(Path(folder) / "plan")
             else:
                 # "A plan found and out of memory / time", but none written: the limit's outcome. Exit 1
                 # is also the driver's own crash on the translator's MemoryError report (up-fast-downward's
                 # driver compares its stderr bytes with a str), after the memory limit was reached.
-                outcome = {1: Outcome.MEMOUT, 2: Outcome.TIMEOUT, 3: Outcome.MEMOUT}.get(
-                    process.returncode, Outcome.ERROR
+                outcome = {1: PlanStatus.MEMOUT, 2: PlanStatus.TIMEOUT, 3: PlanStatus.MEMOUT}.get(
+                    process.returncode, PlanStatus.INTERNAL_ERROR
                 )
         translated = float(translate.group(1)) if translate else None
         return Run(outcome, steps, log[-4000:], elapsed, translated, process.returncode)
 
 
-def outcome_of(code: int, log: str, timed: bool, limited: bool) -> Outcome:
+def outcome_of(code: int, log: str, timed: bool, limited: bool) -> PlanStatus:
     """The outcome of the driver's exit ``code``. A component killed by a signal passes the
     signal on as its code (-24, i.e. 232): SIGXCPU is the CPU limit; SIGKILL under a limit is
     the limit's hard end (the kernel's, or a ``MemoryError`` the translator could not report)."""
     signal_number = 256 - code if code > 128 else -code if code < 0 else None
     if signal_number == signal.SIGXCPU and timed:
-        return Outcome.TIMEOUT
+        return PlanStatus.TIMEOUT
     if signal_number in (signal.SIGKILL, signal.SIGSEGV, signal.SIGABRT) and limited and "MemoryError" in log:
-        return Outcome.MEMOUT
+        return PlanStatus.MEMOUT
     if code == 30 and limited and ("MemoryError" in log or "std::bad_alloc" in log):
-        return Outcome.MEMOUT
-    return _CODES.get(code, Outcome.ERROR)
+        return PlanStatus.MEMOUT
+    return _CODES.get(code, PlanStatus.INTERNAL_ERROR)
 
 
 def failure(run: Run) -> str:
-    """What failed in a run whose outcome is ERROR: the component and its last line of output."""
+    """What failed in a run whose outcome is INTERNAL_ERROR: the component and its last line of output."""
     component = "driver"
     for match in re.finditer(r"Running (translator|search)", run.log):
         component = match.group(1)

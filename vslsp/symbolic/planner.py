@@ -20,15 +20,15 @@ from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from typing import Any
 
-from vslsp.errors import InputError, TaskFailed, VslspError
+from vslsp.errors import InputError, VslspError
 from vslsp.stages import in_stage
-from vslsp.symbolic.fast_downward import Outcome, bounded_command, kill_tree
+from vslsp.symbolic.fast_downward import bounded_command, kill_tree
 from vslsp.symbolic.fast_downward import failure as fast_downward_failure
 from vslsp.symbolic.fast_downward import run as run_fast_downward
 from vslsp.symbolic.formula import expand_quantifiers
 from vslsp.symbolic.lifted import compile_lifted, objects_named
 from vslsp.symbolic.model import Domain, Problem
-from vslsp.symbolic.outcomes import Compilation, InternalError, Unsolvable
+from vslsp.symbolic.outcomes import Compilation, InternalError, NoPlan, PlanStatus, Unsolvable
 from vslsp.symbolic.up_model import environment, to_up
 from vslsp.symbolic.validate import initially_broken
 
@@ -121,8 +121,10 @@ def solve(
 ) -> PlanResult:
     """Plan for ``problem`` in ``domain`` with a unified-planning oneshot planner.
 
-    Raises TaskFailed("no plan: ...") when the planner proves or reports no plan, and
-    TaskFailed naming the limit when it reaches ``timeout`` (wall-clock seconds) or
+    Raises :class:`~vslsp.symbolic.outcomes.NoPlan` ("no plan: ...", a TaskFailed with the run's
+    :class:`~vslsp.symbolic.outcomes.PlanStatus`) when the planner proves or reports no plan
+    (:class:`~vslsp.symbolic.outcomes.Unsolvable` when it proved it), and one naming the limit
+    (status TIMEOUT or MEMOUT) when it reaches ``timeout`` (wall-clock seconds) or
     ``memory_mb`` (megabytes per process; None: unbounded); InputError for an unknown planner
     or one that cannot take the problem, :class:`~vslsp.symbolic.outcomes.InternalError` when a
     planner or compiler fails inside. ``compilation``: force LIFTED or GROUND (default: lifted where the planner has
@@ -146,7 +148,7 @@ def solve_timed(
         raise InputError(f"problem {problem.name} is for domain {problem.domain.name}, not {domain.name}")
     broken = initially_broken(problem)
     if broken:
-        raise Unsolvable(f"no plan: {broken}")
+        raise Unsolvable(broken)
     try:
         return _solve(domain, problem, planner, compilation, Limits(timeout, memory_mb))
     except VslspError:
@@ -166,13 +168,13 @@ class Limits:
     timeout: float | None
     memory_mb: int | None
 
-    def reached(self, what: str) -> TaskFailed:
-        """The failure of a run that reached its time or memory limit (exit 1, naming it)."""
-        if what == "time":
+    def reached(self, status: PlanStatus) -> NoPlan:
+        """The failure of a run that reached its time (TIMEOUT) or memory (MEMOUT) limit (exit 1, naming it)."""
+        if status is PlanStatus.TIMEOUT:
             limit = f"time limit of {self.timeout:g} s" if self.timeout else "time limit"
-            return TaskFailed(f"no plan: the planner's {limit} reached (raise it with --timeout)")
+            return NoPlan(f"the planner's {limit} reached (raise it with --timeout)", status)
         limit = f"memory limit of {self.memory_mb} MB" if self.memory_mb else "memory"
-        return TaskFailed(f"no plan: the planner's {limit} reached (raise it with --memory)")
+        return NoPlan(f"the planner's {limit} reached (raise it with --memory)", status)
 
 
 def _solve(
@@ -192,22 +194,18 @@ def _solve_directly(domain: Domain, problem: Problem, planner: str, limits: Limi
     built = time.perf_counter()
     run = run_fast_downward(domain_text, problem_text, DIRECT[planner], limits.timeout, memory_mb=limits.memory_mb)
     solved = time.perf_counter()
-    if run.outcome is not Outcome.SOLVED:
-        reasons = {
-            Outcome.UNSOLVABLE: "the goal cannot be reached from the initial state under the constraints "
-            "(proved by Fast Downward)",
-            Outcome.UNSOLVED: "Fast Downward's search gave up without a plan (it is incomplete)",
-        }
-        if run.outcome is Outcome.TIMEOUT:
-            raise limits.reached("time")
-        if run.outcome is Outcome.MEMOUT:
-            raise limits.reached("memory")
-        if run.outcome is Outcome.ERROR:
+    if run.outcome is not PlanStatus.SOLVED:
+        if run.outcome.limit_reached:
+            raise limits.reached(run.outcome)
+        if run.outcome is PlanStatus.INTERNAL_ERROR:
             raise InternalError(f"{fast_downward_failure(run)}; run with --debug for its whole log") from RuntimeError(
                 run.log
             )
-        failure = Unsolvable if run.outcome is Outcome.UNSOLVABLE else TaskFailed
-        raise failure(f"no plan: {reasons[run.outcome]}")
+        if run.outcome is PlanStatus.UNSOLVABLE_PROVEN:
+            raise Unsolvable(
+                "the goal cannot be reached from the initial state under the constraints (proved by Fast Downward)"
+            )
+        raise NoPlan("Fast Downward's search gave up without a plan (it is incomplete)", run.outcome)
     used = Compilation.LIFTED if problem.constraints else Compilation.NONE
     times = PlanningTimes(built - compiled, compiled - start, solved - built)
     return PlanResult(run.steps, planner, solved - start, used), times
@@ -228,7 +226,7 @@ def _solve_up(
     domain: Domain, problem: Problem, planner: str, compilation: Compilation | None, limits: Limits
 ) -> tuple[PlanResult, PlanningTimes]:
     """Through a unified-planning engine (any installed planner; the ground compilation)."""
-    from unified_planning.engines import CompilationKind, PlanGenerationResultStatus
+    from unified_planning.engines import CompilationKind
     from unified_planning.exceptions import UPException
     from unified_planning.shortcuts import OneshotPlanner
 
@@ -264,7 +262,7 @@ def _solve_up(
         if not engine.supports(kind):
             raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); try {DEFAULT_PLANNER}")
         if _false_goal(up_problem):
-            raise Unsolvable(f"no plan: the goal {problem.goal.to_pddl()} can never hold under the constraints")
+            raise Unsolvable(f"the goal {problem.goal.to_pddl()} can never hold under the constraints")
         engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
         compiled_at = time.perf_counter()
         _bound(engine, limits.memory_mb)
@@ -272,20 +270,19 @@ def _solve_up(
             with _private_directory():
                 result = engine.solve(up_problem, timeout=limits.timeout)
         except UPException as error:
-            raise TaskFailed(f"no plan: {planner} failed: {error}") from None
+            raise NoPlan(f"{planner} failed: {error}", PlanStatus.INTERNAL_ERROR) from None
         except BaseException:  # an interrupt: the planner's processes (in their own session) go too
             if getattr(engine, "_process", None) is not None:
                 kill_tree(engine._process)
             raise
     solved = time.perf_counter()
-    solved_statuses = (PlanGenerationResultStatus.SOLVED_SATISFICING, PlanGenerationResultStatus.SOLVED_OPTIMALLY)
-    if result.status is PlanGenerationResultStatus.TIMEOUT:
-        raise limits.reached("time")
-    if result.status is PlanGenerationResultStatus.MEMOUT:
-        raise limits.reached("memory")
-    if result.status not in solved_statuses:
-        proved = result.status is PlanGenerationResultStatus.UNSOLVABLE_PROVEN
-        raise (Unsolvable if proved else TaskFailed)(f"no plan: {_reason(result)}")
+    status = plan_status(result.status)
+    if status.limit_reached:
+        raise limits.reached(status)
+    if status is PlanStatus.UNSOLVABLE_PROVEN:
+        raise Unsolvable(_reason(result))
+    if status is not PlanStatus.SOLVED:
+        raise NoPlan(_reason(result), status)
     steps = []
     for instance in result.plan.actions:
         for map_back in reversed(map_backs):
@@ -310,7 +307,7 @@ def _ground_compilation(up_problem: Any, problem: Problem) -> tuple[Any, Any]:
     try:
         compiled = TrajectoryConstraintsRemover().compile(up_problem, CompilationKind.TRAJECTORY_CONSTRAINTS_REMOVING)
     except UPProblemDefinitionError as error:
-        raise Unsolvable(f"no plan: {str(error).replace('PROBLEM NOT SOLVABLE: ', '')}") from None
+        raise Unsolvable(str(error).replace("PROBLEM NOT SOLVABLE: ", "")) from None
     except Exception as error:  # unified-planning 1.3.0's grounder: "list.remove(x)" on some static preconditions
         error.vslsp_stage = "the ground constraint compilation (unified-planning's grounder)"  # type: ignore[attr-defined]
         raise
@@ -343,6 +340,14 @@ def _bound(engine: Any, memory_mb: int | None) -> None:
         command = getattr(engine, name, None)
         if command is not None:
             setattr(engine, name, lambda *args, _command=command: bounded_command(_command(*args), memory_mb))
+
+
+def plan_status(status: Any) -> PlanStatus:
+    """The :class:`PlanStatus` of a unified-planning ``PlanGenerationResultStatus`` (both kinds of
+    solved are SOLVED; an intermediate or unknown status is INTERNAL_ERROR)."""
+    if status.name in ("SOLVED_SATISFICING", "SOLVED_OPTIMALLY"):
+        return PlanStatus.SOLVED
+    return PlanStatus.__members__.get(status.name, PlanStatus.INTERNAL_ERROR)
 
 
 def _reason(result: Any) -> str:

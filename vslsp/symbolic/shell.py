@@ -345,7 +345,7 @@ class Shell(cmd.Cmd):
         try:
             result = solve(self.domain, self.problem, planner=(arg.split() or [DEFAULT_PLANNER])[0])
         except Unsolvable as error:
-            raise Unsolvable(f"{error}; type why to see which goal conjuncts and constraints conflict") from None
+            raise Unsolvable(f"{error.reason}; type why to see which goal conjuncts and constraints conflict") from None
         self.last_plan = list(result.steps)
         for number, line in enumerate(result.lines(), start=1):
             self.say(f"{number}. {line}")

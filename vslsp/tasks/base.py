@@ -20,7 +20,9 @@ Writing a task::
 
         def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
             value = int(np.random.default_rng(seed).integers(0, 4))
-            return TrialResult(self.name, seed, value < 3, None if value < 3 else f"drew {value}")
+            if value < 3:
+                return TrialResult(self.name, seed, True)
+            return TrialResult(self.name, seed, False, f"drew {value}", failure_cause="a high draw")
 """
 
 from __future__ import annotations
@@ -57,7 +59,8 @@ class Option(enum.StrEnum):
 class TrialResult:
     """One trial of any task.
 
-    ``success`` is judged on the simulator's ground truth; ``error`` says why a trial failed;
+    ``success`` is judged on the simulator's ground truth; ``error`` says why a trial failed and
+    ``failure_cause`` names the cause in short (what the report tallies, :attr:`cause`);
     ``operations`` holds one JSON record per operation (what moved, how it was found, how it
     ended); ``details`` holds the task's other JSON fields; ``artefacts`` holds what the report
     draws (images, demonstrations), kept only when the trial ran with ``keep``.
@@ -74,6 +77,7 @@ class TrialResult:
     cpu_s: float = 0.0
     stages_s: dict[str, float] | None = None  # wall seconds per stage (vslsp.stages), adding up to time_s
     video: str | None = None  # the trial's MP4, relative to the report folder (``--video``)
+    failure_cause: str | None = None  # e.g. "no plan", "demonstration", the exception's type
 
     def to_dict(self) -> dict:
         """The trial's JSON record (``results`` of ``report.json``)."""
@@ -96,11 +100,11 @@ class TrialResult:
 
     @property
     def cause(self) -> str:
-        """A short failure cause for the report's tally ("ok" for a success)."""
+        """A short failure cause for the report's tally ("ok" for a success): ``failure_cause``;
+        a task that names none has its ``error`` as the cause, or "goal not reached" without one."""
         if self.success:
             return "ok"
-        text = (self.error or "goal not reached").split(":")[0]
-        return text[:60]
+        return (self.failure_cause or self.error or "goal not reached")[:60]
 
     def without_artefacts(self) -> TrialResult:
         """The same result with nothing kept for the report (what crosses processes)."""

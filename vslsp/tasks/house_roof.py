@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.outcomes import Diagnosis
 from vslsp.outputs import atomic_file
 from vslsp.tasks.base import System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square
@@ -53,7 +54,14 @@ class HouseRoof(Task):
         try:
             demo = demonstrate(seed)
         except InputError as unseen:  # the recorder could not see the tutor's operation
-            return TrialResult(self.name, seed, False, f"demonstration: {unseen}", details={"reproduction_ms": {}})
+            return TrialResult(
+                self.name,
+                seed,
+                False,
+                f"demonstration: {unseen}",
+                details={"reproduction_ms": {}},
+                failure_cause="demonstration",
+            )
         features = ObservationFeatures(demo)
         world = HouseWorld.random(seed + REPRODUCTION_SEED)
         results, milliseconds, reproductions = {}, {}, {}
@@ -64,7 +72,7 @@ class HouseRoof(Task):
             results[frame] = reproduction.to_dict()
             reproductions[frame] = reproduction
         success = bool(results["adaptive"]["success"])
-        error = None if success else _failure(results["adaptive"])
+        error, cause = (None, None) if success else _failure(results["adaptive"])
         return TrialResult(
             self.name,
             seed,
@@ -72,6 +80,7 @@ class HouseRoof(Task):
             error,
             details={"reproduction_ms": milliseconds, **results},
             artefacts=(demo, reproductions) if keep else None,
+            failure_cause=cause,
         )
 
     def summary(self, results: list[TrialResult]) -> dict:
@@ -87,7 +96,7 @@ class HouseRoof(Task):
                 "successes": successes,
                 "success_rate": successes / total if total else 0.0,
                 "operations": len(operations),
-                "operations_ok": sum(op["diagnosis"] == "ok" for op in operations),
+                "operations_ok": sum(op["diagnosis"] == Diagnosis.OK for op in operations),
                 "diagnoses": {
                     d: sum(op["diagnosis"] == d for op in operations)
                     for d in sorted({op["diagnosis"] for op in operations})
@@ -143,16 +152,14 @@ class HouseRoof(Task):
         ]
 
 
-def _failure(adaptive: dict) -> str:
-    """Which operations of the adaptive reproduction failed, and why."""
-    return (
-        "; ".join(
-            f"operation {i}: {op['diagnosis']}"
-            for i, op in enumerate(adaptive["operations"], start=1)
-            if op["diagnosis"] != "ok"
-        )
-        or "goal not reached"
-    )
+def _failure(adaptive: dict) -> tuple[str, str]:
+    """Which operations of the adaptive reproduction failed, and why; the cause: the first of them."""
+    failed = [
+        (i, op["diagnosis"]) for i, op in enumerate(adaptive["operations"], start=1) if op["diagnosis"] != Diagnosis.OK
+    ]
+    if not failed:
+        return "goal not reached", "goal not reached"
+    return "; ".join(f"operation {i}: {diagnosis}" for i, diagnosis in failed), f"operation {failed[0][0]}"
 
 
 def _figures(folder: Path, demonstration, reproductions: dict) -> dict:

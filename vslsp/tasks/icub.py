@@ -93,6 +93,7 @@ class IcubExperiment(Task):
             details=details,
             artefacts=trial if keep else None,
             video=video_path(seed) if folder else None,
+            failure_cause=trial.cause,
         )
 
     def summary(self, results: list[TrialResult]) -> dict:

@@ -324,10 +324,11 @@ def _outcome(ray: ModuleType, ref: Any, name: str, seed: int) -> TrialResult:
             False,
             f"worker died: its process ended during the trial {RETRIES + 1} "
             f"times ({type(error).__name__}: crash, out of memory or node lost)",
+            failure_cause="worker died",
         )
     except errors.RayError as error:
         first = (str(error).strip().splitlines() or [""])[0][:300]
-        return TrialResult(name, seed, False, f"ray: {type(error).__name__}: {first}")
+        return TrialResult(name, seed, False, f"ray: {type(error).__name__}: {first}", failure_cause="ray")
 
 
 def _cancel(ray: ModuleType, refs: list[Any]) -> None:

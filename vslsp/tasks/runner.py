@@ -185,7 +185,8 @@ def _run_pool(
                 except BrokenProcessPool:
                     broken.append(seed)
                 except Interrupted as stop:  # the worker alone was sent SIGTERM (by someone else)
-                    finished(TrialResult(task.name, seed, False, f"worker ended by {stop.signal_name}"))
+                    ended = f"worker ended by {stop.signal_name}"
+                    finished(TrialResult(task.name, seed, False, ended, failure_cause=ended))
             if broken:
                 # Every trial in flight was lost with the pool: retry each once in a fresh one.
                 lost = sorted(broken + list(running.values()))
@@ -200,6 +201,7 @@ def _run_pool(
                                 seed,
                                 False,
                                 "worker died: its process ended during the trial twice (crash or out of memory)",
+                                failure_cause="worker died",
                             )
                         )
                     else:

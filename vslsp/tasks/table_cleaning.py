@@ -111,15 +111,17 @@ class Vsl3dExperiment(Task):
         finally:
             if video is not None:
                 video.close()
+        failed = [op for op in operations if not op["success"]]
         return TrialResult(
             self.name,
             seed,
-            all(op["success"] for op in operations),
+            not failed,
             "; ".join(operation_failures(operations)) or None,
             operations=operations,
             details={"method": self.method},
             artefacts=pictures if keep else None,
             video=video_path(seed) if video is not None else None,
+            failure_cause=f"operation {failed[0]['index']} ({failed[0]['moved']})" if failed else None,
         )
 
     def summary(self, results: list[TrialResult]) -> dict:

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.outcomes import Diagnosis
 from vslsp.outputs import atomic_file
 from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.drawing import PICK, PLACE, grid, label, small, square
@@ -71,7 +72,13 @@ class TabletopExperiment(Task):
                 demo = task.demonstrate(world, rng)
             except InputError as unseen:
                 return TrialResult(
-                    self.name, seed, False, f"demonstration: {unseen}", operations=[], details={"variant": variant}
+                    self.name,
+                    seed,
+                    False,
+                    f"demonstration: {unseen}",
+                    operations=[],
+                    details={"variant": variant},
+                    failure_cause="demonstration",
                 )
             goal = look(world) if keep else None
         rng = np.random.default_rng(seed + REPRODUCTION_SEED)
@@ -89,7 +96,7 @@ class TabletopExperiment(Task):
                 else {}
             )
         operations = [o.to_dict() for o in outcomes]
-        error = None if success else _failure(operations)
+        error, cause = (None, None) if success else _failure(operations)
         return TrialResult(
             self.name,
             seed,
@@ -98,12 +105,13 @@ class TabletopExperiment(Task):
             operations=operations,
             details={"variant": variant},
             artefacts=(demo, outcomes, finals) if keep else None,
+            failure_cause=cause,
         )
 
     def summary(self, results: list[TrialResult]) -> dict:
         """The robot's operations: how many, how many succeeded, the diagnoses of the others."""
         robot = [op for r in results for op in (r.operations or []) if op["actor"] == "robot"]
-        ok = sum(op["diagnosis"] == "ok" for op in robot)
+        ok = sum(op["diagnosis"] == Diagnosis.OK for op in robot)
         data: dict[str, Any] = {
             "operations": len(robot),
             "operations_ok": ok,
@@ -165,15 +173,13 @@ def make_task(name: str, seed: int):
     return TASKS[name](seed % 2 == 1) if name == "tower-of-hanoi" else TASKS[name]()
 
 
-def _failure(operations: list[dict]) -> str:
-    return (
-        "; ".join(
-            f"operation {op['operation']} ({op['actor']}, {op['item']}): {op['diagnosis']}"
-            for op in operations
-            if op["diagnosis"] != "ok"
-        )
-        or "goal not reached"
-    )
+def _failure(operations: list[dict]) -> tuple[str, str]:
+    """Why a trial failed, and its cause: the operations that went wrong (the first one is the cause)."""
+    failed = [op for op in operations if op["diagnosis"] != Diagnosis.OK]
+    if not failed:
+        return "goal not reached", "goal not reached"
+    names = [f"operation {op['operation']} ({op['actor']}, {op['item']})" for op in failed]
+    return "; ".join(f"{name}: {op['diagnosis']}" for name, op in zip(names, failed)), names[0]
 
 
 @register

@@ -23,5 +23,6 @@ def run_one(task: Task, seed: int, keep: bool = False) -> TrialResult:
             seed,
             False,
             f"{type(error).__name__}: {error} (at {where.filename.split('/')[-1]}:{where.lineno})",
+            failure_cause=type(error).__name__,
         )
     return result if keep else result.without_artefacts()

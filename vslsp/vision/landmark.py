@@ -113,5 +113,6 @@ def find_landmark(image: np.ndarray) -> Line:
 def _no_line(what: str) -> InputError:
     return GroundingFailed(
         f"no landmark line found in the {what}: put a black line (dark, thin and long, across "
-        "at least a quarter of the view) on the table and keep it in view"
+        "at least a quarter of the view) on the table and keep it in view",
+        cause=f"no landmark line found in the {what}",
     )

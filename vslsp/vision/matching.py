@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from vslsp.outcomes import NoMatch
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import as_rgb
 from vslsp.vision.transform import Decomposition, decompose
@@ -79,16 +80,6 @@ class FrameMode(enum.StrEnum):
 
     ADAPTIVE = "adaptive"
     FIXED = "fixed"
-
-
-@dataclass(frozen=True)
-class NoMatch:
-    """Match finding found nothing: why (a typed outcome, not an exception). False in a test."""
-
-    reason: str
-
-    def __bool__(self) -> bool:
-        return False
 
 
 def frame_sizes(object_size: float, world_shape: tuple[int, ...]) -> list[int]:

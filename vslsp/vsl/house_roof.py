@@ -40,6 +40,7 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.geometry.poses import Pose2, compose, relative, wrap
 from vslsp.geometry.trajectory import PickPlaceTrajectory, TrajectoryParameters, pick_and_place
+from vslsp.outcomes import Diagnosis
 from vslsp.stages import stage
 from vslsp.vision.features import extract_features
 from vslsp.vision.matching import FrameMode, Match, NoMatch, frame_sizes
@@ -112,8 +113,8 @@ def demonstrate(seed: int) -> HouseRoofDemonstration:
 class OperationResult:
     """One reproduced pick-and-place: the pick and place matches (None when none was found),
     the hand's angles, its trajectory, which roof it grasped, where that roof landed (ground
-    truth), the slot it landed in with its errors, and the ``diagnosis``: "ok", "no match",
-    "grasp failed", "wrong place" (a house that has its roof already, or no slot at all)."""
+    truth), the slot it landed in with its errors, and the ``diagnosis``: OK, NO_MATCH,
+    GRASP_FAILED, WRONG_PLACE (a house that has its roof already, or no slot at all)."""
 
     pick: Match | None
     place: Match | None
@@ -123,11 +124,11 @@ class OperationResult:
     grasped: int | None
     landed: Pose2 | None
     slot: tuple[int, str, float, float] | None
-    diagnosis: str
+    diagnosis: Diagnosis
 
     @property
     def success(self) -> bool:
-        return self.diagnosis == "ok"
+        return self.diagnosis is Diagnosis.OK
 
     def to_dict(self) -> dict:
         return {
@@ -204,7 +205,7 @@ def reproduce(
             features.pre_pick[k],
         )
         if isinstance(pick, NoMatch):
-            results.append(OperationResult(None, None, 0.0, 0.0, None, None, None, None, "no match"))
+            results.append(OperationResult(None, None, 0.0, 0.0, None, None, None, None, Diagnosis.NO_MATCH))
             continue
         grasped = world.roof_at((pick.x, pick.y))
         lifted = world if grasped is None else world.with_roof(grasped, None)
@@ -220,7 +221,7 @@ def reproduce(
             features.pre_place[k],
         )
         if isinstance(place, NoMatch):
-            results.append(OperationResult(pick, None, pick.theta, 0.0, None, grasped, None, None, "no match"))
+            results.append(OperationResult(pick, None, pick.theta, 0.0, None, grasped, None, None, Diagnosis.NO_MATCH))
             continue
         theta_place = pick.theta + wrap(place.theta + demo.turns[k] - pick.theta)  # the shorter turn
         with stage("execution"):  # the hand's motion (the world below is the board's kinematics)
@@ -234,7 +235,9 @@ def reproduce(
             )
         if grasped is None:
             results.append(
-                OperationResult(pick, place, pick.theta, theta_place, trajectory, None, None, None, "grasp failed")
+                OperationResult(
+                    pick, place, pick.theta, theta_place, trajectory, None, None, None, Diagnosis.GRASP_FAILED
+                )
             )
             continue
         hand_at_pick = (pick.x, pick.y, pick.theta)
@@ -247,7 +250,7 @@ def reproduce(
         world = lifted.with_roof(grasped, landed)
         slot = world.slot_of(landed)
         fits = slot[2] <= POSITION_TOLERANCE and slot[3] <= ANGLE_TOLERANCE and slot[1] == DEMONSTRATED[k]
-        diagnosis = "ok" if fits and not occupied[slot[0]] else "wrong place"
+        diagnosis = Diagnosis.OK if fits and not occupied[slot[0]] else Diagnosis.WRONG_PLACE
         results.append(
             OperationResult(pick, place, pick.theta, theta_place, trajectory, grasped, landed, slot, diagnosis)
         )

@@ -30,6 +30,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from vslsp.outcomes import Diagnosis
 from vslsp.sim.tabletop import Placement
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import Match, NoMatch
@@ -180,7 +181,7 @@ class AnimalsVsMachines(TabletopTask):
             found = identify(demo.demonstration, image, extract_features(image), remaining)
             expected = demo.items.index(subject)
             if found is None:
-                outcomes.append(OperationOutcome(expected, "robot", subject, "no match"))
+                outcomes.append(OperationOutcome(expected, "robot", subject, Diagnosis.NO_MATCH))
                 continue
             k, match = found
             remaining.remove(k)
@@ -190,7 +191,7 @@ class AnimalsVsMachines(TabletopTask):
                     expected,
                     "robot",
                     subject,
-                    "wrong object",
+                    Diagnosis.WRONG_OBJECT,
                     outcome.planned,
                     outcome.result,
                     judge(world, demo, expected, {})[1],

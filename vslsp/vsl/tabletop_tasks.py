@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vslsp.geometry.poses import wrap
+from vslsp.outcomes import Diagnosis
 from vslsp.sim.tabletop import Item, PickPlaceResult, Placement, TabletopWorld
 from vslsp.stages import in_stage, stage
 from vslsp.vision.features import Features, extract_features
@@ -52,14 +53,14 @@ class TaskDemonstration:
 class OperationOutcome:
     """One operation of a reproduction: the demonstrated operation ``index`` it reproduces, who
     did it (``actor``: robot or tutor), the item it concerns (ground truth), the ``diagnosis``
-    ("ok", "no match", "ambiguous match", "wrong object", "misplaced", or the robot's "grasp
-    failed", "object slipped", "unreachable"), the plan and the execution, the errors against
+    (OK, NO_MATCH, AMBIGUOUS_MATCH, WRONG_OBJECT, MISPLACED, or the robot's GRASP_FAILED,
+    OBJECT_SLIPPED, UNREACHABLE), the plan and the execution, the errors against
     the demonstration (ground truth), and the observation it was planned in."""
 
     index: int
     actor: str
     item: str
-    diagnosis: str
+    diagnosis: Diagnosis
     planned: PlannedOperation | None = None
     result: PickPlaceResult | None = None
     errors: dict = field(default_factory=dict)
@@ -67,7 +68,7 @@ class OperationOutcome:
 
     @property
     def ok(self) -> bool:
-        return self.diagnosis == "ok"
+        return self.diagnosis is Diagnosis.OK
 
     def to_dict(self) -> dict:
         data = {
@@ -216,7 +217,7 @@ def robot_operation(
     )
     if isinstance(planned, NoMatch):
         world.say(f"robot, operation {k + 1} ({demo.items[k]}): no match found", hold=1.0)
-        return OperationOutcome(k, "robot", demo.items[k], "no match", observation=kept)
+        return OperationOutcome(k, "robot", demo.items[k], Diagnosis.NO_MATCH, observation=kept)
     world.say(f"robot, operation {k + 1}: {demo.items[k]} (pick and place found by match finding)")
     with stage("execution"):
         result = world.pick_and_place(planned.pick, planned.place, planned.grasp_width)
@@ -230,15 +231,15 @@ def robot_operation(
     ok, errors = judge(world, demo, k, anchor_map)
     errors["corrected"] = corrected
     if ok:
-        diagnosis = "ok"
+        diagnosis = Diagnosis.OK
     elif not result.ok:
-        diagnosis = result.diagnosis or "grasp failed"
+        diagnosis = result.diagnosis or Diagnosis.GRASP_FAILED
     elif result.held != demo.items[k]:
-        diagnosis = "wrong object"
+        diagnosis = Diagnosis.WRONG_OBJECT
     elif planned.pick_match.ambiguous or planned.place_match.ambiguous:
-        diagnosis = "ambiguous match"
+        diagnosis = Diagnosis.AMBIGUOUS_MATCH
     else:
-        diagnosis = "misplaced"
+        diagnosis = Diagnosis.MISPLACED
     world.say(
         f"robot, operation {k + 1}: {demo.items[k]}: {diagnosis}",
         f"{1000 * errors['position_error_m']:.1f} mm, {errors['angle_error_deg']:.1f} deg from the target"
@@ -260,7 +261,7 @@ def tutor_operation(
     (not ``judged``) may go anywhere."""
     tutor_move(world, demo.items[k], where, None)
     ok = not judged or judge(world, demo, k, anchor_map)[0]
-    return OperationOutcome(k, "tutor", demo.items[k], "ok" if ok else "misplaced")
+    return OperationOutcome(k, "tutor", demo.items[k], Diagnosis.OK if ok else Diagnosis.MISPLACED)
 
 
 def placement_like(

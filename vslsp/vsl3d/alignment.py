@@ -15,7 +15,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from vslsp.errors import InputError, TaskFailed
+from vslsp.errors import InputError
+from vslsp.outcomes import NoMatch
 from vslsp.vsl3d.cloud import voxel_downsample
 from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree
@@ -94,7 +95,7 @@ def align(
     min_fitness: float = MIN_FITNESS,
     refined: int = REFINED,
     upright: float = 0.0,
-) -> Registration:
+) -> Registration | NoMatch:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
     matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
 
@@ -114,12 +115,12 @@ def align(
     image, not hidden) the fitness counts only against the source points the target's sensor
     could see at the pose, but at least :data:`VISIBLE_FLOOR` of them (two single views of a
     turned object, or of one half out of the image, share only part of its surface).
-    Raises :class:`TaskFailed` when less than ``min_fitness`` (half) of the source ends within
-    3 mm of the target."""
+    :class:`NoMatch` (a typed outcome, as 2-D match finding's) when less than ``min_fitness``
+    (half) of the source ends within 3 mm of the target, or when there is nothing to align."""
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     if len(source) < 10 or len(target) < 10:
-        raise TaskFailed(
+        return NoMatch(
             f"too few points to align ({len(source)} onto {len(target)}); "
             "is the object inside the workspace and in view?"
         )
@@ -136,21 +137,21 @@ def align(
             if method == "prerejective_ransac"
             else (sac_ia_hypotheses, "sac-ia")
         )
-        try:
-            hypotheses = find(
-                sparse_source,
-                sparse_target,
-                source_features,
-                target_features,
-                1.5 * voxel,
-                keep=HYPOTHESES,
-                seed=seed,
-                target_tree=sparse_tree,
-            )
+        hypotheses = find(
+            sparse_source,
+            sparse_target,
+            source_features,
+            target_features,
+            1.5 * voxel,
+            keep=HYPOTHESES,
+            seed=seed,
+            target_tree=sparse_tree,
+        )
+        if isinstance(hypotheses, NoMatch):
+            if not turns:  # the turned starts below are the only other poses
+                return hypotheses
+        else:
             starts.extend((transform, name) for transform in hypotheses)
-        except TaskFailed:
-            if not turns:
-                raise
     if turns:
         centre = target.mean(axis=0) if target_centre is None else np.asarray(target_centre, dtype=float)
         turned = icp_batch(
@@ -206,9 +207,9 @@ def align(
         poses = [_fitness_of_visible(r, source, tree, target_visible) for r in poses]
     best = max(poses, key=score, default=None)
     if best is None:
-        raise TaskFailed(f"{best_starts[0][1]} put the observation where the world has no points")
+        return NoMatch(f"{best_starts[0][1]} put the observation where the world has no points")
     if best.fitness < min_fitness:
-        raise TaskFailed(
+        return NoMatch(
             f"{best.method} fits only {best.fitness:.0%} of the observation within "
             f"{FINAL_DISTANCE * 1000:.0f} mm (needs {min_fitness:.0%}); the object is not "
             "in this world or too little of it is visible"

@@ -59,7 +59,7 @@ def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
     :class:`TaskFailed` ("ungraspable") when both sides are wider than the gripper."""
     points = np.asarray(points, dtype=float)
     if len(points) < 10:
-        raise TaskFailed(f"ungraspable: the object's cloud has only {len(points)} points")
+        raise TaskFailed(f"ungraspable: the object's cloud has only {len(points)} points", cause="ungraspable")
     top = float(np.percentile(points[:, 2], 99.5))
     bottom = max(0.0, float(np.percentile(points[:, 2], 0.5)))
     widest = 2.0 * (FINGER_OPEN - FINGER_ROOM)
@@ -89,7 +89,8 @@ def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
                 return Grasp(np.array([*middle_point, tip]), float(np.arctan2(axis[1], axis[0])), width, top)
     raise TaskFailed(
         f"ungraspable: the object is {narrowest * 100:.1f} cm wide at its narrowest side, "
-        f"the gripper opens {widest * 100:.1f} cm"
+        f"the gripper opens {widest * 100:.1f} cm",
+        cause="ungraspable",
     )
 
 

@@ -20,7 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vslsp.errors import InputError, TaskFailed
+from vslsp.errors import InputError
+from vslsp.outcomes import NoMatch
 from vslsp.vsl3d.alignment import MAX_SEEN_THROUGH, METHODS, align, tipping
 from vslsp.vsl3d.cloud import Frame
 from vslsp.vsl3d.registration import Registration, transform_points
@@ -66,57 +67,56 @@ class Match:
 
 def find_best_match(
     world: WorldCloud, observation: CloudObservation, *, method: str = "prerejective_ransac", seed: int = 0
-) -> Match:
-    """Find ``observation`` in ``world`` and its pose there. Raises :class:`TaskFailed` when no
-    verified pose puts enough of the observation onto the world."""
+) -> Match | NoMatch:
+    """Find ``observation`` in ``world`` and its pose there: the :class:`Match`, or
+    :class:`NoMatch` (why) when no verified pose puts enough of the observation onto the world,
+    as 2-D match finding (:func:`vslsp.vision.matching.find_best_match`)."""
     if len(observation.points) < 10:
         raise InputError(f"the observation has {len(observation.points)} points; record one of a visible object")
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     best: Match | None = None
-    try:
-        registration = align(
-            observation.points,
-            world.points,
-            observation.viewpoint,
-            world.camera.position,
-            method=method,
-            seed=seed,
-            seen_through=world.seen_through,
-            upright=UPRIGHT_WEIGHT,
-        )
-        best = _verified(world, observation, registration)
+    registration = align(
+        observation.points,
+        world.points,
+        observation.viewpoint,
+        world.camera.position,
+        method=method,
+        seed=seed,
+        seen_through=world.seen_through,
+        upright=UPRIGHT_WEIGHT,
+    )
+    found = _verified(world, observation, registration)
+    if isinstance(found, NoMatch):
+        global_failure = found.reason
+    else:
+        best = found
         if best.plausibility >= CONFIDENT_FITNESS:
             return best
         global_failure = f"the best global match fits only {best.registration.fitness:.0%}"
-    except TaskFailed as error:
-        global_failure = str(error)
     # A window's match replaces a verified global one only when it fits clearly better (the
     # duckling's view fits the teddy's side about as well as the turned duckling itself).
     bar = -np.inf if best is None else best.plausibility + CLEARLY_BETTER
     windows = 0
     for window, centre in object_windows(world.points, observation.points):
         windows += 1
-        try:
-            registration = align(
-                observation.points,
-                window,
-                observation.viewpoint,
-                world.camera.position,
-                method=method,
-                seed=seed,
-                turns=TURNS,
-                target_centre=centre,
-                seen_through=world.seen_through,
-                upright=UPRIGHT_WEIGHT,
-            )
-            match = _verified(world, observation, registration)
-        except TaskFailed:
-            continue
-        if match.plausibility > bar:
+        registration = align(
+            observation.points,
+            window,
+            observation.viewpoint,
+            world.camera.position,
+            method=method,
+            seed=seed,
+            turns=TURNS,
+            target_centre=centre,
+            seen_through=world.seen_through,
+            upright=UPRIGHT_WEIGHT,
+        )
+        match = _verified(world, observation, registration)
+        if not isinstance(match, NoMatch) and match.plausibility > bar:
             best, bar = match, match.plausibility
     if best is None:
-        raise TaskFailed(f"no match: {global_failure}; nor in any of {windows} object-sized windows of the world")
+        return NoMatch(f"{global_failure}; nor in any of {windows} object-sized windows of the world")
     return best
 
 
@@ -139,11 +139,16 @@ def object_windows(points: np.ndarray, observation: np.ndarray) -> Iterator[tupl
         yield points[window.contains(points)], cluster.mean(axis=0)
 
 
-def _verified(world: WorldCloud, observation: CloudObservation, registration: Registration) -> Match:
+def _verified(
+    world: WorldCloud, observation: CloudObservation, registration: Registration | NoMatch
+) -> Match | NoMatch:
+    """The match of ``registration``, unless it puts the observation where the sensor saw free space."""
+    if isinstance(registration, NoMatch):
+        return registration
     moved = transform_points(registration.transform, observation.points)
     floating = float(world.seen_through(moved).mean())
     if floating > MAX_SEEN_THROUGH:
-        raise TaskFailed(
+        return NoMatch(
             f"the best match ({registration.method}, fitness {registration.fitness:.0%}) puts "
             f"{floating:.0%} of the observation where the sensor sees free space; the object "
             "is not in this world or too little of it is visible"

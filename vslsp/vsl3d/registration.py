@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vslsp.errors import TaskFailed
+from vslsp.outcomes import NoMatch
 from vslsp.vsl3d.kdtree import KDTree
 
 
@@ -166,6 +167,8 @@ def prerejective_ransac(
         seed=seed,
         target_tree=tree,
     )
+    if isinstance(transforms, NoMatch):
+        raise TaskFailed(transforms.reason)
     return _best_by_fitness(source, tree, transforms, max_distance, min_fitness, "prerejective-ransac")
 
 
@@ -183,10 +186,10 @@ def ransac_hypotheses(
     screening_points: int = 100,
     seed: int = 0,
     target_tree: KDTree | None = None,
-) -> np.ndarray:
+) -> np.ndarray | NoMatch:
     """Pre-rejective RANSAC's ``keep`` best hypotheses (K, 4, 4), best first by their inlier
     count on a fixed subset of ``screening_points`` source points (Buch's inlier fraction).
-    Raises :class:`TaskFailed` when no sampled triangle passes the edge test."""
+    :class:`NoMatch` when no sampled triangle passes the edge test."""
     rng = np.random.default_rng(seed)
     tree = target_tree if target_tree is not None else KDTree(target)
     candidates = feature_neighbours(source_features, target_features, correspondences)
@@ -195,7 +198,7 @@ def ransac_hypotheses(
     ratio = np.minimum(source_edges, target_edges) / np.maximum(np.maximum(source_edges, target_edges), 1e-12)
     alike = np.all(ratio >= similarity, axis=1) & np.all(source_edges >= 2.0 * max_distance, axis=1)
     if not alike.any():
-        raise TaskFailed(
+        return NoMatch(
             "pre-rejective RANSAC: no sampled correspondences passed the edge test; "
             "the observation and the world share no similar geometry"
         )
@@ -249,6 +252,8 @@ def sac_ia(
         seed=seed,
         target_tree=tree,
     )
+    if isinstance(transforms, NoMatch):
+        raise TaskFailed(transforms.reason)
     return _best_by_fitness(source, tree, transforms, max_distance, min_fitness, "sac-ia")
 
 
@@ -266,8 +271,9 @@ def sac_ia_hypotheses(
     keep: int = 20,
     seed: int = 0,
     target_tree: KDTree | None = None,
-) -> np.ndarray:
-    """SAC-IA's ``keep`` best hypotheses (K, 4, 4), smallest Huber-penalised error first."""
+) -> np.ndarray | NoMatch:
+    """SAC-IA's ``keep`` best hypotheses (K, 4, 4), smallest Huber-penalised error first;
+    :class:`NoMatch` when no three source points lie ``min_sample_distance`` apart."""
     rng = np.random.default_rng(seed)
     tree = target_tree if target_tree is not None else KDTree(target)
     candidates = feature_neighbours(source_features, target_features, correspondences)
@@ -275,7 +281,7 @@ def sac_ia_hypotheses(
     spread = np.all(_edges(source[picked_source]) >= min_sample_distance, axis=1)
     picked_source, picked_target = picked_source[spread][:iterations], picked_target[spread][:iterations]
     if len(picked_source) == 0:
-        raise TaskFailed(
+        return NoMatch(
             f"SAC-IA: no three source points lie {min_sample_distance} m apart; "
             "lower min_sample_distance or use a larger observation"
         )

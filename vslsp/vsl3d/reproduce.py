@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vslsp.errors import TaskFailed, VslspError
+from vslsp.outcomes import Diagnosis, NoMatch
 from vslsp.sim.cloud_scene import CloudScene, RGBDImage
 from vslsp.stages import in_stage, stage
 from vslsp.vsl3d.cloud import DepthCamera, Frame
@@ -31,7 +32,7 @@ from vslsp.vsl3d.vsl import CloudObservation, WorldCloud
 
 WORKSPACE = Frame((0.25, -0.40, 0.006), (0.90, 0.40, 0.40))  # the world: above the table top
 MIN_WORLD_POINTS = 200  # fewer points above the table: the capture shows no object
-RETRIED = ("grasp failed", "object slipped")
+RETRIED = (Diagnosis.GRASP_FAILED, Diagnosis.OBJECT_SLIPPED)
 RETRY_HIGHER = 0.012  # m: the retry grips this much higher (a round body squeezes out of a low grip)
 
 
@@ -46,7 +47,8 @@ def check_world(world: WorldCloud) -> None:
     if len(world.points) < MIN_WORLD_POINTS:
         raise TaskFailed(
             f"empty capture: only {len(world.points)} points above the table in the workspace "
-            "(all background); is the sensor looking at the table and are the objects on it?"
+            "(all background); is the sensor looking at the table and are the objects on it?",
+            cause="empty capture",
         )
 
 
@@ -124,7 +126,11 @@ def reproduce(
                 check_world(world)
                 avoid = [*placed, landmarks(world)] if landmarks is not None else list(placed)
                 search = world.without(np.vstack(avoid)) if avoid else world
-                attempt.match = find_best_match(search, observation, method=method, seed=seed)
+                found = find_best_match(search, observation, method=method, seed=seed)
+            if isinstance(found, NoMatch):
+                attempt.error = record.diagnosis = f"no match: {found.reason}"
+                return record
+            attempt.match = found
             with stage("planning"):
                 attempt.grasp = plan_grasp(attempt.match.points, higher=RETRY_HIGHER * retry)
                 motion = motion_for(attempt.match, world)

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import TaskFailed, VslspError
+from vslsp.outcomes import NoMatch
 from vslsp.sim.cloud_scene import BOXES, CloudScene, random_layout
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.matching import Match, find_best_match
@@ -96,7 +97,10 @@ def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
         & (pre.points[:, 2] < post.points[:, 2].min() + 0.005)
     )
     if below.sum() < 50:
-        raise TaskFailed("no landmark under the placed object: the tutor put it on the table, not on a box")
+        raise TaskFailed(
+            "no landmark under the placed object: the tutor put it on the table, not on a box",
+            cause="no landmark under the placed object",
+        )
     labels = euclidean_clusters(pre.points, SEGMENT_GAP)
     label = np.bincount(labels[below]).argmax()
     points = pre.points[labels == label]
@@ -189,11 +193,15 @@ def run_stacking(
             found: dict[str, Match] = {}  # the landmark in the attempt's capture
 
             def landmarks(world, landmark=landmark, box=box, found=found):
+                missing = f"landmark {box} not found in the new scene"
                 try:
-                    found["box"] = find_best_match(world, landmark, method=method, seed=seed)
+                    match = find_best_match(world, landmark, method=method, seed=seed)
                 except VslspError as error:
-                    raise TaskFailed(f"landmark {box} not found in the new scene: {error}") from error
-                return found["box"].points  # the object is not looked for on its landmark
+                    raise TaskFailed(f"{missing}: {error}", cause=missing) from error
+                if isinstance(match, NoMatch):
+                    raise TaskFailed(f"{missing}: no match: {match.reason}", cause=missing)
+                found["box"] = match
+                return match.points  # the object is not looked for on its landmark
 
             def motion_for(match, world, moved=moved, found=found):
                 # K_j T_j M_j^-1: the demonstrated motion, carried along with the box.

@@ -27,6 +27,7 @@ import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
 from vslsp.files import load_npz
+from vslsp.outcomes import NoMatch
 from vslsp.outputs import atomic_file
 from vslsp.stages import in_stage
 from vslsp.vsl3d.alignment import align
@@ -257,7 +258,8 @@ def get_object(
         raise TaskFailed(
             f"nothing moved: no region of more than {min_points} points changed by "
             f"{threshold * 100:.0f} cm between the pre- and post-action clouds; "
-            "capture the post-action cloud after the tutor has moved an object"
+            "capture the post-action cloud after the tutor has moved an object",
+            cause="nothing moved",
         )
     leaving = [r for r in regions if np.sum((labels == r) & ~side) >= min_points]
     arriving = [r for r in regions if np.sum((labels == r) & side) >= min_points]
@@ -268,7 +270,8 @@ def get_object(
             for r in regions
         )
         raise TaskFailed(
-            f"several objects moved ({where}); VSL-3D learns one object per operation: demonstrate one move at a time"
+            f"several objects moved ({where}); VSL-3D learns one object per operation: demonstrate one move at a time",
+            cause="several objects moved",
         )
     if not leaving or not arriving:
         missing = "left its place" if not leaving else "arrived anywhere"
@@ -293,6 +296,8 @@ def get_object(
         min_fitness=MOTION_MIN_FITNESS,
         refined=MOTION_REFINED,
     )
+    if isinstance(registration, NoMatch):  # the demonstration itself cannot be read
+        raise TaskFailed(registration.reason)
     return MovedObject(
         CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
         CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
