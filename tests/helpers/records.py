@@ -1,17 +1,6 @@
-"""Trial records compared across runs, processes and backends: everything but the clocks."""
+"""Trial records compared across runs, processes and backends: everything but the clocks
+(:mod:`vslsp.tasks.records`, which the studio's re-drawn trials are checked with too)."""
 
-from __future__ import annotations
+from vslsp.tasks.records import TIMES, without_times
 
-from typing import Any
-
-#: Wall and CPU times, which differ between two runs of the same seeded trial; removed at any depth.
-TIMES = frozenset({"time_s", "cpu_s", "reproduction_ms", "stages_s", "planning_s"})
-
-
-def without_times(record: Any) -> Any:
-    """``record`` (a trial's ``to_dict()`` or any JSON value) less every :data:`TIMES` key, at any depth."""
-    if isinstance(record, dict):
-        return {k: without_times(v) for k, v in record.items() if k not in TIMES}
-    if isinstance(record, list):
-        return [without_times(v) for v in record]
-    return record
+__all__ = ["TIMES", "without_times"]

@@ -140,3 +140,36 @@ def page(studio: str) -> Iterator:
         tab.set_default_timeout(WAIT_MS)
         yield tab
         browser.close()
+
+
+@pytest.fixture(scope="session")
+def house_roof_report(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A real two-trial house-roof report (seeds 0 and 1; the report draws trial 0's figures), made
+    once by ``vslsp experiment`` (tests copy it: drawing a trial writes into the folder)."""
+    folder = tmp_path_factory.mktemp("house-roof") / "report"
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "vslsp",
+            "experiment",
+            "house-roof",
+            "--trials",
+            "2",
+            "--seed",
+            "0",
+            "--out",
+            str(folder),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=900,
+    )
+    return folder
+
+
+@pytest.fixture
+def roof_report(studio_root: Path, house_roof_report: Path) -> str:
+    """The house-roof report copied to ``out/reports/roof`` under the root; its path relative to the root."""
+    shutil.copytree(house_roof_report, studio_root / "out" / "reports" / "roof")
+    return "out/reports/roof"

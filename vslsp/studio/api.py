@@ -18,7 +18,7 @@ from fastapi.responses import FileResponse, JSONResponse
 from starlette.concurrency import run_in_threadpool
 
 from vslsp.errors import InputError, VslspError
-from vslsp.studio import files, runs
+from vslsp.studio import files, runs, trial_figures
 from vslsp.studio import pddl as pddl_work
 from vslsp.studio.files import MAX_UPLOAD_BYTES, Missing, Outside, inside, relative
 from vslsp.studio.report_data import read_report, read_trial, report_folders, trial_of
@@ -38,6 +38,8 @@ def _status(error: VslspError) -> int:
         return 404
     if isinstance(error, TooLarge):
         return 413
+    if isinstance(error, trial_figures.Drawn):
+        return 409
     return 400 if error.exit_code == 2 else 500
 
 
@@ -84,9 +86,21 @@ def _completion_request(data: dict) -> tuple[str, str | None, str, int, str, str
 
 
 def report_or_trial(root: Path, rel: str) -> dict:
-    """``REL`` a report folder (:func:`read_report`), or ``REL/trials/SEED`` one of its trials."""
+    """``REL`` a report folder (:func:`read_report`), ``REL/trials/SEED`` one of its trials (with ``job``,
+    the newest job drawing its pictures, or None), or ``REL/trials/SEED/figures`` that job."""
+    drawing = trial_figures.address(rel)
+    if drawing is not None and not (inside(root, rel, must_exist=False) / "report.json").is_file():
+        folder, seed = drawing
+        read_trial(root, folder, seed)  # refused as the trial's page is
+        job = trial_figures.newest(root, relative(root, inside(root, folder)), seed)
+        if job is None:
+            raise Missing(f"{folder}: no pictures drawn or being drawn for trial {seed} (POST to draw them)")
+        return job
     trial = trial_of(root, rel)
-    return read_trial(root, *trial) if trial is not None else read_report(root, rel)
+    if trial is None:
+        return read_report(root, rel)
+    found = read_trial(root, *trial)
+    return {**found, "job": trial_figures.newest(root, found["folder"], trial[1])}
 
 
 def install(app: FastAPI, root: Path, token: str | None = None) -> None:
@@ -205,6 +219,17 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
     @api.get("/reports/{rel:path}")
     async def report(rel: str) -> dict:
         return await run_in_threadpool(report_or_trial, root, rel)
+
+    @api.post("/reports/{rel:path}")
+    async def draw_trial(rel: str) -> dict:
+        drawing = trial_figures.address(rel)
+        if drawing is None:
+            raise Missing(f"POST /api/reports/REL/trials/SEED/figures draws a trial's pictures; {rel} is not one")
+        return {"id": await run_in_threadpool(trial_figures.start, root, *drawing)}
+
+    @api.get("/figures/{job_id}")
+    async def figure_job(job_id: str) -> dict:
+        return trial_figures.get(root, job_id)
 
     @api.post("/complete")
     async def complete(request: Request) -> dict:

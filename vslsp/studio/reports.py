@@ -111,7 +111,10 @@ def report_page(root: Path, rel: str) -> None:
         ui.label("Trials:").classes("text-bold")
         for trial in report["trials"]:
             mark = "✓" if trial["success"] else "✗"
-            ui.link(f"{mark} seed {trial['seed']}", trial["link"]).classes("trial-link").tooltip(trial["error"] or "ok")
+            pictures = " 🖼" if trial["pictures"] else ""
+            ui.link(f"{mark} seed {trial['seed']}{pictures}", trial["link"]).classes("trial-link").tooltip(
+                (trial["error"] or "ok") + ("; with its pictures" if trial["pictures"] else "")
+            )
     for image in report["images"]:
         with ui.card().classes("w-full max-w-3xl"):
             ui.label(image).classes("text-caption")
@@ -139,12 +142,15 @@ def trial_page(root: Path, rel: str, seed: int) -> None:
     )
     if record.get("error"):
         ui.label(str(record["error"])).classes("text-negative trial-error")
-    if not trial["shown"]:
+    if trial["pictures"] is None:
         drawn = trial["shown_seed"]
         note = "the report drew no figures" if drawn is None else f"the report drew its figures for trial {drawn} only"
         ui.label(f"{note}; this trial has its record{' and video' if trial['video'] else ''}.").classes(
             "text-grey-7 trial-note"
         )
+        draw_button(root, trial["folder"], seed)
+    elif trial["check"] is not None:
+        check_note(trial["check"])
     if trial["video"]:
         ui.video(file_link(trial["video"])).classes("max-w-3xl trial-video")
     if trial["plans"]:
@@ -175,6 +181,73 @@ def trial_page(root: Path, rel: str, seed: int) -> None:
                     ui.code(json.dumps(operation, indent=1), language="json")
     with ui.expansion("the trial's record (report.json)").classes("w-full trial-record"):
         ui.code(json.dumps(record, indent=1), language="json")
+
+
+def draw_button(root: Path, folder: str, seed: int) -> None:
+    """ "Draw this trial's pictures": a background job re-runs the trial from its seed
+    (:mod:`vslsp.studio.trial_figures`); its state shown every second, the page reloaded when it is done."""
+    from vslsp.studio import trial_figures
+
+    with ui.row().classes("items-center"):
+        button = ui.button("Draw this trial's pictures").classes("draw-pictures")
+        state = ui.label().classes("draw-state")
+    error = ui.label().classes("text-negative draw-error")
+    picture = ui.image().classes("w-96 live-picture")
+    picture.set_visibility(False)
+    job: dict[str, str | None] = {"id": None}
+
+    def show(status: dict | None) -> None:
+        if status is None:
+            return
+        job["id"] = status["id"]
+        if status["state"] == "done":
+            ui.navigate.reload()
+            return
+        button.set_enabled(status["state"] == "failed")
+        error.set_text((status.get("error") or "") if status["state"] == "failed" else "")
+        state.set_text(
+            f"re-running trial {seed} from its seed to draw its pictures (it goes on if you close the page)…"
+            if status["state"] == "running"
+            else "drawing failed"
+        )
+        if status.get("latest"):
+            version = (root.resolve() / status["latest"]).stat().st_mtime_ns
+            picture.set_source(file_link(status["latest"]) + f"?v={version}")
+            picture.set_visibility(True)
+
+    def start() -> None:
+        try:
+            job_id = trial_figures.start(root, folder, seed)
+            show(trial_figures.get(root, job_id))
+        except VslspError as refused:
+            error.set_text(str(refused))
+
+    def poll() -> None:
+        if job["id"] is not None:
+            try:
+                show(trial_figures.get(root, str(job["id"])))
+            except (VslspError, OSError):
+                pass
+
+    button.on_click(start)
+    show(trial_figures.newest(root, folder, seed))
+    ui.timer(1.0, poll)
+
+
+def check_note(check: dict) -> None:
+    """What the re-run that drew these pictures gave: the recorded trial again, or where it differs."""
+    if check["matches"]:
+        ui.label(
+            "Pictures drawn by the studio: the trial re-run from its seed; its record matches the recorded one "
+            "(times excepted), so these are this trial's pictures."
+        ).classes("text-positive trial-check")
+        return
+    ui.label(
+        "Pictures drawn by the studio, but the re-run's record differs from the recorded one (times excepted): "
+        "these pictures may not show the recorded trial."
+    ).classes("text-negative trial-check trial-check-differs")
+    for difference in check["differences"]:
+        ui.label(difference).classes("text-caption trial-difference")
 
 
 def reports_page(root: Path, rel: str | None) -> None:

@@ -68,20 +68,18 @@ def checked(request: Any) -> dict:
 def start(root: Path, request: Any) -> str:
     """Start a run of the (checked) request; returns its id."""
     request = checked(request)
-    run_id = time.strftime("%Y%m%d-%H%M%S", time.gmtime()) + "-" + secrets.token_hex(3)
-    folder = root.resolve() / RUNS / run_id
+    status = {"state": "running", "done": 0, "total": request["trials"], "successes": 0, "report": None}
+    return launch(root, RUNS, {**status, "request": request})
+
+
+def launch(root: Path, base: str, status: dict) -> str:
+    """Start a job of the studio's worker (:mod:`vslsp.studio.worker`) in ``ROOT/base/ID/`` with ``status``
+    (its ``kind`` and ``request``); returns the id. The job is its own process in a new session: it goes
+    on when the page, or the studio, is closed; its trials' cameras publish their views to ``live.png``."""
+    job_id = time.strftime("%Y%m%d-%H%M%S", time.gmtime()) + "-" + secrets.token_hex(3)
+    folder = root.resolve() / base / job_id
     folder.mkdir(parents=True)
-    status = {
-        "id": run_id,
-        "state": "running",
-        "done": 0,
-        "total": request["trials"],
-        "successes": 0,
-        "report": None,
-        "folder": f"{RUNS}/{run_id}",
-        "request": request,
-        "started": time.time(),
-    }
+    status = {**status, "id": job_id, "folder": f"{base}/{job_id}", "started": time.time()}
     path = folder / "status.json"
     write_status(path, status)
     from vslsp.sim.live import ENV
@@ -96,8 +94,8 @@ def start(root: Path, request: Any) -> str:
             stderr=subprocess.STDOUT,
             start_new_session=True,  # not ended with the studio's terminal: the run goes on
         )
-    _children[run_id] = process
-    return run_id
+    _children[job_id] = process
+    return job_id
 
 
 _children: dict[str, subprocess.Popen] = {}
@@ -107,28 +105,42 @@ def get(root: Path, run_id: str) -> dict:
     """The run's ``state`` (running, done, failed), ``done``, ``total``, ``successes``, ``report`` (the
     report folder relative to the root, when done), ``error`` (when failed), ``latest`` (its newest
     picture relative to the root, or None)."""
-    if not _ID.match(run_id):
-        raise Missing(f"no run {run_id!r}")
-    path = root.resolve() / RUNS / run_id / "status.json"
-    try:
-        status = json.loads(path.read_text())
-    except (OSError, ValueError):
-        raise Missing(f"no run {run_id!r}") from None
-    if status.get("state") not in ("done", "failed") and not _alive(run_id, status.get("pid")):
-        time.sleep(0.2)  # the worker may have written its last status as it ended
-        status = json.loads(path.read_text())
-        if status.get("state") not in ("done", "failed"):
-            status.update(state="failed", error="the run's process ended without a report (see its log.txt)")
-    if status.get("state") not in ("done", "failed"):
-        status["state"] = "running"
+    status = read_job(root, RUNS, run_id, "run")
     keys = ("id", "state", "done", "total", "successes", "report", "error", "request")
     return {**{key: status.get(key) for key in keys}, "latest": latest_picture(root, run_id)}
 
 
-def latest_picture(root: Path, run_id: str) -> str | None:
-    """The run's newest picture, relative to the root: the view its trial's cameras published last
+def read_job(root: Path, base: str, job_id: str, what: str) -> dict:
+    """The status of the job ``job_id`` in ``ROOT/base``, its ``state`` running, done or failed (failed
+    when its process ended without saying so); :class:`Missing` for an unknown id."""
+    if not _ID.match(job_id):
+        raise Missing(f"no {what} {job_id!r}")
+    path = root.resolve() / base / job_id / "status.json"
+    try:
+        status = json.loads(path.read_text())
+    except (OSError, ValueError):
+        raise Missing(f"no {what} {job_id!r}") from None
+    if status.get("state") not in ("done", "failed") and not _alive(job_id, status.get("pid")):
+        time.sleep(0.2)  # the worker may have written its last status as it ended
+        status = json.loads(path.read_text())
+        if status.get("state") not in ("done", "failed"):
+            status.update(state="failed", error=f"the {what}'s process ended before it finished (see its log.txt)")
+    if status.get("state") not in ("done", "failed"):
+        status["state"] = "running"
+    return status
+
+
+def job_ids(root: Path, base: str, limit: int = 50) -> list[str]:
+    """The ids of the jobs in ``ROOT/base``, newest first (at most ``limit``)."""
+    folder = root.resolve() / base
+    found = sorted((p.name for p in folder.iterdir() if _ID.match(p.name)), reverse=True) if folder.is_dir() else []
+    return found[:limit]
+
+
+def latest_picture(root: Path, run_id: str, base: str = RUNS) -> str | None:
+    """The job's newest picture, relative to the root: the view its trial's cameras published last
     (``live.png``) or, once the report is being written, its newest figure."""
-    folder = root.resolve() / RUNS / run_id
+    folder = root.resolve() / base / run_id
     found = [folder / LIVE, *(folder / "report").glob("**/*.png")]
     dated = []
     for path in found:
@@ -141,10 +153,8 @@ def latest_picture(root: Path, run_id: str) -> str | None:
 
 def listing(root: Path) -> list[dict]:
     """Every run under the root, newest first."""
-    folder = root.resolve() / RUNS
-    found = sorted((p.name for p in folder.iterdir() if _ID.match(p.name)), reverse=True) if folder.is_dir() else []
     runs = []
-    for run_id in found[:50]:
+    for run_id in job_ids(root, RUNS):
         try:
             runs.append(get(root, run_id))
         except InputError:

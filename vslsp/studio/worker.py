@@ -1,8 +1,9 @@
-"""One experiment run of the studio, in its own process (``python -m vslsp.studio.worker STATUS``):
-it outlives the page that started it. It reads its request from the status file, runs the trials
-with :func:`vslsp.tasks.run_trials` and writes progress to the status file after each trial
-(``state``, ``done``, ``total``, ``successes``), then the report. Its trials' cameras publish their
-newest view to the file the studio named in the environment (:mod:`vslsp.sim.live`)."""
+"""One job of the studio, in its own process (``python -m vslsp.studio.worker STATUS``): it outlives
+the page that started it. It reads its request from the status file. An experiment run (the default
+``kind``) runs the trials with :func:`vslsp.tasks.run_trials` and writes progress to the status file
+after each trial (``state``, ``done``, ``total``, ``successes``), then the report; a ``figures`` job
+re-runs one trial of a report and draws its pictures (:mod:`vslsp.studio.trial_figures`). Its trials'
+cameras publish their newest view to the file the studio named in the environment (:mod:`vslsp.sim.live`)."""
 
 from __future__ import annotations
 
@@ -21,36 +22,46 @@ def write_status(path: Path, data: dict[str, Any]) -> None:
 
 
 def main(status_path: str) -> int:
-    """Run the request in ``status_path``; 0 when the report is written, 1 when the run failed."""
+    """Do the job in ``status_path``; 0 when it is done, 1 when it failed."""
     from vslsp.errors import VslspError
-    from vslsp.tasks import get_task, run_trials, write_report
 
     path = Path(status_path)
     status = json.loads(path.read_text())
-    request = status["request"]
-    status["pid"] = os.getpid()  # a later studio tells a live run from a dead one by it
+    status["pid"] = os.getpid()  # a later studio tells a live job from a dead one by it
     write_status(path, status)
-    folder = path.parent / "report"
     try:
-        task = get_task(request["experiment"], faults=bool(request.get("faults")))
-        seeds = list(range(request["seed"], request["seed"] + request["trials"]))
+        if status.get("kind") == "figures":
+            from vslsp.studio.trial_figures import draw
 
-        def done(result: Any) -> None:
-            status["done"] += 1
-            status["successes"] += int(result.success)
-            write_status(path, status)
-
-        run = run_trials(task, seeds, workers=request["workers"], backend=request["backend"], on_done=done)
-        status["state"] = "writing report"
-        write_status(path, status)
-        write_report(folder, task, run)
-        status.update(state="done", report=f"{status['folder']}/report")
+            status.update(draw(Path.cwd(), status["request"]), state="done")
+        else:
+            run(path, status)
     except VslspError as error:
         status.update(state="failed", error=str(error))
-    except Exception as error:  # a trial's own failure is in the report; this is the run itself failing
+    except Exception as error:  # a trial's own failure is in its record; this is the job itself failing
         status.update(state="failed", error=f"internal error ({type(error).__name__}: {error})")
     write_status(path, status)
     return 0 if status["state"] == "done" else 1
+
+
+def run(path: Path, status: dict[str, Any]) -> None:
+    """The experiment run of ``status["request"]``: its trials, then the report in ``report/``."""
+    from vslsp.tasks import get_task, run_trials, write_report
+
+    request = status["request"]
+    task = get_task(request["experiment"], faults=bool(request.get("faults")))
+    seeds = list(range(request["seed"], request["seed"] + request["trials"]))
+
+    def done(result: Any) -> None:
+        status["done"] += 1
+        status["successes"] += int(result.success)
+        write_status(path, status)
+
+    outcome = run_trials(task, seeds, workers=request["workers"], backend=request["backend"], on_done=done)
+    status["state"] = "writing report"
+    write_status(path, status)
+    write_report(path.parent / "report", task, outcome)
+    status.update(state="done", report=f"{status['folder']}/report")
 
 
 if __name__ == "__main__":
