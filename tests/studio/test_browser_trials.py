@@ -113,3 +113,27 @@ def test_a_vsl3d_run_watched_live_to_its_trials_3d_view(page, studio, studio_roo
     assert clouds[0] == "clouds/demonstration_1_pre.npz" and "clouds/reproduction_1.npz" in clouds
     page.wait_for_function(f"() => ({POINTS_DRAWN})() === {points_in(report / clouds[0])}")
     page.locator(".cloud-card").screenshot(path=str(tmp_path / "studio-clouds.png"))  # README's, copied once
+
+
+@pytest.mark.slow
+def test_draw_the_pictures_of_the_trial_the_report_did_not_draw(page, studio, studio_root, roof_report):
+    page.goto(f"{studio}/reports/{roof_report}")
+    page.locator(".trial-link", has_text="seed 1").click()
+    page.locator(".trial-title").wait_for()
+    assert "the report drew its figures for trial 0 only" in page.locator(".trial-note").inner_text()
+    assert page.locator(".trial-image").count() == 0
+    page.locator(".draw-pictures").click()
+    page.locator(".draw-state", has_text="re-running trial 1").wait_for()
+    page.locator(".trial-image img").first.wait_for(timeout=600_000)  # the job done, the page reloaded
+    assert page.url.endswith(f"/reports/{roof_report}/trials/1")
+    assert "record matches the recorded one" in page.locator(".trial-check").inner_text()
+    titles = page.locator(".trial-image-title").all_inner_texts()
+    assert titles == ["1. demonstration", "2. final worlds", "3. trajectory", "4. matches fixed", "5. matches adaptive"]
+    sources = page.evaluate("() => [...document.querySelectorAll('.trial-image img')].map(i => i.src)")
+    for source in sources:  # each the trial's own picture, served as a PNG
+        assert f"/files/{roof_report}/trials/1/images/" in source
+        answer = page.request.get(source)
+        assert answer.ok and answer.body()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert page.locator(".draw-pictures").count() == 0
+    page.goto(f"{studio}/reports/{roof_report}")
+    page.locator(".trial-link", has_text="seed 1 🖼").wait_for()
