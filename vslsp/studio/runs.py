@@ -18,13 +18,19 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.studio.files import Missing
-from vslsp.studio.worker import write_status
 
 #: Where the runs live, relative to the root.
 RUNS = "out/studio/runs"
 #: The picture the run's trials publish (:mod:`vslsp.sim.live`), in the run's folder.
 LIVE = "live.png"
 _ID = re.compile(r"^[0-9]{8}-[0-9]{6}-[0-9a-f]{6}$")
+
+
+def write_status(path: Path, data: dict[str, Any]) -> None:
+    """Replace a job's status file at once (a reader never sees half of it)."""
+    from vslsp.outputs import write_text
+
+    write_text(path, json.dumps(data))
 
 
 def _integer(request: dict, key: str, default: int, low: int, high: int) -> int:

@@ -14,16 +14,10 @@ from pathlib import Path
 from typing import Any
 
 
-def write_status(path: Path, data: dict[str, Any]) -> None:
-    """Replace the status file at once (a reader never sees half of it)."""
-    temporary = path.with_suffix(".tmp")
-    temporary.write_text(json.dumps(data))
-    os.replace(temporary, path)
-
-
 def main(status_path: str) -> int:
     """Do the job in ``status_path``; 0 when it is done, 1 when it failed."""
     from vslsp.errors import VslspError
+    from vslsp.studio.runs import write_status
 
     path = Path(status_path)
     status = json.loads(path.read_text())
@@ -46,6 +40,7 @@ def main(status_path: str) -> int:
 
 def run(path: Path, status: dict[str, Any]) -> None:
     """The experiment run of ``status["request"]``: its trials, then the report in ``report/``."""
+    from vslsp.studio.runs import write_status
     from vslsp.tasks import get_task, run_trials, write_report
 
     request = status["request"]
