@@ -122,3 +122,20 @@ def test_a_trial_is_redrawn_in_its_folder_and_a_changed_record_is_told(studio_ro
     assert not any("/trials/" in image for image in report["images"])  # a trial's pictures are on its page
     again = web.post(f"/api/reports/{roof_report}/trials/1/figures")
     assert again.status_code == 409 and "drawn already" in again.json()["error"]
+
+
+def test_the_options_the_report_recorded_are_the_re_runs(studio_root):
+    from vslsp.tasks.registry import task_class
+
+    def options(name: str, summary: dict, folder: Path | None = None) -> dict:
+        takes = {o.value for o in task_class(name).options}
+        return trial_figures.recorded_options(studio_root, folder or studio_root / "x", summary, takes)
+
+    assert options("table-cleaning", {"method": "fpfh_fast", "faults": True}) == {"method": "fpfh_fast"}
+    assert options("pull-in-order", {"faults": True, "method": "x"}) == {"faults": True}
+    assert options("pull-in-order", {"faults": False}) == {}
+    assert options("house-roof", {"faults": True}) == {}  # house-roof takes no faults
+    run = studio_root / "out" / "studio" / "runs" / "20260101-000000-abcdef"
+    (run / "report").mkdir(parents=True)
+    (run / "status.json").write_text(json.dumps({"request": {"experiment": "pull-in-order", "faults": True}}))
+    assert options("pull-in-order", {}, run / "report") == {"faults": True}  # a studio run's request
