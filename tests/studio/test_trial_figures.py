@@ -125,7 +125,7 @@ def test_a_trial_is_redrawn_in_its_folder_and_a_changed_record_is_told(studio_ro
 
 
 def test_the_options_the_report_recorded_are_the_re_runs(studio_root):
-    from vslsp.tasks.registry import task_class
+    from vslsp.tasks import task_class
 
     def options(name: str, summary: dict, folder: Path | None = None) -> dict:
         takes = {o.value for o in task_class(name).options}

@@ -49,8 +49,7 @@ def checked(root: Path, rel: str, seed: int) -> dict:
     """The request to draw trial ``seed`` of the report folder ``rel``, or an InputError found before
     any work: a path out of the root (:class:`~vslsp.studio.files.Outside`), no such report or trial
     (:class:`Missing`), a report of an unknown experiment, a trial with its pictures (:class:`Drawn`)."""
-    from vslsp.tasks import get_task
-    from vslsp.tasks.registry import task_class
+    from vslsp.tasks import get_task, task_class
 
     folder, summary = read_summary(root, rel)
     report = relative(root, folder)
