@@ -97,9 +97,11 @@ def main() -> None:
     parser.add_argument("--task", default="house-roof", help="house-roof, a tabletop task, or all (tabletop)")
     args = parser.parse_args()
     if args.task != "house-roof":
-        from vslsp.vsl.paper_tasks import TASKS as TABLETOP
+        from vslsp.experiments.tabletop import TabletopExperiment
+        from vslsp.tasks import list_tasks
 
-        tabletop(list(TABLETOP) if args.task == "all" else [args.task], args.trials, args.seed, args.workers, args.json)
+        names = [cls.name for cls in list_tasks() if issubclass(cls, TabletopExperiment)]
+        tabletop(names if args.task == "all" else [args.task], args.trials, args.seed, args.workers, args.json)
         return
     reference = sift_ms()
     timed = summary(run_trials(args.timing, args.seed), args.seed)

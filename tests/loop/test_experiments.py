@@ -6,9 +6,15 @@ import imageio_ffmpeg
 import pytest
 from helpers.cli import vslsp
 
-from vslsp.loop.experiments import ORDERED_COLOURS, run_trial
+from vslsp.experiments.icub_scripts import ORDERED_COLOURS
+from vslsp.tasks import get_task
 
 pytestmark = pytest.mark.slow
+
+
+def run_trial(name: str, seed: int, library, faults: bool = False):
+    """The trial of ``seed`` of experiment ``name`` as it ran (its state, with the steps)."""
+    return get_task(name, faults=faults or None).run(seed, library)
 
 
 def test_simple_vsl_task_reproduces_the_demonstrated_sides_in_a_reshuffled_scene(library):

@@ -5,10 +5,10 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
-
 from vslsp.loop.experiments import _record
-from vslsp.loop.pipeline import execute_task, explore_skill, learn_models
 from vslsp.loop.trial import Trial
+
+from vslsp.loop.pipeline import execute_task, explore_skill, learn_models
 from vslsp.sim import SceneSpec, World
 from vslsp.symbolic import Atom, Not, PlanStatus, SometimeBefore, Step, Task, learn_task, read_domain
 

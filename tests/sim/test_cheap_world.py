@@ -100,12 +100,12 @@ def test_cube_textures_are_seeded_by_name():
 
 @pytest.mark.slow
 def test_a_trial_does_not_depend_on_the_trials_before_it():
-    from vslsp.loop.experiments import run_trial
-    from vslsp.skills import SkillLibrary, default_library_path
+    from helpers.records import without_times
 
-    library = SkillLibrary.load(default_library_path())
-    first = run_trial("simple-vsl-task", 3, library).to_dict()
-    run_trial("simple-vsl-task", 4, library)
-    again = run_trial("simple-vsl-task", 3, library).to_dict()
-    first.pop("time_s"), again.pop("time_s")
+    from vslsp.tasks import get_task
+
+    task = get_task("simple-vsl-task")
+    first = without_times(task.run_trial(3).to_dict())
+    task.run_trial(4)
+    again = without_times(task.run_trial(3).to_dict())
     assert first == again and first["success"]

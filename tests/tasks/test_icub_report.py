@@ -6,8 +6,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from vslsp.experiments.icub_report import _label_ends, learned_lines, matches_table_3
 from vslsp.tasks.drawing import caption
-from vslsp.tasks.icub_report import _label_ends, learned_lines, matches_table_3
 
 PAPER = [
     {"action": "push", "parameters": "?x - block", "precondition": "(not (far ?x))", "effects": ["(far ?x)"]},

@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
+from vslsp.experiments.seeds import reproduction_seed
 from vslsp.sim.tabletop import TabletopWorld
-from vslsp.tasks.tabletop import REPRODUCTION_SEED, make_task
+from vslsp.tasks import get_task
 from vslsp.vsl import tabletop_scenes as scenes
 
 
@@ -16,12 +17,12 @@ def reproduce():
     truth, read here only)."""
 
     def run(name: str, seed: int):
-        task = make_task(name, seed)
+        task = get_task(name).for_seed(seed)
         rng = np.random.default_rng(seed)
         with TabletopWorld(task.layout(rng, "demonstration"), seed) as world:
             demo = task.demonstrate(world, rng)
             landmarks = {n: world.pose(n) for n, item in world.specs.items() if not item.movable}
-        rng = np.random.default_rng(seed + REPRODUCTION_SEED)
+        rng = np.random.default_rng(reproduction_seed(seed))
         with TabletopWorld(task.layout(rng, "reproduction"), seed) as world:
             outcomes = task.reproduce(world, demo, rng)
             poses = {n: world.pose(n) for n in world.items()}

@@ -6,7 +6,6 @@ from helpers.cli import vslsp
 
 from vslsp.errors import InputError
 from vslsp.tasks import Run, TrialResult, get_task, summary
-from vslsp.tasks.tabletop import make_task
 
 
 def operation(actor: str, diagnosis: str, item: str = "A") -> dict:
@@ -36,8 +35,10 @@ def test_the_summary_rates_the_robots_operations_and_names_the_failures():
 
 
 def test_the_tower_of_hanoi_has_the_users_intervention_on_odd_seeds():
-    assert not make_task("tower-of-hanoi", 4).intervention and make_task("tower-of-hanoi", 5).intervention
-    assert make_task("tower-of-hanoi", 5).anchor_map == {"base-2": "base-3", "base-3": "base-2"}
+    assert (
+        not get_task("tower-of-hanoi").for_seed(4).intervention and get_task("tower-of-hanoi").for_seed(5).intervention
+    )
+    assert get_task("tower-of-hanoi").for_seed(5).anchor_map == {"base-2": "base-3", "base-3": "base-2"}
 
 
 def test_bad_input_is_refused_before_any_work(capsys):

@@ -5,6 +5,8 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
+from vslsp.experiments.stacking import BOX_RADII, STACK_HEIGHTS
+from vslsp.experiments.table_cleaning import KEEP_CLEAR, OPERATIONS
 from vslsp.sim.cloud_scene import (
     BOXES,
     CLEARANCE,
@@ -15,8 +17,6 @@ from vslsp.sim.cloud_scene import (
     euler_pose,
     random_layout,
 )
-from vslsp.vsl3d.stacking import BOX_RADII, STACK_HEIGHTS
-from vslsp.vsl3d.table_cleaning import KEEP_CLEAR, OPERATIONS
 
 
 def test_random_layouts_are_seeded_and_keep_objects_apart():

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from vslsp.experiments import stacking, table_cleaning
 from vslsp.sim.cloud_scene import BOXES, CloudScene
-from vslsp.vsl3d import stacking, table_cleaning
 from vslsp.vsl3d.matching import Match, find_best_match
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.reproduce import world_of

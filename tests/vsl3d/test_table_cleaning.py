@@ -47,7 +47,7 @@ def test_stacking_puts_each_object_on_its_moved_box():
 
 @pytest.mark.slow
 def test_a_box_missing_from_the_new_scene_is_diagnosed_and_the_other_stack_still_made():
-    from vslsp.vsl3d.stacking import run_stacking
+    from vslsp.experiments.stacking import run_stacking
 
     results, _ = run_stacking(0, absent=("box2",))
     assert results[0].success

@@ -43,9 +43,9 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool) -
     from rich.console import Console
 
     from vslsp import stages
+    from vslsp.experiments.icub import PullInOrder
     from vslsp.tasks import Run, write_report
     from vslsp.tasks.base import cpu_seconds
-    from vslsp.tasks.icub import PullInOrder
 
     for report_file in ("report.json", "report.md"):
         refuse_link(out / report_file, "--out")

@@ -3,6 +3,7 @@
 - :mod:`~vslsp.loop.watching`: the tutor's operations seen as pre-/post-action observations;
 - :mod:`~vslsp.loop.perception`: one camera image grounded into the objects to act on;
 - :mod:`~vslsp.loop.monitor`: one plan step executed by its skill, its effect checked, faults;
-- :mod:`~vslsp.loop.pipeline`: exploration of the skills, model learning, plan-execute-replan;
-- :mod:`~vslsp.loop.experiments`: the paper's three iCub experiments as seeded trials.
+- :mod:`~vslsp.loop.pipeline`: exploration of the skills, model learning, plan-execute-replan.
+
+The paper's three iCub experiments built on it are in :mod:`vslsp.experiments.icub`.
 """

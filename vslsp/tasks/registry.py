@@ -1,10 +1,11 @@
 """The registry of tasks: ``@register`` a :class:`~vslsp.tasks.base.Task` subclass, find it by
 name with :func:`get_task`, list all with :func:`list_tasks`.
 
-The paper's experiments register themselves in the modules of :data:`BUILTIN`, imported on
-first use (they import the simulator and OpenCV only inside their trials, so listing is
-cheap). Other packages add tasks through the ``vslsp.tasks`` entry-point group (each entry
-point names a module that registers its tasks when imported).
+The paper's experiments register themselves in the modules of the package :data:`BUILTIN`
+(:mod:`vslsp.experiments`, its ``MODULES``), imported on first use by name, as an entry point
+is (they import the simulator and OpenCV only inside their trials, so listing is cheap).
+Other packages add tasks through the ``vslsp.tasks`` entry-point group (each entry point
+names a module that registers its tasks when imported).
 """
 
 from __future__ import annotations
@@ -16,13 +17,7 @@ from typing import TypeVar
 from vslsp.errors import InputError
 from vslsp.tasks.base import Task
 
-BUILTIN = (
-    "vslsp.tasks.house_roof",
-    "vslsp.tasks.tabletop",
-    "vslsp.tasks.table_cleaning",
-    "vslsp.tasks.stacking",
-    "vslsp.tasks.icub",
-)
+BUILTIN = "vslsp.experiments"  # the package of the paper's experiments (above this layer: loaded by name)
 
 _TASKS: dict[str, type[Task]] = {}
 _loaded = False
@@ -47,7 +42,7 @@ def _load() -> None:
     if _loaded:
         return
     _loaded = True
-    for module in BUILTIN:
+    for module in importlib.import_module(BUILTIN).MODULES:
         importlib.import_module(module)
     for entry in entry_points(group="vslsp.tasks"):
         entry.load()

@@ -1,6 +1,7 @@
 """The tabletop world's task protocol (paper, "Real-world Experiments"): the tutor's
 demonstration, the robot's reproduction (Algorithm 1 part II, one operation at a time) and the
-ground-truth judge, shared by the five tasks of :mod:`vslsp.vsl.paper_tasks`.
+ground-truth judge, shared by the five experiments of :mod:`vslsp.experiments.real_world` (on
+their base, :class:`~vslsp.experiments.tabletop.TabletopExperiment`).
 
 The judge reads the simulator's ground truth, which perception never does: after each
 operation, the moved object's pose relative to its anchor (the table, the baseline, a label, a
@@ -10,19 +11,19 @@ and :data:`ANGLE_TOLERANCE` (and the stack level within :data:`LEVEL_TOLERANCE`)
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from vslsp.geometry.poses import wrap
 from vslsp.outcomes import Diagnosis
-from vslsp.sim.tabletop import Item, PickPlaceResult, Placement, TabletopWorld
+from vslsp.sim.tabletop import PickPlaceResult, Placement, TabletopWorld
 from vslsp.stages import in_stage, stage
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import NoMatch
 from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.pick_place import PickPlaceDemonstration, RecordedOperation, TableModel, TableView
+from vslsp.vsl.pick_place import PickPlaceDemonstration, RecordedOperation, TableView
 from vslsp.vsl.recorder import Heights, Recorder
 from vslsp.vsl.reproduction import (
     PlannedOperation,
@@ -88,51 +89,6 @@ class OperationOutcome:
                 "duration_s": round(self.result.duration_s, 3),
             }
         return data
-
-
-class TabletopTask:
-    """A task: its items and landmarks, the tutor's demonstration, the reproduction protocol
-    and the goal. Subclasses give :meth:`layout` and :meth:`moves`, and may change the
-    protocol (:meth:`reproduce`) and what it owes (:meth:`owed`)."""
-
-    name = ""
-    anchor_map: dict[str, str] = {}
-
-    def layout(self, rng: np.random.Generator, phase: str) -> list[tuple[Item, Placement]]:
-        raise NotImplementedError
-
-    def moves(self, rng: np.random.Generator) -> Iterator[Move]:
-        raise NotImplementedError
-
-    def goal(self, world: TabletopWorld, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> bool:
-        """Every operation the reproduction owes was done, and the last demonstrated relation
-        of every item it moved holds at the end (ground truth)."""
-        owed = self.owed(demo, outcomes)
-        if not set(owed) <= {o.index for o in outcomes}:
-            return False
-        last = {demo.items[k]: k for k in owed}
-        return all(judge(world, demo, k, self.anchor_map)[0] for k in last.values())
-
-    def owed(self, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> list[int]:
-        """The demonstrated operations the reproduction must achieve: all of them."""
-        return list(range(len(demo.items)))
-
-    def demonstrate(self, world: TabletopWorld, rng: np.random.Generator) -> TaskDemonstration:
-        """The tutor's demonstration in ``world``, recorded operation by operation."""
-        recorder = Recorder(TableModel(TableView(world)))
-        items, anchors, relations, seen = [], [], [], None
-        for name, where, anchor in self.moves(rng):
-            seen = tutor_move(world, name, where(world), recorder, seen)
-            items.append(name)
-            anchors.append(anchor)
-            relations.append(relation(world, name, anchor))
-        return TaskDemonstration(recorder.demonstration(), tuple(items), tuple(anchors), tuple(relations))
-
-    def reproduce(
-        self, world: TabletopWorld, demo: TaskDemonstration, rng: np.random.Generator, keep: bool = False
-    ) -> list[OperationOutcome]:
-        """Algorithm 1 part II: every operation in the demonstrated order."""
-        return [robot_operation(world, demo, k, self.anchor_map, keep=keep) for k in range(len(demo.items))]
 
 
 @in_stage("perception")
@@ -274,6 +230,3 @@ def placement_like(
         return Placement(x, y, yaw, on)
     ax, ay, _, ayaw = world.pose(anchor)
     return Placement(*scenes.compose((ax, ay, ayaw), (x, y, yaw)), on)
-
-
-# -- the five tasks -----------------------------------------------------------------------------

@@ -1,5 +1,7 @@
-"""One trial of the iCub experiments: what it found, what it keeps for the report, and the
-worlds it runs in (filmed with ``--video``: :mod:`vslsp.sim.video`)."""
+"""The state of one trial of the iCub experiments while it runs: what it found, what it keeps
+for the report, the worlds it runs in (filmed with ``--video``: :mod:`vslsp.sim.video`) and
+their narration. The trial's record is a :class:`~vslsp.tasks.TrialResult` built from it
+(:meth:`vslsp.experiments.icub.IcubExperiment.run_trial`)."""
 
 from __future__ import annotations
 
@@ -14,10 +16,10 @@ from vslsp.symbolic import Domain, Task
 
 
 @dataclass
-class Trial:
-    """One trial: its outcome, figures, and (when kept) what the report shows."""
+class IcubRun:
+    """One trial as it runs: its outcome, its record's fields (``details``), and what the report
+    shows (the artefacts of a kept trial)."""
 
-    experiment: str
     seed: int
     success: bool = False
     error: str | None = None
@@ -25,7 +27,6 @@ class Trial:
     details: dict = field(default_factory=dict)
     replans: int = 0
     failed_steps: int = 0
-    time_s: float = 0.0
     # Artefacts for the report: (title, pre, post, grounding or None, the executed step or None),
     # PDDL, trajectories.
     observations: list = field(default_factory=list, repr=False)
@@ -71,21 +72,10 @@ class Trial:
         fault = f" (FAULT {result.fault}: {FAULT_WHAT[result.fault]})" if result.fault else ""
         self.show(world, f"{label}{fault}", f"expected {result.expected}, observed {result.observed}: {verdict}")
 
-    def to_dict(self) -> dict:
-        return {
-            "experiment": self.experiment,
-            "seed": self.seed,
-            "success": self.success,
-            "error": self.error,
-            "replans": self.replans,
-            "failed_steps": self.failed_steps,
-            "time_s": round(self.time_s, 2),
-            **self.details,
-        }
-
 
 def scene_for(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None = None) -> SceneSpec:
-    """A random scene with these colours (the same seed, the same scene)."""
+    """A random scene with these colours (the same seed, the same scene): the first of
+    ``seed * 101 + k`` that places them."""
     for k in range(50):
         try:
             return SceneSpec.random(seed * 101 + k, colours=colours, far=far)

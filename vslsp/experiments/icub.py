@@ -7,7 +7,8 @@
 - ``pull-in-order``: the ordered set <orange, green, yellow>, reproduced with VSL from a single
   demonstration and with VSL-SP through ``sometime-before`` constraints.
 
-The trials themselves are :func:`vslsp.loop.experiments.run_trial`. The report shows, for one
+Each experiment's trial is its :meth:`IcubExperiment.play` (the scripts are in
+:mod:`vslsp.experiments.icub_scripts`, imported only when a trial runs). The report shows, for one
 trial, every observed pre/post pair with its grounding drawn (and the raw images beside, to
 feed to ``vslsp ground``), the learned ``domain.pddl``, the first ``problem.pddl`` and plan,
 and a figure of the executed hand trajectories.
@@ -17,11 +18,17 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from vslsp.experiments.icub_report import fault_lines, learned_lines, matches_table_3, trial_rows, write_artefacts
 from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
-from vslsp.tasks.icub_report import fault_lines, learned_lines, matches_table_3, trial_rows, write_artefacts
 from vslsp.tasks.registry import register
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from vslsp.experiments.icub_run import IcubRun
+    from vslsp.skills.library import SkillLibrary
 
 DEFAULT_PLANNER = "fast-downward"
 
@@ -61,36 +68,93 @@ class IcubExperiment(Task):
         path = self.option(Option.PREDICATES)
         return tuple(load_predicates(path)) if path else ()
 
+    def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
+        """The experiment's trial: demonstrate, learn, reproduce and judge, into ``trial``
+        (task failures raise :class:`~vslsp.errors.TaskFailed`)."""
+        raise NotImplementedError
+
+    def run(
+        self,
+        seed: int,
+        library: SkillLibrary,
+        *,
+        gui: bool = False,
+        on_stage=None,
+        video: str | Path | None = None,
+    ) -> IcubRun:
+        """Run the trial of ``seed`` with the task's options (faults, planner, predicates); user
+        errors propagate, task failures are recorded. ``video``: an MP4 file to film the trial
+        into (:class:`~vslsp.sim.video.SceneVideo`)."""
+        import numpy as np
+
+        from vslsp.errors import InputError, TaskFailed
+        from vslsp.experiments.icub_run import IcubRun
+        from vslsp.loop.monitor import Fault, fault_log
+        from vslsp.loop.pipeline import describe_learned
+        from vslsp.sim.video import SceneVideo
+
+        faults = bool(self.option(Option.FAULTS, False))
+        trial = IcubRun(seed, gui=gui, on_stage=on_stage, predicates=self.predicates())
+        if video is not None:
+            trial.video = SceneVideo(video)
+        rng = np.random.default_rng(seed)
+        kinds = tuple(fault.value for fault in Fault)  # drawn by value: the same seed, the same fault
+        fault_plan = {int(rng.integers(0, 2)): str(rng.choice(kinds))} if faults else {}
+        if faults:
+            trial.details["faults"] = {str(k): v for k, v in fault_plan.items()}
+        try:
+            self.play(trial, rng, library, fault_plan, self.option(Option.PLANNER, DEFAULT_PLANNER))
+        except TaskFailed as failure:
+            trial.fail(str(failure), failure.cause)
+        except InputError as failure:  # what the robot learned does not fit the scene: a failed trial
+            trial.fail(f"{type(failure).__name__}: {failure}", type(failure).__name__)
+        finally:
+            if trial.video is not None:
+                trial.video.close()
+        if faults:  # where each fault fired (the plan may be shorter than the drawn step), explained
+            planned = {id(step) for run in trial.executions for step in run.steps}
+            trial.details["fault_log"] = fault_log(trial.steps, planned, trial.error or "the trial ended")
+            trial.details["faults"] = {str(entry["step"] - 1): entry["kind"] for entry in trial.details["fault_log"]}
+        if trial.domain is not None or trial.task is not None:
+            trial.details["learned"] = describe_learned(trial.domain, trial.task)
+        plans = [plan for run in trial.executions for plan in run.plans]
+        if plans:
+            trial.details["plan_length"] = len(plans[0].steps)
+            trial.details["planning_s"] = round(sum(plan.time_s for plan in plans), 3)
+        trial.failed_steps = sum(not s.ok for s in trial.steps)
+        if trial.failed_steps:
+            trial.details["step_errors"] = [f"{s.action} {s.obj}: {s.error}" for s in trial.steps if not s.ok]
+        if trial.predicates:
+            trial.details["predicates"] = [p.name for p in trial.predicates]
+            if trial.domain is not None:
+                trial.details["action_models"] = [line for a in trial.domain.actions for line in _model_lines(a)]
+            if trial.task is not None:
+                trial.details["rules"] = [str(rule) for rule in trial.task.rules]
+        return trial
+
     def run_trial(self, seed: int, keep: bool = False, on_stage=None, gui: bool = False) -> TrialResult:
-        from vslsp.loop.experiments import run_trial
         from vslsp.skills.library import SkillLibrary
 
         folder = self.option(Option.VIDEO)
-        trial = run_trial(
-            self.name,
+        trial = self.run(
             seed,
             SkillLibrary.load(self.library_path),
-            faults=bool(self.option(Option.FAULTS, False)),
-            planner=self.option(Option.PLANNER, DEFAULT_PLANNER),
             gui=gui,
             on_stage=on_stage,
-            predicates=self.predicates(),
             video=Path(folder) / video_path(seed) if folder else None,
         )
-        record = trial.to_dict()
         planned = {id(step) for run in trial.executions for step in run.steps}
         operations = [
             {"operation": i, **step.to_dict(), "system": "VSL-SP" if id(step) in planned else "VSL"}
             for i, step in enumerate(trial.steps, start=1)
         ]
-        details = {k: v for k, v in record.items() if k not in ("experiment", "seed", "success", "error", "time_s")}
         return TrialResult(
             self.name,
             seed,
             trial.success,
             trial.error,
             operations=operations,
-            details=details,
+            details={"replans": trial.replans, "failed_steps": trial.failed_steps, **trial.details},
             artefacts=trial if keep else None,
             video=video_path(seed) if folder else None,
             failure_cause=trial.cause,
@@ -151,6 +215,11 @@ class SimpleVslTask(IcubExperiment):
         "adaptive frames, no PDDL) in a reshuffled scene."
     )
 
+    def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
+        from vslsp.experiments.icub_scripts import simple_vsl_task
+
+        simple_vsl_task(trial, rng, library, faults, planner)
+
 
 @register
 class KeepAllNear(IcubExperiment):
@@ -161,6 +230,11 @@ class KeepAllNear(IcubExperiment):
         "numbers and colours of objects (PDDL + Fast Downward)."
     )
 
+    def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
+        from vslsp.experiments.icub_scripts import keep_all_near
+
+        keep_all_near(trial, rng, library, faults, planner)
+
 
 @register
 class PullInOrder(IcubExperiment):
@@ -170,3 +244,14 @@ class PullInOrder(IcubExperiment):
         "The ordered set <orange, green, yellow>, reproduced with VSL from a single demonstration and with "
         "VSL-SP through sometime-before constraints."
     )
+
+    def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
+        from vslsp.experiments.icub_scripts import pull_in_order
+
+        pull_in_order(trial, rng, library, faults, planner)
+
+
+def _model_lines(action) -> list[str]:
+    """An action model in two readable lines: its preconditions and its effects (PDDL)."""
+    effects = " ".join(e.to_pddl() for e in action.effects)
+    return [f"{action.name}: pre {action.precondition.to_pddl()}", f"{action.name}: eff {effects}"]

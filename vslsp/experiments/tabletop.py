@@ -1,39 +1,100 @@
-"""The five real-world VSL tasks with the Panda (paper, "Real-world Experiments", Table 1 and
-the repeatability test: < 5 % failed operations), as registered tasks.
+"""The real-world VSL tasks with the Panda (paper, "Real-world Experiments", Table 1 and the
+repeatability test: < 5 % failed operations): the base of the five experiments of
+:mod:`vslsp.experiments.real_world`.
 
-A trial of task NAME and seed s: the tutor demonstrates in the world of seed s, the robot
-reproduces in a new world of seed s + :data:`REPRODUCTION_SEED` (objects scattered anew, and
-the task's landmarks moved where it says), and the judge checks every operation and the goal
-on the ground truth (:mod:`vslsp.vsl.tabletop_tasks`). In the Tower of Hanoi, odd seeds have
-the user's intervention. The report adds per-operation rates and diagnoses, and pictures of
-one trial: the recorded observations with their frames, the match overlays of the
+An experiment gives its layout (:meth:`TabletopExperiment.layout`), the tutor's moves
+(:meth:`~TabletopExperiment.moves`), and may change the reproduction protocol
+(:meth:`~TabletopExperiment.reproduce`) and what the reproduction owes
+(:meth:`~TabletopExperiment.owed`); the base demonstrates, judges and draws. A trial of seed s:
+the tutor demonstrates in the world of s, the robot reproduces in a new world of
+:func:`~vslsp.experiments.seeds.reproduction_seed` (objects scattered anew, and the task's
+landmarks moved where it says), and the judge checks every operation and the goal on the ground
+truth (:mod:`vslsp.vsl.tabletop_tasks`). The report adds per-operation rates and diagnoses, and
+pictures of one trial: the recorded observations with their frames, the match overlays of the
 reproduction, the final worlds and the executed hand paths.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.experiments.seeds import reproduction_seed
 from vslsp.outcomes import Diagnosis
 from vslsp.outputs import atomic_file
 from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.drawing import PICK, PLACE, grid, label, small, square
-from vslsp.tasks.registry import register
 
-REPRODUCTION_SEED = 1_000_003
+if TYPE_CHECKING:
+    from vslsp.sim.tabletop import Item, Placement, TabletopWorld
+    from vslsp.vsl.tabletop_tasks import Move, OperationOutcome, TaskDemonstration
 
 
 class TabletopExperiment(Task):
-    """A tabletop task of :data:`vslsp.vsl.paper_tasks.TASKS` as a registered experiment."""
+    """A tabletop experiment: its items and landmarks, the tutor's demonstration, the
+    reproduction protocol and the goal. Subclasses give :meth:`layout` and :meth:`moves`, and
+    may change the protocol (:meth:`reproduce`) and what it owes (:meth:`owed`); one whose
+    trials differ by seed gives :meth:`for_seed`."""
 
     system = System.VSL
     paper_section = "Real-world Experiments (Table 1)"
     options = frozenset({Option.VIDEO})
+    anchor_map: dict[str, str] = {}  # anchors renamed for the judge (the user's intervention)
+    variant = ""  # the report's name for a trial that differs from the others ("intervention")
+
+    def for_seed(self, seed: int) -> TabletopExperiment:
+        """The experiment as the trial of ``seed`` runs it (the same for every seed here)."""
+        return self
+
+    def layout(self, rng: np.random.Generator, phase: str) -> list[tuple[Item, Placement]]:
+        """The items and their placements of ``phase`` ("demonstration" or "reproduction")."""
+        raise NotImplementedError
+
+    def moves(self, rng: np.random.Generator) -> Iterator[Move]:
+        """The tutor's operations: the item, where it goes (given the world), its anchor."""
+        raise NotImplementedError
+
+    def goal(self, world: TabletopWorld, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> bool:
+        """Every operation the reproduction owes was done, and the last demonstrated relation
+        of every item it moved holds at the end (ground truth)."""
+        from vslsp.vsl.tabletop_tasks import judge
+
+        owed = self.owed(demo, outcomes)
+        if not set(owed) <= {o.index for o in outcomes}:
+            return False
+        last = {demo.items[k]: k for k in owed}
+        return all(judge(world, demo, k, self.anchor_map)[0] for k in last.values())
+
+    def owed(self, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> list[int]:
+        """The demonstrated operations the reproduction must achieve: all of them."""
+        return list(range(len(demo.items)))
+
+    def demonstrate(self, world: TabletopWorld, rng: np.random.Generator) -> TaskDemonstration:
+        """The tutor's demonstration in ``world``, recorded operation by operation."""
+        from vslsp.vsl.pick_place import TableModel, TableView
+        from vslsp.vsl.recorder import Recorder
+        from vslsp.vsl.tabletop_tasks import TaskDemonstration, relation, tutor_move
+
+        recorder = Recorder(TableModel(TableView(world)))
+        items, anchors, relations, seen = [], [], [], None
+        for name, where, anchor in self.moves(rng):
+            seen = tutor_move(world, name, where(world), recorder, seen)
+            items.append(name)
+            anchors.append(anchor)
+            relations.append(relation(world, name, anchor))
+        return TaskDemonstration(recorder.demonstration(), tuple(items), tuple(anchors), tuple(relations))
+
+    def reproduce(
+        self, world: TabletopWorld, demo: TaskDemonstration, rng: np.random.Generator, keep: bool = False
+    ) -> list[OperationOutcome]:
+        """Algorithm 1 part II: every operation in the demonstrated order."""
+        from vslsp.vsl.tabletop_tasks import robot_operation
+
+        return [robot_operation(world, demo, k, self.anchor_map, keep=keep) for k in range(len(demo.items))]
 
     def check(self) -> None:
         if self.option(Option.VIDEO):
@@ -42,9 +103,10 @@ class TabletopExperiment(Task):
             check_encoder()
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
-        """Demonstrate in the world of ``seed``, reproduce in the world of ``seed +
-        REPRODUCTION_SEED``; ``keep`` holds on to the images for the report; with the ``video``
-        option, film both into the report folder's ``videos/trial-SEED.mp4``."""
+        """Demonstrate in the world of ``seed``, reproduce in the world of
+        :func:`~vslsp.experiments.seeds.reproduction_seed`; ``keep`` holds on to the images for
+        the report; with the ``video`` option, film both into the report folder's
+        ``videos/trial-SEED.mp4``."""
         from vslsp.sim.video import SceneVideo, tabletop_scene_camera
 
         folder = self.option(Option.VIDEO)
@@ -61,8 +123,8 @@ class TabletopExperiment(Task):
         from vslsp.sim.tabletop import TabletopWorld
         from vslsp.vsl.tabletop_tasks import look
 
-        task = make_task(self.name, seed)
-        variant = "intervention" if getattr(task, "intervention", False) else ""
+        task = self.for_seed(seed)
+        variant = task.variant
         rng = np.random.default_rng(seed)
         with TabletopWorld(task.layout(rng, "demonstration"), seed) as world:
             if video is not None:
@@ -81,7 +143,7 @@ class TabletopExperiment(Task):
                     failure_cause="demonstration",
                 )
             goal = look(world) if keep else None
-        rng = np.random.default_rng(seed + REPRODUCTION_SEED)
+        rng = np.random.default_rng(reproduction_seed(seed))
         with TabletopWorld(task.layout(rng, "reproduction"), seed) as world:
             if video is not None:
                 video.attach(world)
@@ -164,15 +226,6 @@ class TabletopExperiment(Task):
         ]
 
 
-def make_task(name: str, seed: int):
-    """The tabletop task NAME for the trial of ``seed`` (Hanoi: the user intervenes on odd seeds)."""
-    from vslsp.vsl.paper_tasks import TASKS
-
-    if name not in TASKS:
-        raise InputError(f"unknown task {name!r}; choose one of {', '.join(TASKS)}")
-    return TASKS[name](seed % 2 == 1) if name == "tower-of-hanoi" else TASKS[name]()
-
-
 def _failure(operations: list[dict]) -> tuple[str, str]:
     """Why a trial failed, and its cause: the operations that went wrong (the first one is the cause)."""
     failed = [op for op in operations if op["diagnosis"] != Diagnosis.OK]
@@ -180,39 +233,6 @@ def _failure(operations: list[dict]) -> tuple[str, str]:
         return "goal not reached", "goal not reached"
     names = [f"operation {op['operation']} ({op['actor']}, {op['item']})" for op in failed]
     return "; ".join(f"{name}: {op['diagnosis']}" for name, op in zip(names, failed)), names[0]
-
-
-@register
-class AlphabetOrdering(TabletopExperiment):
-    name = "alphabet-ordering"
-    description = "Letters A-D put in a row by a static right-angle baseline (relative and absolute positioning)."
-
-
-@register
-class AnimalPuzzle(TabletopExperiment):
-    name = "animal-puzzle"
-    description = "The frog's halves put on the 'pond' label, the giraffe's on the 'tree'; the labels move."
-
-
-@register
-class TowerOfHanoi(TabletopExperiment):
-    name = "tower-of-hanoi"
-    description = (
-        "Three disks moved in seven moves (stacking); on odd seeds the user makes the first move and the "
-        "robot goes on from there."
-    )
-
-
-@register
-class AnimalsVsMachines(TabletopExperiment):
-    name = "animals-vs-machines"
-    description = "Cards presented one at a time, each put in its bin (classification by the best match)."
-
-
-@register
-class Domino(TabletopExperiment):
-    name = "domino"
-    description = "Five picture-domino pieces laid end to end, the tutor and the robot taking turns."
 
 
 def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:

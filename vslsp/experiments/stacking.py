@@ -21,13 +21,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import TaskFailed, VslspError
-from vslsp.outcomes import NoMatch
-from vslsp.sim.cloud_scene import BOXES, CloudScene, random_layout
-from vslsp.vsl3d.cloud import DepthCamera, Frame
-from vslsp.vsl3d.matching import Match, find_best_match
-from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_clouds, trial_pictures
-from vslsp.vsl3d.reproduce import Reproduction, reproduce, world_of
-from vslsp.vsl3d.table_cleaning import (
+from vslsp.experiments.table_cleaning import (
     TOLERANCE_DEG,
     TOLERANCE_M,
     RobotOperation,
@@ -36,6 +30,12 @@ from vslsp.vsl3d.table_cleaning import (
     pose_error,
     say_outcome,
 )
+from vslsp.outcomes import NoMatch
+from vslsp.sim.cloud_scene import BOXES, CloudScene, random_layout
+from vslsp.vsl3d.cloud import DepthCamera, Frame
+from vslsp.vsl3d.matching import Match, find_best_match
+from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_clouds, trial_pictures
+from vslsp.vsl3d.reproduce import Reproduction, reproduce, world_of
 from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCloud, euclidean_clusters, get_object
 
 OPERATIONS = (("duck", "box1"), ("teddy", "box2"))  # each object goes on top of its box
@@ -111,7 +111,7 @@ def relative_error(
     scene: CloudScene, name: str, box: str, goal_object: np.ndarray, goal_box: np.ndarray
 ) -> tuple[float, float, float]:
     """The object's pose on its box against the demonstrated one, up to the box's symmetry
-    (:func:`~vslsp.vsl3d.table_cleaning.pose_error`'s mm, turn and rotation)."""
+    (:func:`~vslsp.experiments.table_cleaning.pose_error`'s mm, turn and rotation)."""
     lower, upper = scene.bounds(name)
     errors = []
     for k in range(BOX_SYMMETRY[box]):

@@ -1,4 +1,5 @@
-"""The paper's three iCub experiments of VSL-SP, as randomised, seeded trials.
+"""The trials of the paper's three iCub experiments of VSL-SP (registered in
+:mod:`vslsp.experiments.icub`), randomised and seeded.
 
 Paper section "Results" of VSL-SP:
 
@@ -16,102 +17,30 @@ plans, hand trajectories) for the report when asked to.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 
-from vslsp.errors import InputError, TaskFailed, VslspError
+from vslsp.errors import VslspError
+from vslsp.experiments.icub_run import IcubRun, scene_for
+from vslsp.experiments.icub_vsl import reproduce_vsl
+from vslsp.experiments.seeds import demonstration_seed, exploration_seed, reproduction_seed
 from vslsp.grounding.operation import ground
-from vslsp.loop.monitor import Fault, StepResult, fault_log
+from vslsp.loop.monitor import StepResult
 from vslsp.loop.perception import PerceivedState, perceive
-from vslsp.loop.pipeline import Execution, describe_learned, execute_task, explore_skill, learn_models, to_step
-from vslsp.loop.reproduce_vsl import reproduce_vsl
-from vslsp.loop.trial import Trial, scene_for
+from vslsp.loop.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
 from vslsp.loop.watching import tutor_operation
 from vslsp.sim import COLOURS, SceneSpec, World
-from vslsp.sim.video import SceneVideo
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, learn_task
 from vslsp.vsl.demonstration import Demonstration, ImagePlane, Operation
 from vslsp.vsl.recorder import Recorder
 
-EXPERIMENTS = ("simple-vsl-task", "keep-all-near", "pull-in-order")
 ORDERED_COLOURS = ("orange", "green", "yellow")
-FAULTS = tuple(fault.value for fault in Fault)  # drawn by value: the same seed, the same fault
 # With user predicates the robot tries each skill this many times (different cubes and places):
 # an effect or a precondition must hold in every execution, so a predicate that one execution
 # changed by chance (a cube pushed across the image's middle) stays out of the models.
 EXPLORATIONS_WITH_PREDICATES = 3
-
-
-def run_trial(
-    experiment: str,
-    seed: int,
-    library: SkillLibrary,
-    *,
-    faults: bool = False,
-    planner: str = "fast-downward",
-    gui: bool = False,
-    on_stage=None,
-    predicates: tuple = (),
-    video: str | Path | None = None,
-) -> Trial:
-    """Run one trial of ``experiment``; user errors propagate, task failures are recorded.
-
-    ``predicates``: the user's (:func:`vslsp.grounding.load_predicates`), grounded with ``far``
-    at every observed step; action models, rules and goals are learned over all of them.
-    ``video``: an MP4 file to film the trial into (:class:`~vslsp.sim.video.SceneVideo`)."""
-    if experiment not in EXPERIMENTS:
-        raise InputError(f"unknown experiment {experiment!r}; choose one of {', '.join(EXPERIMENTS)}")
-    trial = Trial(experiment, seed, gui=gui, on_stage=on_stage, predicates=tuple(predicates))
-    if video is not None:
-        trial.video = SceneVideo(video)
-    start = time.perf_counter()
-    rng = np.random.default_rng(seed)
-    fault_plan = {int(rng.integers(0, 2)): str(rng.choice(FAULTS))} if faults else {}
-    if faults:
-        trial.details["faults"] = {str(k): v for k, v in fault_plan.items()}
-    runner = {"simple-vsl-task": _simple_vsl_task, "keep-all-near": _keep_all_near, "pull-in-order": _pull_in_order}[
-        experiment
-    ]
-    try:
-        runner(trial, rng, library, fault_plan, planner)
-    except TaskFailed as failure:
-        trial.fail(str(failure), failure.cause)
-    except InputError as failure:  # what the robot learned does not fit the scene: a failed trial
-        trial.fail(f"{type(failure).__name__}: {failure}", type(failure).__name__)
-    finally:
-        if trial.video is not None:
-            trial.video.close()
-    if faults:  # where each fault fired (the plan may be shorter than the drawn step), explained
-        planned = {id(step) for run in trial.executions for step in run.steps}
-        trial.details["fault_log"] = fault_log(trial.steps, planned, trial.error or "the trial ended")
-        trial.details["faults"] = {str(entry["step"] - 1): entry["kind"] for entry in trial.details["fault_log"]}
-    if trial.domain is not None or trial.task is not None:
-        trial.details["learned"] = describe_learned(trial.domain, trial.task)
-    plans = [plan for run in trial.executions for plan in run.plans]
-    if plans:
-        trial.details["plan_length"] = len(plans[0].steps)
-        trial.details["planning_s"] = round(sum(plan.time_s for plan in plans), 3)
-    trial.failed_steps = sum(not s.ok for s in trial.steps)
-    if trial.failed_steps:
-        trial.details["step_errors"] = [f"{s.action} {s.obj}: {s.error}" for s in trial.steps if not s.ok]
-    if trial.predicates:
-        trial.details["predicates"] = [p.name for p in trial.predicates]
-        if trial.domain is not None:
-            trial.details["action_models"] = [line for a in trial.domain.actions for line in _model_lines(a)]
-        if trial.task is not None:
-            trial.details["rules"] = [str(rule) for rule in trial.task.rules]
-    trial.time_s = time.perf_counter() - start
-    return trial
-
-
-def _model_lines(action) -> list[str]:
-    """An action model in two readable lines: its preconditions and its effects (PDDL)."""
-    effects = " ".join(e.to_pddl() for e in action.effects)
-    return [f"{action.name}: pre {action.precondition.to_pddl()}", f"{action.name}: eff {effects}"]
 
 
 # --- watching the tutor ----------------------------------------------------------------------
@@ -119,7 +48,7 @@ def _model_lines(action) -> list[str]:
 
 def _watch(
     world: World,
-    trial: Trial,
+    trial: IcubRun,
     operations: list[tuple[str, str]],
     title: str,
     recorder: Recorder[Operation, Demonstration] | None = None,
@@ -152,7 +81,7 @@ def _tutor_task(spec: SceneSpec, rng: np.random.Generator, world: World) -> list
     return [(spec.cubes[i].colour, "pull" if world.is_far(spec.cubes[i].name) else "push") for i in order]
 
 
-def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> Domain:
+def _explore(trial: IcubRun, rng: np.random.Generator, library: SkillLibrary) -> Domain:
     """The robot tries push and pull, each on a cube alone on the table, and learns their models."""
     explorations = []
     trial.stage("the robot tries push and pull and watches what they do")
@@ -160,7 +89,7 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
     for r in range(rounds):
         for k, action in enumerate(("push", "pull")):
             colour = str(rng.choice(list(COLOURS)))
-            spec = scene_for(trial.seed + 2_000_003 + k + 2 * r, (colour,), (action == "pull",))
+            spec = scene_for(exploration_seed(trial.seed, k + 2 * r), (colour,), (action == "pull",))
             with trial.world(spec) as world:
                 trial.say(f"the robot tries {action} on {colour} to learn what it does")
                 exploration = explore_skill(world, library, action, predicates=trial.predicates)
@@ -179,10 +108,10 @@ def _explore(trial: Trial, rng: np.random.Generator, library: SkillLibrary) -> D
     return trial.domain
 
 
-# --- the three experiments ----------------------------------------------------------------------
+# --- the three trials ----------------------------------------------------------------------
 
 
-def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
+def simple_vsl_task(trial: IcubRun, rng, library, faults, planner) -> None:
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=3, replace=False))
     with trial.world(scene_for(trial.seed, colours)) as world:
         start_far = tuple(world.is_far(c.name) for c in world.spec.cubes)
@@ -195,7 +124,7 @@ def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
         trial.details["demonstrated_changes"] = [f"{s.action} {s.obj}: {s.changed()}" for s in watched]
     goal = {op.symbol: op.grounding.far_post for op in demonstration.operations}
     # Reshuffled: new places and a new line pose, each cube on the side it started from.
-    with trial.world(scene_for(trial.seed + 1_000_003, colours, start_far)) as world:
+    with trial.world(scene_for(reproduction_seed(trial.seed), colours, start_far)) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         acted = reproduce_vsl(world, trial, library, demonstration, faults)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
@@ -213,7 +142,7 @@ def _simple_vsl_task(trial: Trial, rng, library, faults, planner) -> None:
         trial.fail(f"final far {final} differs from the demonstrated {goal}", "final far differs from the demonstrated")
 
 
-def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
+def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
     _explore(trial, rng, library)
     demonstrations: list = []
     pulled: set[str] = set()
@@ -227,7 +156,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
             # colours; demonstrations that only ever pull one colour teach that colour alone.
             other = next(k for k, c in enumerate(colours) if c not in pulled)
             far = far[:other] + (True,) + far[other + 1 :]
-        with trial.world(scene_for(trial.seed * 7 + i, colours, far)) as world:
+        with trial.world(scene_for(demonstration_seed(trial.seed, i), colours, far)) as world:
             pulls = [(c, a) for c, a in _tutor_task(world.spec, rng, world) if a == "pull"]
             pulled |= {c for c, _ in pulls}
             demonstrations.append(_watch(world, trial, pulls, f"demonstration {i + 1}"))
@@ -237,7 +166,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
     far = tuple(bool(v) for v in rng.random(n) < 0.6)
     if not any(far):
         far = (True,) + far[1:]
-    with trial.world(scene_for(trial.seed + 1_000_003, colours, far)) as world:
+    with trial.world(scene_for(reproduction_seed(trial.seed), colours, far)) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         before, after = _narration(trial, world)
         run = _execute(trial, world, library, faults, planner, before, after)
@@ -254,7 +183,7 @@ def _keep_all_near(trial: Trial, rng, library, faults, planner) -> None:
         )
 
 
-def _execute(trial: Trial, world, library, faults, planner, before, after):
+def _execute(trial: IcubRun, world, library, faults, planner, before, after):
     """Plan the learned task and execute it in ``world`` with the skills, narrated step by step."""
     assert trial.domain is not None and trial.task is not None  # learned before the test scene
     return execute_task(
@@ -270,7 +199,7 @@ def _execute(trial: Trial, world, library, faults, planner, before, after):
     )
 
 
-def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
+def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
     all_far = (True,) * len(ORDERED_COLOURS)
     _explore(trial, rng, library)
     with trial.world(scene_for(trial.seed, ORDERED_COLOURS, all_far)) as world:
@@ -280,7 +209,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
         demonstration = recorder.demonstration()
     trial.stage("learning the task and its order; planning and executing (VSL-SP)")
     trial.task = learn_task([steps], ordered=True, models=trial.domain if trial.predicates else None)
-    test_scene = scene_for(trial.seed + 1_000_003, ORDERED_COLOURS, all_far)
+    test_scene = scene_for(reproduction_seed(trial.seed), ORDERED_COLOURS, all_far)
     # VSL-SP: the order comes from the sometime-before constraints the planner must respect.
     with trial.world(test_scene) as world:
         became_near: list[str] = []
@@ -320,7 +249,7 @@ def _pull_in_order(trial: Trial, rng, library, faults, planner) -> None:
         )
 
 
-def _narration(trial: Trial, world: World, on_step: Callable | None = None) -> tuple[Callable, Callable]:
+def _narration(trial: IcubRun, world: World, on_step: Callable | None = None) -> tuple[Callable, Callable]:
     """The callbacks that caption VSL-SP's steps in the video (before: the step and its fault;
     after: expected and observed), then call ``on_step``."""
     label = [""]
@@ -337,7 +266,7 @@ def _narration(trial: Trial, world: World, on_step: Callable | None = None) -> t
     return before, after
 
 
-def _record(trial: Trial, run: Execution) -> None:
+def _record(trial: IcubRun, run: Execution) -> None:
     trial.executions.append(run)
     trial.steps.extend(run.steps)
     trial.replans += run.replans

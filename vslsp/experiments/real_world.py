@@ -1,7 +1,7 @@
 """The five real-world VSL tasks of the paper ("Real-world Experiments", Table 1) in the
-tabletop world, each a :class:`~vslsp.vsl.tabletop_tasks.TabletopTask` (its layout, the tutor's
-moves and its reproduction protocol; the judge and the robot's operation are in
-:mod:`vslsp.vsl.tabletop_tasks`).
+tabletop world, each a registered :class:`~vslsp.experiments.tabletop.TabletopExperiment` (its
+layout, the tutor's moves and its reproduction protocol; the judge and the robot's operation are
+in :mod:`vslsp.vsl.tabletop_tasks`).
 
 - ``alphabet-ordering``: letters A-D put in a row by a static right-angle baseline (relative and
   absolute positioning); reproduced in order from a new scatter.
@@ -26,12 +26,14 @@ moves and its reproduction protocol; the judge and the robot's operation are in
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import copy
 
 import numpy as np
 
+from vslsp.experiments.tabletop import TabletopExperiment
 from vslsp.outcomes import Diagnosis
 from vslsp.sim.tabletop import Placement
+from vslsp.tasks.registry import register
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import Match, NoMatch
 from vslsp.vsl import tabletop_scenes as scenes
@@ -39,7 +41,6 @@ from vslsp.vsl.pick_place import PickPlaceDemonstration
 from vslsp.vsl.reproduction import find_place, identify, identify_moved, match_object
 from vslsp.vsl.tabletop_tasks import (
     OperationOutcome,
-    TabletopTask,
     judge,
     look,
     placement_like,
@@ -48,8 +49,10 @@ from vslsp.vsl.tabletop_tasks import (
 )
 
 
-class AlphabetOrdering(TabletopTask):
+@register
+class AlphabetOrdering(TabletopExperiment):
     name = "alphabet-ordering"
+    description = "Letters A-D put in a row by a static right-angle baseline (relative and absolute positioning)."
 
     def layout(self, rng, phase):
         letters = scenes.letters()
@@ -63,8 +66,10 @@ class AlphabetOrdering(TabletopTask):
             yield letter, (lambda world, p=Placement(x + jitter[0], y + jitter[1], yaw): p), "baseline-long"
 
 
-class AnimalPuzzle(TabletopTask):
+@register
+class AnimalPuzzle(TabletopExperiment):
     name = "animal-puzzle"
+    description = "The frog's halves put on the 'pond' label, the giraffe's on the 'tree'; the labels move."
 
     def layout(self, rng, phase):
         labels = scenes.labels()
@@ -92,12 +97,24 @@ class AnimalPuzzle(TabletopTask):
                 yield f"{animal}-{part}", where, label
 
 
-class TowerOfHanoi(TabletopTask):
+@register
+class TowerOfHanoi(TabletopExperiment):
     name = "tower-of-hanoi"
+    description = (
+        "Three disks moved in seven moves (stacking); on odd seeds the user makes the first move and the "
+        "robot goes on from there."
+    )
 
-    def __init__(self, intervention: bool = False) -> None:
-        self.intervention = intervention
-        self.anchor_map = {"base-2": "base-3", "base-3": "base-2"} if intervention else {}
+    intervention = False  # the user makes the first move (odd seeds)
+
+    def for_seed(self, seed: int) -> TowerOfHanoi:
+        """On odd seeds, the user makes the first move to the third base (the intervention)."""
+        if seed % 2 == 0:
+            return self
+        trial = copy.copy(self)
+        trial.intervention, trial.variant = True, "intervention"
+        trial.anchor_map = {"base-2": "base-3", "base-3": "base-2"}
+        return trial
 
     def layout(self, rng, phase):
         layout = scenes.hanoi_bases()
@@ -142,8 +159,10 @@ class TowerOfHanoi(TabletopTask):
         return outcomes
 
 
-class AnimalsVsMachines(TabletopTask):
+@register
+class AnimalsVsMachines(TabletopExperiment):
     name = "animals-vs-machines"
+    description = "Cards presented one at a time, each put in its bin (classification by the best match)."
 
     def layout(self, rng, phase):
         cards = scenes.pictures()
@@ -201,8 +220,10 @@ class AnimalsVsMachines(TabletopTask):
         return outcomes
 
 
-class Domino(TabletopTask):
+@register
+class Domino(TabletopExperiment):
     name = "domino"
+    description = "Five picture-domino pieces laid end to end, the tutor and the robot taking turns."
 
     def layout(self, rng, phase):
         pieces = scenes.domino_pieces()
@@ -286,12 +307,3 @@ def _domino_opening(rng: np.random.Generator, pieces: int) -> tuple[float, float
         if 0.6 <= end[0] <= 0.68 and -0.27 <= end[1]:
             return float(x), float(y), float(yaw)
     raise RuntimeError("no opening for the domino chain")  # a layout bug, not input
-
-
-TASKS: dict[str, Callable[..., TabletopTask]] = {
-    "alphabet-ordering": AlphabetOrdering,
-    "animal-puzzle": AnimalPuzzle,
-    "tower-of-hanoi": TowerOfHanoi,
-    "animals-vs-machines": AnimalsVsMachines,
-    "domino": Domino,
-}

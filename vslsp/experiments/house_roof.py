@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.experiments.seeds import reproduction_seed
 from vslsp.outcomes import Diagnosis
 from vslsp.outputs import atomic_file
 from vslsp.tasks.base import System, Task, TrialResult
@@ -26,7 +27,6 @@ from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square
 from vslsp.tasks.registry import register
 
 FRAMES = ("fixed", "adaptive")  # the values of vslsp.vision.matching.FrameMode, as the report orders them
-REPRODUCTION_SEED = 1_000_003  # the reproduction world's seed is the trial's plus this
 PIXEL_MM = 1.0  # mm per px of the board (vslsp.vsl.house_roof.PIXEL_SIZE, heavy to import)
 
 
@@ -45,7 +45,7 @@ class HouseRoof(Task):
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         """Demonstrate in the world of ``seed``, reproduce with both frame policies in the world of
-        ``seed + REPRODUCTION_SEED``; ``keep`` holds on to the images for the report."""
+        :func:`~vslsp.experiments.seeds.reproduction_seed`; ``keep`` holds on to the images for the report."""
         import time
 
         from vslsp.vsl.house_roof import ObservationFeatures, demonstrate, reproduce
@@ -63,7 +63,7 @@ class HouseRoof(Task):
                 failure_cause="demonstration",
             )
         features = ObservationFeatures(demo)
-        world = HouseWorld.random(seed + REPRODUCTION_SEED)
+        world = HouseWorld.random(reproduction_seed(seed))
         results, milliseconds, reproductions = {}, {}, {}
         for frame in FRAMES:
             clock = time.perf_counter()

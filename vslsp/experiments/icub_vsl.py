@@ -8,9 +8,9 @@ import cv2
 import numpy as np
 
 from vslsp.errors import TaskFailed
+from vslsp.experiments.icub_run import IcubRun
 from vslsp.loop.monitor import Action, execute_step
 from vslsp.loop.perception import PerceivedState, perceive
-from vslsp.loop.trial import Trial
 from vslsp.sim import World
 from vslsp.skills.library import SkillLibrary
 from vslsp.vision.features import FeatureMemo
@@ -21,7 +21,7 @@ from vslsp.vsl.matcher import Search, match_observation
 
 
 def reproduce_vsl(
-    world: World, trial: Trial, library: SkillLibrary, demonstration, faults: dict[int, str]
+    world: World, trial: IcubRun, library: SkillLibrary, demonstration, faults: dict[int, str]
 ) -> list[str]:
     """Reproduce a recorded demonstration by match finding: for each operation, find the
     demonstrated object in the current scene (SIFT + RANSAC, adaptive frame) and bring it to
@@ -41,7 +41,7 @@ def reproduce_vsl(
 
 def _bring(
     world: World,
-    trial: Trial,
+    trial: IcubRun,
     library: SkillLibrary,
     op: Operation,
     faults: dict[int, str],
