@@ -22,9 +22,9 @@ from rich.progress import Progress
 
 from vslsp.loop.monitor import execute_step
 from vslsp.loop.perception import perceive
-from vslsp.loop.watching import tutor_operation
 from vslsp.sim import SceneSpec, World
 from vslsp.skills import SkillLibrary, default_library_path
+from vslsp.worlds.icub import tutor_operation
 
 TARGET = 0.98
 STARTS_FAR = {"push": False, "pull": True}

@@ -27,7 +27,7 @@ from vslsp.sim import SceneSpec, World
 from vslsp.sim.scene import TABLE_Z, WORKSPACE_X, WORKSPACE_Y
 from vslsp.vision.features import sift
 from vslsp.vision.matching import find_best_match
-from vslsp.vsl.house_sprites import BODY_SIZE, houses_world
+from vslsp.worlds.house_roof.sprites import BODY_SIZE, houses_world
 
 SIZES = ((640, 480), (1280, 960))
 CAMERAS = ("head", "overhead")

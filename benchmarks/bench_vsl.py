@@ -31,7 +31,7 @@ import time
 from vslsp.vsl.tasks import FRAMES, run_trials, summary
 
 from vslsp.vision.features import extract_features
-from vslsp.vsl.house_world import HouseWorld
+from vslsp.worlds.house_roof.board import HouseWorld
 
 OPERATION_TARGET = 0.99
 

@@ -3,7 +3,7 @@ with the Panda: seeded, randomised trials and a report.
 
 Same as `vslsp experiment animal-puzzle`; e.g.
     python experiments/animal_puzzle.py --trials 10 --workers 2 --out out/animal-puzzle
-See vslsp/vsl/tabletop_tasks.py for what a trial does and how it is judged.
+See vslsp/experiments/tabletop_protocol.py for what a trial does and how it is judged.
 """
 
 import sys

@@ -2,7 +2,7 @@
 
 Same as `vslsp experiment house-roof`; e.g.
     python experiments/house_roof.py --trials 20 --workers 2 --out out/house-roof
-See vslsp/vsl/house_roof.py for what a trial does and vslsp/vsl/tasks.py for how it is judged.
+See vslsp/experiments/house_roof_trial.py for what a trial does and how it is judged.
 """
 
 import sys

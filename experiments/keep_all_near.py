@@ -2,7 +2,7 @@
 
 Same as `vslsp experiment keep-all-near`; every option of that command works here, e.g.
     python experiments/keep_all_near.py --trials 20 --workers 2 --faults --out out/keep-all-near
-See vslsp/loop/experiments.py for what a trial does and how success is judged.
+See vslsp/experiments/icub_scripts.py for what a trial does and how success is judged.
 """
 
 import sys

@@ -2,7 +2,7 @@
 
 Same as `vslsp experiment pull-in-order`; every option of that command works here, e.g.
     python experiments/pull_in_order.py --trials 20 --workers 2 --faults --out out/pull-in-order
-See vslsp/loop/experiments.py for what a trial does and how success is judged.
+See vslsp/experiments/icub_scripts.py for what a trial does and how success is judged.
 """
 
 import sys

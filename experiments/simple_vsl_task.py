@@ -2,7 +2,7 @@
 
 Same as `vslsp experiment simple-vsl-task`; every option of that command works here, e.g.
     python experiments/simple_vsl_task.py --trials 20 --workers 2 --faults --out out/simple-vsl-task
-See vslsp/loop/experiments.py for what a trial does and how success is judged.
+See vslsp/experiments/icub_scripts.py for what a trial does and how success is judged.
 """
 
 import sys

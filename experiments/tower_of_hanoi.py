@@ -3,7 +3,7 @@ with the Panda: seeded, randomised trials and a report.
 
 Same as `vslsp experiment tower-of-hanoi`; e.g.
     python experiments/tower_of_hanoi.py --trials 10 --workers 2 --out out/tower-of-hanoi
-See vslsp/vsl/tabletop_tasks.py for what a trial does and how it is judged.
+See vslsp/experiments/tabletop_protocol.py for what a trial does and how it is judged.
 """
 
 import sys

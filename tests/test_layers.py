@@ -1,6 +1,8 @@
 """The package's layers point down: a static import graph of ``vslsp`` (module-level and
-function-level imports alike) has no cycle, between modules or between subpackages, and the
-simulator imports no perception, planning or task code."""
+function-level imports alike) has no cycle, between modules or between subpackages; every import
+between subpackages follows the layer table of docs/architecture.md (:data:`LAYERS`,
+:data:`MAY_IMPORT`), which the docs' table is drawn from; the algorithms (VSL and VSL-3D) import
+no world; only the simulator imports pybullet."""
 
 from __future__ import annotations
 
@@ -10,6 +12,39 @@ from pathlib import Path
 import vslsp
 
 PACKAGE = Path(vslsp.__file__).parent
+
+#: Each subpackage's layer (docs/architecture.md, "Layers").
+LAYERS = {
+    **dict.fromkeys(("vslsp.errors", "vslsp.outcomes", "vslsp.outputs", "vslsp.files", "vslsp.stages", "vslsp.data"), 0),
+    **dict.fromkeys(("vslsp.geometry", "vslsp.dmp"), 1),
+    "vslsp.sim": 2,
+    **dict.fromkeys(("vslsp.worlds", "vslsp.skills"), 3),
+    **dict.fromkeys(("vslsp.vision", "vslsp.vsl3d"), 4),
+    "vslsp.grounding": 5,
+    "vslsp.vsl": 6,
+    "vslsp.symbolic": 7,
+    "vslsp.loop": 8,
+    "vslsp.tasks": 9,
+    "vslsp.experiments": 10,
+    **dict.fromkeys(("vslsp.cli", "vslsp.lsp", "vslsp.studio"), 11),
+}
+BELOW = {layer: set(range(layer)) for layer in range(12)}
+#: The layers (and same-layer subpackages) each layer may import; the exceptions to "all below"
+#: say what a layer stands beside rather than on.
+MAY_IMPORT: dict[str, set[int | str]] = {
+    **{package: set(BELOW[layer]) for package, layer in LAYERS.items()},
+    "vslsp.outcomes": {"vslsp.errors"},
+    "vslsp.outputs": {"vslsp.errors"},
+    "vslsp.files": {"vslsp.errors"},
+    "vslsp.vision": {0, 1},  # perception: no simulator, no world
+    "vslsp.vsl3d": {0, 1},  # an algorithm: no simulator, no world
+    "vslsp.grounding": {0, 1, 2, 4},  # the simulator only for its test kit's rendered scenes
+    "vslsp.vsl": {0, 1, 4, 5},  # an algorithm: perception and grounding, no simulator, no world
+    "vslsp.symbolic": {0},  # the PDDL model and planner know no perception
+    "vslsp.lsp": {0, "vslsp.symbolic"},  # the language server: the PDDL language engine and the planner path
+    "vslsp.studio": {*BELOW[9], "vslsp.tasks", "vslsp.lsp"},  # beside the CLI; the tasks' registry, lsp's context
+    "vslsp.cli": {*BELOW[11], "vslsp.lsp", "vslsp.studio"},
+}
 
 
 def _module_name(path: Path) -> str:
@@ -95,6 +130,41 @@ def test_no_subpackage_import_cycle():
             subpackage(t) for t in targets if subpackage(t) != subpackage(module)
         )
     assert cycles(graph) == []
+
+
+def test_every_import_between_subpackages_follows_the_layer_table():
+    packages = {subpackage(m) for m in import_graph()} - {"vslsp", "vslsp.__main__"}
+    assert packages == set(LAYERS), "a subpackage is missing from the layer table (and docs/architecture.md)"
+    wrong = []
+    for module, targets in import_graph().items():
+        source = subpackage(module)
+        if source in ("vslsp", "vslsp.__main__"):  # the package's own entry points
+            continue
+        for target in {subpackage(t) for t in targets} - {source}:
+            allowed = MAY_IMPORT[source]
+            if target not in allowed and LAYERS[target] not in allowed:
+                wrong.append(f"{module} (layer {LAYERS[source]}) imports {target} (layer {LAYERS[target]})")
+    assert wrong == []
+
+
+def test_the_algorithms_import_no_world():
+    """VSL and VSL-3D (Algorithm 1, the point-cloud method) see observations only: no module
+    under them imports the simulator, a world, the skills, the loop or an experiment."""
+    worldly = ("vslsp.sim", "vslsp.worlds", "vslsp.skills", "vslsp.loop", "vslsp.experiments", "vslsp.tasks")
+    for module, targets in import_graph().items():
+        if module.startswith(("vslsp.vsl.", "vslsp.vsl3d.")) or module in ("vslsp.vsl", "vslsp.vsl3d"):
+            assert not [t for t in targets if t.startswith(worldly)], module
+
+
+def test_only_the_simulator_imports_pybullet():
+    importers = set()
+    for path in PACKAGE.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else []
+            names += [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+            if any(name.split(".")[0] in ("pybullet", "pybullet_data", "pybullet_utils") for name in names):
+                importers.add(subpackage(_module_name(path)))
+    assert importers == {"vslsp.sim"}
 
 
 def test_the_simulator_imports_no_perception_planning_or_task_code():

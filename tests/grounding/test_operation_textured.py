@@ -126,9 +126,9 @@ def test_a_texture_mark_beside_the_line_is_no_object_of_its_own():
     """The purple cube of keep-all-near's exploration at seed 1084 (with faults): a pink mark of
     its texture touches the landmark line and once made a second, unnamed object, which the
     robot then tried to push (the trial failed: "exploring push on object ... observed nothing")."""
-    from vslsp.experiments.icub_run import scene_for
     from vslsp.experiments.seeds import exploration_seed
+    from vslsp.worlds.icub import line_layout
 
-    with World(scene_for(exploration_seed(1084, 0), ("purple",), (False,))) as world:  # the head camera on the robot
+    with World(line_layout(exploration_seed(1084, 0), ("purple",), (False,))) as world:  # the head camera on the robot
         grounding = ground_scene(world.observe("head").rgb, robot_side="bottom")
     assert grounding.far_by_name() == {"purple": False}

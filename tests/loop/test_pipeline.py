@@ -5,9 +5,9 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
-from vslsp.loop.experiments import _record
-from vslsp.loop.trial import Trial
 
+from vslsp.experiments.icub_run import IcubRun
+from vslsp.experiments.icub_scripts import _record
 from vslsp.loop.pipeline import execute_task, explore_skill, learn_models
 from vslsp.sim import SceneSpec, World
 from vslsp.symbolic import Atom, Not, PlanStatus, SometimeBefore, Step, Task, learn_task, read_domain
@@ -106,9 +106,9 @@ def test_a_planner_timeout_ends_the_run_as_a_timeout_and_keeps_the_order(library
     assert run.error == "no plan: the planner's time limit of 0.01 s reached (raise it with --timeout)"
     assert run.notes == []  # not replanned without the demonstrated order
     assert run.to_dict()["planning_status"] == "timeout"
-    trial = Trial("pull-in-order", 7)  # the trial's record and the report's failure cause say so too
+    trial = IcubRun(7)  # the trial's record and the report's failure cause say so too
     _record(trial, run)
-    assert trial.to_dict()["planning_status"] == "timeout" and trial.error == run.error
+    assert trial.details["planning_status"] == "timeout" and trial.error == run.error
     assert trial.cause == "planner time limit" and not trial.success
 
 

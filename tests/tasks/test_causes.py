@@ -7,10 +7,9 @@ from __future__ import annotations
 import json
 import pickle
 
-from vslsp.tasks.house_roof import _failure as house_roof_failure
-from vslsp.tasks.tabletop import _failure as tabletop_failure
-
 from vslsp.errors import GroundingFailed, TaskFailed
+from vslsp.experiments.house_roof import _failure as house_roof_failure
+from vslsp.experiments.tabletop import _failure as tabletop_failure
 from vslsp.outcomes import Diagnosis
 from vslsp.symbolic import NoPlan, PlanStatus, Unsolvable
 from vslsp.tasks import TrialResult

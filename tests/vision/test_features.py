@@ -3,7 +3,7 @@
 import numpy as np
 
 from vslsp.vision.features import Features, extract_features, object_features
-from vslsp.vsl.house_sprites import houses_world
+from vslsp.worlds.house_roof.sprites import houses_world
 
 
 def test_features_are_found_on_texture_and_not_on_a_blank_board():

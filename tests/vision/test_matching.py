@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vslsp.vision.matching import NoMatch, find_best_match, frame_sizes
-from vslsp.vsl.house_sprites import BODY_SIZE, houses_world
+from vslsp.worlds.house_roof.sprites import BODY_SIZE, houses_world
 
 
 def test_frames_grow_from_the_object_to_the_whole_world():

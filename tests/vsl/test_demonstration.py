@@ -10,8 +10,8 @@ import pytest
 from vslsp.errors import InputError
 from vslsp.grounding.synthetic import Square, tabletop_image
 from vslsp.vsl.demonstration import Demonstration, ImagePlane
-from vslsp.vsl.house_world import HouseWorld
 from vslsp.vsl.recorder import Recorder
+from vslsp.worlds.house_roof.board import HouseWorld
 
 SCENES = [
     [Square("red", (150, 400)), Square("blue", (450, 150), angle=20)],

@@ -10,11 +10,11 @@ import pytest
 from helpers.cli import vslsp
 
 from vslsp.errors import InputError
+from vslsp.experiments.house_roof_trial import PIXEL_SIZE, demonstrate, reproduce
 from vslsp.geometry.poses import compose, relative, wrap
 from vslsp.tasks import get_task
-from vslsp.vsl.house_roof import PIXEL_SIZE, demonstrate, reproduce
-from vslsp.vsl.house_sprites import body_sprite, houses_world, paste, roof_sprite
-from vslsp.vsl.house_world import BELOW, TOP, HouseWorld
+from vslsp.worlds.house_roof.board import BELOW, TOP, HouseWorld
+from vslsp.worlds.house_roof.sprites import body_sprite, houses_world, paste, roof_sprite
 
 # Trials whose new world makes the fixed small frame go wrong (found by running the trials;
 # about three in four do): ops 1 and 2 land on free bodies, op 3 below an occupied one.

@@ -9,13 +9,13 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from vslsp.experiments.house_roof_trial import ObservationFeatures, demonstrate, pick_frame, place_search, reproduce
 from vslsp.geometry.poses import compose
 from vslsp.vision.features import extract_features
 from vslsp.vision.matching import Match, NoMatch, find_best_match
 from vslsp.vision.transform import decompose
-from vslsp.vsl.house_roof import ObservationFeatures, demonstrate, pick_frame, place_search, reproduce
-from vslsp.vsl.house_world import SLOTS, HouseWorld
 from vslsp.vsl.matcher import Round, Search, frame_correlation, match_observation, refit
+from vslsp.worlds.house_roof.board import SLOTS, HouseWorld
 
 
 @pytest.fixture(scope="module")

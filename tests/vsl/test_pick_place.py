@@ -10,10 +10,10 @@ from vslsp.errors import InputError
 from vslsp.geometry.poses import wrap
 from vslsp.sim.tabletop import Placement, TabletopWorld
 from vslsp.vision.features import Features, extract_features
-from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.vsl.pick_place import TableModel, TableView, apply, changed_region, object_candidates
 from vslsp.vsl.recorder import Heights, Recorder
 from vslsp.vsl.reproduction import correction, identify, identify_moved, plan_operation
+from vslsp.worlds.panda_table import layouts as scenes
 
 LETTERS = {item.name: item for item in scenes.letters()}
 FROM, TO = Placement(0.42, 0.12, 0.4), Placement(0.64, 0.07, 1.9)  # the tutor turns A by 1.5 rad

@@ -11,11 +11,12 @@ import numpy as np
 import pytest
 
 from vslsp.experiments import stacking, table_cleaning
-from vslsp.sim.cloud_scene import BOXES, CloudScene
+from vslsp.experiments.cloud_reproduction import world_of
+from vslsp.sim.cloud_scene import BOXES
 from vslsp.vsl3d.matching import Match, find_best_match
 from vslsp.vsl3d.registration import transform_error
-from vslsp.vsl3d.reproduce import world_of
 from vslsp.vsl3d.vsl import get_object
+from vslsp.worlds.rgbd_table import RgbdTable
 
 TOLERANCE_M, TOLERANCE_DEG = 0.01, 5.0
 # The seeds' scenes as they were drawn when each case failed (the layouts drawn now keep every
@@ -36,7 +37,7 @@ def test_get_object_tells_the_true_turn_from_a_near_symmetric_flip(seed, name):
     where one of the two captures saw free space."""
     rng = np.random.default_rng(seed)
     layout, _ = _scenes("table-cleaning", seed)
-    with CloudScene(layout, robot=True) as scene:
+    with RgbdTable(layout, robot=True) as scene:
         before = scene.pose(name)
         centre = sum(scene.bounds(name)) / 2.0
         demonstrated, goals, _ = table_cleaning.demonstrate(scene, layout, rng, "prerejective_ransac", seed)
@@ -54,7 +55,7 @@ def _stacking_demonstration(seed: int):
     layout, new = _scenes("stacking", seed)
     objects = {name: layout[name] for name, _ in stacking.OPERATIONS}
     demonstrated, boxes_before = [], {}
-    with CloudScene(objects, tray=False, robot=True, boxes={box: layout[box] for box in BOXES}) as scene:
+    with RgbdTable(objects, tray=False, robot=True, boxes={box: layout[box] for box in BOXES}) as scene:
         for name, box in stacking.OPERATIONS:
             scene.park()
             pre_image, before = scene.capture(), scene.pose(name)
@@ -72,7 +73,7 @@ def _stacking_demonstration(seed: int):
         name: (*new[name][:2], layout[name][2] + rng.uniform(-stacking.MAX_TURN, stacking.MAX_TURN))
         for name, _ in stacking.OPERATIONS
     }
-    with CloudScene(objects, tray=False, robot=True, boxes={box: new[box] for box in BOXES}) as scene:
+    with RgbdTable(objects, tray=False, robot=True, boxes={box: new[box] for box in BOXES}) as scene:
         scene.park()
         world = world_of(scene.capture())
         motions = {}

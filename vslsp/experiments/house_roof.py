@@ -27,7 +27,7 @@ from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square
 from vslsp.tasks.registry import register
 
 FRAMES = ("fixed", "adaptive")  # the values of vslsp.vision.matching.FrameMode, as the report orders them
-PIXEL_MM = 1.0  # mm per px of the board (vslsp.vsl.house_roof.PIXEL_SIZE, heavy to import)
+PIXEL_MM = 1.0  # mm per px of the board (vslsp.experiments.house_roof_trial.PIXEL_SIZE, heavy to import)
 
 
 @register
@@ -48,8 +48,8 @@ class HouseRoof(Task):
         :func:`~vslsp.experiments.seeds.reproduction_seed`; ``keep`` holds on to the images for the report."""
         import time
 
-        from vslsp.vsl.house_roof import ObservationFeatures, demonstrate, reproduce
-        from vslsp.vsl.house_world import HouseWorld
+        from vslsp.experiments.house_roof_trial import ObservationFeatures, demonstrate, reproduce
+        from vslsp.worlds.house_roof.board import HouseWorld
 
         try:
             demo = demonstrate(seed)
@@ -184,7 +184,7 @@ def _demonstration_picture(demo) -> np.ndarray:
     """One row per operation: pre-pick (pick frame), pre-place (first place frame), post."""
     import cv2
 
-    from vslsp.vsl.house_roof import pick_frame, place_frames
+    from vslsp.experiments.house_roof_trial import pick_frame, place_frames
 
     rows = []
     for k, op in enumerate(demo.demonstration.operations, start=1):
@@ -214,7 +214,7 @@ def _matches_picture(demo, reproduction, frame: str) -> np.ndarray:
     the place frame that decided (orange) mapped into it by their transforms."""
     import cv2
 
-    from vslsp.vsl.house_roof import frame_box, pick_frame
+    from vslsp.experiments.house_roof_trial import frame_box, pick_frame
 
     panels = []
     for k, (op, result) in enumerate(zip(demo.demonstration.operations, reproduction.operations), start=1):
@@ -252,7 +252,7 @@ def _trajectory_figure(path: Path, reproduction) -> None:
     """The hand's paths over the reproduction world (x, y), its height and rotation in time."""
     import matplotlib
 
-    from vslsp.vsl.house_roof import PIXEL_SIZE
+    from vslsp.experiments.house_roof_trial import PIXEL_SIZE
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -7,12 +7,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from vslsp.errors import InputError
 from vslsp.loop.monitor import FAULT_WHAT, StepResult
 from vslsp.loop.pipeline import Execution
 from vslsp.sim import SceneSpec, World
 from vslsp.sim.video import SceneVideo
 from vslsp.symbolic import Domain, Task
+from vslsp.worlds.icub import IcubLineWorld
 
 
 @dataclass
@@ -48,9 +48,9 @@ class IcubRun:
         if callable(self.on_stage):
             self.on_stage(what)
 
-    def world(self, spec: SceneSpec) -> World:
+    def world(self, spec: SceneSpec) -> IcubLineWorld:
         """A world of ``spec`` for this trial (filmed when the trial makes a video)."""
-        world = World(spec, gui=self.gui)
+        world = IcubLineWorld.from_layout(spec, gui=self.gui)
         if self.video is not None:
             self.video.attach(world)
         return world
@@ -71,14 +71,3 @@ class IcubRun:
         verdict = "ok" if result.ok else "effect MISSING"
         fault = f" (FAULT {result.fault}: {FAULT_WHAT[result.fault]})" if result.fault else ""
         self.show(world, f"{label}{fault}", f"expected {result.expected}, observed {result.observed}: {verdict}")
-
-
-def scene_for(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None = None) -> SceneSpec:
-    """A random scene with these colours (the same seed, the same scene): the first of
-    ``seed * 101 + k`` that places them."""
-    for k in range(50):
-        try:
-            return SceneSpec.random(seed * 101 + k, colours=colours, far=far)
-        except InputError:
-            continue
-    raise InputError(f"no scene found for {len(colours)} cubes with seed {seed}")

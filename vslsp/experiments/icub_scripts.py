@@ -22,19 +22,19 @@ from collections.abc import Callable
 import numpy as np
 
 from vslsp.errors import VslspError
-from vslsp.experiments.icub_run import IcubRun, scene_for
+from vslsp.experiments.icub_run import IcubRun
 from vslsp.experiments.icub_vsl import reproduce_vsl
 from vslsp.experiments.seeds import demonstration_seed, exploration_seed, reproduction_seed
 from vslsp.grounding.operation import ground
 from vslsp.loop.monitor import StepResult
 from vslsp.loop.perception import PerceivedState, perceive
 from vslsp.loop.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
-from vslsp.loop.watching import tutor_operation
 from vslsp.sim import COLOURS, SceneSpec, World
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, learn_task
 from vslsp.vsl.demonstration import Demonstration, ImagePlane, Operation
 from vslsp.vsl.recorder import Recorder
+from vslsp.worlds.icub import line_layout, tutor_operation
 
 ORDERED_COLOURS = ("orange", "green", "yellow")
 # With user predicates the robot tries each skill this many times (different cubes and places):
@@ -89,7 +89,7 @@ def _explore(trial: IcubRun, rng: np.random.Generator, library: SkillLibrary) ->
     for r in range(rounds):
         for k, action in enumerate(("push", "pull")):
             colour = str(rng.choice(list(COLOURS)))
-            spec = scene_for(exploration_seed(trial.seed, k + 2 * r), (colour,), (action == "pull",))
+            spec = line_layout(exploration_seed(trial.seed, k + 2 * r), (colour,), (action == "pull",))
             with trial.world(spec) as world:
                 trial.say(f"the robot tries {action} on {colour} to learn what it does")
                 exploration = explore_skill(world, library, action, predicates=trial.predicates)
@@ -113,7 +113,7 @@ def _explore(trial: IcubRun, rng: np.random.Generator, library: SkillLibrary) ->
 
 def simple_vsl_task(trial: IcubRun, rng, library, faults, planner) -> None:
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=3, replace=False))
-    with trial.world(scene_for(trial.seed, colours)) as world:
+    with trial.world(line_layout(trial.seed, colours)) as world:
         start_far = tuple(world.is_far(c.name) for c in world.spec.cubes)
         colours = tuple(c.colour for c in world.spec.cubes)
         recorder = Recorder(ImagePlane(world.observe("head").rgb))
@@ -124,7 +124,7 @@ def simple_vsl_task(trial: IcubRun, rng, library, faults, planner) -> None:
         trial.details["demonstrated_changes"] = [f"{s.action} {s.obj}: {s.changed()}" for s in watched]
     goal = {op.symbol: op.grounding.far_post for op in demonstration.operations}
     # Reshuffled: new places and a new line pose, each cube on the side it started from.
-    with trial.world(scene_for(reproduction_seed(trial.seed), colours, start_far)) as world:
+    with trial.world(line_layout(reproduction_seed(trial.seed), colours, start_far)) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         acted = reproduce_vsl(world, trial, library, demonstration, faults)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
@@ -156,7 +156,7 @@ def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
             # colours; demonstrations that only ever pull one colour teach that colour alone.
             other = next(k for k, c in enumerate(colours) if c not in pulled)
             far = far[:other] + (True,) + far[other + 1 :]
-        with trial.world(scene_for(demonstration_seed(trial.seed, i), colours, far)) as world:
+        with trial.world(line_layout(demonstration_seed(trial.seed, i), colours, far)) as world:
             pulls = [(c, a) for c, a in _tutor_task(world.spec, rng, world) if a == "pull"]
             pulled |= {c for c, _ in pulls}
             demonstrations.append(_watch(world, trial, pulls, f"demonstration {i + 1}"))
@@ -166,7 +166,7 @@ def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
     far = tuple(bool(v) for v in rng.random(n) < 0.6)
     if not any(far):
         far = (True,) + far[1:]
-    with trial.world(scene_for(reproduction_seed(trial.seed), colours, far)) as world:
+    with trial.world(line_layout(reproduction_seed(trial.seed), colours, far)) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         before, after = _narration(trial, world)
         run = _execute(trial, world, library, faults, planner, before, after)
@@ -202,14 +202,14 @@ def _execute(trial: IcubRun, world, library, faults, planner, before, after):
 def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
     all_far = (True,) * len(ORDERED_COLOURS)
     _explore(trial, rng, library)
-    with trial.world(scene_for(trial.seed, ORDERED_COLOURS, all_far)) as world:
+    with trial.world(line_layout(trial.seed, ORDERED_COLOURS, all_far)) as world:
         trial.stage("watching the tutor's demonstration")
         recorder = Recorder(ImagePlane(world.observe("head").rgb))
         steps = _watch(world, trial, [(c, "pull") for c in ORDERED_COLOURS], "demonstration", recorder)
         demonstration = recorder.demonstration()
     trial.stage("learning the task and its order; planning and executing (VSL-SP)")
     trial.task = learn_task([steps], ordered=True, models=trial.domain if trial.predicates else None)
-    test_scene = scene_for(reproduction_seed(trial.seed), ORDERED_COLOURS, all_far)
+    test_scene = line_layout(reproduction_seed(trial.seed), ORDERED_COLOURS, all_far)
     # VSL-SP: the order comes from the sometime-before constraints the planner must respect.
     with trial.world(test_scene) as world:
         became_near: list[str] = []

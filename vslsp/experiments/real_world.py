@@ -1,7 +1,7 @@
 """The five real-world VSL tasks of the paper ("Real-world Experiments", Table 1) in the
 tabletop world, each a registered :class:`~vslsp.experiments.tabletop.TabletopExperiment` (its
 layout, the tutor's moves and its reproduction protocol; the judge and the robot's operation are
-in :mod:`vslsp.vsl.tabletop_tasks`).
+in :mod:`vslsp.experiments.tabletop_protocol`).
 
 - ``alphabet-ordering``: letters A-D put in a row by a static right-angle baseline (relative and
   absolute positioning); reproduced in order from a new scatter.
@@ -31,15 +31,7 @@ import copy
 import numpy as np
 
 from vslsp.experiments.tabletop import TabletopExperiment
-from vslsp.outcomes import Diagnosis
-from vslsp.sim.tabletop import Placement
-from vslsp.tasks.registry import register
-from vslsp.vision.features import Features, extract_features
-from vslsp.vision.matching import Match, NoMatch
-from vslsp.vsl import tabletop_scenes as scenes
-from vslsp.vsl.pick_place import PickPlaceDemonstration
-from vslsp.vsl.reproduction import find_place, identify, identify_moved, match_object
-from vslsp.vsl.tabletop_tasks import (
+from vslsp.experiments.tabletop_protocol import (
     OperationOutcome,
     judge,
     look,
@@ -47,6 +39,14 @@ from vslsp.vsl.tabletop_tasks import (
     robot_operation,
     tutor_operation,
 )
+from vslsp.outcomes import Diagnosis
+from vslsp.sim.tabletop import Placement
+from vslsp.tasks.registry import register
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.matching import Match, NoMatch
+from vslsp.vsl.pick_place import PickPlaceDemonstration
+from vslsp.vsl.reproduction import find_place, identify, identify_moved, match_object
+from vslsp.worlds.panda_table import layouts as scenes
 
 
 @register
@@ -91,7 +91,7 @@ class AnimalPuzzle(TabletopExperiment):
                 local = scenes.ON_LABEL[part]
 
                 def where(world, label=label, local=local):
-                    x, y, _, yaw = world.pose(label)
+                    x, y, _, yaw = world.truth(label)
                     return Placement(*scenes.compose((x, y, yaw), local), on=label)
 
                 yield f"{animal}-{part}", where, label
@@ -182,7 +182,7 @@ class AnimalsVsMachines(TabletopExperiment):
                 subject,
                 (
                     lambda world, b=f"bin-{kind}", s=slot: Placement(
-                        *scenes.compose(world.pose(b)[:2] + (world.pose(b)[3],), s), on=b
+                        *scenes.compose(world.truth(b)[:2] + (world.truth(b)[3],), s), on=b
                     )
                 ),
                 f"bin-{kind}",
@@ -195,7 +195,7 @@ class AnimalsVsMachines(TabletopExperiment):
         outcomes, remaining = [], list(range(len(order)))
         for subject in order:
             (shown,) = scenes.scatter(rng, [world.specs[subject]], region=((0.34, 0.45), (-0.2, 0.2)))
-            world.tutor_place(subject, shown)
+            world.tutor_move(subject, shown)
             image = look(world)
             found = identify(demo.demonstration, image, extract_features(image), remaining)
             expected = demo.items.index(subject)
@@ -238,7 +238,7 @@ class Domino(TabletopExperiment):
                 f"domino-{k}",
                 (
                     lambda world, p=previous: Placement(
-                        *scenes.compose(world.pose(p)[:2] + (world.pose(p)[3],), scenes.DOMINO_NEXT)
+                        *scenes.compose(world.truth(p)[:2] + (world.truth(p)[3],), scenes.DOMINO_NEXT)
                     )
                 ),
                 previous,

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import TaskFailed, VslspError
+from vslsp.experiments.cloud_reproduction import Reproduction, reproduce, world_of
 from vslsp.experiments.table_cleaning import (
     TOLERANCE_DEG,
     TOLERANCE_M,
@@ -31,12 +32,12 @@ from vslsp.experiments.table_cleaning import (
     say_outcome,
 )
 from vslsp.outcomes import NoMatch
-from vslsp.sim.cloud_scene import BOXES, CloudScene, random_layout
+from vslsp.sim.cloud_scene import BOXES
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.matching import Match, find_best_match
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_clouds, trial_pictures
-from vslsp.vsl3d.reproduce import Reproduction, reproduce, world_of
 from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCloud, euclidean_clusters, get_object
+from vslsp.worlds.rgbd_table import RgbdTable, random_layout
 
 OPERATIONS = (("duck", "box1"), ("teddy", "box2"))  # each object goes on top of its box
 BOX_SYMMETRY = {"box1": 2, "box2": 4}  # turns about the vertical under which a box looks the same
@@ -108,7 +109,7 @@ def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
 
 
 def relative_error(
-    scene: CloudScene, name: str, box: str, goal_object: np.ndarray, goal_box: np.ndarray
+    scene: RgbdTable, name: str, box: str, goal_object: np.ndarray, goal_box: np.ndarray
 ) -> tuple[float, float, float]:
     """The object's pose on its box against the demonstrated one, up to the box's symmetry
     (:func:`~vslsp.experiments.table_cleaning.pose_error`'s mm, turn and rotation)."""
@@ -118,8 +119,8 @@ def relative_error(
         turn = np.eye(4)
         angle = 2.0 * np.pi * k / BOX_SYMMETRY[box]
         turn[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
-        goal = scene.pose(box) @ turn @ np.linalg.inv(goal_box) @ goal_object
-        errors.append(pose_error(goal, scene.pose(name), (lower + upper) / 2.0))
+        goal = scene.truth(box) @ turn @ np.linalg.inv(goal_box) @ goal_object
+        errors.append(pose_error(goal, scene.truth(name), (lower + upper) / 2.0))
     return min(errors, key=lambda e: e[0] / (TOLERANCE_M * 1000) + e[1] / TOLERANCE_DEG)
 
 
@@ -137,18 +138,18 @@ def run_stacking(
     demonstrated: list[tuple[MovedObject, CloudObservation] | str] = []
     goals: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     images = []
-    with CloudScene(objects, tray=False, robot=True, boxes=boxes) as scene:
+    with RgbdTable(objects, tray=False, robot=True, boxes=boxes) as scene:
         film(scene, video, "stacking: the tutor's demonstration")
         for name, box in OPERATIONS:
             scene.say(f"the tutor stacks {name} on {box}")
             scene.park()
             pre_image = scene.capture()
-            x, y = scene.pose(box)[:2, 3]
+            x, y = scene.truth(box)[:2, 3]
             yaw = layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)
             scene.tutor_move(name, scene.resting_pose(name, x, y, yaw, support=BOXES[box][2]))
             scene.settle()
             post_image = scene.capture()
-            goals[name] = (scene.pose(name), scene.pose(box))
+            goals[name] = (scene.truth(name), scene.truth(box))
             try:
                 pre = world_of(pre_image)
                 moved = get_object(pre, world_of(post_image), method=method, seed=seed)
@@ -181,7 +182,7 @@ def run_stacking(
     boxes = {box: moved_layout[box] for box in BOXES if box not in absent}
     results: list[StackResult] = []
     matched, cloud, records = [], None, {}
-    with CloudScene(objects, tray=False, robot=True, boxes=boxes) as scene:
+    with RgbdTable(objects, tray=False, robot=True, boxes=boxes) as scene:
         film(scene, video, "stacking: the robot reproduces the stacks (VSL-3D)")
         movable = list(scene.bodies.values())
         put_down: list[np.ndarray] = []  # where earlier operations put their objects
@@ -236,7 +237,7 @@ def run_stacking(
 
 
 def judge(
-    scene: CloudScene,
+    scene: RgbdTable,
     index: int,
     name: str,
     box: str,

@@ -3,13 +3,13 @@
 inside the empty box and the final one in front of the box according to the demonstration ...
 Before the reproduction phase starts, the objects are reshuffled randomly").
 
-The world is physical (:class:`CloudScene` with ``robot=True``): objects settle under gravity
+The world is physical (:class:`~vslsp.worlds.rgbd_table.RgbdTable`): objects settle under gravity
 and the Franka Panda picks and places them. Demonstration (Algorithm 1, part I): for each
 operation the tutor's hand moves one object while the RGB-D sensor captures the pre- and
 post-action worlds; :func:`get_object` finds the object, its pre-/post-action observations and
 its motion T_j (4x4). Reproduction (part II): in the reshuffled world the robot finds each
 recorded pre-action observation (pose M_j), grasps the object where its matched cloud says, and
-puts it down at T_j M_j^-1 (:mod:`vslsp.vsl3d.reproduce`). The simulator's ground truth then says
+puts it down at T_j M_j^-1 (:mod:`vslsp.experiments.cloud_reproduction`). The simulator's ground truth then says
 how close each object came to its demonstrated pose: within :data:`TOLERANCE_M` at its centre
 and :data:`TOLERANCE_DEG` of turn about the vertical (a grasped object does not land as exactly
 as a pose reset; the whole rotation, which includes how a released object settles, is reported).
@@ -24,12 +24,13 @@ from typing import Any
 import numpy as np
 
 from vslsp.errors import VslspError
-from vslsp.sim.cloud_scene import TRAY_POSITION, CloudScene, random_layout
+from vslsp.experiments.cloud_reproduction import WORKSPACE, Reproduction, reproduce, world_of
+from vslsp.sim.cloud_scene import TRAY_POSITION
 from vslsp.vsl3d.cloud import DepthCamera
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, draw_grasp, trial_clouds, trial_pictures
 from vslsp.vsl3d.registration import transform_error
-from vslsp.vsl3d.reproduce import WORKSPACE, Reproduction, reproduce, world_of
 from vslsp.vsl3d.vsl import MovedObject, get_object
+from vslsp.worlds.rgbd_table import RgbdTable, random_layout
 
 __all__ = [
     "OPERATIONS",
@@ -150,7 +151,7 @@ def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[
 
 
 def demonstrate(
-    scene: CloudScene, layout: dict, rng: np.random.Generator, method: str, seed: int
+    scene: RgbdTable, layout: dict, rng: np.random.Generator, method: str, seed: int
 ) -> tuple[list[tuple[MovedObject | None, str | None]], dict[str, np.ndarray], list[np.ndarray]]:
     """The tutor's operations in ``scene``: per operation getObject's result (or why it failed),
     the true goal poses, and the pre|post RGB pictures with the found frames."""
@@ -166,7 +167,7 @@ def demonstrate(
         scene.tutor_move(name, scene.resting_pose(name, x, y, yaw, support=support))
         scene.settle()
         post_image = scene.capture()
-        goals[name] = scene.pose(name)
+        goals[name] = scene.truth(name)
         try:
             moved = get_object(world_of(pre_image), world_of(post_image), method=method, seed=seed)
             demonstrated.append((moved, None))
@@ -184,14 +185,14 @@ def demonstrate(
     return demonstrated, goals, images
 
 
-def film(scene: CloudScene, video: Any, caption: str) -> None:
+def film(scene: RgbdTable, video: Any, caption: str) -> None:
     """Let ``video`` (a :class:`~vslsp.sim.video.SceneVideo`, or None) film ``scene`` under ``caption``."""
     if video is not None:
         video.attach(scene)
         scene.say(caption, hold=1.0)
 
 
-def say_outcome(scene: CloudScene, index: int, result: RobotOperation) -> None:
+def say_outcome(scene: RgbdTable, index: int, result: RobotOperation) -> None:
     """An operation's outcome in the video's caption, held a moment."""
     error = (
         f"{result.final_error_mm} mm, {result.final_error_deg} deg from the demonstrated pose"
@@ -202,14 +203,14 @@ def say_outcome(scene: CloudScene, index: int, result: RobotOperation) -> None:
 
 
 def judge(
-    scene: CloudScene, index: int, name: str, summary: dict, record: Reproduction, goal: np.ndarray
+    scene: RgbdTable, index: int, name: str, summary: dict, record: Reproduction, goal: np.ndarray
 ) -> OperationResult:
     """The operation's result from the robot's record and the truth."""
     picked = next((a.held for a in reversed(record.attempts) if a.held is not None), None)
     errors: tuple[float | None, float | None, float | None] = (None, None, None)
     if record.attempts:
         lower, upper = scene.bounds(name)
-        errors = pose_error(goal, scene.pose(name), (lower + upper) / 2.0)
+        errors = pose_error(goal, scene.truth(name), (lower + upper) / 2.0)
     return OperationResult(index, name, summary, record.to_dict(), picked, *errors, error=record.diagnosis)
 
 
@@ -226,7 +227,7 @@ def run_table_cleaning(
     rng = np.random.default_rng(seed)
     names = [name for name, _, _ in OPERATIONS] + ["blob"]  # the blob stays on the table
     layout = random_layout(names, seed, keep_clear=KEEP_CLEAR)
-    with CloudScene(layout, robot=True) as scene:
+    with RgbdTable(layout, robot=True) as scene:
         film(scene, video, "table cleaning: the tutor's demonstration")
         demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed)
         scene.park()
@@ -236,7 +237,7 @@ def run_table_cleaning(
         name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()
     }
     results, matched, cloud, records = [], [], None, {}
-    with CloudScene(reshuffled, robot=True) as scene:
+    with RgbdTable(reshuffled, robot=True) as scene:
         film(scene, video, "table cleaning: the robot reproduces it (VSL-3D)")
         movable = list(scene.bodies.values())
         put_down: list[np.ndarray] = []  # where earlier operations put their objects

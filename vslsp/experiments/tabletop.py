@@ -9,7 +9,7 @@ An experiment gives its layout (:meth:`TabletopExperiment.layout`), the tutor's 
 the tutor demonstrates in the world of s, the robot reproduces in a new world of
 :func:`~vslsp.experiments.seeds.reproduction_seed` (objects scattered anew, and the task's
 landmarks moved where it says), and the judge checks every operation and the goal on the ground
-truth (:mod:`vslsp.vsl.tabletop_tasks`). The report adds per-operation rates and diagnoses, and
+truth (:mod:`vslsp.experiments.tabletop_protocol`). The report adds per-operation rates and diagnoses, and
 pictures of one trial: the recorded observations with their frames, the match overlays of the
 reproduction, the final worlds and the executed hand paths.
 """
@@ -30,8 +30,9 @@ from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.drawing import PICK, PLACE, grid, label, small, square
 
 if TYPE_CHECKING:
-    from vslsp.sim.tabletop import Item, Placement, TabletopWorld
-    from vslsp.vsl.tabletop_tasks import Move, OperationOutcome, TaskDemonstration
+    from vslsp.experiments.tabletop_protocol import Move, OperationOutcome, TaskDemonstration
+    from vslsp.sim.tabletop import Item, Placement
+    from vslsp.worlds.panda_table import PandaTable
 
 
 class TabletopExperiment(Task):
@@ -58,10 +59,10 @@ class TabletopExperiment(Task):
         """The tutor's operations: the item, where it goes (given the world), its anchor."""
         raise NotImplementedError
 
-    def goal(self, world: TabletopWorld, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> bool:
+    def goal(self, world: PandaTable, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> bool:
         """Every operation the reproduction owes was done, and the last demonstrated relation
         of every item it moved holds at the end (ground truth)."""
-        from vslsp.vsl.tabletop_tasks import judge
+        from vslsp.experiments.tabletop_protocol import judge
 
         owed = self.owed(demo, outcomes)
         if not set(owed) <= {o.index for o in outcomes}:
@@ -73,11 +74,11 @@ class TabletopExperiment(Task):
         """The demonstrated operations the reproduction must achieve: all of them."""
         return list(range(len(demo.items)))
 
-    def demonstrate(self, world: TabletopWorld, rng: np.random.Generator) -> TaskDemonstration:
+    def demonstrate(self, world: PandaTable, rng: np.random.Generator) -> TaskDemonstration:
         """The tutor's demonstration in ``world``, recorded operation by operation."""
+        from vslsp.experiments.tabletop_protocol import TaskDemonstration, relation, tutor_move
         from vslsp.vsl.pick_place import TableModel, TableView
         from vslsp.vsl.recorder import Recorder
-        from vslsp.vsl.tabletop_tasks import TaskDemonstration, relation, tutor_move
 
         recorder = Recorder(TableModel(TableView(world)))
         items, anchors, relations, seen = [], [], [], None
@@ -89,10 +90,10 @@ class TabletopExperiment(Task):
         return TaskDemonstration(recorder.demonstration(), tuple(items), tuple(anchors), tuple(relations))
 
     def reproduce(
-        self, world: TabletopWorld, demo: TaskDemonstration, rng: np.random.Generator, keep: bool = False
+        self, world: PandaTable, demo: TaskDemonstration, rng: np.random.Generator, keep: bool = False
     ) -> list[OperationOutcome]:
         """Algorithm 1 part II: every operation in the demonstrated order."""
-        from vslsp.vsl.tabletop_tasks import robot_operation
+        from vslsp.experiments.tabletop_protocol import robot_operation
 
         return [robot_operation(world, demo, k, self.anchor_map, keep=keep) for k in range(len(demo.items))]
 
@@ -120,13 +121,13 @@ class TabletopExperiment(Task):
         return result
 
     def _trial(self, seed: int, keep: bool, video) -> TrialResult:
-        from vslsp.sim.tabletop import TabletopWorld
-        from vslsp.vsl.tabletop_tasks import look
+        from vslsp.experiments.tabletop_protocol import look
+        from vslsp.worlds.panda_table import PandaTable
 
         task = self.for_seed(seed)
         variant = task.variant
         rng = np.random.default_rng(seed)
-        with TabletopWorld(task.layout(rng, "demonstration"), seed) as world:
+        with PandaTable.from_layout(task.layout(rng, "demonstration"), seed) as world:
             if video is not None:
                 video.attach(world)
                 world.say(f"{self.name}: the tutor's demonstration")
@@ -144,7 +145,7 @@ class TabletopExperiment(Task):
                 )
             goal = look(world) if keep else None
         rng = np.random.default_rng(reproduction_seed(seed))
-        with TabletopWorld(task.layout(rng, "reproduction"), seed) as world:
+        with PandaTable.from_layout(task.layout(rng, "reproduction"), seed) as world:
             if video is not None:
                 video.attach(world)
                 world.say(f"{self.name}: the robot reproduces it in a new scene (VSL)", hold=1.0)

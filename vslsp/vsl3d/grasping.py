@@ -1,4 +1,4 @@
-"""Grasping from the point cloud, and one pick-and-place of VSL-3D executed by the robot (paper,
+"""Grasping from the point cloud (paper,
 section "Methodology", grasping: the grasp point and the approach come from the observation,
 "the fingers stop closing when the measured torque is more than a pre-defined threshold";
 section "VSL-3D": the object is moved by the demonstrated motion applied to the match).
@@ -12,7 +12,9 @@ section "VSL-3D": the object is moved by the demonstrated motion applied to the 
   T_j after undoing the match M_j), the hand turned by that motion's yaw; the held object comes
   down from just above the height the cloud shows until it touches what is below (the arm's
   guarded descent), so it lands on the table, in the box or on another object.
-- :func:`pick_and_place` runs it on the Panda (:func:`vslsp.sim.pick_place.execute_between`).
+
+The robot carries it out in its world (:meth:`vslsp.worlds.rgbd_table.RgbdTable.grasp_and_place`):
+nothing here knows a robot but the gripper's opening, given.
 """
 
 from __future__ import annotations
@@ -22,8 +24,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from vslsp.errors import TaskFailed
-from vslsp.sim.panda import FINGER_OPEN
-from vslsp.sim.pick_place import PickPlaceResult, execute_between, wrist_branch
 
 GRASP_DEPTH = 0.03  # m below the object's top where the fingertips close
 TIP_CLEARANCE = 0.006  # m the fingertips stay above the object's lowest seen point
@@ -53,16 +53,17 @@ class Grasp:
         }
 
 
-def plan_grasp(points: np.ndarray, higher: float = 0.0) -> Grasp:
-    """The grasp of an object seen as ``points`` (N, 3) (the matched observation in the world),
-    the fingertips ``higher`` m above the first choice (a retry grips elsewhere). Raises
+def plan_grasp(points: np.ndarray, finger_open: float, higher: float = 0.0) -> Grasp:
+    """The grasp of an object seen as ``points`` (N, 3) (the matched observation in the world) by
+    a gripper whose fingers each open ``finger_open`` m from its middle, the fingertips ``higher``
+    m above the first choice (a retry grips elsewhere). Raises
     :class:`TaskFailed` ("ungraspable") when both sides are wider than the gripper."""
     points = np.asarray(points, dtype=float)
     if len(points) < 10:
         raise TaskFailed(f"ungraspable: the object's cloud has only {len(points)} points", cause="ungraspable")
     top = float(np.percentile(points[:, 2], 99.5))
     bottom = max(0.0, float(np.percentile(points[:, 2], 0.5)))
-    widest = 2.0 * (FINGER_OPEN - FINGER_ROOM)
+    widest = 2.0 * (finger_open - FINGER_ROOM)
     narrowest = np.inf
     # Half the height first: it holds a tall object without letting it pivot, and a short round
     # one at its widest (lower, the pads press down on its curve and wedge it against the table:
@@ -99,14 +100,3 @@ def place_for(grasp: Grasp, motion: np.ndarray) -> tuple[np.ndarray, float]:
     ``grasp`` moved by ``motion`` (4, 4) = T_j M_j^-1."""
     point = motion[:3, :3] @ grasp.point + motion[:3, 3] + [0.0, 0.0, PLACE_CLEARANCE]
     return point, grasp.theta + float(np.arctan2(motion[1, 0], motion[0, 0]))
-
-
-def pick_and_place(world, grasp: Grasp, motion: np.ndarray, movable: list[int]) -> PickPlaceResult:
-    """Execute ``grasp`` and its place under ``motion`` (4, 4) with ``world``'s Panda; the
-    fingers close on one of the ``movable`` bodies."""
-    place, theta_place = place_for(grasp, motion)
-    theta_pick, theta_place = wrist_branch(
-        np.array([*grasp.point[:2], grasp.theta]), np.array([*place[:2], theta_place])
-    )
-    each = FINGER_OPEN  # a single view underestimates the width across it: open fully
-    return execute_between(world, grasp.point, place, theta_pick, theta_place, each, movable)

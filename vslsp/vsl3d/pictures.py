@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import Any
 
 import cv2
 import numpy as np
@@ -20,9 +20,6 @@ from vslsp.vsl3d.cloud import DepthCamera, Frame, voxel_downsample
 from vslsp.vsl3d.grasping import Grasp
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.vsl import MovedObject, euclidean_clusters
-
-if TYPE_CHECKING:
-    from vslsp.vsl3d.reproduce import Reproduction
 
 SEGMENT_GAP = 0.01  # points closer than this are one segment in the cloud picture
 PALETTE = np.array(
@@ -146,13 +143,14 @@ def labelled_cloud(scene: np.ndarray, found: np.ndarray, caption: str) -> dict[s
 
 
 def trial_clouds(
-    demonstrated: Sequence[MovedObject | None], reproduced: Mapping[int, Reproduction]
+    demonstrated: Sequence[MovedObject | None], reproduced: Mapping[int, Any]
 ) -> dict[str, dict[str, np.ndarray]]:
     """The clouds a person wants to turn in 3-D, by name: per demonstrated operation J (from 1)
     ``demonstration_J_pre`` and ``demonstration_J_post`` (the scene getObject was given, the
     object it found labelled), and per reproduced operation (``reproduced``: the operation's
-    index from 0 -> its record) ``reproduction_J`` (the last attempt's capture, the matched
-    observation labelled where findBestMatch put it)."""
+    index from 0 -> its record, a :class:`vslsp.experiments.cloud_reproduction.Reproduction`)
+    ``reproduction_J`` (the last attempt's capture, the matched observation labelled where
+    findBestMatch put it)."""
     clouds: dict[str, dict[str, np.ndarray]] = {}
     for number, moved in enumerate(demonstrated, start=1):
         if moved is not None and moved.scenes is not None:

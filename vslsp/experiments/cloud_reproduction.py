@@ -22,13 +22,15 @@ import numpy as np
 
 from vslsp.errors import TaskFailed, VslspError
 from vslsp.outcomes import Diagnosis, NoMatch
-from vslsp.sim.cloud_scene import CloudScene, RGBDImage
+from vslsp.sim.cloud_scene import RGBDImage
+from vslsp.sim.pick_place import PickPlaceResult
 from vslsp.stages import in_stage, stage
 from vslsp.vsl3d.cloud import DepthCamera, Frame
-from vslsp.vsl3d.grasping import Grasp, pick_and_place, plan_grasp
+from vslsp.vsl3d.grasping import Grasp, place_for, plan_grasp
 from vslsp.vsl3d.matching import Match, find_best_match
 from vslsp.vsl3d.registration import transform_points
 from vslsp.vsl3d.vsl import CloudObservation, WorldCloud
+from vslsp.worlds.rgbd_table import FINGER_OPEN, RgbdTable
 
 WORKSPACE = Frame((0.25, -0.40, 0.006), (0.90, 0.40, 0.40))  # the world: above the table top
 MIN_WORLD_POINTS = 200  # fewer points above the table: the capture shows no object
@@ -98,7 +100,7 @@ class Reproduction:
 
 
 def reproduce(
-    scene: CloudScene,
+    scene: RgbdTable,
     observation: CloudObservation,
     motion_for: Callable[[Match, WorldCloud], np.ndarray],
     *,
@@ -132,13 +134,13 @@ def reproduce(
                 return record
             attempt.match = found
             with stage("planning"):
-                attempt.grasp = plan_grasp(attempt.match.points, higher=RETRY_HIGHER * retry)
+                attempt.grasp = plan_grasp(attempt.match.points, FINGER_OPEN, higher=RETRY_HIGHER * retry)
                 motion = motion_for(attempt.match, world)
         except VslspError as error:
             attempt.error = record.diagnosis = str(error)
             return record
         with stage("execution"):
-            result = pick_and_place(scene, attempt.grasp, motion, movable)
+            result = execute_grasp(scene, attempt.grasp, motion, movable)
             scene.settle()
         attempt.outcome = "held" if result.ok else result.diagnosis
         attempt.held = result.held
@@ -148,3 +150,10 @@ def reproduce(
         if result.diagnosis not in RETRIED:
             break
     return record
+
+
+def execute_grasp(scene: RgbdTable, grasp: Grasp, motion: np.ndarray, movable: list[int]) -> PickPlaceResult:
+    """Execute ``grasp`` and its place under ``motion`` (4, 4) with ``scene``'s Panda
+    (:func:`~vslsp.vsl3d.grasping.place_for`); the fingers close on one of the ``movable`` bodies."""
+    place, theta_place = place_for(grasp, motion)
+    return scene.grasp_and_place(grasp.point, grasp.theta, place, theta_place, movable)

@@ -1,7 +1,7 @@
 """The house-and-roof simulation of the paper ("Simulation", Figure 4, roof placement): VSL's
 disambiguation of alternative matches with adaptive frames, in a 2-D world without a robot.
 
-The world (:mod:`vslsp.vsl.house_world`) holds three identical house bodies and three
+The world (:mod:`vslsp.worlds.house_roof.board`) holds three identical house bodies and three
 identical roofs at any pose on a board with a static baseline (the landmark L that Algorithm 1
 line 2 detects). The tutor puts a roof on top of the first two bodies and the third roof
 *below* the third body, turned upside down. VSL records each operation with the
@@ -45,7 +45,10 @@ from vslsp.stages import stage
 from vslsp.vision.features import extract_features
 from vslsp.vision.matching import FrameMode, Match, NoMatch, frame_sizes
 from vslsp.vsl.demonstration import Demonstration, ImagePlane
-from vslsp.vsl.house_world import (
+from vslsp.vsl.matcher import Search, match_observation
+from vslsp.vsl.recorder import Recorder
+from vslsp.worlds.house_roof import HouseBoard, roof_name
+from vslsp.worlds.house_roof.board import (
     ANGLE_TOLERANCE,
     DEMONSTRATED,
     POSITION_TOLERANCE,
@@ -54,8 +57,6 @@ from vslsp.vsl.house_world import (
     HouseWorld,
     pose_dict,
 )
-from vslsp.vsl.matcher import Search, match_observation
-from vslsp.vsl.recorder import Recorder
 
 PIXEL_SIZE = 0.001  # m per px: the board is 96 x 72 cm
 REST = (480.0, 800.0, 0.15)  # the hand's rest point: px beyond the bottom edge (robot side), m high
@@ -98,15 +99,16 @@ def _recorded(value: _T | None) -> _T:
 def demonstrate(seed: int) -> HouseRoofDemonstration:
     """The tutor's demonstration in a seeded world of upright-ish houses: roof k onto body k in
     slot ``DEMONSTRATED[k]``, recorded operation by operation with its pre-place observation."""
-    world = start = HouseWorld.random(seed, body_turn=0.5)
-    recorder = Recorder(ImagePlane(world.render()))
+    board = HouseBoard.from_layout(HouseWorld.random(seed, body_turn=0.5))
+    start = board.state
+    recorder = Recorder(ImagePlane(board.observe()))
     for k, slot in enumerate(DEMONSTRATED):
-        pre = world.render()
-        lifted = world.with_roof(k, None)
-        pre_place = lifted.render()
-        world = lifted.with_roof(k, compose(world.bodies[k], SLOTS[slot]))
-        recorder.record(pre, world.render(), pre_place)
-    return HouseRoofDemonstration(recorder.demonstration(), start, world)
+        pre = board.observe()
+        board.tutor_move(roof_name(k), None)  # in the hand: the pre-place observation
+        pre_place = board.observe()
+        board.tutor_move(roof_name(k), compose(board.state.bodies[k], SLOTS[slot]))
+        recorder.record(pre, board.observe(), pre_place)
+    return HouseRoofDemonstration(recorder.demonstration(), start, board.state)
 
 
 @dataclass(frozen=True, eq=False)

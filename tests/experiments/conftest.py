@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from vslsp.experiments.seeds import reproduction_seed
-from vslsp.sim.tabletop import TabletopWorld
 from vslsp.tasks import get_task
-from vslsp.vsl import tabletop_scenes as scenes
+from vslsp.worlds.panda_table import PandaTable
+from vslsp.worlds.panda_table import layouts as scenes
 
 
 @pytest.fixture
@@ -19,11 +19,11 @@ def reproduce():
     def run(name: str, seed: int):
         task = get_task(name).for_seed(seed)
         rng = np.random.default_rng(seed)
-        with TabletopWorld(task.layout(rng, "demonstration"), seed) as world:
+        with PandaTable.from_layout(task.layout(rng, "demonstration"), seed) as world:
             demo = task.demonstrate(world, rng)
             landmarks = {n: world.pose(n) for n, item in world.specs.items() if not item.movable}
         rng = np.random.default_rng(reproduction_seed(seed))
-        with TabletopWorld(task.layout(rng, "reproduction"), seed) as world:
+        with PandaTable.from_layout(task.layout(rng, "reproduction"), seed) as world:
             outcomes = task.reproduce(world, demo, rng)
             poses = {n: world.pose(n) for n in world.items()}
             reached = task.goal(world, demo, outcomes)

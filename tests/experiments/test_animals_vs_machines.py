@@ -3,7 +3,7 @@ order, each found in the pre-pick dictionary and put in its class's bin; ground 
 
 import pytest
 
-from vslsp.vsl import tabletop_scenes as scenes
+from vslsp.worlds.panda_table import layouts as scenes
 
 pytestmark = pytest.mark.slow
 

@@ -3,7 +3,7 @@ identical blue house bodies and three brown roofs), drawn with OpenCV, either ax
 (:func:`houses_world`) or as sprites composited at any pose (:func:`paste`).
 
 Images whose truth is known exactly, without a simulator: the house-roof task
-(:mod:`vslsp.vsl.house_world`), its tests and benchmarks draw its world with them.
+(:mod:`vslsp.worlds.house_roof.board`), its tests and benchmarks draw its world with them.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vslsp.vision.features import extract_features
-from vslsp.vsl import textures
+from vslsp.worlds.panda_table import textures
 
 CAMERA_SCALE = 1500.0 / textures.PX_PER_M  # the top-down view's px per m over the textures'
 

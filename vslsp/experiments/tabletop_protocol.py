@@ -18,11 +18,10 @@ import numpy as np
 
 from vslsp.geometry.poses import wrap
 from vslsp.outcomes import Diagnosis
-from vslsp.sim.tabletop import PickPlaceResult, Placement, TabletopWorld
+from vslsp.sim.tabletop import PickPlaceResult, Placement
 from vslsp.stages import in_stage, stage
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import NoMatch
-from vslsp.vsl import tabletop_scenes as scenes
 from vslsp.vsl.pick_place import PickPlaceDemonstration, RecordedOperation, TableView
 from vslsp.vsl.recorder import Heights, Recorder
 from vslsp.vsl.reproduction import (
@@ -30,12 +29,14 @@ from vslsp.vsl.reproduction import (
     correction,
     plan_operation,
 )
+from vslsp.worlds.panda_table import PandaTable
+from vslsp.worlds.panda_table import layouts as scenes
 
 POSITION_TOLERANCE = 0.015  # m
 ANGLE_TOLERANCE = np.radians(12.0)
 LEVEL_TOLERANCE = 0.008  # m, the height of a stacked object's bottom
 
-Move = tuple[str, Callable[[TabletopWorld], Placement], str | None]  # item, where (given the world), anchor
+Move = tuple[str, Callable[[PandaTable], Placement], str | None]  # item, where (given the world), anchor
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,13 +93,13 @@ class OperationOutcome:
 
 
 @in_stage("perception")
-def look(world: TabletopWorld) -> np.ndarray:
+def look(world: PandaTable) -> np.ndarray:
     """What the robot sees: the camera's image seen from above (:class:`TableView`), (h, w, 3)."""
     return TableView(world).rectify(world.observe())
 
 
 def tutor_move(
-    world: TabletopWorld,
+    world: PandaTable,
     name: str,
     placement: Placement,
     recorder: Recorder[RecordedOperation, PickPlaceDemonstration] | None,
@@ -111,29 +112,29 @@ def tutor_move(
     world.say(f"the tutor puts {name} in place")
     if recorder and pre_pick is None:
         pre_pick = look(world)
-    pick_z = world.pose(name)[2] + world.specs[name].size[2]
-    world.tutor_place(name, scenes.hold_placement(0))
+    pick_z = world.truth(name)[2] + world.specs[name].size[2]
+    world.tutor_move(name, scenes.hold_placement(0))
     pre_place = look(world) if recorder else None
-    world.tutor_place(name, placement)
+    world.tutor_move(name, placement)
     if not recorder:
         return None
     height, post_place = world.specs[name].size[2], look(world)
     assert pre_pick is not None and pre_place is not None  # looked at above when recording
-    recorder.record(pre_pick, post_place, pre_place, Heights(pick_z, world.pose(name)[2] + height, height))
+    recorder.record(pre_pick, post_place, pre_place, Heights(pick_z, world.truth(name)[2] + height, height))
     return post_place
 
 
-def relation(world: TabletopWorld, name: str, anchor: str | None) -> tuple[float, float, float, float]:
+def relation(world: PandaTable, name: str, anchor: str | None) -> tuple[float, float, float, float]:
     """Ground truth: ``name``'s pose seen from ``anchor`` (or the table): x, y, yaw, and the
     height of its bottom above the anchor's bottom."""
-    x, y, z, yaw = world.pose(name)
+    x, y, z, yaw = world.truth(name)
     if anchor is None:
         return x, y, yaw, z
-    ax, ay, az, ayaw = world.pose(anchor)
+    ax, ay, az, ayaw = world.truth(anchor)
     return (*scenes.relative((ax, ay, ayaw), (x, y, yaw)), z - az)
 
 
-def judge(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dict[str, str]) -> tuple[bool, dict]:
+def judge(world: PandaTable, demo: TaskDemonstration, k: int, anchor_map: dict[str, str]) -> tuple[bool, dict]:
     """Does operation ``k``'s demonstrated relation hold now (ground truth)? ``anchor_map``
     renames anchors (the user's intervention in the Tower of Hanoi)."""
     anchor = demo.anchors[k]
@@ -151,7 +152,7 @@ def judge(world: TabletopWorld, demo: TaskDemonstration, k: int, anchor_map: dic
 
 
 def robot_operation(
-    world: TabletopWorld,
+    world: PandaTable,
     demo: TaskDemonstration,
     k: int,
     anchor_map: dict[str, str],
@@ -206,7 +207,7 @@ def robot_operation(
 
 
 def tutor_operation(
-    world: TabletopWorld,
+    world: PandaTable,
     demo: TaskDemonstration,
     k: int,
     anchor_map: dict[str, str],
@@ -221,12 +222,12 @@ def tutor_operation(
 
 
 def placement_like(
-    world: TabletopWorld, demo: TaskDemonstration, k: int, anchor: str | None, on: str | None = None
+    world: PandaTable, demo: TaskDemonstration, k: int, anchor: str | None, on: str | None = None
 ) -> Placement:
     """Where the tutor puts operation ``k``'s item so that its demonstrated relation holds
     with ``anchor`` (ground truth; the tutor sees the scene)."""
     x, y, yaw, _ = demo.relative[k]
     if anchor is None:
         return Placement(x, y, yaw, on)
-    ax, ay, _, ayaw = world.pose(anchor)
+    ax, ay, _, ayaw = world.truth(anchor)
     return Placement(*scenes.compose((ax, ay, ayaw), (x, y, yaw)), on)

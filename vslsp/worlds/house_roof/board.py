@@ -1,7 +1,7 @@
 """The house-and-roof world of the paper's simulation ("Simulation", Figure 4, roof placement) as
 ground truth: three identical house bodies and three identical roofs at poses (x, y, θ) on a
 board with a static baseline (the landmark L of Algorithm 1 line 2), rendered by compositing
-the sprites of :mod:`vslsp.vsl.house_sprites`.
+the sprites of :mod:`vslsp.worlds.house_roof.sprites`.
 
 Poses are image poses: x, y px (continuous coordinates), θ rad turning x towards y (clockwise
 on screen), as the match decomposition measures it. Only the tutor, the hand's effect on the
@@ -18,7 +18,7 @@ import numpy as np
 
 from vslsp.geometry.poses import Pose2, relative, wrap
 from vslsp.sim.live import publish
-from vslsp.vsl.house_sprites import board, body_sprite, covers, paste, roof_sprite
+from vslsp.worlds.house_roof.sprites import board, body_sprite, covers, paste, roof_sprite
 
 WORLD_SIZE = (960, 720)  # (W, H) px
 BASELINE = ((30, 694), (930, 694))  # the static landmark, well below the objects

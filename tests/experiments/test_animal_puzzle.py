@@ -4,7 +4,7 @@
 import numpy as np
 import pytest
 
-from vslsp.vsl import tabletop_scenes as scenes
+from vslsp.worlds.panda_table import layouts as scenes
 
 pytestmark = pytest.mark.slow
 

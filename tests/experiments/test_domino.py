@@ -8,7 +8,7 @@ import pytest
 from helpers.report import assert_links_resolve
 
 from vslsp.tasks import Run, get_task, write_report
-from vslsp.vsl import tabletop_scenes as scenes
+from vslsp.worlds.panda_table import layouts as scenes
 
 pytestmark = pytest.mark.slow
 

@@ -3,7 +3,7 @@ user's intervention moves the tower to the third base; ground truth."""
 
 import pytest
 
-from vslsp.vsl import tabletop_scenes as scenes
+from vslsp.worlds.panda_table import layouts as scenes
 
 pytestmark = pytest.mark.slow
 

@@ -2,7 +2,7 @@
 "Real-world Experiments", Table 1), in the tabletop world's frame (:mod:`vslsp.sim.tabletop`:
 x away from the robot, y to its left, metres).
 
-Objects are boxes whose top faces carry the procedural textures of :mod:`vslsp.vsl.textures`;
+Objects are boxes whose top faces carry the procedural textures of :mod:`vslsp.worlds.panda_table.textures`;
 they are narrower across one side than along the other where the task packs them side by side,
 so the gripper closes across that side with room for its fingers. Landmarks are static thin
 plates. Random layouts scatter objects over :data:`SCATTER_X` × :data:`SCATTER_Y` without
@@ -16,7 +16,7 @@ import numpy as np
 
 from vslsp.geometry.poses import compose, relative  # noqa: F401  (poses (x, y, yaw) in the table frame)
 from vslsp.sim.tabletop import Item, Placement
-from vslsp.vsl import textures
+from vslsp.worlds.panda_table import textures
 
 SCATTER_X = (0.33, 0.54)  # where objects lie at random: in reach, in view, clear of the goal areas
 SCATTER_Y = (-0.28, 0.28)

@@ -3,7 +3,7 @@ right-angle baseline, from a new scatter; checked on the ground truth."""
 
 import pytest
 
-from vslsp.vsl import tabletop_scenes as scenes
+from vslsp.worlds.panda_table import layouts as scenes
 
 pytestmark = pytest.mark.slow
 
