@@ -15,7 +15,9 @@ PACKAGE = Path(vslsp.__file__).parent
 
 #: Each subpackage's layer (docs/architecture.md, "Layers").
 LAYERS = {
-    **dict.fromkeys(("vslsp.errors", "vslsp.outcomes", "vslsp.outputs", "vslsp.files", "vslsp.stages", "vslsp.data"), 0),
+    **dict.fromkeys(
+        ("vslsp.errors", "vslsp.outcomes", "vslsp.outputs", "vslsp.files", "vslsp.stages", "vslsp.data"), 0
+    ),
     **dict.fromkeys(("vslsp.geometry", "vslsp.dmp"), 1),
     "vslsp.sim": 2,
     **dict.fromkeys(("vslsp.worlds", "vslsp.skills"), 3),

@@ -222,7 +222,7 @@ def run_stacking(
                 landmarks=landmarks,
             )
             fitness = found["box"].registration.fitness if "box" in found else None
-            results.append(judge(scene, index, name, box, moved.to_dict(), record, goals[name], fitness))
+            results.append(judge_stack(scene, index, name, box, moved.to_dict(), record, goals[name], fitness))
             say_outcome(scene, index, results[-1])
             if record.placed is not None:
                 put_down.append(record.placed)
@@ -236,7 +236,7 @@ def run_stacking(
     return tuple(results), pictures
 
 
-def judge(
+def judge_stack(
     scene: RgbdTable,
     index: int,
     name: str,

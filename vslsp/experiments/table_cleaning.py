@@ -202,7 +202,7 @@ def say_outcome(scene: RgbdTable, index: int, result: RobotOperation) -> None:
     scene.say(f"robot, operation {index + 1}: {'ok' if result.success else 'FAILED'}", error, hold=1.0)
 
 
-def judge(
+def judge_operation(
     scene: RgbdTable, index: int, name: str, summary: dict, record: Reproduction, goal: np.ndarray
 ) -> OperationResult:
     """The operation's result from the robot's record and the truth."""
@@ -253,7 +253,7 @@ def run_table_cleaning(
             record = reproduce(
                 scene, moved.pre, motion_for, method=method, seed=seed, movable=movable, placed=tuple(put_down)
             )
-            results.append(judge(scene, index, name, moved.to_dict(), record, goals[name]))
+            results.append(judge_operation(scene, index, name, moved.to_dict(), record, goals[name]))
             say_outcome(scene, index, results[-1])
             if record.placed is not None:
                 put_down.append(record.placed)

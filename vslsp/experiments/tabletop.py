@@ -30,7 +30,7 @@ from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.drawing import PICK, PLACE, grid, label, small, square
 
 if TYPE_CHECKING:
-    from vslsp.experiments.tabletop_protocol import Move, OperationOutcome, TaskDemonstration
+    from vslsp.experiments.tabletop_protocol import Move, OperationOutcome, TabletopDemonstration
     from vslsp.sim.tabletop import Item, Placement
     from vslsp.worlds.panda_table import PandaTable
 
@@ -59,24 +59,24 @@ class TabletopExperiment(Task):
         """The tutor's operations: the item, where it goes (given the world), its anchor."""
         raise NotImplementedError
 
-    def goal(self, world: PandaTable, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> bool:
+    def goal(self, world: PandaTable, demo: TabletopDemonstration, outcomes: list[OperationOutcome]) -> bool:
         """Every operation the reproduction owes was done, and the last demonstrated relation
         of every item it moved holds at the end (ground truth)."""
-        from vslsp.experiments.tabletop_protocol import judge
+        from vslsp.experiments.tabletop_protocol import judge_relation
 
         owed = self.owed(demo, outcomes)
         if not set(owed) <= {o.index for o in outcomes}:
             return False
         last = {demo.items[k]: k for k in owed}
-        return all(judge(world, demo, k, self.anchor_map)[0] for k in last.values())
+        return all(judge_relation(world, demo, k, self.anchor_map)[0] for k in last.values())
 
-    def owed(self, demo: TaskDemonstration, outcomes: list[OperationOutcome]) -> list[int]:
+    def owed(self, demo: TabletopDemonstration, outcomes: list[OperationOutcome]) -> list[int]:
         """The demonstrated operations the reproduction must achieve: all of them."""
         return list(range(len(demo.items)))
 
-    def demonstrate(self, world: PandaTable, rng: np.random.Generator) -> TaskDemonstration:
+    def demonstrate(self, world: PandaTable, rng: np.random.Generator) -> TabletopDemonstration:
         """The tutor's demonstration in ``world``, recorded operation by operation."""
-        from vslsp.experiments.tabletop_protocol import TaskDemonstration, relation, tutor_move
+        from vslsp.experiments.tabletop_protocol import TabletopDemonstration, relation, tutor_move
         from vslsp.vsl.pick_place import TableModel, TableView
         from vslsp.vsl.recorder import Recorder
 
@@ -87,10 +87,10 @@ class TabletopExperiment(Task):
             items.append(name)
             anchors.append(anchor)
             relations.append(relation(world, name, anchor))
-        return TaskDemonstration(recorder.demonstration(), tuple(items), tuple(anchors), tuple(relations))
+        return TabletopDemonstration(recorder.demonstration(), tuple(items), tuple(anchors), tuple(relations))
 
     def reproduce(
-        self, world: PandaTable, demo: TaskDemonstration, rng: np.random.Generator, keep: bool = False
+        self, world: PandaTable, demo: TabletopDemonstration, rng: np.random.Generator, keep: bool = False
     ) -> list[OperationOutcome]:
         """Algorithm 1 part II: every operation in the demonstrated order."""
         from vslsp.experiments.tabletop_protocol import robot_operation

@@ -40,7 +40,7 @@ Move = tuple[str, Callable[[PandaTable], Placement], str | None]  # item, where 
 
 
 @dataclass(frozen=True, eq=False)
-class TaskDemonstration:
+class TabletopDemonstration:
     """What the robot learned (``demonstration``) plus, for the judge only, the ground truth
     of each operation: the item moved, its anchor (None: the table) and its pose relative to
     the anchor afterwards (x, y, yaw, bottom height difference)."""
@@ -134,7 +134,9 @@ def relation(world: PandaTable, name: str, anchor: str | None) -> tuple[float, f
     return (*scenes.relative((ax, ay, ayaw), (x, y, yaw)), z - az)
 
 
-def judge(world: PandaTable, demo: TaskDemonstration, k: int, anchor_map: dict[str, str]) -> tuple[bool, dict]:
+def judge_relation(
+    world: PandaTable, demo: TabletopDemonstration, k: int, anchor_map: dict[str, str]
+) -> tuple[bool, dict]:
     """Does operation ``k``'s demonstrated relation hold now (ground truth)? ``anchor_map``
     renames anchors (the user's intervention in the Tower of Hanoi)."""
     anchor = demo.anchors[k]
@@ -153,7 +155,7 @@ def judge(world: PandaTable, demo: TaskDemonstration, k: int, anchor_map: dict[s
 
 def robot_operation(
     world: PandaTable,
-    demo: TaskDemonstration,
+    demo: TabletopDemonstration,
     k: int,
     anchor_map: dict[str, str],
     image: np.ndarray | None = None,
@@ -185,7 +187,7 @@ def robot_operation(
         if fix is not None:
             with stage("execution"):
                 result, corrected = world.pick_and_place(fix.pick, fix.place, fix.grasp_width), True
-    ok, errors = judge(world, demo, k, anchor_map)
+    ok, errors = judge_relation(world, demo, k, anchor_map)
     errors["corrected"] = corrected
     if ok:
         diagnosis = Diagnosis.OK
@@ -208,7 +210,7 @@ def robot_operation(
 
 def tutor_operation(
     world: PandaTable,
-    demo: TaskDemonstration,
+    demo: TabletopDemonstration,
     k: int,
     anchor_map: dict[str, str],
     where: Placement,
@@ -217,12 +219,12 @@ def tutor_operation(
     """The tutor performs operation ``k`` (putting the item at ``where``); an opening move
     (not ``judged``) may go anywhere."""
     tutor_move(world, demo.items[k], where, None)
-    ok = not judged or judge(world, demo, k, anchor_map)[0]
+    ok = not judged or judge_relation(world, demo, k, anchor_map)[0]
     return OperationOutcome(k, "tutor", demo.items[k], Diagnosis.OK if ok else Diagnosis.MISPLACED)
 
 
 def placement_like(
-    world: PandaTable, demo: TaskDemonstration, k: int, anchor: str | None, on: str | None = None
+    world: PandaTable, demo: TabletopDemonstration, k: int, anchor: str | None, on: str | None = None
 ) -> Placement:
     """Where the tutor puts operation ``k``'s item so that its demonstrated relation holds
     with ``anchor`` (ground truth; the tutor sees the scene)."""
