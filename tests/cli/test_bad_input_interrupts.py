@@ -8,7 +8,8 @@ import json
 import signal
 
 import pytest
-from helpers.processes import alive, planner_processes, start, wait_until
+from helpers.events import became_true, process_gone, wait_until
+from helpers.processes import planner_processes, start
 
 SIGNALS = {"SIGINT": (signal.SIGINT, 130), "SIGTERM": (signal.SIGTERM, 143)}
 
@@ -21,7 +22,7 @@ def test_an_interrupt_during_the_trials_keeps_the_finished_ones(tmp_path, worker
     args = ["experiment", "test-waits-after-the-first", "--trials", "4", "--workers", workers, "--json", "--out", out]
     process = start(args, tmp_path)
     try:
-        assert wait_until(lambda: (tmp_path / "markers" / "waiting-1").exists(), process)
+        assert became_true(lambda: (tmp_path / "markers" / "waiting-1").exists(), process)
         process.send_signal(number)
         stdout, stderr = process.communicate(timeout=120)
     finally:
@@ -42,7 +43,7 @@ def test_an_interrupt_while_the_figures_are_drawn_keeps_the_report(tmp_path, nam
     out = tmp_path / "report"
     process = start(["experiment", "test-slow-figures", "--trials", "3", "--out", out], tmp_path)
     try:
-        assert wait_until(lambda: (tmp_path / "markers" / "figures").exists(), process)
+        assert became_true(lambda: (tmp_path / "markers" / "figures").exists(), process)
         process.send_signal(number)
         _, stderr = process.communicate(timeout=120)
     finally:
@@ -61,7 +62,7 @@ def test_sigterm_ends_the_planner_of_every_worker_and_removes_its_folder(tmp_pat
     args = ["experiment", "test-plans", "--trials", "2", "--workers", workers, "--out", out]
     process = start(args, tmp_path)
     try:
-        assert wait_until(lambda: bool(planner_processes(process.pid)), process)
+        assert became_true(lambda: bool(planner_processes(process.pid)), process)
         planners = planner_processes(process.pid)
         assert list((tmp_path / "tmp").glob("vslsp-fd-*"))
         process.send_signal(signal.SIGTERM)
@@ -69,6 +70,6 @@ def test_sigterm_ends_the_planner_of_every_worker_and_removes_its_folder(tmp_pat
     finally:
         process.kill()
     assert process.returncode == 143, stderr
-    assert wait_until(lambda: not any(alive(pid) for pid in planners))
+    wait_until(lambda: all(process_gone(pid) for pid in planners), f"the planners {planners} to end")
     assert list((tmp_path / "tmp").glob("vslsp-*")) == []
     assert json.loads((out / "report.json").read_text())["interrupted"] == "SIGTERM"

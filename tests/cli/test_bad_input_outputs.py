@@ -13,7 +13,8 @@ import shutil
 import numpy as np
 import pytest
 from helpers.cli import REPO, vslsp
-from helpers.processes import start, wait_until
+from helpers.events import became_true
+from helpers.processes import start
 
 from vslsp.errors import InputError
 from vslsp.outputs import OutputFailed, atomic_file, lock_folder, write_text
@@ -151,7 +152,7 @@ def test_a_second_run_into_a_folder_in_use_is_refused_naming_the_first(tmp_path)
     out = tmp_path / "report"
     first = start(["experiment", "test-waits-after-the-first", "--trials", "2", "--out", out], tmp_path)
     try:
-        assert wait_until(lambda: (tmp_path / "markers" / "waiting-1").exists(), first)
+        assert became_true(lambda: (tmp_path / "markers" / "waiting-1").exists(), first)
         second = start(["scene", "--out", out], tmp_path)
         _, stderr = second.communicate(timeout=300)
     finally:
@@ -166,7 +167,7 @@ def test_a_second_run_into_a_folder_in_use_is_refused_naming_the_first(tmp_path)
 def test_a_folder_is_free_again_once_its_run_was_killed(tmp_path):
     out = tmp_path / "report"
     first = start(["experiment", "test-waits-after-the-first", "--trials", "2", "--out", out], tmp_path)
-    assert wait_until(lambda: (tmp_path / "markers" / "waiting-1").exists(), first)
+    assert became_true(lambda: (tmp_path / "markers" / "waiting-1").exists(), first)
     first.kill()  # SIGKILL: no clean-up runs, the lock file stays; the system released its lock
     first.communicate()
     second = start(["experiment", "test-quick", "--out", out], tmp_path)

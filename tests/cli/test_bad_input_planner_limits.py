@@ -11,7 +11,8 @@ import signal
 
 import pytest
 from helpers.cli import REPO, vslsp
-from helpers.processes import alive, planner_processes, start, wait_until
+from helpers.events import became_true, process_gone, wait_until
+from helpers.processes import planner_processes, start
 
 from vslsp.symbolic.fast_downward import failure
 from vslsp.symbolic.fast_downward import run as run_fast_downward
@@ -74,7 +75,7 @@ def test_sigterm_to_plan_leaves_no_planner_and_no_folder(tmp_path, how):
     # coreutils' timeout, at its limit or sent SIGTERM, sends SIGTERM to the command and its group.
     process = start(args, tmp_path, prefix=("timeout", "600") if how == "timeout" else ())
     try:
-        assert wait_until(lambda: bool(planner_processes(process.pid)), process)
+        assert became_true(lambda: bool(planner_processes(process.pid)), process)
         planners = planner_processes(process.pid)
         process.send_signal(signal.SIGTERM)
         _, stderr = process.communicate(timeout=120)
@@ -82,7 +83,7 @@ def test_sigterm_to_plan_leaves_no_planner_and_no_folder(tmp_path, how):
         process.kill()
     assert process.returncode in ((124, 143) if how == "timeout" else (143,)), stderr
     assert "Traceback" not in stderr
-    assert wait_until(lambda: not any(alive(pid) for pid in planners))
+    wait_until(lambda: all(process_gone(pid) for pid in planners), f"the planners {planners} to end")
     assert list((tmp_path / "tmp").glob("vslsp-*")) == []
 
 

@@ -4,6 +4,7 @@ how long something took (speed targets live in benchmarks/)."""
 
 from __future__ import annotations
 
+import subprocess
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -11,12 +12,26 @@ from pathlib import Path
 HANG_S = 300.0
 
 
-def wait_until(condition: Callable[[], bool], what: str, hang_s: float = HANG_S) -> None:
-    """Wait for ``condition()`` to hold; fail after ``hang_s`` (a hang, not a slow machine)."""
+def became_true(condition: Callable[[], bool], process: subprocess.Popen | None = None, hang_s: float = HANG_S) -> bool:
+    """Wait for ``condition()`` to hold and say whether it did: False when ``process`` ended
+    first (and the condition still does not hold) or after ``hang_s`` (a hang, not a slow
+    machine). For a test that asserts with its own message, and for code that must not fail
+    (a trial in a worker process)."""
     deadline = time.monotonic() + hang_s
     while not condition():
-        assert time.monotonic() < deadline, f"still waiting after {hang_s:.0f} s for {what}"
+        if process is not None and process.poll() is not None:
+            return condition()
+        if time.monotonic() >= deadline:
+            return False
         time.sleep(0.05)
+    return True
+
+
+def wait_until(condition: Callable[[], bool], what: str | Callable[[], str], hang_s: float = HANG_S) -> None:
+    """Wait for ``condition()`` to hold; fail the test after ``hang_s`` (a hang, not a slow
+    machine), saying what it waited for (``what``, or what ``what()`` says then: e.g. a screen)."""
+    if not became_true(condition, hang_s=hang_s):
+        raise AssertionError(f"still waiting after {hang_s:.0f} s for {what if isinstance(what, str) else what()}")
 
 
 def process_gone(pid: int) -> bool:
@@ -41,9 +56,10 @@ def experiment_program(setup: str = "") -> str:
             setup,
             "import vslsp.tasks",
             "run_trials = vslsp.tasks.run_trials",
-            "def noting(*args, on_done, **options):",
+            "def noting(*args, on_done=None, **options):",
             "    def done(result):",
-            "        on_done(result)",
+            "        if on_done is not None:",
+            "            on_done(result)",
             "        (pathlib.Path(os.environ['VSLSP_TEST_MARKERS']) / f'{result.seed}.reported').write_text('')",
             "    return run_trials(*args, on_done=done, **options)",
             "vslsp.tasks.run_trials = noting",

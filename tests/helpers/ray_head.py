@@ -17,11 +17,12 @@ import subprocess
 import sys
 import tempfile
 import threading
-import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+
+from helpers.events import became_true
 
 STARTED = "Ray runtime started"
 HANG_S = 180.0  # guards against a hang only: a head starts in seconds, a few tens on a loaded machine
@@ -110,14 +111,17 @@ def _stop(head: subprocess.Popen[str], folder: Path) -> None:
 
 def _end_processes_naming(folder: Path) -> None:
     """End every process left whose command line names ``folder`` (Ray's, started for a test)."""
-    deadline = time.monotonic() + HANG_S
-    while (left := _processes_naming(folder)) and time.monotonic() < deadline:
+
+    def none_left() -> bool:
+        left = _processes_naming(folder)
         for pid in left:
             try:
                 os.kill(pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
-        time.sleep(0.2)
+        return not left
+
+    became_true(none_left, hang_s=HANG_S)
 
 
 def _processes_naming(folder: Path) -> list[int]:

@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
+from helpers.events import wait_until
 
 from vslsp.studio import api
 
@@ -192,15 +193,12 @@ def test_runs_refuse_bad_requests_before_starting(studio_root):
 
 @pytest.mark.slow
 def test_a_run_goes_to_done_with_its_report(studio_root):
-    import time
-
     web = client(studio_root)
     run_id = web.post("/api/runs", json={"experiment": "house-roof", "trials": 1, "seed": 3}).json()["id"]
     status = web.get(f"/api/runs/{run_id}").json()
     assert status["state"] == "running" and status["total"] == 1
-    while status["state"] == "running":
-        time.sleep(1)
-        status = web.get(f"/api/runs/{run_id}").json()
+    wait_until(lambda: web.get(f"/api/runs/{run_id}").json()["state"] != "running", f"the run {run_id} to end")
+    status = web.get(f"/api/runs/{run_id}").json()
     assert status["state"] == "done", status
     assert (status["done"], status["successes"]) == (1, 1)
     report = web.get(f"/api/reports/{status['report']}").json()

@@ -5,10 +5,10 @@ import io
 import shutil
 import subprocess
 import sys
-import time
 
 import pytest
 from helpers.cli import REPO, vslsp, vslsp_process
+from helpers.events import wait_until
 from helpers.symbolic import PDDL
 
 from vslsp.symbolic import read_pddl
@@ -367,19 +367,14 @@ class Terminal:
         return self.tmux("capture-pane", "-p", "-J", "-S", "-")
 
     def wait_for(self, text: str, count: int = 1) -> str:
-        """The screen once ``text`` shows ``count`` times (a generous bound only guards against a hang)."""
-        deadline = time.monotonic() + 180
-        while self.screen().count(text) < count:
-            assert time.monotonic() < deadline, f"{text!r} never showed:\n{self.screen()}"
-            time.sleep(0.2)
+        """The screen once ``text`` shows ``count`` times."""
+        wait_until(lambda: self.screen().count(text) >= count, lambda: f"{text!r} to show:\n{self.screen()}")
         return self.screen()
 
     def wait_for_exit(self) -> str:
         """The screen once the shell has ended (the pane stays, dead, to be read)."""
-        deadline = time.monotonic() + 180
-        while self.tmux("display-message", "-p", "-t", "0", "#{pane_dead}").strip() != "1":
-            assert time.monotonic() < deadline, f"the shell never ended:\n{self.screen()}"
-            time.sleep(0.2)
+        dead = lambda: self.tmux("display-message", "-p", "-t", "0", "#{pane_dead}").strip() == "1"
+        wait_until(dead, lambda: f"the shell to end:\n{self.screen()}")
         return self.screen()
 
     def type(self, *keys: str) -> None:

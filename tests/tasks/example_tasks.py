@@ -47,8 +47,9 @@ class DiceBelowFive(Task):
 @register
 class Troublesome(Task):
     """Trials that raise (seed 1), kill their worker once (seed 2: a flag file in
-    $VSLSP_TEST_FLAGS marks the first attempt) or sleep (seeds >= 10: for interrupts; with
-    $VSLSP_TEST_MARKERS set, each writes '<seed>.running' there first, holding its process id)."""
+    $VSLSP_TEST_FLAGS marks the first attempt), or, for interrupts, succeed at once (seed 10) or
+    wait to be interrupted (seeds > 10); with $VSLSP_TEST_MARKERS set, seeds >= 10 write
+    '<seed>.running' there first, holding their process id."""
 
     name = "troublesome"
     system = System.VSL
@@ -65,7 +66,8 @@ class Troublesome(Task):
         if seed >= 10:
             if os.environ.get("VSLSP_TEST_MARKERS"):
                 (Path(os.environ["VSLSP_TEST_MARKERS"]) / f"{seed}.running").write_text(str(os.getpid()))
-            time.sleep(1.5)
+            if seed > 10:
+                time.sleep(600)  # until the test interrupts the run
         return TrialResult(self.name, seed, True)
 
 
@@ -86,3 +88,22 @@ class CrashesOnOdd(Task):
     def shown_seed(self, results: list[TrialResult]) -> int:
         # The report re-runs the trial it shows in the calling process: an even one, which lives.
         return next(r.seed for r in results if r.seed % 2 == 0)
+
+
+@register
+class WaitsForCtrlC(Task):
+    """For the command line on Ray: seed 0 finishes at once (marker '0.done'), the others mark
+    '<seed>.started' and wait to be interrupted. The marker folder comes from the environment
+    ($VSLSP_TEST_MARKERS: the command passes no task options)."""
+
+    name = "ray-test-waits"
+    system = System.VSL
+    paper_section = "tests"
+
+    def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
+        folder = Path(os.environ["VSLSP_TEST_MARKERS"])
+        if seed:
+            (folder / f"{seed}.started").write_text("")
+            time.sleep(600)  # until the test interrupts the run
+        (folder / f"{seed}.done").write_text("")
+        return TrialResult(self.name, seed, True)

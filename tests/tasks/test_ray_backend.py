@@ -12,12 +12,11 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers.events import HANG_S, experiment_program, process_gone, wait_until
+from helpers.events import HANG_S, became_true, experiment_program, process_gone, wait_until
 from helpers.ray_head import ray_folder
 from helpers.records import without_times
 
@@ -104,28 +103,9 @@ class Slow(Task):
         awaited = folder / ("1.started" if seed == 0 else "release")
         if seed:
             (folder / f"{seed}.started").write_text(str(os.getpid()))
-        deadline = time.monotonic() + HANG_S
-        while not awaited.exists() and time.monotonic() < deadline:
-            time.sleep(0.05)
+        became_true(awaited.exists)
         if seed:
             (folder / f"{seed}.finished").write_text("")
-        return TrialResult(self.name, seed, True)
-
-
-class WaitsForCtrlC(Task):
-    """For the command line: seed 0 finishes at once (marker '0.done'), the others take a minute.
-    The marker folder comes from the environment (the command passes no task options)."""
-
-    name = "ray-test-waits"
-    system = System.VSL
-    paper_section = "test"
-
-    def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
-        folder = Path(os.environ["VSLSP_TEST_MARKERS"])
-        if seed:
-            (folder / f"{seed}.started").write_text("")
-            time.sleep(60.0)
-        (folder / f"{seed}.done").write_text("")
         return TrialResult(self.name, seed, True)
 
 
@@ -338,9 +318,7 @@ def _ctrl_c_cancels_and_writes_the_partial_report(tmp_path: Path, ray_tmp: Path)
     markers, out = tmp_path / "markers", tmp_path / "report"
     markers.mkdir()
     # A real Ctrl-C: SIGINT to the command's process group, once seed 0's result is in the driver.
-    program = experiment_program(
-        "from vslsp.tasks import register\nimport test_ray_backend\nregister(test_ray_backend.WaitsForCtrlC)"
-    )
+    program = experiment_program("import example_tasks")  # registers ray-test-waits
     env = {
         **os.environ,
         "HOME": str(tmp_path),

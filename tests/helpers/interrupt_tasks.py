@@ -1,8 +1,8 @@
 """Tasks for the interrupt and output tests (registered when imported; the command under test
-runs as ``python -c "import interrupt_tasks; from vslsp.cli import main; main([...])"``).
+runs as a program that imports this module first: :func:`helpers.processes.command`).
 
 Each trial leaves marker files in ``$VSLSP_TEST_MARKERS`` so that a test waits on events
-(a trial started, the figures started), never on the clock.
+(a trial started, the figures started, a result in the driver), never on the clock.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from helpers.events import became_true
 from vslsp.tasks import System, Task, TrialResult, register
 
 
@@ -21,14 +22,13 @@ def _mark(name: str) -> None:
 
 
 def _wait_for(name: str) -> None:
-    while not (Path(os.environ["VSLSP_TEST_MARKERS"]) / name).exists():
-        time.sleep(0.05)
+    became_true((Path(os.environ["VSLSP_TEST_MARKERS"]) / name).exists)
 
 
 @register
 class WaitsAfterTheFirst(Task):
-    """Seed 0 finishes at once; seed 1 (once seed 0 is done) marks ``waiting-1`` and waits to be
-    interrupted; later seeds would do the same."""
+    """Seed 0 finishes at once; seed 1, once seed 0's result is in the driver ('0.reported',
+    written there), marks ``waiting-1`` and waits to be interrupted; later seeds do the same."""
 
     name = "test-waits-after-the-first"
     system = System.VSL
@@ -36,10 +36,8 @@ class WaitsAfterTheFirst(Task):
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         if seed == 0:
-            _mark("done-0")
             return TrialResult(self.name, seed, True)
-        _wait_for("done-0")
-        time.sleep(1.0)  # seed 0's result reaches the parent process (a pipe away)
+        _wait_for("0.reported")
         _mark(f"waiting-{seed}")
         time.sleep(600)
         return TrialResult(self.name, seed, True)

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# Run the test suite (or the pytest arguments given) where nothing but its temporary folders can
+# be written, to find tests that write into the checkout, into ~ or elsewhere (docs/testing.md,
+# "Only temporary folders"):
+#
+#   tools/read-only-suite.sh                        # the whole suite, one process
+#   tools/read-only-suite.sh -n 2 --dist loadfile   # as `make test` runs it
+#   tools/read-only-suite.sh tests/symbolic -m "not slow"
+#
+# HOME, TMPDIR and pytest's --basetemp point into one fresh scratch folder, the only place (with
+# /dev/shm, /proc and /sys) left writable:
+# - as root with mount namespaces (CI's containers, most Linux machines): the whole file system
+#   is remounted read-only in a private mount namespace (the checkout itself, the virtualenv,
+#   the real home, /tmp) and the scratch folder bound over itself, writable. Root ignores file
+#   permissions but not a read-only mount.
+# - otherwise the checkout is copied into the scratch folder, `chmod -R a-w`, and run from there
+#   (imports from the copy first), as root under the unprivileged user nobody (setpriv): writes
+#   into the checkout or ~ fail; writes to /tmp do not.
+# (READ_ONLY_COPY=1 forces the second way.) A test that writes elsewhere fails ("Read-only file system", "Permission denied"); what was
+# written into the temporary HOME, which no test should touch (those that run something that
+# writes to ~ point HOME into their tmp_path), is listed and fails the check too.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+checkout=$PWD
+if [[ -z "${PYTHON:-}" ]]; then
+    if [[ -x .venv/bin/python ]]; then PYTHON=$checkout/.venv/bin/python; else PYTHON=$(command -v python3); fi
+fi
+[[ $# -gt 0 ]] || set -- -q
+
+scratch=$(mktemp -d -t vslsp-read-only.XXXXXX)
+mkdir -p "$scratch/home" "$scratch/tmp"
+export HOME=$scratch/home TMPDIR=$scratch/tmp
+pytest=("$PYTHON" -m pytest -p no:cacheprovider --basetemp="$scratch/basetemp")
+
+if [[ $(id -u) -eq 0 && -z "${READ_ONLY_COPY:-}" ]] && unshare -m true 2>/dev/null; then
+    how="the whole file system read-only but $scratch (a private mount namespace)"
+    echo "read-only-suite: $how" >&2
+    # shellcheck disable=SC2016  # expanded by the inner shell
+    unshare -m --propagation private bash -c '
+        set -e
+        scratch=$1; shift
+        mount --bind "$scratch" "$scratch"
+        mount -o remount,bind,ro /
+        exec "$@"' bash "$scratch" "${pytest[@]}" "$@"
+    status=$?
+else
+    as=()
+    if [[ $(id -u) -eq 0 ]]; then  # root writes anywhere: run as nobody
+        as=(setpriv --reuid=nobody --regid=nogroup --clear-groups)
+        chown nobody:nogroup "$scratch" "$scratch/home" "$scratch/tmp"  # not the copy, made below by root
+    fi
+    how="a read-only copy of the checkout ($scratch/checkout)${as:+, as nobody}"
+    echo "read-only-suite: $how" >&2
+    mkdir "$scratch/checkout"
+    tar -C "$checkout" --exclude=./.venv --exclude=./.git --exclude='*/__pycache__' --exclude=./out -cf - . \
+        | tar -C "$scratch/checkout" -xf -
+    chmod -R a-w "$scratch/checkout"
+    (cd "$scratch/checkout" && PYTHONPATH="$scratch/checkout${PYTHONPATH:+:$PYTHONPATH}" "${as[@]}" "${pytest[@]}" "$@")
+    status=$?
+fi
+
+written=$(cd "$HOME" && find . -mindepth 1 | sort)
+if [[ -n "$written" ]]; then
+    echo "read-only-suite: the tests wrote into HOME ($HOME):" >&2
+    echo "$written" | head -50 >&2
+    [[ $status -ne 0 ]] || status=1
+fi
+if [[ $status -eq 0 ]]; then
+    echo "read-only-suite: nothing written outside the temporary folders ($how)" >&2
+    chmod -R u+w "$scratch" 2>/dev/null
+    rm -rf "$scratch"
+else
+    echo "read-only-suite: exit $status; the scratch folder is kept: $scratch" >&2
+fi
+exit $status
