@@ -1,9 +1,17 @@
-"""Test-wide settings: headless plotting, single-threaded torch (the suite runs 2 workers)."""
+"""Test-wide settings: headless plotting, single-threaded torch (the suite runs 2 workers), and
+matplotlib's configuration and font cache in a temporary folder, for this process and the
+programs it starts (matplotlib writes them into ~/.config and ~/.cache on first use: no test
+writes outside its temporary folders)."""
 
+import atexit
 import os
+import shutil
+import tempfile
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ["MPLCONFIGDIR"] = tempfile.mkdtemp(prefix="vslsp-tests-matplotlib-")
+atexit.register(shutil.rmtree, os.environ["MPLCONFIGDIR"], ignore_errors=True)
 
 import pytest  # noqa: E402
 

@@ -92,7 +92,9 @@ def test_shell_load_of_a_device_or_a_fifo_is_refused(tmp_path, fifo):
 
 @pytest.mark.parametrize("reach", [b"root:x:0:0:root:/root:/bin/bash\n", "/dev/zero"], ids=["passwd", "zero"])
 def test_a_reach_file_that_is_text_or_a_device_is_named_as_such_not_as_a_pickle(capsys, tmp_path, reach):
-    code, _, err = vslsp(capsys, "demo", "--skills", _library(tmp_path, **{"push_reach.npz": reach}))
+    code, _, err = vslsp(
+        capsys, "demo", "--skills", _library(tmp_path, **{"push_reach.npz": reach}), "--out", tmp_path / "out"
+    )
     assert code == 2 and "pickle" not in err, err
     assert "not an .npz file" in err or "not a regular file" in err
 
@@ -118,7 +120,7 @@ def _declared_npz(**shapes: tuple[int, ...]) -> bytes:
 def test_an_npz_declaring_a_huge_array_is_refused_on_its_header(capsys, tmp_path, place, arrays):
     content = _declared_npz(**arrays)
     assert len(content) < 1000
-    code, _, err = vslsp(capsys, "demo", "--skills", _library(tmp_path, **{place: content}))
+    code, _, err = vslsp(capsys, "demo", "--skills", _library(tmp_path, **{place: content}), "--out", tmp_path / "out")
     assert code == 2 and "nothing was loaded" in err and place in err, err
 
 
@@ -142,7 +144,7 @@ def test_a_scene_file_that_would_exhaust_the_parser_is_refused(capsys, tmp_path,
 
 def test_a_library_index_over_its_limit_is_refused_while_reading(capsys, tmp_path):
     folder = _library(tmp_path, **{"library.json": b'{"pad": "' + b"x" * 2_000_000 + b'"}'})
-    code, _, err = vslsp(capsys, "demo", "--skills", folder)
+    code, _, err = vslsp(capsys, "demo", "--skills", folder, "--out", tmp_path / "out")
     assert code == 2 and "library.json" in err and "larger than 1 MB" in err, err
 
 

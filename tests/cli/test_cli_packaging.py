@@ -40,11 +40,17 @@ def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere
             ".git", ".venv", "out", "runs", "build", "*.egg-info", "__pycache__", ".pytest_cache", ".gl", ".whl"
         ),
     )
+    # A home of this test's own for pip's cache and the build tools' settings (rustup writes
+    # ~/.rustup/settings.toml); without PYTHONPATH, where a checkout would count as installed.
+    (tmp_path / "home").mkdir()
+    home = {**os.environ, "HOME": str(tmp_path / "home")}
+    clean = {k: v for k, v in home.items() if k != "PYTHONPATH"}
     build = subprocess.run(
         [sys.executable, "-m", "pip", "wheel", "-v", str(source), "--no-deps", "-w", str(tmp_path / "wheels")],
         capture_output=True,
         text=True,
         timeout=900,
+        env=home,
     )
     assert build.returncode == 0, build.stderr[-3000:]
     assert "is deprecated" not in build.stdout + build.stderr  # e.g. `project.license` as a TOML table
@@ -52,9 +58,6 @@ def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere
     environment = tmp_path / "venv"
     venv.create(environment, with_pip=True)  # no system site-packages: only what the wheel pulls in
     python = environment / "bin" / "python"
-    clean = {
-        k: v for k, v in os.environ.items() if k != "PYTHONPATH"
-    }  # a checkout on the path would count as installed
     install = subprocess.run(
         [str(python), "-m", "pip", "install", "-q", "-c", str(REPO / "constraints.txt"), str(wheel)],
         capture_output=True,
@@ -65,7 +68,7 @@ def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere
     assert install.returncode == 0, install.stderr[-3000:]
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir()
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env = clean
     show = "import vslsp.data as d; print(d.skills_folder()); print(d.pddl_folder())"
     where = subprocess.run(
         [str(python), "-c", show], capture_output=True, text=True, cwd=elsewhere, env=env, timeout=600

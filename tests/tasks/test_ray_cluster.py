@@ -160,7 +160,8 @@ def test_an_address_where_something_else_listens_is_refused(reply, scheme, capsy
 
 def test_an_address_where_nothing_listens_is_refused(capsys, tmp_path):
     address = f"127.0.0.1:{free_port()}"
-    code, out, _ = vslsp(capsys, "experiment", "dice-below-five", "--backend", "ray", "--address", address, "--json")
+    arguments = ["--backend", "ray", "--address", address, "--json", "--out", tmp_path / "report"]
+    code, out, _ = vslsp(capsys, "experiment", "dice-below-five", *arguments)
     assert code == 2 and f"no Ray cluster answers at --address {address}" in json.loads(out)["error"]
 
 
