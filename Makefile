@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: install system-deps demo test test-fast check bench clean
+.PHONY: install system-deps demo test test-fast test-read-only check bench clean
 
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
@@ -31,6 +31,10 @@ check: $(STAMP)
 	$(BIN)/ruff check vslsp tests benchmarks experiments examples
 	$(BIN)/ruff format --check vslsp tests benchmarks experiments examples
 	$(BIN)/mypy
+
+# The suite where nothing but its temporary folders can be written (docs/testing.md).
+test-read-only: $(STAMP) system-deps
+	PYTHON=$(abspath $(BIN))/python tools/read-only-suite.sh -n 2 --dist loadfile -q
 
 test-fast: $(STAMP)
 	$(BIN)/python -m pytest -n 2 --dist loadfile -q -m "not slow"

@@ -15,7 +15,8 @@
 #   permissions but not a read-only mount.
 # - otherwise the checkout is copied into the scratch folder, `chmod -R a-w`, and run from there
 #   (imports from the copy first), as root under the unprivileged user nobody (setpriv): writes
-#   into the checkout or ~ fail; writes to /tmp do not.
+#   into the checkout or ~ fail; writes to /tmp do not. Its files are also compared before and
+#   after (all that is left as root where neither namespaces nor nobody work).
 # (READ_ONLY_COPY=1 forces the second way.) A test that writes elsewhere fails ("Read-only file system", "Permission denied"); what was
 # written into the temporary HOME, which no test should touch (those that run something that
 # writes to ~ point HOME into their tmp_path), is listed and fails the check too.
@@ -32,31 +33,51 @@ mkdir -p "$scratch/home" "$scratch/tmp"
 export HOME=$scratch/home TMPDIR=$scratch/tmp
 pytest=("$PYTHON" -m pytest -p no:cacheprovider --basetemp="$scratch/basetemp")
 
-if [[ $(id -u) -eq 0 && -z "${READ_ONLY_COPY:-}" ]] && unshare -m true 2>/dev/null; then
-    how="the whole file system read-only but $scratch (a private mount namespace)"
-    echo "read-only-suite: $how" >&2
+# Each way is tried on a probe first: a container may refuse mount namespaces, or nobody may
+# not reach the virtualenv; the last way left, as root, only compares the checkout's files.
+namespace() {  # COMMAND...: run it with the whole file system read-only but $scratch
     # shellcheck disable=SC2016  # expanded by the inner shell
     unshare -m --propagation private bash -c '
         set -e
         scratch=$1; shift
         mount --bind "$scratch" "$scratch"
         mount -o remount,bind,ro /
-        exec "$@"' bash "$scratch" "${pytest[@]}" "$@"
+        exec "$@"' bash "$scratch" "$@"
+}
+as_nobody=(setpriv --reuid=nobody --regid=nogroup --clear-groups)
+if [[ $(id -u) -eq 0 && -z "${READ_ONLY_COPY:-}" ]] && namespace "$PYTHON" -c "" 2>/dev/null; then
+    how="the whole file system read-only but $scratch (a private mount namespace)"
+    echo "read-only-suite: $how" >&2
+    namespace "${pytest[@]}" "$@"
     status=$?
 else
-    as=()
-    if [[ $(id -u) -eq 0 ]]; then  # root writes anywhere: run as nobody
-        as=(setpriv --reuid=nobody --regid=nogroup --clear-groups)
-        chown nobody:nogroup "$scratch" "$scratch/home" "$scratch/tmp"  # not the copy, made below by root
-    fi
-    how="a read-only copy of the checkout ($scratch/checkout)${as:+, as nobody}"
-    echo "read-only-suite: $how" >&2
     mkdir "$scratch/checkout"
     tar -C "$checkout" --exclude=./.venv --exclude=./.git --exclude='*/__pycache__' --exclude=./out -cf - . \
         | tar -C "$scratch/checkout" -xf -
     chmod -R a-w "$scratch/checkout"
+    as=()
+    if [[ $(id -u) -eq 0 ]]; then  # root writes anywhere: run as nobody, if nobody can run Python here
+        chown nobody:nogroup "$scratch" "$scratch/home" "$scratch/tmp"  # not the copy
+        if (cd "$scratch/checkout" && "${as_nobody[@]}" "$PYTHON" -c "") 2>/dev/null; then
+            as=("${as_nobody[@]}")
+        fi
+    fi
+    if [[ $(id -u) -ne 0 || ${#as[@]} -gt 0 ]]; then
+        how="a read-only copy of the checkout ($scratch/checkout)${as:+, as nobody}"
+    else
+        how="a copy of the checkout, as root (no mount namespace, nobody cannot run $PYTHON): only its files compared"
+    fi
+    echo "read-only-suite: $how" >&2
+    listing() { (cd "$scratch/checkout" && find . -path ./.pytest_cache -prune -o -name __pycache__ -prune -o -printf '%p %s %T@\n' | sort); }
+    before=$(listing)
     (cd "$scratch/checkout" && PYTHONPATH="$scratch/checkout${PYTHONPATH:+:$PYTHONPATH}" "${as[@]}" "${pytest[@]}" "$@")
     status=$?
+    changed=$(diff <(echo "$before") <(listing) | grep '^[<>]')
+    if [[ -n "$changed" ]]; then
+        echo "read-only-suite: the tests changed the checkout (< before, > after):" >&2
+        echo "$changed" | head -50 >&2
+        [[ $status -ne 0 ]] || status=1
+    fi
 fi
 
 written=$(cd "$HOME" && find . -mindepth 1 | sort)
