@@ -38,6 +38,26 @@ def test_an_interrupt_during_the_trials_keeps_the_finished_ones(tmp_path, worker
 
 
 @pytest.mark.parametrize("name", list(SIGNALS))
+def test_a_worker_left_without_work_ends_with_the_run_and_prints_nothing(tmp_path, name):
+    """Two trials on two workers: once seed 0 is in the driver its worker waits for work that
+    never comes; ended there by the interrupt, it prints no traceback (it printed the pool
+    loop's, or the initializer's when it was still starting)."""
+    number, code = SIGNALS[name]
+    out = tmp_path / "report"
+    args = ["experiment", "test-waits-after-the-first", "--trials", "2", "--workers", "2", "--json", "--out", out]
+    process = start(args, tmp_path)
+    try:
+        assert became_true(lambda: (tmp_path / "markers" / "waiting-1").exists(), process)
+        process.send_signal(number)
+        stdout, stderr = process.communicate(timeout=120)
+    finally:
+        process.kill()
+    assert process.returncode == code, stderr
+    assert "Traceback" not in stderr and stderr.startswith(f"{name}: stopping now"), stderr
+    assert [r["seed"] for r in json.loads(stdout)["results"]] == [0]
+
+
+@pytest.mark.parametrize("name", list(SIGNALS))
 def test_an_interrupt_while_the_figures_are_drawn_keeps_the_report(tmp_path, name):
     number, code = SIGNALS[name]
     out = tmp_path / "report"

@@ -131,7 +131,24 @@ def _worker_init() -> None:
     from vslsp.sim.quiet import quiet  # noqa: F401  (workers import the simulator quietly)
 
 
+_in_trial = False  # in a pool worker: whether a trial runs now
+
+
+def _trial_in_worker(task: Task, seed: int, keep: bool) -> TrialResult:
+    """:func:`run_one` in a pool worker, noting that a trial runs (for :func:`_raise_interrupted`)."""
+    global _in_trial
+    _in_trial = True
+    try:
+        return run_one(task, seed, keep)
+    finally:
+        _in_trial = False
+
+
 def _raise_interrupted(number: int, frame: Any) -> None:
+    if not _in_trial:
+        # A worker starting or waiting for its next trial has nothing to clean up; raising there
+        # would print the pool loop's traceback on the user's terminal.
+        os._exit(128 + number)
     raise Interrupted(signal.Signals(number).name)
 
 
@@ -175,7 +192,7 @@ def _run_pool(
                 and not (running and (queue[0] in retried or any(s in retried for s in running.values())))
             ):
                 seed = queue.pop(0)
-                running[pool.submit(run_one, task, seed, seed in keep)] = seed
+                running[pool.submit(_trial_in_worker, task, seed, seed in keep)] = seed
             completed, _ = wait(list(running), return_when=FIRST_COMPLETED)
             broken = []
             for future in completed:
