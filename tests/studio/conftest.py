@@ -7,13 +7,12 @@ import shutil
 import socket
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-
-from tests.studio.browsing import ARGS, CHROMIUM, TOKEN, WAIT_MS, free_port
+from helpers.events import became_true
+from helpers.studio import ARGS, CHROMIUM, TOKEN, WAIT_MS, free_port
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -101,6 +100,15 @@ def trial_report(studio_root: Path) -> str:
     return "out/reports/demo"
 
 
+def _serves(port: int) -> bool:
+    """Whether something accepts connections on ``port`` of 127.0.0.1."""
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=0.2).close()
+    except OSError:
+        return False
+    return True
+
+
 @pytest.fixture
 def studio(studio_root: Path, request: pytest.FixtureRequest) -> Iterator[str]:
     """``vslsp studio --root ROOT --no-browser`` on a free port (with ``--token`` for tests marked
@@ -116,13 +124,9 @@ def studio(studio_root: Path, request: pytest.FixtureRequest) -> Iterator[str]:
     )
     address = f"http://127.0.0.1:{port}"
     try:
-        for _ in range(600):
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=0.2).close()
-                break
-            except OSError:
-                assert process.poll() is None, process.stderr.read().decode() if process.stderr else ""
-                time.sleep(0.1)
+        if not became_true(lambda: _serves(port), process):
+            process.kill()
+            raise AssertionError(f"the studio never served on port {port}:\n{process.communicate()[1].decode()}")
         yield address
     finally:
         process.terminate()

@@ -7,20 +7,10 @@ import os
 from pathlib import Path
 
 import pytest
-from fastapi import FastAPI
-from fastapi.testclient import TestClient
 from helpers.events import wait_until
+from helpers.studio import DOMAIN, PROBLEM, client
 
 from vslsp.studio import api
-
-DOMAIN = "pddl/domain.pddl"
-PROBLEM = "pddl/pull-in-order.pddl"
-
-
-def client(root: Path, token: str | None = None) -> TestClient:
-    app = FastAPI()
-    api.install(app, root, token)
-    return TestClient(app)
 
 
 def texts(root: Path) -> dict:

@@ -7,8 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-
-from tests.studio.browsing import CHROMIUM, TOKEN
+from helpers.studio import CHROMIUM, TOKEN
 
 pytestmark = pytest.mark.skipif(not Path(CHROMIUM).exists(), reason=f"no {CHROMIUM} (apt-get install chromium)")
 pytest.importorskip("playwright.sync_api", reason="pip install playwright")

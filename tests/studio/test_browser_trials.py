@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers.studio import CHROMIUM
 
-from tests.studio.browsing import CHROMIUM
 from vslsp.studio import runs
 from vslsp.vision.image import write_image
 

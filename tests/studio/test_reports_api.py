@@ -8,8 +8,8 @@ import json
 
 import numpy as np
 import pytest
+from helpers.studio import DOMAIN, PROBLEM, client
 
-from tests.studio.test_api import DOMAIN, PROBLEM, client
 from vslsp.studio import runs
 
 
