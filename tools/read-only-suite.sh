@@ -28,9 +28,10 @@ if [[ -z "${PYTHON:-}" ]]; then
 fi
 [[ $# -gt 0 ]] || set -- -q
 
-scratch=$(mktemp -d -t vslsp-read-only.XXXXXX)
-mkdir -p "$scratch/home" "$scratch/tmp"
-export HOME=$scratch/home TMPDIR=$scratch/tmp
+# Short names: Ray's socket paths under TMPDIR must stay within 107 bytes.
+scratch=$(mktemp -d /tmp/ro.XXXXXX)
+mkdir -p "$scratch/home" "$scratch/t"
+export HOME=$scratch/home TMPDIR=$scratch/t
 pytest=("$PYTHON" -m pytest -p no:cacheprovider --basetemp="$scratch/basetemp")
 
 # Each way is tried on a probe first: a container may refuse mount namespaces, or nobody may
@@ -57,7 +58,7 @@ else
     chmod -R a-w "$scratch/checkout"
     as=()
     if [[ $(id -u) -eq 0 ]]; then  # root writes anywhere: run as nobody, if nobody can run Python here
-        chown nobody:nogroup "$scratch" "$scratch/home" "$scratch/tmp"  # not the copy
+        chown nobody:nogroup "$scratch" "$scratch/home" "$scratch/t"  # not the copy
         if (cd "$scratch/checkout" && "${as_nobody[@]}" "$PYTHON" -c "") 2>/dev/null; then
             as=("${as_nobody[@]}")
         fi

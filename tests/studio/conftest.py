@@ -134,12 +134,16 @@ def studio(studio_root: Path, request: pytest.FixtureRequest) -> Iterator[str]:
 
 
 @pytest.fixture
-def page(studio: str) -> Iterator:
-    """A headless Chromium tab (Debian's, driven by Playwright)."""
+def page(studio: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator:
+    """A headless Chromium tab (Debian's, driven by Playwright), with a home of its own (Chromium
+    writes ~/.config/chromium and ~/.cache/dconf)."""
     from playwright.sync_api import sync_playwright
 
+    home = tmp_path_factory.mktemp("chromium-home")
     with sync_playwright() as driver:
-        browser = driver.chromium.launch(executable_path=CHROMIUM, args=ARGS, headless=True)
+        browser = driver.chromium.launch(
+            executable_path=CHROMIUM, args=ARGS, headless=True, env={**os.environ, "HOME": str(home)}
+        )
         tab = browser.new_page(viewport={"width": 1500, "height": 1100})
         tab.set_default_timeout(WAIT_MS)
         yield tab
