@@ -7,12 +7,12 @@ from __future__ import annotations
 
 import hashlib
 import json
-import time
 from pathlib import Path
 
 import pytest
+from helpers.events import wait_until
+from helpers.studio import client
 
-from tests.studio.test_api import client
 from vslsp.studio import trial_figures
 
 
@@ -85,11 +85,9 @@ def test_the_record_check_leaves_out_the_times_and_the_video_and_names_what_diff
 
 
 def wait_for(web, job_id: str) -> dict:
-    status = web.get(f"/api/figures/{job_id}").json()
-    while status["state"] == "running":
-        time.sleep(1)
-        status = web.get(f"/api/figures/{job_id}").json()
-    return status
+    """The job's status once it is no longer running."""
+    wait_until(lambda: web.get(f"/api/figures/{job_id}").json()["state"] != "running", f"the job {job_id} to end")
+    return web.get(f"/api/figures/{job_id}").json()
 
 
 @pytest.mark.slow
