@@ -96,36 +96,40 @@ def match_observation(
     if not candidates:
         return NoMatch("no placement of the observation fits in the world at any frame size")
     chosen, refitted, seen = None, [False] * len(candidates), world.astype(np.float32)
+    alive = list(range(len(candidates)))  # the candidates no frame has ruled out yet
     for size in search.compare:
-        scores = np.array([_correlation(observation, seen, point, size, c.transform) for c in candidates])
-        order = np.argsort(-scores, kind="stable")
-        if chosen is not None and scores[order[0]] < chosen.score - MARGIN:
+        scores = _scores(observation, seen, point, size, candidates, alive)
+        if chosen is not None and max(scores.values()) < chosen.score - MARGIN:
             break  # the frame has grown past what the demonstration and this world share
-        unique = len(candidates) == 1 or scores[order[0]] - scores[order[1]] >= MARGIN
-        if unique and len(candidates) > 1:
-            # The rule: a candidate is ruled out on its place, not on its fit. RANSAC on the few
-            # features a small frame holds (two, at times) may fit a copy a few px, degrees or a
-            # fifth in scale off, and that copy then correlates poorly although its place is as
-            # good as the winner's; a frame too small to see what tells them apart would then
-            # decide alone, unflagged. So before a frame decides, every beaten candidate is
-            # re-fitted; when one comes within MARGIN the winner is re-fitted too (the
-            # comparison stays even-handed) and the frame keeps growing while they stay close.
-            # Where the beaten stay beaten, nothing changes (re-fitting the winner could only
-            # widen its lead). A fit is made at the first, smallest frame: the place and its
-            # nearest surroundings, which is what the fit is about (and the cheapest to search).
-            for everyone in (False, True):
-                for i in range(len(candidates)):
-                    if not refitted[i] and (everyone or i != order[0]):
-                        candidates[i] = refit(observation, seen, point, search.compare[0], candidates[i])
-                        refitted[i] = True
-                scores = np.array([_correlation(observation, seen, point, size, c.transform) for c in candidates])
-                order = np.argsort(-scores, kind="stable")
-                unique = _stands_out(candidates, scores, order, object_size)
-                if unique:
-                    break
+        # The rules. A frame narrows the candidates down (the paper: context "narrows down the
+        # possible matches and leaves only a single matching observation"): one it beats by
+        # MARGIN is out for good, so a larger frame, which sees mostly the rest of the board
+        # that the new world does not share, cannot bring back a place the smaller frames saw
+        # was wrong (a house that already has its roof). And a candidate is ruled out on its
+        # place, not on its fit: RANSAC on the few features a small frame holds (two, at
+        # times) may fit a copy a few px, degrees or a fifth in scale off, and that copy then
+        # correlates poorly although its place is as good as the best one's. So before a frame
+        # rules candidates out, whether or not one of the rest stands out, each is re-fitted;
+        # when one comes within MARGIN the others are re-fitted too (the comparison stays
+        # even-handed) and the frame keeps growing while they stay close. A fit is made at the
+        # first, smallest frame: the place and its nearest surroundings, which is what the fit
+        # is about (and the cheapest to search).
+        for everyone in (False, True):
+            best = max(scores.values())
+            redo = [i for i in alive if not refitted[i] and (everyone or scores[i] < best - MARGIN)]
+            if not redo:
+                break
+            for i in redo:
+                candidates[i] = refit(observation, seen, point, search.compare[0], candidates[i])
+                refitted[i] = True
+            scores = _scores(observation, seen, point, size, candidates, alive)
+            if all(scores[i] < max(scores.values()) - MARGIN for i in redo):
+                break  # the re-fitted stay beaten: re-fitting the rest could only widen their lead
+        alive = _narrowed(candidates, scores, object_size)
+        unique = len(alive) == 1
         chosen = replace(
-            candidates[order[0]],
-            score=float(scores[order[0]]),
+            candidates[alive[0]],
+            score=float(scores[alive[0]]),
             frame=int(size),
             ambiguous=not unique,
             candidates=len(candidates),
@@ -228,14 +232,33 @@ def _about(centre: np.ndarray, dx: float, dy: float, turn: float, scale: float =
     return np.array([[c, -s, x + dx - c * x + s * y], [s, c, y + dy - s * x - c * y], [0.0, 0.0, 1.0]])
 
 
-def _stands_out(candidates: list[Match], scores: np.ndarray, order: np.ndarray, object_size: float) -> bool:
-    """Whether the best candidate beats by ``MARGIN`` every other one that lies more than half
-    an object from it (a re-fit may move a candidate onto another's place: the same place)."""
-    best = candidates[order[0]]
-    others = [
-        scores[i] for i in order[1:] if np.hypot(candidates[i].x - best.x, candidates[i].y - best.y) > object_size / 2.0
-    ]
-    return not others or scores[order[0]] - max(others) >= MARGIN
+def _scores(
+    observation: np.ndarray,
+    world: np.ndarray,
+    point: tuple[float, float],
+    size: int,
+    candidates: list[Match],
+    alive: list[int],
+) -> dict[int, float]:
+    """The frame of side ``size``'s correlation for each ``alive`` candidate (by index)."""
+    return {i: _correlation(observation, world, point, size, candidates[i].transform) for i in alive}
+
+
+def _narrowed(candidates: list[Match], scores: dict[int, float], object_size: float) -> list[int]:
+    """The candidates (indices) a frame leaves, best first: those within ``MARGIN`` of the best
+    one, less those that lie within half an object of a better one (a re-fit may move a
+    candidate onto another's place: the same place)."""
+    order = sorted(scores, key=lambda i: -scores[i])  # stable: ties keep the search's order
+    kept: list[int] = []
+    for i in order:
+        if scores[i] < scores[order[0]] - MARGIN:
+            break
+        if all(
+            np.hypot(candidates[i].x - candidates[k].x, candidates[i].y - candidates[k].y) > object_size / 2.0
+            for k in kept
+        ):
+            kept.append(i)
+    return kept
 
 
 def _correlation(
