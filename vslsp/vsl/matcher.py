@@ -11,10 +11,11 @@ A recorded observation (pre-pick or pre-place) is found in the new world in two 
    no candidate, and one within half an object of an earlier candidate is the same place;
 2. disambiguation: with no comparison frames the first fitting placement is the match (its own
    frames grew while it was ambiguous); with comparison frames every candidate's colour
-   correlation with the observation is measured as the frame grows, until one beats the others
-   by :data:`~vslsp.vision.matching.MARGIN` (the paper's adaptive frame telling identical
-   objects apart by their surroundings). Before a frame rules the beaten candidates out, each
-   is re-fitted (:func:`refit`) and compared again: see :func:`match_observation`.
+   correlation with the observation is measured as the frame grows, each frame ruling out for
+   good the candidates it beats by :data:`~vslsp.vision.matching.MARGIN`, until one is left
+   (the paper's adaptive frame telling identical objects apart by their surroundings, which
+   "narrows down the possible matches"). Before a frame rules a candidate out, it is re-fitted
+   (:func:`refit`) and compared again: see :func:`match_observation`.
 
 What differs between the tasks is data, a :class:`Search`: the rounds of placements (their
 frame sides, how many, how far about each the world features are left out) and the comparison
