@@ -126,9 +126,9 @@ def test_a_frame_too_small_to_see_the_roofs_does_not_decide_on_a_poor_fit():
 def _placing(seed: int, placed: tuple[tuple[int, int], ...], lifted: int):
     """Trial ``seed``'s reproduction world with roof r on top of body b for each (r, b) in
     ``placed`` (the operations done so far) and roof ``lifted`` in the hand."""
-    from vslsp.tasks.house_roof import REPRODUCTION_SEED
+    from vslsp.experiments.seeds import reproduction_seed
 
-    world = HouseWorld.random(seed + REPRODUCTION_SEED)
+    world = HouseWorld.random(reproduction_seed(seed))
     for roof, body in placed:
         world = world.with_roof(roof, compose(world.bodies[body], SLOTS["top"]))
     return world.with_roof(lifted, None)
