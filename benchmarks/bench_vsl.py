@@ -77,7 +77,7 @@ def house_roof(trials: int, seed: int, workers: int, progress: bool) -> dict:
             "successes": f["successes"],
             "success_rate": f["success_rate"],
             "operation_success_rate": f["operations_ok"] / f["operations"] if f["operations"] else 0.0,
-            "diagnoses": f["diagnoses"],
+            "diagnoses": {str(k): v for k, v in f["diagnoses"].items()},  # Diagnosis keys as their strings
             "ms_per_reproduction": f["ms_per_reproduction"],
             "reproduction_in_sift_extractions": (
                 round(f["ms_per_reproduction"] / reference, 1) if f["ms_per_reproduction"] else None
