@@ -214,7 +214,7 @@ def _matches_picture(demo, reproduction, frame: str) -> np.ndarray:
     the place frame that decided (orange) mapped into it by their transforms."""
     import cv2
 
-    from vslsp.experiments.house_roof_trial import frame_box, pick_frame
+    from vslsp.experiments.house_roof_trial import pick_frame
 
     panels = []
     for k, (op, result) in enumerate(zip(demo.demonstration.operations, reproduction.operations), start=1):
@@ -224,11 +224,11 @@ def _matches_picture(demo, reproduction, frame: str) -> np.ndarray:
             else reproduction.world_before.render()
         ).copy()
         if result.pick is not None:
-            corners = frame_box(result.pick, pick_frame(op.object_size), (op.pose_pre.x, op.pose_pre.y))
+            corners = result.pick.frame_corners(pick_frame(op.object_size), (op.pose_pre.x, op.pose_pre.y))
             cv2.polylines(image, [np.round(corners).astype(np.int32)], True, PICK, 2, cv2.LINE_AA)
         text = f"op {k}: {result.diagnosis}"
         if result.place is not None:
-            corners = frame_box(result.place, result.place.frame, (op.pose_post.x, op.pose_post.y))
+            corners = result.place.frame_corners(result.place.frame, (op.pose_post.x, op.pose_post.y))
             cv2.polylines(image, [np.round(corners).astype(np.int32)], True, PLACE, 3, cv2.LINE_AA)
             cv2.drawMarker(image, point((result.place.x, result.place.y)), PLACE, cv2.MARKER_CROSS, 20, 2)
             text += (

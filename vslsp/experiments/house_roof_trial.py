@@ -34,7 +34,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TypeVar
 
-import cv2
 import numpy as np
 
 from vslsp.errors import InputError
@@ -294,19 +293,3 @@ def place_search(frame: FrameMode | str, object_size: float) -> Search:
 def _hand_point(xy: tuple[float, float], z: float = 0.0) -> np.ndarray:
     """A hand position (3,) m from image px and a height (m)."""
     return np.array([xy[0] * PIXEL_SIZE, xy[1] * PIXEL_SIZE, z])
-
-
-def frame_box(match: Match, size: int, point: tuple[float, float]) -> np.ndarray:
-    """The corners (4, 2) px in the world of the square frame of side ``size`` around the
-    recorded ``point``, mapped through the match's transform (for overlays)."""
-    half = size / 2.0
-    corners = np.array(
-        [
-            [point[0] - half, point[1] - half],
-            [point[0] + half, point[1] - half],
-            [point[0] + half, point[1] + half],
-            [point[0] - half, point[1] + half],
-        ],
-        np.float32,
-    )
-    return cv2.perspectiveTransform(corners[None], match.transform)[0]

@@ -273,19 +273,7 @@ def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:
             (outcome.planned.pick_match, op.pick_point, demo.pick_frame, PICK),
             (outcome.planned.place_match, op.place_point, outcome.planned.place_match.frame, PLACE),
         ):
-            half = side / 2.0
-            corners = np.array(
-                [
-                    [
-                        [point[0] - half, point[1] - half],
-                        [point[0] + half, point[1] - half],
-                        [point[0] + half, point[1] + half],
-                        [point[0] - half, point[1] + half],
-                    ]
-                ],
-                np.float32,
-            )
-            box = cv2.perspectiveTransform(corners, match.transform)[0]
+            box = match.frame_corners(side, point)
             cv2.polylines(image, [np.round(box).astype(np.int32)], True, colour, 3, cv2.LINE_AA)
             cv2.drawMarker(image, (int(match.x), int(match.y)), colour, cv2.MARKER_CROSS, 24, 3)
         panels.append(

@@ -73,6 +73,14 @@ class Match:
             "candidates": self.candidates,
         }
 
+    def frame_corners(self, size: float, point: tuple[float, float]) -> np.ndarray:
+        """The corners (4, 2) px in the world of the square frame of side ``size`` around the
+        ``point`` recorded in the observation, mapped through the match's transform (overlays)."""
+        half = size / 2.0
+        x, y = point
+        corners = np.array([[x - half, y - half], [x + half, y - half], [x + half, y + half], [x - half, y + half]])
+        return cv2.perspectiveTransform(corners[None].astype(np.float32), self.transform)[0]
+
 
 class FrameMode(enum.StrEnum):
     """How the pre-place frame is chosen: grown until one place stands out (the paper's
