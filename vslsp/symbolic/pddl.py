@@ -143,8 +143,9 @@ def _check_requirements(domain_text: str, domain: Domain, problem: Problem, name
         )
 
 
-class _OverBudget(Exception):
-    pass
+class _OverBudget(BaseException):
+    """The parse budget is spent (a BaseException: an ``except Exception`` in the reader's
+    libraries, pyparsing's included, cannot keep it)."""
 
 
 @contextmanager
@@ -154,16 +155,26 @@ def _time_budget(seconds: float) -> Iterator[None]:
         yield
         return
 
+    expired = False
+
     def alarm(signum: int, frame: Any) -> None:
+        nonlocal expired
+        expired = True
         raise _OverBudget()
 
+    # Rule: the alarm repeats every 50 ms once the budget is spent, and a block that ends after it
+    # fired is over budget even if no raise got out. A signal handler runs wherever the main thread
+    # is, a finalizer that the garbage collector runs included, and an exception raised there is
+    # only printed ("Exception ignored in ...") and lost: one single alarm can be swallowed.
     previous = signal.signal(signal.SIGALRM, alarm)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    signal.setitimer(signal.ITIMER_REAL, seconds, 0.05)
     try:
         yield
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+    if expired:
+        raise _OverBudget()
 
 
 @contextmanager
