@@ -64,6 +64,7 @@ COMPLETION_JS = """
     };
     const data = CM.EditorState.languageData.of(() => [{autocomplete: source}]);
     view.dispatch({effects: CM.StateEffect.appendConfig.of(data)});
+    window.vslspCompletion = {...window.vslspCompletion, [kind]: true};  // Ctrl-Space asks the server now
   }
 })(%s);
 """
