@@ -37,9 +37,29 @@ class RayHead:
 
 def free_port() -> int:
     """A TCP port that nothing listens on at the moment."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
+    return free_ports(1)[0]
+
+
+def free_ports(count: int) -> list[int]:
+    """``count`` different TCP ports that nothing listens on at the moment (all held open while
+    they are chosen: one closed before the next is bound may be handed out again)."""
+    probes = [socket.socket() for _ in range(count)]
+    try:
+        for probe in probes:
+            probe.bind(("127.0.0.1", 0))
+        return [int(probe.getsockname()[1]) for probe in probes]
+    finally:
+        for probe in probes:
+            probe.close()
+
+
+def listens(port: int) -> bool:
+    """Whether something accepts TCP connections on 127.0.0.1:``port``."""
+    try:
+        with socket.create_connection(("127.0.0.1", port), timeout=1.0):
+            return True
+    except OSError:
+        return False
 
 
 @contextmanager
@@ -48,7 +68,7 @@ def ray_head(pythonpath: list[Path], env: dict[str, str] | None = None, cpus: in
     import from ``pythonpath``; ``env``: more environment variables of the head (e.g. its
     authentication). Stops it, and removes its folder, on leaving."""
     folder = Path(tempfile.mkdtemp(prefix="vslsp-ray-"))  # short: Ray's socket paths must stay < 108 bytes
-    port, client_port = free_port(), free_port()
+    port, client_port = free_ports(2)
     head_env = {
         **os.environ,
         "HOME": str(folder),
@@ -75,6 +95,11 @@ def ray_head(pythonpath: list[Path], env: dict[str, str] | None = None, cpus: in
     )
     try:
         _wait_until_started(head)
+        # `ray start` says "started" once the GCS and the raylet run; the Ray client's server is a
+        # process of its own that may listen only seconds later on a loaded machine (CI: a
+        # ray:// run right after the start was refused). The cluster is ready when it listens.
+        if not became_true(lambda: listens(client_port), head, hang_s=HANG_S):
+            raise RuntimeError(f"the head's Ray client server never listened on port {client_port}")
         yield RayHead(folder, f"127.0.0.1:{port}", f"ray://127.0.0.1:{client_port}")
     finally:
         _stop(head, folder)
