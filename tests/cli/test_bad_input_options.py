@@ -33,3 +33,17 @@ def test_gui_without_a_display_is_refused_with_the_reason(capsys, monkeypatch, t
     monkeypatch.setenv("DISPLAY", ":4077")  # a local display nobody serves
     code, _, err = vslsp(capsys, *command, "--gui", "--out", tmp_path / "out")
     assert code == 2 and "no X server listens on DISPLAY=:4077" in err, err
+
+
+@pytest.mark.parametrize("value", ["1.5", "-0.1", "nan", "often"])
+def test_a_slip_probability_outside_0_to_1_is_refused(capsys, monkeypatch, tmp_path, value):
+    monkeypatch.chdir(tmp_path)
+    code, _, err = vslsp(capsys, "experiment", "house-roof", "--tutor-slips", value, "--out", tmp_path / "out")
+    assert code == 2 and "a probability from 0 to 1" in err and "--tutor-slips" in err, err
+    assert not (tmp_path / "out").exists()  # refused before any work
+
+
+def test_views_are_one_or_two(capsys, monkeypatch, tmp_path):
+    monkeypatch.chdir(tmp_path)
+    code, _, err = vslsp(capsys, "experiment", "table-cleaning", "--views", "3", "--out", tmp_path / "out")
+    assert code == 2 and "is not in the range 1<=x<=2" in err, err

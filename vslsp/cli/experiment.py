@@ -2,7 +2,8 @@
 
 Every experiment takes the same options and writes the same report folder (``report.json``,
 ``report.md``, figures); ``--list`` lists them. Options that only some experiments take
-(``--faults``, ``--planner``, ``--skills``, ``--predicates``, ``--method``) are refused by the others.
+(``--faults``, ``--planner``, ``--skills``, ``--predicates``, ``--method``, ``--tutor-slips``,
+``--slip-detection``, ``--views``) are refused by the others.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import count, prepare_output_folder, seed_option
+from vslsp.cli.params import PROBABILITY, count, prepare_output_folder, seed_option
 from vslsp.errors import Interrupted
 from vslsp.outputs import OutputFailed, refuse_link
 
@@ -69,6 +70,27 @@ MAX_WORKERS = 64
 )
 @click.option("--method", default=None, help="VSL-3D: match finding (prerejective_ransac, sac_ia, icp).")
 @click.option(
+    "--tutor-slips",
+    type=PROBABILITY,
+    default=None,
+    help="The probability, per demonstrated operation, that the tutor also disturbs another object "
+    "(a nudge of 1-4 cm and up to 20 deg, seeded) [default: 0].",
+)
+@click.option(
+    "--slip-detection",
+    type=click.Choice(["on", "off"]),
+    default=None,
+    help="on: find every object that moved in an operation and tell the operated one from those "
+    "disturbed; off: the paper's VSL, which takes the change for the operation [default: on].",
+)
+@click.option(
+    "--views",
+    type=click.IntRange(1, 2),
+    default=None,
+    help="VSL-3D: depth cameras, 1 (the paper's single view) or 2 (a second one across the table, "
+    "clouds fused) [default: 1].",
+)
+@click.option(
     "--out", type=click.Path(file_okay=False), default=None, help="Report folder (default: out/experiments/NAME)."
 )
 @click.option(
@@ -94,6 +116,9 @@ def experiment(
     planner: str | None,
     skills_dir: str | None,
     method: str | None,
+    tutor_slips: float | None,
+    slip_detection: str | None,
+    views: int | None,
     predicates_file: str | None,
     out: str | None,
     as_json: bool,
@@ -131,6 +156,9 @@ def experiment(
         planner=planner,
         skills=skills_dir,
         method=method,
+        tutor_slips=tutor_slips,
+        slip_detection=None if slip_detection is None else slip_detection == "on",
+        views=views,
         predicates=str(Path(predicates_file).resolve()) if predicates_file else None,
     )
     prepare_output_folder(folder)

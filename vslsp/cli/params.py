@@ -22,6 +22,9 @@ A bad value is a usage error (exit 2, one line naming the option, no traceback).
 :func:`positive_float` (type factory)
     A finite float > 0 (optionally <= a bound): NaN, inf, 0 and negatives are refused
     (click's own ``FloatRange`` lets NaN through).
+``PROBABILITY`` (type)
+    A finite float from 0 to 1 (``--tutor-slips 0.5``); ``1.5`` -> ``1.5 is not a probability
+    from 0 to 1``.
 
 Example::
 
@@ -231,6 +234,24 @@ class PositiveFloat(click.ParamType):
 def positive_float(maximum: float | None = None) -> PositiveFloat:
     """A finite float > 0 (and <= ``maximum`` when given)."""
     return PositiveFloat(maximum)
+
+
+class Probability(click.ParamType):
+    """A finite float from 0 to 1."""
+
+    name = "probability"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> float:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is not a number; give a probability from 0 to 1", param, ctx)
+        if not 0.0 <= number <= 1.0:  # NaN fails this too
+            self.fail(f"{value} is not a probability from 0 to 1", param, ctx)
+        return number
+
+
+PROBABILITY = Probability()
 
 
 def check_display(gui: bool) -> None:

@@ -53,6 +53,14 @@ class Option(enum.StrEnum):
     METHOD = "method"  # VSL-3D's match-finding method
     PREDICATES = "predicates"  # a Python file of the user's predicates (vslsp.grounding)
     VIDEO = "video"  # the report folder: each trial filmed into its videos/trial-SEED.mp4
+    TUTOR_SLIPS = "tutor_slips"  # P: per demonstrated operation the tutor also disturbs another object
+    SLIP_DETECTION = "slip_detection"  # False: the paper's VSL, which takes every change for the operation
+    VIEWS = "views"  # VSL-3D's depth cameras: 1 (the paper's single view) or 2 (fused)
+
+    @property
+    def flag(self) -> str:
+        """The option as typed on the command line: ``--tutor-slips``."""
+        return "--" + self.value.replace("_", "-")
 
 
 @dataclass

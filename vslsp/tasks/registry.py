@@ -15,7 +15,7 @@ from importlib.metadata import entry_points
 from typing import TypeVar
 
 from vslsp.errors import InputError
-from vslsp.tasks.base import Task
+from vslsp.tasks.base import Option, Task
 
 BUILTIN = "vslsp.experiments"  # the package of the paper's experiments (above this layer: loaded by name)
 
@@ -62,14 +62,15 @@ def get_task(name: str, **options: object) -> Task:
     """An instance of task ``name`` with ``options`` (checked before any work): an option the
     task does not take, or a bad value, is an :class:`InputError`."""
     cls = task_class(name)
-    given = {k for k, v in options.items() if v is not None and v is not False}
+    # a flag left off (``faults=False``) is not given; ``slip_detection=False`` is (detection off)
+    given = {k for k, v in options.items() if v is not None and (v is not False or k == Option.SLIP_DETECTION)}
     unknown = given - {o.value for o in cls.options}
     if unknown:
         option = sorted(unknown)[0]
         systems = dict.fromkeys(c.system.value for c in list_tasks() if option in {o.value for o in c.options})
         raise InputError(
-            f"--{option} applies to the {' and '.join(systems) or 'no'} experiments; {name} takes "
-            f"{', '.join('--' + o.value for o in sorted(cls.options)) or 'no task options'}"
+            f"--{option.replace('_', '-')} applies to the {' and '.join(systems) or 'no'} experiments; {name} takes "
+            f"{', '.join(o.flag for o in sorted(cls.options)) or 'no task options'}"
         )
     task = cls(**options)
     task.check()
