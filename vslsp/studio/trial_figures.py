@@ -30,7 +30,13 @@ FIGURES = "out/studio/figures"
 ADDRESS = re.compile(r"^(?P<folder>.+?)/trials/(?P<seed>[0-9]{1,10})/figures/?$")
 #: The options a report records in its summary (the others, ``--skills``, ``--predicates``,
 #: ``--planner``, are not recorded: a re-run without them is told apart by the record check).
-RECORDED_OPTIONS = {"faults": bool, "method": str}
+RECORDED_OPTIONS: dict[str, type | tuple[type, ...]] = {
+    "faults": bool,
+    "method": str,
+    "tutor_slips": (int, float),  # the summary's own keys, written by the tasks that take them
+    "slip_detection": bool,
+    "views": int,
+}
 #: The differences a check keeps.
 MAX_DIFFERENCES = 20
 
@@ -73,7 +79,8 @@ def checked(root: Path, rel: str, seed: int) -> dict:
 
 def recorded_options(root: Path, folder: Path, summary: dict, takes: set[str]) -> dict[str, Any]:
     """The options of the run that wrote the report, as far as it recorded them: the summary's
-    ``faults`` and ``method`` (VSL-SP, VSL-3D), or a studio run's request."""
+    ``faults`` and ``method`` (VSL-SP, VSL-3D), ``tutor_slips``, ``slip_detection`` and ``views``,
+    or a studio run's request."""
     found = {
         key: summary[key]
         for key, kind in RECORDED_OPTIONS.items()
@@ -87,7 +94,8 @@ def recorded_options(root: Path, folder: Path, summary: dict, takes: set[str]) -
             request = {}
         if "faults" in takes and isinstance(request.get("faults"), bool):
             found["faults"] = request["faults"]
-    return {key: value for key, value in found.items() if value is not False}
+    # a flag off is no option (faults); the slip detection off is (the paper's VSL, a baseline)
+    return {key: value for key, value in found.items() if value is not False or key == "slip_detection"}
 
 
 def start(root: Path, rel: str, seed: int) -> str:
