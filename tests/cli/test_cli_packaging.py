@@ -30,7 +30,7 @@ def test_pyproject_uses_an_spdx_license_and_maps_the_data():
 
 
 @pytest.mark.slow
-def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere(tmp_path):
+def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere(tmp_path, monkeypatch):
     """Build the wheel, install it (with its dependencies) into a new venv, run from another folder."""
     source = tmp_path / "source"  # a copy: an in-tree build writes build/ and *.egg-info beside the sources
     shutil.copytree(
@@ -40,10 +40,13 @@ def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere
             ".git", ".venv", "out", "runs", "build", "*.egg-info", "__pycache__", ".pytest_cache", ".gl", ".whl"
         ),
     )
-    # A home of this test's own for pip's cache and the build tools' settings (rustup writes
-    # ~/.rustup/settings.toml); without PYTHONPATH, where a checkout would count as installed.
+    # A home of this test's own for pip's cache and the build tools' settings: every pip run,
+    # ensurepip's in venv.create too, asks `rustc --version` for its user agent, and rustup's
+    # rustc writes ~/.rustup/settings.toml. Without PYTHONPATH, where a checkout would count as
+    # installed.
     (tmp_path / "home").mkdir()
-    home = {**os.environ, "HOME": str(tmp_path / "home")}
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))  # venv.create runs pip (ensurepip) in this environment
+    home = {**os.environ}
     clean = {k: v for k, v in home.items() if k != "PYTHONPATH"}
     build = subprocess.run(
         [sys.executable, "-m", "pip", "wheel", "-v", str(source), "--no-deps", "-w", str(tmp_path / "wheels")],
