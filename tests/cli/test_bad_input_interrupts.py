@@ -14,20 +14,27 @@ from helpers.processes import planner_processes, start
 SIGNALS = {"SIGINT": (signal.SIGINT, 130), "SIGTERM": (signal.SIGTERM, 143)}
 
 
+def interrupted(args: list[object], tmp_path, marker: str, number: int) -> tuple[int, str, str]:
+    """Run ``vslsp ARGS``, send it signal ``number`` once the test task has written ``marker``
+    (in $VSLSP_TEST_MARKERS), and return its exit code, stdout and stderr."""
+    process = start(args, tmp_path)
+    try:
+        assert became_true(lambda: (tmp_path / "markers" / marker).exists(), process)
+        process.send_signal(number)
+        stdout, stderr = process.communicate(timeout=120)
+    finally:
+        process.kill()
+    return process.returncode, stdout, stderr
+
+
 @pytest.mark.parametrize("workers", [1, 2])
 @pytest.mark.parametrize("name", list(SIGNALS))
 def test_an_interrupt_during_the_trials_keeps_the_finished_ones(tmp_path, workers, name):
     number, code = SIGNALS[name]
     out = tmp_path / "report"
     args = ["experiment", "test-waits-after-the-first", "--trials", "4", "--workers", workers, "--json", "--out", out]
-    process = start(args, tmp_path)
-    try:
-        assert became_true(lambda: (tmp_path / "markers" / "waiting-1").exists(), process)
-        process.send_signal(number)
-        stdout, stderr = process.communicate(timeout=120)
-    finally:
-        process.kill()
-    assert process.returncode == code, stderr
+    returncode, stdout, stderr = interrupted(args, tmp_path, "waiting-1", number)
+    assert returncode == code, stderr
     assert "Traceback" not in stderr and f"{name}: stopping now" in stderr
     summary = json.loads(stdout)
     report = json.loads((out / "report.json").read_text())
@@ -45,14 +52,8 @@ def test_a_worker_left_without_work_ends_with_the_run_and_prints_nothing(tmp_pat
     number, code = SIGNALS[name]
     out = tmp_path / "report"
     args = ["experiment", "test-waits-after-the-first", "--trials", "2", "--workers", "2", "--json", "--out", out]
-    process = start(args, tmp_path)
-    try:
-        assert became_true(lambda: (tmp_path / "markers" / "waiting-1").exists(), process)
-        process.send_signal(number)
-        stdout, stderr = process.communicate(timeout=120)
-    finally:
-        process.kill()
-    assert process.returncode == code, stderr
+    returncode, stdout, stderr = interrupted(args, tmp_path, "waiting-1", number)
+    assert returncode == code, stderr
     assert "Traceback" not in stderr and stderr.startswith(f"{name}: stopping now"), stderr
     assert [r["seed"] for r in json.loads(stdout)["results"]] == [0]
 
@@ -61,14 +62,9 @@ def test_a_worker_left_without_work_ends_with_the_run_and_prints_nothing(tmp_pat
 def test_an_interrupt_while_the_figures_are_drawn_keeps_the_report(tmp_path, name):
     number, code = SIGNALS[name]
     out = tmp_path / "report"
-    process = start(["experiment", "test-slow-figures", "--trials", "3", "--out", out], tmp_path)
-    try:
-        assert became_true(lambda: (tmp_path / "markers" / "figures").exists(), process)
-        process.send_signal(number)
-        _, stderr = process.communicate(timeout=120)
-    finally:
-        process.kill()
-    assert process.returncode == code, stderr
+    args = ["experiment", "test-slow-figures", "--trials", "3", "--out", out]
+    returncode, _, stderr = interrupted(args, tmp_path, "figures", number)
+    assert returncode == code, stderr
     assert "Traceback" not in stderr
     report = json.loads((out / "report.json").read_text())
     assert [r["seed"] for r in report["results"]] == [0, 1, 2] and report["successes"] == 3
