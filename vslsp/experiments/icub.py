@@ -20,7 +20,14 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from vslsp.experiments.icub_report import fault_lines, learned_lines, matches_table_3, trial_rows, write_artefacts
+from vslsp.experiments.icub_report import (
+    fault_lines,
+    learned_lines,
+    matches_table_3,
+    slip_lines,
+    trial_rows,
+    write_artefacts,
+)
 from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.registry import register
 
@@ -37,7 +44,17 @@ class IcubExperiment(Task):
     """An iCub experiment: options ``faults``, ``planner`` and ``skills`` (the library folder)."""
 
     system = System.VSL_SP
-    options = frozenset({Option.FAULTS, Option.PLANNER, Option.SKILLS, Option.PREDICATES, Option.VIDEO})
+    options = frozenset(
+        {
+            Option.FAULTS,
+            Option.PLANNER,
+            Option.SKILLS,
+            Option.PREDICATES,
+            Option.VIDEO,
+            Option.TUTOR_SLIPS,
+            Option.SLIP_DETECTION,
+        }
+    )
     keep_first = True  # a trial takes tens of seconds: the first one's artefacts travel back instead of a re-run
 
     def check(self) -> None:
@@ -97,6 +114,12 @@ class IcubExperiment(Task):
         trial = IcubRun(seed, gui=gui, on_stage=on_stage, predicates=self.predicates())
         if video is not None:
             trial.video = SceneVideo(video)
+        if self.slips_given:
+            from vslsp.experiments.icub_slips import Watcher
+
+            trial.watcher = Watcher(
+                seed, float(self.option(Option.TUTOR_SLIPS, 0.0)), bool(self.option(Option.SLIP_DETECTION, True))
+            )
         rng = np.random.default_rng(seed)
         kinds = tuple(fault.value for fault in Fault)  # drawn by value: the same seed, the same fault
         fault_plan = {int(rng.integers(0, 2)): str(rng.choice(kinds))} if faults else {}
@@ -115,6 +138,8 @@ class IcubExperiment(Task):
             planned = {id(step) for run in trial.executions for step in run.steps}
             trial.details["fault_log"] = fault_log(trial.steps, planned, trial.error or "the trial ended")
             trial.details["faults"] = {str(entry["step"] - 1): entry["kind"] for entry in trial.details["fault_log"]}
+        if trial.watcher is not None:
+            trial.details.update(trial.watcher.details())
         if trial.domain is not None or trial.task is not None:
             trial.details["learned"] = describe_learned(trial.domain, trial.task)
         plans = [plan for run in trial.executions for plan in run.plans]
@@ -131,6 +156,12 @@ class IcubExperiment(Task):
             if trial.task is not None:
                 trial.details["rules"] = [str(rule) for rule in trial.task.rules]
         return trial
+
+    @property
+    def slips_given(self) -> bool:
+        """Whether the run was asked for the tutor's slips or their detection (without either, a
+        trial is exactly what it was before them)."""
+        return self.option(Option.TUTOR_SLIPS) is not None or self.option(Option.SLIP_DETECTION) is not None
 
     def run_trial(self, seed: int, keep: bool = False, on_stage=None, gui: bool = False) -> TrialResult:
         from vslsp.skills.library import SkillLibrary
@@ -169,6 +200,12 @@ class IcubExperiment(Task):
         if data["faults"]:
             data["faults_fired"] = sum(len(r.details.get("fault_log", [])) for r in results)
             data["trials_with_a_fired_fault"] = sum(bool(r.details.get("fault_log")) for r in results)
+        if self.slips_given:
+            from vslsp.experiments.icub_slips import summary
+
+            data["tutor_slips"] = float(self.option(Option.TUTOR_SLIPS, 0.0))
+            data["slip_detection"] = bool(self.option(Option.SLIP_DETECTION, True))
+            data.update(summary(results))
         return data
 
     def shown_seed(self, results: list[TrialResult]) -> int:
@@ -182,7 +219,8 @@ class IcubExperiment(Task):
             else ""
         )
         lines = [f"{data['replans']} replans, {data['failed_steps']} failed steps{fired}.", ""]
-        lines += trial_rows(data["results"]) + fault_lines(data["results"]) + learned_lines(data["results"])
+        lines += trial_rows(data["results"]) + fault_lines(data["results"]) + slip_lines(data)
+        lines += learned_lines(data["results"])
         return lines
 
     def paper_figures(self, data: Mapping[str, Any]) -> list[tuple[str, str, str]]:

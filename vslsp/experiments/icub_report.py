@@ -40,6 +40,7 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
     learned PDDL, the first problem and plan, the executions, and the trajectory figure."""
     from vslsp.errors import VslspError
     from vslsp.grounding import draw_grounding
+    from vslsp.grounding.moves import draw_moves
     from vslsp.grounding.operation import ground
     from vslsp.tasks.drawing import caption, label
     from vslsp.vision.image import write_image
@@ -55,12 +56,18 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
                 grounding = ground(pre, post)
             except VslspError:
                 grounding = None  # nothing moved (a skipped step): the images are still shown
-        if grounding is not None:
+        # With the slip detection: every cube that moved, the operated one and the disturbed.
+        moves = trial.watcher.pictures.get(i - 1) if getattr(trial, "watcher", None) is not None else None
+        if moves is not None:
+            picture = draw_moves(pre, post, moves)
+        elif grounding is not None:
             picture = draw_grounding(pre, post, grounding)
         else:  # nothing moved, so nothing to ground: the two images, named
             picture = np.hstack([label(pre, "pre"), label(post, "post: no object changed side")])
         fault = faults.get(number.get(id(step), -1)) if step is not None else None
         lines = step_caption(title, grounding, step, fault)
+        if moves is not None:
+            lines.append(moves_caption(moves))
         name = f"{i:02d}_{re.sub(r'[^a-z0-9]+', '_', title.lower()).strip('_')}.png"
         write_image(images / name, caption(picture, lines))
         stem = name[:-4]
@@ -77,6 +84,8 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
                 "caption": " / ".join(lines),
             }
         )
+        if moves is not None:
+            files["images"][-1].update({k: v for k, v in moves.to_dict().items() if k in MOVES_KEYS})
     if trial.domain is not None:
         write_text(folder / "domain.pddl", trial.domain.to_pddl())
         files["domain"] = "domain.pddl"
@@ -95,6 +104,65 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
         plot_trajectories(folder / "trajectories.png", trial)
         files["trajectories"] = "trajectories.png"
     return files
+
+
+MOVES_KEYS = ("moved", "operated", "disturbed")
+
+
+def moves_caption(moves) -> str:
+    """An operation's moves in words: ``moved: orange, yellow; operated: orange; disturbed: yellow
+    (across the line: (far yellow) false -> true, not part of the goal)``."""
+    disturbed = [
+        g.name
+        + (
+            f" (across the line: (far {g.name}) {str(g.far_pre).lower()} -> {str(g.far_post).lower()}, "
+            "not part of the goal)"
+            if g.far_pre != g.far_post
+            else ""
+        )
+        for g in moves.disturbed
+    ]
+    return (
+        f"moved: {', '.join(g.name for g in moves.moved)}; operated: {moves.operated.name}; "
+        f"disturbed: {', '.join(disturbed) or 'none'}"
+    )
+
+
+def slip_lines(data: Mapping[str, Any]) -> list[str]:
+    """report.md's "Tutor slips": the run's figures and each trial's disturbances in words (only
+    for a run with ``--tutor-slips`` or ``--slip-detection``)."""
+    if "tutor_slips" not in data:
+        return []
+    lines = [
+        "## Tutor slips",
+        "",
+        f"P = {data['tutor_slips']} per demonstrated operation, slip detection "
+        f"{'on' if data['slip_detection'] else 'off (the paper VSL: one moved object per operation)'}: "
+        f"{data['operations_slipped']} operations slipped, {data['slips_detected']} of those slips detected "
+        f"(the slipped cube among the disturbed), {data['operated_not_the_tutors']} operations whose operated cube "
+        f"was not the tutor's, {data['slips_across_the_line']} slips across the line.",
+        "",
+    ]
+    for r in data["results"]:
+        for op in r.get("tutor_operations", []):
+            if "slip" not in op and not op.get("disturbed") and "error" not in op:
+                continue
+            seen = (
+                f"error: {op['error']}"
+                if "error" in op
+                else f"moved {', '.join(op['moved'])}; operated {op['operated']}; "
+                f"disturbed {', '.join(op['disturbed']) or 'none'}"
+            )
+            slip = op.get("slip")
+            truth = (
+                f"; the slip (truth): {slip['object']} by ({slip['dx_mm']}, {slip['dy_mm']}) mm, {slip['dyaw_deg']} deg"
+                if slip and slip.get("applied")
+                else ""
+            )
+            where = f"trial {r['seed']}, {op['demonstration']} operation {op['operation']} ({op['tutor']})"
+            lines.append(f"- {where}: {seen}{truth}")
+        lines += [f"  - {note}" for note in r.get("disturbances", [])]
+    return lines + [""]
 
 
 def matches_table_3(learned: Mapping[str, Any]) -> bool:

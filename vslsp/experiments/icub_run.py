@@ -6,6 +6,7 @@ their narration. The trial's record is a :class:`~vslsp.tasks.TrialResult` built
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 from vslsp.loop.monitor import FAULT_WHAT, StepResult
 from vslsp.loop.pipeline import Execution
@@ -38,6 +39,9 @@ class IcubRun:
     on_stage: object = field(default=None, repr=False, compare=False)
     predicates: tuple = field(default=(), repr=False, compare=False)  # the user's, grounded at every step
     video: SceneVideo | None = field(default=None, repr=False, compare=False)  # with --video
+    # With --tutor-slips or --slip-detection: the tutor's slips, their detection, their records
+    # (vslsp.experiments.icub_slips.Watcher); None: the tutor never slips, today's path.
+    watcher: Any = field(default=None, repr=False, compare=False)
 
     def fail(self, error: str, cause: str | None = None) -> None:
         """The trial failed: ``error`` says why, ``cause`` names it in short (the report's tally)."""

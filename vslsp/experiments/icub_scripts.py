@@ -23,6 +23,7 @@ import numpy as np
 
 from vslsp.errors import VslspError
 from vslsp.experiments.icub_run import IcubRun
+from vslsp.experiments.icub_slips import OperatedPlane
 from vslsp.experiments.icub_vsl import reproduce_vsl
 from vslsp.experiments.seeds import demonstration_seed, exploration_seed, reproduction_seed
 from vslsp.grounding.operation import ground
@@ -56,15 +57,30 @@ def _watch(
     """The tutor performs ``operations``; the robot grounds each pre/post pair into a Step."""
     steps = []
     state = perceive(world)
+    watcher = trial.watcher  # with --tutor-slips or --slip-detection: the slips and their detection
     for i, (colour, action) in enumerate(operations, start=1):
         trial.say(f"{title}, operation {i}: the tutor {action}s {colour}")
         tutor_operation(world, colour, action)
-        after = perceive(world)
-        grounding = ground(state.image, after.image)
+        if watcher is None:
+            after = perceive(world)
+            grounding = ground(state.image, after.image)
+            step = to_step(grounding, state, after, trial.predicates)
+        else:
+            slip = watcher.slip(world, colour)  # before the post-action image
+            after = perceive(world)
+            try:
+                grounding, moves = watcher.ground(title, state.image, after.image)
+            except VslspError as failure:
+                watcher.failed(title, i, f"{action} {colour}", slip, str(failure))
+                raise
+            watcher.record(title, i, f"{action} {colour}", grounding, moves, slip)
+            if moves is not None:
+                watcher.pictures[len(trial.observations)] = moves
+            step = watcher.step(grounding, moves, state, after, trial.predicates)
         if recorder is not None:
             recorder.record(state.image, after.image)
         trial.observations.append((f"{title}, operation {i}", state.image, after.image, grounding, None))
-        steps.append(to_step(grounding, state, after, trial.predicates))
+        steps.append(step)
         seen = "far" if grounding.far_post else "near"
         trial.show(
             world,
@@ -73,6 +89,15 @@ def _watch(
         )
         state = after
     return steps
+
+
+def _plane(trial: IcubRun, world: World) -> ImagePlane:
+    """VSL's observation model of the demonstration: the paper's, or with the slip detection on,
+    the one that records the operated cube when several moved."""
+    first = world.observe("head").rgb
+    if trial.watcher is not None and trial.watcher.detection:
+        return OperatedPlane(first)
+    return ImagePlane(first)
 
 
 def _tutor_task(spec: SceneSpec, rng: np.random.Generator, world: World) -> list[tuple[str, str]]:
@@ -116,7 +141,7 @@ def simple_vsl_task(trial: IcubRun, rng, library, faults, planner) -> None:
     with trial.world(line_layout(trial.seed, colours)) as world:
         start_far = tuple(world.is_far(c.name) for c in world.spec.cubes)
         colours = tuple(c.colour for c in world.spec.cubes)
-        recorder = Recorder(ImagePlane(world.observe("head").rgb))
+        recorder = Recorder(_plane(trial, world))
         operations = _tutor_task(world.spec, rng, world)
         watched = _watch(world, trial, operations, "demonstration", recorder)
         demonstration = recorder.demonstration()
@@ -204,7 +229,7 @@ def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
     _explore(trial, rng, library)
     with trial.world(line_layout(trial.seed, ORDERED_COLOURS, all_far)) as world:
         trial.stage("watching the tutor's demonstration")
-        recorder = Recorder(ImagePlane(world.observe("head").rgb))
+        recorder = Recorder(_plane(trial, world))
         steps = _watch(world, trial, [(c, "pull") for c in ORDERED_COLOURS], "demonstration", recorder)
         demonstration = recorder.demonstration()
     trial.stage("learning the task and its order; planning and executing (VSL-SP)")

@@ -381,3 +381,13 @@ def _along_positions(rng: np.random.Generator, far: np.ndarray, span: tuple[floa
     along = np.empty(len(far))
     along[order] = sorted_along
     return along
+
+
+def seen_whole(x: float, y: float) -> bool:
+    """Whether the head camera sees a cube at (x, y) m whole, with the bounds the scene
+    generator keeps a cube's landing place in (:func:`_placeable`)."""
+    return (
+        x >= 0.10 + 0.6 * max(0.0, y + 0.05) + 0.8 * max(0.0, -0.2 - y)
+        and x <= 0.37
+        and WORKSPACE_Y[0] - 0.03 <= y <= WORKSPACE_Y[1]
+    )

@@ -13,8 +13,13 @@ import numpy as np
 from vslsp.errors import InputError, TaskFailed
 from vslsp.sim import SceneSpec
 from vslsp.sim import World as SimWorld
+from vslsp.sim.scene import seen_whole
+from vslsp.worlds.slips import Slip
 
 TUTOR_BEYOND = 0.055  # the tutor puts a cube this far (m) on the other side of the line
+# A nudged cube keeps this far (m) along the line from every other cube: two cube half-diagonals,
+# so that no cube touches another, where it stands or where the tutor carries it across the line.
+SLIP_CLEARANCE = 0.072
 
 
 class IcubLineWorld(SimWorld):
@@ -57,3 +62,32 @@ def tutor_operation(world: SimWorld, colour: str, action: str) -> None:
     direction = 1.0 if action == "push" else -1.0
     target = np.array([x, y]) + (direction * TUTOR_BEYOND - side) * landmark.normal
     world.tutor.relocate(cube.name, float(target[0]), float(target[1]))
+
+
+def tutor_slip(world: SimWorld, slip: Slip) -> Slip | None:
+    """The tutor's slip while operating another cube: cube ``slip.name`` slides by (``dx_m``,
+    ``dy_m``) and turns by ``dyaw_deg``. Returns the slip as applied, or None (no slip).
+
+    The rule that keeps a slip a slip: every cube moves only across the line in a demonstration
+    (the tutor carries each straight across it), so a nudged cube must keep
+    :data:`SLIP_CLEARANCE` along the line from every other cube, and be seen whole by the head
+    camera where it lands and where the tutor would carry it across the line (the scene
+    generator's bounds). A nudge that breaks this goes the other way along the line, else the
+    other way across it, else both; when all four are blocked the tutor's hand misses (None).
+    The robot never acts in a demonstration's world, so its sweep bands do not apply.
+    """
+    landmark = world.spec.landmark
+    x, y, yaw = world.cube_pose(slip.name)
+    shift = np.array([slip.dx_m, slip.dy_m])
+    along, across = float(shift @ landmark.direction), float(shift @ landmark.normal)
+    others = [np.array(world.cube_pose(c.name)[:2]) for c in world.spec.cubes if c.name != slip.name]
+    for sa, sc in ((1, 1), (-1, 1), (1, -1), (-1, -1)):
+        moved = np.array([x, y]) + sa * along * landmark.direction + sc * across * landmark.normal
+        side = landmark.signed_distance(moved)
+        carried = moved - (side + np.sign(side or 1.0) * TUTOR_BEYOND) * landmark.normal
+        clear = all(abs(float((moved - o) @ landmark.direction)) >= SLIP_CLEARANCE for o in others)
+        if clear and seen_whole(*moved) and seen_whole(*carried):
+            dx, dy = (float(v) for v in moved - np.array([x, y]))
+            world.tutor.relocate(slip.name, float(moved[0]), float(moved[1]), yaw + np.radians(slip.dyaw_deg), lift=0.0)
+            return Slip(slip.operation, slip.name, dx, dy, slip.dyaw_deg)
+    return None
