@@ -23,8 +23,12 @@ from vslsp.tasks.statistics import wilson_interval
 
 
 def slipped(results) -> int:
-    """Operations of ``results`` in which the tutor slipped (their ``slip`` record)."""
-    return sum(1 for r in results for op in r.operations or [] if op.get("slip"))
+    """Operations of ``results`` in which the tutor slipped (their ``slip`` record; the iCub's
+    demonstrated operations are its ``tutor_operations``, its ``operations`` the robot's steps)."""
+    demonstrated = [op for r in results for op in r.details.get("tutor_operations", [])]
+    return sum(1 for r in results for op in r.operations or [] if op.get("slip")) + sum(
+        1 for op in demonstrated if op.get("slip", {}).get("applied")
+    )
 
 
 def measure(name: str, seeds: list[int], probability: float, detection: bool, workers: int) -> dict:
