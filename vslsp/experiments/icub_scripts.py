@@ -21,7 +21,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from vslsp.errors import VslspError
+from vslsp.errors import TaskFailed, VslspError
 from vslsp.experiments.icub_run import IcubRun
 from vslsp.experiments.icub_slips import OperatedPlane
 from vslsp.experiments.icub_vsl import reproduce_vsl
@@ -70,9 +70,11 @@ def _watch(
             after = perceive(world)
             try:
                 grounding, moves = watcher.ground(title, state.image, after.image)
-            except VslspError as failure:
+            except TaskFailed as failure:
                 watcher.failed(title, i, f"{action} {colour}", slip, str(failure))
-                raise
+                several = "more than one object moved" in str(failure)  # the paper's VSL on a slip
+                cause = "more than one object moved" if several else failure.cause
+                raise TaskFailed(str(failure), cause=cause) from failure
             watcher.record(title, i, f"{action} {colour}", grounding, moves, slip)
             if moves is not None:
                 watcher.pictures[len(trial.observations)] = moves
