@@ -9,7 +9,7 @@ import pytest
 
 from vslsp.errors import GroundingFailed
 from vslsp.experiments.icub_slips import Watcher
-from vslsp.grounding.moves import ground_moves
+from vslsp.grounding.moves import draw_moves, ground_moves
 from vslsp.grounding.operation import ground
 from vslsp.loop.perception import perceive
 from vslsp.sim import CubeSpec, LandmarkSpec, SceneSpec, World
@@ -48,6 +48,14 @@ def test_detection_finds_both_moved_cubes_and_names_the_operated_one():
     assert moves.operated.name == "orange" and moves.operated.action == "pull"
     assert [g.name for g in moves.disturbed] == ["green"] and not moves.crossed
     assert moves.to_dict()["disturbed"] == ["green"]
+    # The picture boxes the disturbed cube in cyan in both panels (and the operated one as ever).
+    picture = draw_moves(pre, post, moves)
+    assert picture.shape == (pre.shape[0], 2 * pre.shape[1], 3)
+    green = moves.disturbed[0]
+    for offset, obj in ((0, green.pre_object), (pre.shape[1], green.post_object)):
+        x, y, w, h = obj.box
+        edge = picture[y : y + h + 1, x + offset : x + offset + 2]  # the box's left side
+        assert np.any(np.all(edge == (0, 255, 255), axis=-1))
     # The paper's VSL (the detection off) takes one moved object per operation and gives up.
     with pytest.raises(GroundingFailed, match="more than one object moved"):
         ground(pre, post)

@@ -119,8 +119,10 @@ def draw_moves(pre: np.ndarray, post: np.ndarray, moves: Moves) -> np.ndarray:
                 continue
             x, y, w, h = obj.box
             cv2.rectangle(picture, (x + offset, y), (x + offset + w, y + h), _DISTURBED, thickness)
-            words = f"disturbed {g.name}: {'' if far else 'not '}far"
-            _text(picture, words, (x + offset, max(12 * thickness, y - 4 * thickness)), thickness)
+            words = f"disturbed {g.name}: {'far' if far else 'near'}"
+            (text_width, _), _ = cv2.getTextSize(words, cv2.FONT_HERSHEY_SIMPLEX, 0.45 * thickness, thickness + 2)
+            left = min(x + offset, offset + width - text_width - 4)  # the words stay in their panel
+            _text(picture, words, (left, max(12 * thickness, y - 4 * thickness)), thickness)
         cv2.arrowedLine(
             picture,
             (int(round(g.pre[0])) + width, int(round(g.pre[1]))),
