@@ -128,6 +128,9 @@ def moves_caption(moves) -> str:
     )
 
 
+OFF = "off (the paper's VSL: one moved object per operation)"
+
+
 def slip_lines(data: Mapping[str, Any]) -> list[str]:
     """report.md's "Tutor slips": the run's figures and each trial's disturbances in words (only
     for a run with ``--tutor-slips`` or ``--slip-detection``)."""
@@ -137,7 +140,7 @@ def slip_lines(data: Mapping[str, Any]) -> list[str]:
         "## Tutor slips",
         "",
         f"P = {data['tutor_slips']} per demonstrated operation, slip detection "
-        f"{'on' if data['slip_detection'] else 'off (the paper VSL: one moved object per operation)'}: "
+        f"{'on' if data['slip_detection'] else OFF}: "
         f"{data['operations_slipped']} operations slipped, {data['slips_detected']} of those slips detected "
         f"(the slipped cube among the disturbed), {data['operated_not_the_tutors']} operations whose operated cube "
         f"was not the tutor's, {data['slips_across_the_line']} slips across the line.",
