@@ -142,3 +142,15 @@ def test_no_slip_gives_the_trial_without_the_option(library):
         for key in ("time_s", "cpu_s", "stages_s"):
             record.pop(key, None)
     assert slips == plain
+
+
+@pytest.mark.slow
+def test_a_cube_disturbed_in_one_demonstration_is_learned_afresh_in_the_next(library):
+    # Seed 42: yellow is nudged in demonstration 1 and pulled by the tutor in demonstration 2, a
+    # new scene. What the learner held of yellow from demonstration 1 is no part of it (it once
+    # hid the pull, so only blue's rule was learned and the goal named blue alone).
+    result = get_task("keep-all-near", tutor_slips=0.5).run_trial(42)
+    assert result.success, result.error
+    assert result.details["tutor_operations"][0]["disturbed"] == ["yellow"]
+    assert result.details["tutor_operations"][1]["tutor"] == "pull yellow"
+    assert result.details["learned"]["goal"] == "(forall (?b - block) (not (far ?b)))"

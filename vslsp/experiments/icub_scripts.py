@@ -58,6 +58,8 @@ def _watch(
     steps = []
     state = perceive(world)
     watcher = trial.watcher  # with --tutor-slips or --slip-detection: the slips and their detection
+    if watcher is not None:
+        watcher.start()
     for i, (colour, action) in enumerate(operations, start=1):
         trial.say(f"{title}, operation {i}: the tutor {action}s {colour}")
         tutor_operation(world, colour, action)

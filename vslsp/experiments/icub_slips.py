@@ -64,6 +64,11 @@ class Watcher:
     def __post_init__(self) -> None:
         self.slips = TutorSlips(self.probability, self.seed)
 
+    def start(self) -> None:
+        """A new demonstration begins (a new scene): what was held of the last one's disturbed
+        cubes is no part of it."""
+        self.held.clear()
+
     def slip(self, world: World, operated: str) -> dict | None:
         """The tutor's slip in the operation on cube ``operated`` just done (drawn for every
         operation, applied when it slips): its ground-truth record, or None."""
@@ -75,8 +80,8 @@ class Watcher:
         far = world.is_far(drawn.name)
         applied: Slip | None = tutor_slip(world, drawn)
         if applied is None:
-            return {**drawn.to_dict(), "applied": False, "why": "no room: every way it would touch another cube"}
-        return {**applied.to_dict(), "applied": True, "crossed_line": world.is_far(applied.name) != far}
+            return {**_plain(drawn.to_dict()), "applied": False, "why": "no room: every way touches a lane"}
+        return {**_plain(applied.to_dict()), "applied": True, "crossed_line": world.is_far(applied.name) != far}
 
     def ground(self, title: str, pre: np.ndarray, post: np.ndarray) -> tuple[Grounding, Moves | None]:
         """The operation's grounding (the operated cube's) and, with the detection, every move."""
@@ -146,6 +151,11 @@ class Watcher:
     def details(self) -> dict:
         """The trial's record fields."""
         return {"tutor_operations": self.records, "disturbances": self.notes}
+
+
+def _plain(record: dict) -> dict:
+    """``record`` with its numbers as Python floats (the slips are drawn as NumPy's)."""
+    return {k: float(v) if isinstance(v, float) else v for k, v in record.items()}
 
 
 class OperatedPlane(ImagePlane):
