@@ -40,8 +40,10 @@ RETRY_HIGHER = 0.012  # m: the retry grips this much higher (a round body squeez
 
 @in_stage("perception")
 def world_of(image: RGBDImage) -> WorldCloud:
-    """The world cloud of one capture, cut to :data:`WORKSPACE`."""
-    return WorldCloud.capture(image.depth, DepthCamera.of(image.camera), WORKSPACE)
+    """The world cloud of one capture, cut to :data:`WORKSPACE` (with several sensors, their
+    clouds fused by the sensors' known poses)."""
+    others = tuple((other.depth, DepthCamera.of(other.camera)) for other in image.others)
+    return WorldCloud.capture(image.depth, DepthCamera.of(image.camera), WORKSPACE, others=others)
 
 
 def check_world(world: WorldCloud) -> None:

@@ -105,7 +105,7 @@ def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
     labels = euclidean_clusters(pre.points, SEGMENT_GAP)
     label = np.bincount(labels[below]).argmax()
     points = pre.points[labels == label]
-    return CloudObservation(points, Frame.around(points, FRAME_MARGIN), pre.camera.position)
+    return CloudObservation(points, Frame.around(points, FRAME_MARGIN), pre.viewpoint_of(labels == label))
 
 
 def relative_error(
@@ -125,11 +125,16 @@ def relative_error(
 
 
 def run_stacking(
-    seed: int = 0, method: str = "prerejective_ransac", absent: tuple[str, ...] = (), video: Any = None
+    seed: int = 0,
+    method: str = "prerejective_ransac",
+    absent: tuple[str, ...] = (),
+    video: Any = None,
+    views: int = 1,
 ) -> tuple[tuple[StackResult, ...], dict]:
     """Demonstrate the two stacks in a seeded random scene, move everything, reproduce with the
     robot. ``absent`` names objects or boxes left out of the new scene (bad input: each is
-    diagnosed, the other operations still run). Returns the results and the report's pictures."""
+    diagnosed, the other operations still run); ``views``: the RGB-D sensors whose clouds are
+    fused (1, the paper's single view, or 2). Returns the results and the report's pictures."""
     rng = np.random.default_rng(seed)
     names = [name for name, _ in OPERATIONS] + list(BOXES)
     layout = random_layout(names, seed, tray=False, heights=STACK_HEIGHTS, radii=BOX_RADII)
@@ -138,7 +143,7 @@ def run_stacking(
     demonstrated: list[tuple[MovedObject, CloudObservation] | str] = []
     goals: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     images = []
-    with RgbdTable(objects, tray=False, robot=True, boxes=boxes) as scene:
+    with RgbdTable(objects, tray=False, robot=True, boxes=boxes, views=views) as scene:
         film(scene, video, "stacking: the tutor's demonstration")
         for name, box in OPERATIONS:
             scene.say(f"the tutor stacks {name} on {box}")
@@ -182,7 +187,7 @@ def run_stacking(
     boxes = {box: moved_layout[box] for box in BOXES if box not in absent}
     results: list[StackResult] = []
     matched, cloud, records = [], None, {}
-    with RgbdTable(objects, tray=False, robot=True, boxes=boxes) as scene:
+    with RgbdTable(objects, tray=False, robot=True, boxes=boxes, views=views) as scene:
         film(scene, video, "stacking: the robot reproduces the stacks (VSL-3D)")
         movable = list(scene.bodies.values())
         put_down: list[np.ndarray] = []  # where earlier operations put their objects

@@ -215,7 +215,7 @@ def judge_operation(
 
 
 def run_table_cleaning(
-    seed: int = 0, method: str = "prerejective_ransac", video: Any = None
+    seed: int = 0, method: str = "prerejective_ransac", video: Any = None, views: int = 1
 ) -> tuple[TableCleaningResult, dict[str, Any]]:
     """Demonstrate the table cleaning in a seeded random scene, reshuffle, reproduce with the
     robot. Returns the outcome and the report's pictures: ``demonstration`` (per operation the
@@ -223,11 +223,12 @@ def run_table_cleaning(
     views with the matched observation's frame and the grasp), ``cloud`` (the first
     reproduction capture's cloud coloured by segment) and ``final`` (the demonstrated final
     scene beside the reproduced one, (H, 2W, 3)). ``video``: a :class:`~vslsp.sim.video.SceneVideo`
-    that films both scenes."""
+    that films both scenes; ``views``: the RGB-D sensors whose clouds are fused (1, the paper's
+    single view, or 2: the far sensor too)."""
     rng = np.random.default_rng(seed)
     names = [name for name, _, _ in OPERATIONS] + ["blob"]  # the blob stays on the table
     layout = random_layout(names, seed, keep_clear=KEEP_CLEAR)
-    with RgbdTable(layout, robot=True) as scene:
+    with RgbdTable(layout, robot=True, views=views) as scene:
         film(scene, video, "table cleaning: the tutor's demonstration")
         demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed)
         scene.park()
@@ -237,7 +238,7 @@ def run_table_cleaning(
         name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()
     }
     results, matched, cloud, records = [], [], None, {}
-    with RgbdTable(reshuffled, robot=True) as scene:
+    with RgbdTable(reshuffled, robot=True, views=views) as scene:
         film(scene, video, "table cleaning: the robot reproduces it (VSL-3D)")
         movable = list(scene.bodies.values())
         put_down: list[np.ndarray] = []  # where earlier operations put their objects

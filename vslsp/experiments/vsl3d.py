@@ -79,7 +79,7 @@ class Vsl3dExperiment(Task):
     :meth:`reproduce` and the report's sentence (:attr:`summary_line`)."""
 
     system = System.VSL_3D
-    options = frozenset({Option.METHOD, Option.VIDEO})
+    options = frozenset({Option.METHOD, Option.VIDEO, Option.VIEWS})
     summary_line = "Operations"
 
     def check(self) -> None:
@@ -87,6 +87,9 @@ class Vsl3dExperiment(Task):
 
         if self.method not in METHODS:
             raise InputError(f"unknown --method {self.method!r}; choose one of {', '.join(METHODS)}")
+        views = self.option(Option.VIEWS, 1)
+        if isinstance(views, bool) or views not in (1, 2):
+            raise InputError(f"--views takes 1 (the paper's single view) or 2 (two fused depth cameras), got {views!r}")
         if self.option(Option.VIDEO):
             from vslsp.sim.video import check_encoder
 
@@ -95,6 +98,16 @@ class Vsl3dExperiment(Task):
     @property
     def method(self) -> str:
         return str(self.option(Option.METHOD, "prerejective_ransac"))
+
+    @property
+    def views(self) -> int:
+        """The RGB-D sensors whose clouds are fused: 1 (the paper's single view) or 2."""
+        return int(self.option(Option.VIEWS, 1))
+
+    def recorded_views(self) -> dict[str, int]:
+        """``{"views": n}`` when ``--views`` was given (the report of a run without it stays as
+        it was; the studio re-runs a trial with it)."""
+        return {"views": self.views} if Option.VIEWS in self.settings else {}
 
     def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
         """Demonstrate and reproduce the trial of ``seed`` (filmed by ``video``, a
@@ -118,20 +131,22 @@ class Vsl3dExperiment(Task):
             not failed,
             "; ".join(operation_failures(operations)) or None,
             operations=operations,
-            details={"method": self.method},
+            details={"method": self.method, **self.recorded_views()},
             artefacts=pictures if keep else None,
             video=video_path(seed) if video is not None else None,
             failure_cause=f"operation {failed[0]['index']} ({failed[0]['moved']})" if failed else None,
         )
 
     def summary(self, results: list[TrialResult]) -> dict:
-        return {"method": self.method, **operation_summary(results)}
+        return {"method": self.method, **self.recorded_views(), **operation_summary(results)}
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
         return [
             f"{self.summary_line} (executed by the robot): {data['operations_succeeded']}/{data['operations']} "
             f"succeeded, {data['retried_grasps']} after a retried grasp; median final error "
-            f"{data['median_error_mm']} mm, {data['median_error_deg']} deg (method {data['method']}).",
+            f"{data['median_error_mm']} mm, {data['median_error_deg']} deg (method {data['method']}"
+            + (f", {data['views']} fused depth cameras" if data.get("views", 1) > 1 else "")
+            + ").",
             "",
         ]
 
@@ -162,7 +177,7 @@ class TableCleaning(Vsl3dExperiment):
     def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
         from vslsp.experiments.table_cleaning import run_table_cleaning
 
-        outcome, pictures = run_table_cleaning(seed, self.method, video)
+        outcome, pictures = run_table_cleaning(seed, self.method, video, views=self.views)
         return [op.to_dict() for op in outcome.operations], pictures
 
 
@@ -183,5 +198,5 @@ class Stacking(Vsl3dExperiment):
     def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
         from vslsp.experiments.stacking import run_stacking
 
-        outcome, pictures = run_stacking(seed, self.method, video=video)
+        outcome, pictures = run_stacking(seed, self.method, video=video, views=self.views)
         return [op.to_dict() for op in outcome], pictures

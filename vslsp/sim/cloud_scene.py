@@ -90,6 +90,14 @@ ASYMMETRIC = ("duck", "duckling", "teddy")
 SENSOR = Camera(
     "rgbd", eye=(0.15, 0.0, 0.50), target=(0.53, 0.0, 0.0), up=(0.0, 0.0, 1.0), width=640, height=480, fov=45.0
 )
+# The second RGB-D sensor (``views=2``): the same intrinsics, across the table from the first,
+# 0.63 m from the middle of the workspace looking down at the same angle, so that it sees the
+# objects' far sides (+x), which the first one never does. Its pose is known (calibrated): its
+# cloud is put into the world frame by it and fused with the first's.
+SENSOR_FAR = Camera(
+    "rgbd-far", eye=(0.91, 0.0, 0.50), target=(0.53, 0.0, 0.0), up=(0.0, 0.0, 1.0), width=640, height=480, fov=45.0
+)
+SENSORS = (SENSOR, SENSOR_FAR)  # the sensors of ``views=1`` and ``views=2``, in that order
 
 
 def axial_noise(depth: np.ndarray) -> np.ndarray:
@@ -101,11 +109,13 @@ def axial_noise(depth: np.ndarray) -> np.ndarray:
 @dataclass(frozen=True, eq=False)
 class RGBDImage:
     """One capture: RGB (H, W, 3) uint8, depth (H, W) float32 m along the optical axis (0 where
-    nothing is seen), and the camera."""
+    nothing is seen), and the camera; ``others``: the other sensors' captures taken at the same
+    moment (``views=2``: the far sensor's), none with one sensor."""
 
     rgb: np.ndarray
     depth: np.ndarray
     camera: Camera
+    others: tuple[RGBDImage, ...] = ()
 
 
 def pose_matrix(position: np.ndarray, orientation: np.ndarray) -> np.ndarray:
@@ -137,11 +147,16 @@ class CloudScene(PhysicsClient):
         seed: int = 0,
         robot: bool = False,
         boxes: dict[str, tuple[float, float, float]] | None = None,
+        views: int = 1,
     ) -> None:
+        if views not in (1, 2):
+            raise InputError(f"views must be 1 or 2 (RGB-D sensors), got {views!r}")
         for name in objects:
             if name.split("#")[0] not in OBJECTS:
                 raise InputError(f"unknown object {name!r}; use one of {', '.join(OBJECTS)}")
         self.camera = camera
+        # With two views the far sensor too, at its known pose (the same intrinsics as ``camera``).
+        self.others = tuple(SENSORS[1:views])
         self.noise = noise
         self._rng = np.random.default_rng(seed)
         with quiet():
@@ -298,15 +313,22 @@ class CloudScene(PhysicsClient):
 
     # -- sensing ---------------------------------------------------------------------------
     def capture(self) -> RGBDImage:
-        """What the RGB-D sensor sees now; with ``noise`` the depth carries the sensor's axial
-        noise (seeded)."""
-        rgb, depth = self.camera.render(self.live_client)
+        """What the RGB-D sensor sees now (with ``views=2`` the far sensor's capture too, in
+        ``others``); with ``noise`` the depth carries the sensor's axial noise (seeded)."""
+        first = self._capture(self.camera)
+        if not self.others:
+            return first
+        return RGBDImage(first.rgb, first.depth, first.camera, tuple(self._capture(c) for c in self.others))
+
+    def _capture(self, camera: Camera) -> RGBDImage:
+        """One sensor's capture."""
+        rgb, depth = camera.render(self.live_client)
         depth = depth.astype(np.float64)
         depth[depth > 2.9] = 0.0  # beyond the far plane: no return
         if self.noise:
             seen = depth > 0.0
             depth[seen] += self._rng.normal(0.0, 1.0, seen.sum()) * axial_noise(depth[seen])
-        return RGBDImage(rgb, depth.astype(np.float32), self.camera)
+        return RGBDImage(rgb, depth.astype(np.float32), camera)
 
     # -- ground truth ----------------------------------------------------------------------
     def pose(self, name: str) -> np.ndarray:

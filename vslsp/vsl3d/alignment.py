@@ -17,7 +17,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.outcomes import NoMatch
-from vslsp.vsl3d.cloud import voxel_downsample
+from vslsp.vsl3d.cloud import voxel_downsample, voxel_downsample_with
 from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.normals import estimate_normals
@@ -51,8 +51,12 @@ DISTINCT_M, DISTINCT_DEG = 0.01, 10.0  # poses closer than this are one
 def describe(
     points: np.ndarray, viewpoint: np.ndarray, voxel: float = FEATURE_VOXEL
 ) -> tuple[np.ndarray, np.ndarray, KDTree]:
-    """The cloud voxelised at ``voxel`` (M, 3), its FPFH descriptors (M, 33) and its tree."""
-    sparse = voxel_downsample(points, voxel)
+    """The cloud voxelised at ``voxel`` (M, 3), its FPFH descriptors (M, 33) and its tree; the
+    ``viewpoint`` the normals face is one (3,) or each point's (N, 3) (a fused cloud's)."""
+    if np.ndim(viewpoint) == 2:
+        sparse, viewpoint = voxel_downsample_with(points, viewpoint, voxel)
+    else:
+        sparse = voxel_downsample(points, voxel)
     tree = KDTree(sparse)
     normals = estimate_normals(sparse, 2.5 * voxel, viewpoint, tree)
     return sparse, compute_fpfh(sparse, normals, 5.0 * voxel, tree), tree
@@ -97,7 +101,8 @@ def align(
     upright: float = 0.0,
 ) -> Registration | NoMatch:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
-    matching part of ``target`` (Nt, 3); the viewpoints (3,) orient the normals.
+    matching part of ``target`` (Nt, 3); the viewpoints orient the normals: one (3,) per cloud,
+    or (a fused cloud of several sensors) each point's (Ns, 3) / (Nt, 3).
 
     The global method gives :data:`HYPOTHESES` poses, not one: a near-symmetric object or a
     box fits several ways, and the features alone may rank a flipped pose first. With ``turns``

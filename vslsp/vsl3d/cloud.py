@@ -130,12 +130,38 @@ def voxel_downsample(points: np.ndarray, leaf: float) -> np.ndarray:
         raise InputError(f"voxel leaf size must be > 0 m, got {leaf}")
     if len(points) == 0:
         return points.copy()
+    voxel, counts = _voxels(points, leaf)
+    return _means(points, voxel, counts)
+
+
+def voxel_downsample_with(points: np.ndarray, values: np.ndarray, leaf: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`voxel_downsample` of ``points`` (N, 3), and per voxel the mean of the points'
+    ``values`` (N, 3) (a fused cloud's per-point viewpoints: a voxel that both sensors saw faces
+    between them)."""
+    points, values = _as_cloud(points), _as_cloud(values)
+    if len(points) != len(values):
+        raise InputError(f"{len(values)} values for {len(points)} points")
+    if not leaf > 0.0:
+        raise InputError(f"voxel leaf size must be > 0 m, got {leaf}")
+    if len(points) == 0:
+        return points.copy(), values.copy()
+    voxel, counts = _voxels(points, leaf)
+    return _means(points, voxel, counts), _means(values, voxel, counts)
+
+
+def _voxels(points: np.ndarray, leaf: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each point's voxel index (N,) (voxels ordered by index) and the voxels' point counts."""
     cells = np.floor(points / leaf).astype(np.int64)  # a grid fixed in the world, as PCL's
     cells -= cells.min(axis=0)
     extent = cells.max(axis=0) + 1
     keys = (cells[:, 0] * extent[1] + cells[:, 1]) * extent[2] + cells[:, 2]
     _, voxel, counts = np.unique(keys, return_inverse=True, return_counts=True)
-    sums = np.column_stack([np.bincount(voxel, weights=points[:, axis], minlength=len(counts)) for axis in range(3)])
+    return voxel, counts
+
+
+def _means(values: np.ndarray, voxel: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """Per voxel the mean (M, 3) of ``values`` (N, 3)."""
+    sums = np.column_stack([np.bincount(voxel, weights=values[:, axis], minlength=len(counts)) for axis in range(3)])
     return sums / counts[:, None]
 
 

@@ -80,7 +80,7 @@ def find_best_match(
         observation.points,
         world.points,
         observation.viewpoint,
-        world.camera.position,
+        world.viewpoint,
         method=method,
         seed=seed,
         seen_through=world.seen_through,
@@ -102,9 +102,9 @@ def find_best_match(
         windows += 1
         registration = align(
             observation.points,
-            window,
+            world.points[window],
             observation.viewpoint,
-            world.camera.position,
+            world.viewpoint_of(window),
             method=method,
             seed=seed,
             turns=TURNS,
@@ -121,8 +121,8 @@ def find_best_match(
 
 
 def object_windows(points: np.ndarray, observation: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
-    """The world's points (M, 3) around each object-sized cluster above the support surfaces,
-    with the cluster's centroid (3,): clusters of at least a fifth of the observation's points
+    """The mask (N,) of the world's points around each object-sized cluster above the support
+    surfaces, with the cluster's centroid (3,): clusters of at least a fifth of the observation's points
     and at most 2.5 times its extent (a box around objects is not a window)."""
     lifted = points[points[:, 2] > points[:, 2].min() + SUPPORT_CLEARANCE]
     if len(lifted) == 0:
@@ -136,7 +136,7 @@ def object_windows(points: np.ndarray, observation: np.ndarray) -> Iterator[tupl
         if np.linalg.norm(cluster.max(axis=0) - cluster.min(axis=0)) > 2.5 * extent:
             continue
         window = Frame.around(cluster, WINDOW_MARGIN)
-        yield points[window.contains(points)], cluster.mean(axis=0)
+        yield window.contains(points), cluster.mean(axis=0)
 
 
 def _verified(

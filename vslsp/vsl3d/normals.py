@@ -39,7 +39,7 @@ def estimate_normals(
     points: np.ndarray, radius: float, viewpoint: np.ndarray, tree: KDTree | None = None, max_neighbours: int = 60
 ) -> SurfaceNormals:
     """PCA normals of ``points`` (N, 3) over the (at most ``max_neighbours`` nearest) points
-    within ``radius`` m, oriented towards ``viewpoint`` (3,)."""
+    within ``radius`` m, oriented towards ``viewpoint`` (3,) or each point's (N, 3)."""
     points = np.asarray(points, dtype=float)
     tree = tree if tree is not None and tree.points is points else KDTree(points)
     neighbours = tree.query_radius(points, radius, max_neighbours)
@@ -48,7 +48,8 @@ def estimate_normals(
 
 def normals_from_neighbours(points: np.ndarray, neighbours: Neighbours, viewpoint: np.ndarray) -> SurfaceNormals:
     """PCA normals of ``points`` (N, 3) over the given neighbour pairs (each point among its
-    own neighbours), oriented towards ``viewpoint`` (3,)."""
+    own neighbours), oriented towards ``viewpoint`` (3,) or each point's (N, 3) (a cloud fused
+    from several sensors: each normal faces the sensor that saw its side)."""
     n = len(points)
     counts = neighbours.counts(n).astype(float)
     centred = points[neighbours.index] - points[neighbours.query]  # about the query: stabler sums

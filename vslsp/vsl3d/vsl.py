@@ -31,7 +31,7 @@ from vslsp.outcomes import NoMatch
 from vslsp.outputs import atomic_file
 from vslsp.stages import in_stage
 from vslsp.vsl3d.alignment import align
-from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
+from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample, voxel_downsample_with
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.registration import Registration, transform_error
 
@@ -64,23 +64,61 @@ class WorldCloud:
     """The world W as one capture: ``points`` (N, 3) (pass-through filtered, voxelised), the raw
     ``depth`` (H, W) it came from and the ``camera`` (for visibility and the viewpoint);
     ``floor`` (m) is the pass-through's lower bound, just above the table top: the table is
-    solid, nothing lies under it."""
+    solid, nothing lies under it.
+
+    A capture of several sensors at known poses (:meth:`capture` with ``others``) is one fused
+    cloud: ``others`` holds the other sensors' (depth, camera), and ``viewpoints`` (N, 3) each
+    point's viewpoint (the mean of the sensors that saw its voxel: normals face the sensor that
+    saw their side). What any sensor saw through is free space, and a point any sensor could
+    have seen was visible (:meth:`seen_through`, :meth:`visible`)."""
 
     points: np.ndarray
     depth: np.ndarray
     camera: DepthCamera
     floor: float = -np.inf
+    others: tuple[tuple[np.ndarray, DepthCamera], ...] = ()
+    viewpoints: np.ndarray | None = None
 
     @classmethod
-    def capture(cls, depth: np.ndarray, camera: DepthCamera, workspace: Frame, voxel: float = VOXEL) -> WorldCloud:
-        """Back-project ``depth`` (H, W), keep what lies in ``workspace``, voxelise at ``voxel`` m."""
+    def capture(
+        cls,
+        depth: np.ndarray,
+        camera: DepthCamera,
+        workspace: Frame,
+        voxel: float = VOXEL,
+        others: tuple[tuple[np.ndarray, DepthCamera], ...] = (),
+    ) -> WorldCloud:
+        """Back-project ``depth`` (H, W), keep what lies in ``workspace``, voxelise at ``voxel`` m.
+        With ``others`` (the other sensors' depth (H', W') and camera, each at its known pose):
+        every view is back-projected into the world frame by its camera's pose, the clouds are
+        concatenated, cut to ``workspace`` and voxelised together (where the views overlap the
+        density stays that of one view)."""
         points, _ = camera.back_project(depth)
-        return cls(
-            voxel_downsample(pass_through(points, workspace), voxel),
-            np.asarray(depth, dtype=float),
-            camera,
-            float(workspace.lower[2]),
-        )
+        floor = float(workspace.lower[2])
+        if not others:
+            return cls(
+                voxel_downsample(pass_through(points, workspace), voxel), np.asarray(depth, dtype=float), camera, floor
+            )
+        clouds, viewpoints = [points], [np.broadcast_to(camera.position, points.shape)]
+        for other_depth, other_camera in others:
+            other_points, _ = other_camera.back_project(other_depth)
+            clouds.append(other_points)
+            viewpoints.append(np.broadcast_to(other_camera.position, other_points.shape))
+        fused, seen_from = np.vstack(clouds), np.vstack(viewpoints)
+        inside = workspace.contains(fused)
+        fused, seen_from = voxel_downsample_with(fused[inside], seen_from[inside], voxel)
+        views = tuple((np.asarray(d, dtype=float), c) for d, c in others)
+        return cls(fused, np.asarray(depth, dtype=float), camera, floor, views, seen_from)
+
+    @property
+    def viewpoint(self) -> np.ndarray:
+        """The viewpoint that normals face: the camera's centre (3,), or with several sensors
+        each point's (N, 3)."""
+        return self.camera.position if self.viewpoints is None else self.viewpoints
+
+    def viewpoint_of(self, mask: np.ndarray) -> np.ndarray:
+        """The viewpoint of the points ``self.points[mask]``: (3,) for one sensor, else (K, 3)."""
+        return self.camera.position if self.viewpoints is None else self.viewpoints[mask]
 
     def without(self, near: np.ndarray, distance: float = FRAME_MARGIN) -> WorldCloud:
         """This capture with its points within ``distance`` m of any of ``near`` (K, 3) left out
@@ -88,49 +126,62 @@ class WorldCloud:
         if len(near) == 0 or len(self.points) == 0:
             return self
         gap, _ = KDTree(np.asarray(near, dtype=float)).query(self.points, 1, distance)
-        return replace(self, points=self.points[gap[:, 0] > distance])
+        kept = gap[:, 0] > distance
+        if self.viewpoints is None:
+            return replace(self, points=self.points[kept])
+        return replace(self, points=self.points[kept], viewpoints=self.viewpoints[kept])
 
     def visible(self, points: np.ndarray, tolerance: float = CHANGE_THRESHOLD) -> np.ndarray:
         """Mask (N,) of points this capture could have seen: inside the image and not behind
-        what it saw at their pixel (by more than ``tolerance`` m)."""
-        inside, z, depth = self._depth_at(points)
+        what it saw at their pixel (by more than ``tolerance`` m); with several sensors, any of them."""
         seen = np.zeros(len(points), dtype=bool)
-        seen[inside] = (depth <= 0.0) | (depth >= z[inside] - tolerance)
+        for view in range(1 + len(self.others)):
+            inside, z, depth = self._depth_at(points, view=view)
+            seen[inside] |= (depth <= 0.0) | (depth >= z[inside] - tolerance)
         return seen
 
     def seen_through(self, points: np.ndarray, tolerance: float = CHANGE_THRESHOLD) -> np.ndarray:
-        """Mask (N,) of points that cannot be there: this capture saw a surface more than
-        ``tolerance`` m behind them along their pixel's ray, i.e. free space where they are, or
-        they lie more than ``tolerance`` under the :attr:`floor` (inside the table: a tipped
-        pose of a box sinks an edge into it, where no ray can tell)."""
-        inside, z, nearest = self._depth_at(points, self._nearest_around)
+        """Mask (N,) of points that cannot be there: this capture (any of its sensors) saw a
+        surface more than ``tolerance`` m behind them along their pixel's ray, i.e. free space
+        where they are, or they lie more than ``tolerance`` under the :attr:`floor` (inside the
+        table: a tipped pose of a box sinks an edge into it, where no ray can tell)."""
         through = np.asarray(points)[:, 2] < self.floor - tolerance
-        through[inside] |= np.isfinite(nearest) & (nearest > z[inside] + tolerance)
+        for view, around in enumerate(self._nearest_around):
+            inside, z, nearest = self._depth_at(points, around, view)
+            through[inside] |= np.isfinite(nearest) & (nearest > z[inside] + tolerance)
         return through
 
     @cached_property
-    def _nearest_around(self) -> np.ndarray:
-        """(H, W): the nearest depth seen within :data:`SILHOUETTE_PX` pixels of each pixel (inf
-        where nothing was seen around it)."""
-        depth = np.where(self.depth > 0.0, self.depth, np.inf).astype(np.float32)
+    def _nearest_around(self) -> tuple[np.ndarray, ...]:
+        """Per sensor (H, W): the nearest depth seen within :data:`SILHOUETTE_PX` pixels of each
+        pixel (inf where nothing was seen around it)."""
         size = 2 * SILHOUETTE_PX + 1
-        return cv2.erode(depth, np.ones((size, size), np.uint8), borderType=cv2.BORDER_REPLICATE)
+        return tuple(
+            cv2.erode(
+                np.where(depth > 0.0, depth, np.inf).astype(np.float32),
+                np.ones((size, size), np.uint8),
+                borderType=cv2.BORDER_REPLICATE,
+            )
+            for depth in (self.depth, *(d for d, _ in self.others))
+        )
 
     def _depth_at(
-        self, points: np.ndarray, image: np.ndarray | None = None
+        self, points: np.ndarray, image: np.ndarray | None = None, view: int = 0
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Which points project into the image (N,), their depths (N,), and the captured depth
-        (or ``image`` (H, W)'s value) at their pixels (for those inside)."""
-        uv, z = self.camera.project(points)
+        """Which points project into sensor ``view``'s image (N,), their depths (N,), and its
+        captured depth (or ``image`` (H, W)'s value) at their pixels (for those inside)."""
+        depth, camera = (self.depth, self.camera) if view == 0 else self.others[view - 1]
+        uv, z = camera.project(points)
         cols, rows = np.floor(uv[:, 0]).astype(np.int64), np.floor(uv[:, 1]).astype(np.int64)
-        inside = (z > 0) & (cols >= 0) & (cols < self.camera.width) & (rows >= 0) & (rows < self.camera.height)
-        return inside, z, (self.depth if image is None else image)[rows[inside], cols[inside]]
+        inside = (z > 0) & (cols >= 0) & (cols < camera.width) & (rows >= 0) & (rows < camera.height)
+        return inside, z, (depth if image is None else image)[rows[inside], cols[inside]]
 
 
 @dataclass(frozen=True, eq=False)
 class CloudObservation:
     """A VSL-3D observation: the object's ``points`` (N, 3) in the world, the ``frame`` (cuboid)
-    they were captured in, and the ``viewpoint`` (3,) of the sensor."""
+    they were captured in, and the ``viewpoint`` (3,) of the sensor (of a fused capture, each
+    point's (N, 3))."""
 
     points: np.ndarray
     frame: Frame
@@ -246,8 +297,9 @@ def get_object(
     """The one object the tutor moved between the ``pre`` and ``post`` captures, its pre- and
     post-action observations and its 6-DoF motion. Raises :class:`TaskFailed` when nothing or
     more than one object moved."""
-    left = pre.points[changed_points(post, pre, threshold)]  # in pre, gone from post
-    arrived = post.points[changed_points(pre, post, threshold)]
+    gone, came = changed_points(post, pre, threshold), changed_points(pre, post, threshold)
+    left = pre.points[gone]  # in pre, gone from post
+    arrived = post.points[came]
     points = np.vstack([left, arrived])
     side = np.r_[np.zeros(len(left), dtype=bool), np.ones(len(arrived), dtype=bool)]
     labels = euclidean_clusters(points, CLUSTER_DISTANCE)
@@ -281,12 +333,13 @@ def get_object(
         )
     before = points[(labels == leaving[0]) & ~side]
     after = points[(labels == arriving[0]) & side]
-    viewpoint = pre.camera.position
+    viewpoint = pre.viewpoint_of(np.flatnonzero(gone)[labels[: len(left)] == leaving[0]])
+    post_viewpoint = post.viewpoint_of(np.flatnonzero(came)[labels[len(left) :] == arriving[0]])
     registration = align(
         before,
         after,
         viewpoint,
-        post.camera.position,
+        post_viewpoint,
         method=method,
         seed=seed,
         turns=TURNS,
@@ -300,7 +353,7 @@ def get_object(
         raise TaskFailed(registration.reason)
     return MovedObject(
         CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
-        CloudObservation(after, Frame.around(after, FRAME_MARGIN), post.camera.position),
+        CloudObservation(after, Frame.around(after, FRAME_MARGIN), post_viewpoint),
         registration,
         (pre.points, post.points),
     )
