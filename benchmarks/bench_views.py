@@ -10,7 +10,11 @@ Target: ``--views 2`` >= 99.5 % for table-cleaning and stacking over seeds 0-199
 1.5 times the cost of one view.
 
     python benchmarks/bench_views.py [EXPERIMENT ...] [--trials N] [--seed S] [--workers W]
-                                     [--views 1 2] [--out FILE.json] [--json]
+                                     [--views 2 1] [--chunk K] [--out FILE.jsonl] [--json]
+
+The seeds run in rounds of ``--chunk``, each round every experiment with every view count, so
+that a run stopped early still compares the two on the same seeds; ``--out`` keeps the trials
+and a later run with the same file runs only those missing.
 """
 
 from __future__ import annotations
@@ -28,32 +32,46 @@ from vslsp.tasks.statistics import wilson_interval
 EXPERIMENTS = ("table-cleaning", "stacking")
 
 
-def measure(name: str, seeds: list[int], views: int, workers: int) -> dict:
-    """The trials of ``seeds`` of experiment ``name`` with ``views`` depth cameras."""
-    task = get_task(name, views=views)
-    results = run_trials(task, seeds, workers=workers).results
-    successes = sum(r.success for r in results)
-    low, high = wilson_interval(successes, len(results))
+def run(name: str, seeds: list[int], views: int, workers: int) -> list[dict]:
+    """The trials of ``seeds`` of experiment ``name`` with ``views`` depth cameras, one record each."""
+    results = run_trials(get_task(name, views=views), seeds, workers=workers).results
+    return [
+        {
+            "experiment": name,
+            "views": views,
+            "seed": r.seed,
+            "success": r.success,
+            "cpu_s": round(r.cpu_s, 3),
+            "cause": None if r.success else r.cause,
+            "error": r.error,
+        }
+        for r in results
+    ]
+
+
+def row(records: list[dict]) -> dict:
+    """Success, its 95 % interval, the median CPU seconds and the failures of ``records``."""
+    successes = sum(r["success"] for r in records)
+    low, high = wilson_interval(successes, len(records))
     return {
-        "experiment": name,
-        "views": views,
-        "trials": len(results),
+        "trials": len(records),
         "successes": successes,
-        "rate": successes / len(results),
+        "rate": successes / len(records),
         "interval_95": [round(low, 3), round(high, 3)],
-        "cpu_s": {r.seed: round(r.cpu_s, 3) for r in results},
-        "median_cpu_s": round(statistics.median(r.cpu_s for r in results), 3),
-        "failures": dict(Counter(r.cause for r in results if not r.success)),
-        "failed": {r.seed: r.error for r in results if not r.success},
+        "median_cpu_s": round(statistics.median(r["cpu_s"] for r in records), 3),
+        "failures": dict(Counter(r["cause"] for r in records if not r["success"])),
+        "failed": {r["seed"]: r["error"] for r in records if not r["success"]},
     }
 
 
-def cost_ratio(one: dict, two: dict) -> dict:
+def cost_ratio(one: list[dict], two: list[dict]) -> dict:
     """Two views' cost against one's on the same seeds: the ratio of the medians per trial and
     the median of the per-seed ratios."""
-    paired = [two["cpu_s"][s] / one["cpu_s"][s] for s in one["cpu_s"] if s in two["cpu_s"] and one["cpu_s"][s] > 0]
+    first = {r["seed"]: r["cpu_s"] for r in one}
+    paired = [r["cpu_s"] / first[r["seed"]] for r in two if first.get(r["seed"], 0) > 0]
     return {
-        "ratio_of_medians": round(two["median_cpu_s"] / one["median_cpu_s"], 3),
+        "seeds": len(paired),
+        "ratio_of_medians": round(row(two)["median_cpu_s"] / row(one)["median_cpu_s"], 3),
         "median_paired_ratio": round(statistics.median(paired), 3) if paired else None,
     }
 
@@ -65,48 +83,80 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--views", type=int, nargs="+", default=[2, 1], choices=[1, 2])
-    parser.add_argument("--out", type=Path, default=None, help="also write the rows here (after each one)")
+    parser.add_argument("--chunk", type=int, default=10, help="seeds per round of every experiment and view")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="a JSON-lines file of the trials: appended after each round, "
+        "and the trials it holds already are not run again (resume)",
+    )
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     seeds = list(range(args.seed, args.seed + args.trials))
-    rows = []
-    for views in args.views:
-        for name in args.experiments:
-            rows.append(measure(name, seeds, views, args.workers))
-            row = rows[-1]
-            print(
-                f"{name} --views {views}: {row['successes']}/{row['trials']}, median {row['median_cpu_s']} cpu s "
-                f"per trial, failures {row['failed']}",
-                file=sys.stderr,
-                flush=True,
-            )
-            if args.out is not None:
-                args.out.write_text(json.dumps({"seed": args.seed, "rows": rows}))
-    ratios = {}
-    for name in args.experiments:
-        found = {r["views"]: r for r in rows if r["experiment"] == name}
-        if 1 in found and 2 in found:
-            ratios[name] = cost_ratio(found[1], found[2])
+    records = []
+    if args.out is not None and args.out.exists():
+        records = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
+    for start in range(0, len(seeds), args.chunk):
+        for views in args.views:
+            for name in args.experiments:
+                done = {r["seed"] for r in records if r["experiment"] == name and r["views"] == views}
+                todo = [s for s in seeds[start : start + args.chunk] if s not in done]
+                if not todo:
+                    continue
+                new = run(name, todo, views, args.workers)
+                records.extend(new)
+                print(
+                    f"{name} --views {views} seeds {todo[0]}-{todo[-1]}: {sum(r['success'] for r in new)}/{len(new)}",
+                    file=sys.stderr,
+                    flush=True,
+                )
+                if args.out is not None:
+                    with args.out.open("a") as stream:
+                        stream.writelines(json.dumps(r) + "\n" for r in new)
+    report(records, args, seeds)
+
+
+def report(records: list[dict], args: argparse.Namespace, seeds: list[int]) -> None:
+    """Print (or with ``--json`` write) the rows and cost ratios of ``records`` on ``seeds``."""
+    wanted = set(seeds)
+    groups = {
+        (name, views): [r for r in records if r["experiment"] == name and r["views"] == views and r["seed"] in wanted]
+        for name in args.experiments
+        for views in (1, 2)
+    }
+    rows = {key: row(group) for key, group in groups.items() if group}
+    ratios = {
+        name: cost_ratio(groups[name, 1], groups[name, 2])
+        for name in args.experiments
+        if groups[name, 1] and groups[name, 2]
+    }
     if args.json:
-        print(json.dumps({"seed": args.seed, "rows": rows, "cost_ratio": ratios}))
+        print(
+            json.dumps(
+                {
+                    "seed": args.seed,
+                    "rows": [{"experiment": n, "views": v, **r} for (n, v), r in rows.items()],
+                    "cost_ratio": ratios,
+                }
+            )
+        )
         return
     print(f"VSL-3D with one and two depth cameras, seeds {seeds[0]}-{seeds[-1]}")
     print(f"{'experiment':<16} {'views':>5} {'success':>9} {'rate':>7} {'95 % interval':>15} {'cpu s/trial':>11}")
-    for name in args.experiments:
-        for row in sorted((r for r in rows if r["experiment"] == name), key=lambda r: r["views"]):
-            low, high = row["interval_95"]
-            print(
-                f"{name:<16} {row['views']:>5} {row['successes']:>4}/{row['trials']:<4} {100 * row['rate']:>6.1f}% "
-                f"{100 * low:>6.1f}-{100 * high:<6.1f}% {row['median_cpu_s']:>11}"
-            )
-            for seed, error in row["failed"].items():
-                print(f"    seed {seed}: {error}")
-        if name in ratios:
-            ratio = ratios[name]
-            print(
-                f"{name}: two views cost {ratio['ratio_of_medians']}x one per trial (median of paired "
-                f"ratios {ratio['median_paired_ratio']}x; target <= 1.5x)"
-            )
+    for (name, views), data in rows.items():
+        low, high = data["interval_95"]
+        print(
+            f"{name:<16} {views:>5} {data['successes']:>4}/{data['trials']:<4} {100 * data['rate']:>6.1f}% "
+            f"{100 * low:>6.1f}-{100 * high:<6.1f}% {data['median_cpu_s']:>11}"
+        )
+        for seed, error in data["failed"].items():
+            print(f"    seed {seed}: {error}")
+    for name, ratio in ratios.items():
+        print(
+            f"{name}: two views cost {ratio['ratio_of_medians']}x one per trial (median of {ratio['seeds']} paired "
+            f"ratios {ratio['median_paired_ratio']}x; target <= 1.5x)"
+        )
 
 
 if __name__ == "__main__":

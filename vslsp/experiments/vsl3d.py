@@ -5,7 +5,8 @@ The experiments run in :mod:`vslsp.experiments.table_cleaning` and
 :mod:`vslsp.experiments.stacking`, imported only inside a trial (the point-cloud method loads
 torch: listing the experiments stays cheap). Every operation's record carries
 ``"executed_by": "robot"``, the grasp outcome per attempt, the match fitness and the final
-position/turn error against the simulator's truth (tolerances 1.5 cm and 15 deg).
+position/turn error against the simulator's truth (tolerances 1.5 cm and 15 deg). ``--views 2``
+adds the far RGB-D sensor: every capture is the two sensors' clouds fused by their known poses.
 """
 
 from __future__ import annotations

@@ -7,7 +7,11 @@ section "VSL-3D": the object is moved by the demonstrated motion applied to the 
   new world, never from the simulator: the fingertips close at half the object's seen height
   (else :data:`GRASP_DEPTH` below the top, where it is narrower), about the middle
   of the bounding box of the points above them, along the box's narrower side (principal axes
-  in the table plane); an object wider than the gripper opens is "ungraspable".
+  in the table plane); an object wider than the gripper opens is "ungraspable". One sensor sees
+  the object's near side only: the box ends at the top's far rim, the width across the closing
+  axis is short (the teddy's by a centimetre) and the grip's middle lies towards the sensor. With
+  two sensors (``--views 2``) the matched observation is the fused cloud, which has the far side:
+  the box, and so the closing width and the middle, is measured from both sides.
 - The place (:func:`place_for`): the grasp point moved by T_j M_j^-1 (the demonstrated motion
   T_j after undoing the match M_j), the hand turned by that motion's yaw; the held object comes
   down from just above the height the cloud shows until it touches what is below (the arm's
