@@ -105,7 +105,7 @@ def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
     labels = euclidean_clusters(pre.points, SEGMENT_GAP)
     label = np.bincount(labels[below]).argmax()
     points = pre.points[labels == label]
-    return CloudObservation(points, Frame.around(points, FRAME_MARGIN), pre.viewpoint_of(labels == label))
+    return CloudObservation(points, Frame.around(points, FRAME_MARGIN), pre.viewpoint_at(points))
 
 
 def relative_error(

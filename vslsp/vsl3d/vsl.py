@@ -120,6 +120,14 @@ class WorldCloud:
         """The viewpoint of the points ``self.points[mask]``: (3,) for one sensor, else (K, 3)."""
         return self.camera.position if self.viewpoints is None else self.viewpoints[mask]
 
+    def viewpoint_at(self, points: np.ndarray) -> np.ndarray:
+        """The viewpoint of ``points`` (K, 3), points of this cloud (a segment of it): (3,) for
+        one sensor, else each one's (K, 3), that of the cloud's point nearest to it."""
+        if self.viewpoints is None:
+            return self.camera.position
+        _, nearest = KDTree(self.points).query(np.asarray(points, dtype=float), 1)
+        return self.viewpoints[nearest[:, 0]]
+
     def without(self, near: np.ndarray, distance: float = FRAME_MARGIN) -> WorldCloud:
         """This capture with its points within ``distance`` m of any of ``near`` (K, 3) left out
         (the raw depth, and so what the sensor saw, stays)."""
@@ -297,9 +305,8 @@ def get_object(
     """The one object the tutor moved between the ``pre`` and ``post`` captures, its pre- and
     post-action observations and its 6-DoF motion. Raises :class:`TaskFailed` when nothing or
     more than one object moved."""
-    gone, came = changed_points(post, pre, threshold), changed_points(pre, post, threshold)
-    left = pre.points[gone]  # in pre, gone from post
-    arrived = post.points[came]
+    left = pre.points[changed_points(post, pre, threshold)]  # in pre, gone from post
+    arrived = post.points[changed_points(pre, post, threshold)]
     points = np.vstack([left, arrived])
     side = np.r_[np.zeros(len(left), dtype=bool), np.ones(len(arrived), dtype=bool)]
     labels = euclidean_clusters(points, CLUSTER_DISTANCE)
@@ -333,8 +340,7 @@ def get_object(
         )
     before = points[(labels == leaving[0]) & ~side]
     after = points[(labels == arriving[0]) & side]
-    viewpoint = pre.viewpoint_of(np.flatnonzero(gone)[labels[: len(left)] == leaving[0]])
-    post_viewpoint = post.viewpoint_of(np.flatnonzero(came)[labels[len(left) :] == arriving[0]])
+    viewpoint, post_viewpoint = pre.viewpoint_at(before), post.viewpoint_at(after)
     registration = align(
         before,
         after,
