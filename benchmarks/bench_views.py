@@ -32,10 +32,11 @@ from vslsp.tasks.statistics import wilson_interval
 EXPERIMENTS = ("table-cleaning", "stacking")
 
 
-def run(name: str, seeds: list[int], views: int, workers: int) -> list[dict]:
-    """The trials of ``seeds`` of experiment ``name`` with ``views`` depth cameras, one record each."""
-    results = run_trials(get_task(name, views=views), seeds, workers=workers).results
-    return [
+def run(name: str, seeds: list[int], views: int, workers: int) -> tuple[list[dict], bool]:
+    """The trials of ``seeds`` of experiment ``name`` with ``views`` depth cameras, one record each
+    (those finished when Ctrl-C or SIGTERM stopped the run), and whether it was stopped."""
+    trials = run_trials(get_task(name, views=views), seeds, workers=workers)
+    records = [
         {
             "experiment": name,
             "views": views,
@@ -45,8 +46,9 @@ def run(name: str, seeds: list[int], views: int, workers: int) -> list[dict]:
             "cause": None if r.success else r.cause,
             "error": r.error,
         }
-        for r in results
+        for r in trials.results
     ]
+    return records, bool(trials.interrupted)
 
 
 def row(records: list[dict]) -> dict:
@@ -97,23 +99,28 @@ def main() -> None:
     records = []
     if args.out is not None and args.out.exists():
         records = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
-    for start in range(0, len(seeds), args.chunk):
-        for views in args.views:
-            for name in args.experiments:
-                done = {r["seed"] for r in records if r["experiment"] == name and r["views"] == views}
-                todo = [s for s in seeds[start : start + args.chunk] if s not in done]
-                if not todo:
-                    continue
-                new = run(name, todo, views, args.workers)
-                records.extend(new)
-                print(
-                    f"{name} --views {views} seeds {todo[0]}-{todo[-1]}: {sum(r['success'] for r in new)}/{len(new)}",
-                    file=sys.stderr,
-                    flush=True,
-                )
-                if args.out is not None:
-                    with args.out.open("a") as stream:
-                        stream.writelines(json.dumps(r) + "\n" for r in new)
+    rounds = [
+        (seeds[start : start + args.chunk], views, name)
+        for start in range(0, len(seeds), args.chunk)
+        for views in args.views
+        for name in args.experiments
+    ]
+    for chunk, views, name in rounds:
+        done = {r["seed"] for r in records if r["experiment"] == name and r["views"] == views}
+        todo = [s for s in chunk if s not in done]
+        if todo:
+            new, stopped = run(name, todo, views, args.workers)
+            records.extend(new)
+            print(
+                f"{name} --views {views} seeds {todo[0]}-{todo[-1]}: {sum(r['success'] for r in new)}/{len(new)}",
+                file=sys.stderr,
+                flush=True,
+            )
+            if args.out is not None:
+                with args.out.open("a") as stream:
+                    stream.writelines(json.dumps(r) + "\n" for r in new)
+            if stopped:  # the finished trials are kept; the report covers what ran
+                break
     report(records, args, seeds)
 
 
