@@ -177,7 +177,7 @@ def run_stacking(
             except VslspError as error:
                 demonstrated.append(f"demonstration: {error}")
         scene.park()
-        demonstrated_final = scene.capture().rgb
+        demonstrated_final = scene.picture()
     moved_layout = random_layout(names, seed + 1, tray=False, heights=STACK_HEIGHTS, radii=BOX_RADII)
     objects = {
         name: (*moved_layout[name][:2], layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN))
@@ -237,7 +237,7 @@ def run_stacking(
                 cloud = cloud_view(record.last.world.points)
         scene.park()
         clouds = trial_clouds([None if isinstance(d, str) else d[0] for d in demonstrated], records)
-        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.capture().rgb, clouds)
+        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.picture(), clouds)
     return tuple(results), pictures
 
 

@@ -232,7 +232,7 @@ def run_table_cleaning(
         film(scene, video, "table cleaning: the tutor's demonstration")
         demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed)
         scene.park()
-        demonstrated_final = scene.capture().rgb
+        demonstrated_final = scene.picture()
     reshuffled = random_layout(names, seed + 1, keep_clear=KEEP_CLEAR)
     reshuffled = {
         name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()
@@ -264,7 +264,7 @@ def run_table_cleaning(
                 cloud = cloud_view(record.last.world.points)
         scene.park()
         clouds = trial_clouds([moved for moved, _ in demonstrated], records)
-        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.capture().rgb, clouds)
+        pictures = trial_pictures(images, matched, cloud, demonstrated_final, scene.picture(), clouds)
     return TableCleaningResult(seed, method, tuple(results)), pictures
 
 

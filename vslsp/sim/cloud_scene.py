@@ -320,6 +320,10 @@ class CloudScene(PhysicsClient):
             return first
         return RGBDImage(first.rgb, first.depth, first.camera, tuple(self._capture(c) for c in self.others))
 
+    def picture(self) -> np.ndarray:
+        """The first sensor's RGB (H, W, 3) now (a report's picture: no other sensor renders)."""
+        return self._capture(self.camera).rgb
+
     def _capture(self, camera: Camera) -> RGBDImage:
         """One sensor's capture."""
         rgb, depth = camera.render(self.live_client)

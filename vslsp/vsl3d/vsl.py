@@ -99,14 +99,12 @@ class WorldCloud:
             return cls(
                 voxel_downsample(pass_through(points, workspace), voxel), np.asarray(depth, dtype=float), camera, floor
             )
-        clouds, viewpoints = [points], [np.broadcast_to(camera.position, points.shape)]
+        clouds = [pass_through(points, workspace)]  # each view cut first: a fifth of its pixels stays
+        viewpoints = [np.broadcast_to(camera.position, clouds[0].shape)]
         for other_depth, other_camera in others:
-            other_points, _ = other_camera.back_project(other_depth)
-            clouds.append(other_points)
-            viewpoints.append(np.broadcast_to(other_camera.position, other_points.shape))
-        fused, seen_from = np.vstack(clouds), np.vstack(viewpoints)
-        inside = workspace.contains(fused)
-        fused, seen_from = voxel_downsample_with(fused[inside], seen_from[inside], voxel)
+            clouds.append(pass_through(other_camera.back_project(other_depth)[0], workspace))
+            viewpoints.append(np.broadcast_to(other_camera.position, clouds[-1].shape))
+        fused, seen_from = voxel_downsample_with(np.vstack(clouds), np.vstack(viewpoints), voxel)
         views = tuple((np.asarray(d, dtype=float), c) for d, c in others)
         return cls(fused, np.asarray(depth, dtype=float), camera, floor, views, seen_from)
 
