@@ -1,5 +1,7 @@
 """The RGB-D table of VSL-3D (paper, "VSL-3D"): a Franka Panda at a table of everyday objects
-(and a box, or landmark boxes) seen by an RGB-D sensor.
+(and a box, or landmark boxes) seen by an RGB-D sensor, or with ``views=2`` by two (the
+second across the table at a known pose: :data:`~vslsp.sim.cloud_scene.SENSOR_FAR`; the
+observation then carries its capture in ``others``).
 
 Its seeded layout is {name: (x, y, yaw)} (:func:`~vslsp.sim.cloud_scene.random_layout`); its
 observation an :class:`~vslsp.sim.cloud_scene.RGBDImage`; the tutor moves an object to a (4, 4)
