@@ -93,6 +93,7 @@ def main() -> None:
         help="a JSON-lines file of the trials: appended after each round, "
         "and the trials it holds already are not run again (resume)",
     )
+    parser.add_argument("--report-only", action="store_true", help="run nothing: report the trials in --out")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     seeds = list(range(args.seed, args.seed + args.trials))
@@ -104,6 +105,7 @@ def main() -> None:
         for start in range(0, len(seeds), args.chunk)
         for views in args.views
         for name in args.experiments
+        if not args.report_only
     ]
     for chunk, views, name in rounds:
         done = {r["seed"] for r in records if r["experiment"] == name and r["views"] == views}
@@ -133,6 +135,8 @@ def report(records: list[dict], args: argparse.Namespace, seeds: list[int]) -> N
         for views in (1, 2)
     }
     rows = {key: row(group) for key, group in groups.items() if group}
+    if not rows:
+        raise SystemExit("no trials to report")
     ratios = {
         name: cost_ratio(groups[name, 1], groups[name, 2])
         for name in args.experiments
