@@ -153,7 +153,8 @@ def report(records: list[dict], args: argparse.Namespace, seeds: list[int]) -> N
             )
         )
         return
-    print(f"VSL-3D with one and two depth cameras, seeds {seeds[0]}-{seeds[-1]}")
+    covered = sorted({r["seed"] for group in groups.values() for r in group})
+    print(f"VSL-3D with one and two depth cameras, {len(covered)} seeds from {covered[0]} to {covered[-1]}")
     print(f"{'experiment':<16} {'views':>5} {'success':>9} {'rate':>7} {'95 % interval':>15} {'cpu s/trial':>11}")
     for (name, views), data in rows.items():
         low, high = data["interval_95"]
