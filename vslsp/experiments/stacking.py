@@ -15,7 +15,7 @@ object's centre and :data:`TOLERANCE_DEG`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -31,12 +31,13 @@ from vslsp.experiments.table_cleaning import (
     pose_error,
     say_outcome,
 )
+from vslsp.experiments.vsl3d_slips import DemonstrationSlips
 from vslsp.outcomes import NoMatch
 from vslsp.sim.cloud_scene import BOXES
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.matching import Match, find_best_match
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_clouds, trial_pictures
-from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCloud, euclidean_clusters, get_object
+from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCloud, euclidean_clusters
 from vslsp.worlds.rgbd_table import RgbdTable, random_layout
 
 OPERATIONS = (("duck", "box1"), ("teddy", "box2"))  # each object goes on top of its box
@@ -65,6 +66,7 @@ class StackResult(RobotOperation):
     final_error_deg: float | None = None  # the turn about the vertical
     final_rotation_deg: float | None = None  # the whole rotation (reported, not judged)
     error: str | None = None
+    extra: dict = field(default_factory=dict)  # with --tutor-slips: the slip's record
 
     def to_dict(self) -> dict:
         data = {
@@ -82,7 +84,7 @@ class StackResult(RobotOperation):
                 "error",
             )
         }
-        return self._record(data)
+        return self._record({**data, **self.extra})
 
 
 def landmark_under(pre: WorldCloud, moved: MovedObject) -> CloudObservation:
@@ -130,11 +132,17 @@ def run_stacking(
     absent: tuple[str, ...] = (),
     video: Any = None,
     views: int = 1,
+    tutor_slips: float | None = None,
+    slip_detection: bool = True,
 ) -> tuple[tuple[StackResult, ...], dict]:
     """Demonstrate the two stacks in a seeded random scene, move everything, reproduce with the
     robot. ``absent`` names objects or boxes left out of the new scene (bad input: each is
     diagnosed, the other operations still run); ``views``: the RGB-D sensors whose clouds are
-    fused (1, the paper's single view, or 2). Returns the results and the report's pictures."""
+    fused (1, the paper's single view, or 2). ``tutor_slips``: the probability that the tutor
+    also nudges another object still on the table in an operation (None: the option not given),
+    found or not by the ``slip_detection`` (:mod:`vslsp.experiments.vsl3d_slips`; the landmark
+    is the box under the operated object's post-action observation, never a disturbed object).
+    Returns the results and the report's pictures."""
     rng = np.random.default_rng(seed)
     names = [name for name, _ in OPERATIONS] + list(BOXES)
     layout = random_layout(names, seed, tray=False, heights=STACK_HEIGHTS, radii=BOX_RADII)
@@ -143,34 +151,40 @@ def run_stacking(
     demonstrated: list[tuple[MovedObject, CloudObservation] | str] = []
     goals: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     images = []
+    slips = DemonstrationSlips(tutor_slips, seed, slip_detection)
     with RgbdTable(objects, tray=False, robot=True, boxes=boxes, views=views) as scene:
         film(scene, video, "stacking: the tutor's demonstration")
-        for name, box in OPERATIONS:
+        for index, (name, box) in enumerate(OPERATIONS):
             scene.say(f"the tutor stacks {name} on {box}")
             scene.park()
             pre_image = scene.capture()
             x, y = scene.truth(box)[:2, 3]
             yaw = layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)
+            start = scene.bounds(name)
             scene.tutor_move(name, scene.resting_pose(name, x, y, yaw, support=BOXES[box][2]))
             scene.settle()
+            stacked = [n for n, _ in OPERATIONS[: index + 1]]  # the objects on their boxes by now
+            slips.during(scene, index, [n for n, _ in OPERATIONS if n not in stacked], [start])
             post_image = scene.capture()
             goals[name] = (scene.truth(name), scene.truth(box))
             try:
                 pre = world_of(pre_image)
-                moved = get_object(pre, world_of(post_image), method=method, seed=seed)
+                moved = slips.get_object(pre, world_of(post_image), method, seed)
                 landmark = landmark_under(pre, moved)
                 demonstrated.append((moved, landmark))
+                slips.found[index] = slips.record(scene, moved, moved.to_dict())
                 camera = DepthCamera.of(pre_image.camera)
+                pre_rgb, post_rgb = slips.picture(pre_image.rgb, post_image.rgb, camera, scene, moved)
                 images.append(
                     np.hstack(
                         [
                             draw_frame(
-                                draw_frame(pre_image.rgb, camera, moved.pre.frame, (255, 0, 0)),
+                                draw_frame(pre_rgb, camera, moved.pre.frame, (255, 0, 0)),
                                 camera,
                                 landmark.frame,
                                 (0, 0, 255),
                             ),
-                            draw_frame(post_image.rgb, camera, moved.post.frame, (0, 160, 0)),
+                            draw_frame(post_rgb, camera, moved.post.frame, (0, 160, 0)),
                         ]
                     )
                 )
@@ -193,7 +207,7 @@ def run_stacking(
         put_down: list[np.ndarray] = []  # where earlier operations put their objects
         for index, ((name, box), demo) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
             if isinstance(demo, str):
-                results.append(StackResult(index, name, box, None, error=demo))
+                results.append(StackResult(index, name, box, None, error=demo, extra=slips.extra(index)))
                 continue
             moved, landmark = demo
             found: dict[str, Match] = {}  # the landmark in the attempt's capture
@@ -227,7 +241,9 @@ def run_stacking(
                 landmarks=landmarks,
             )
             fitness = found["box"].registration.fitness if "box" in found else None
-            results.append(judge_stack(scene, index, name, box, moved.to_dict(), record, goals[name], fitness))
+            summary = slips.found[index]
+            results.append(judge_stack(scene, index, name, box, summary, record, goals[name], fitness))
+            results[-1] = replace(results[-1], extra=slips.extra(index))
             say_outcome(scene, index, results[-1])
             if record.placed is not None:
                 put_down.append(record.placed)

@@ -18,18 +18,19 @@ Perception and grasping never read the ground truth.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
 from vslsp.errors import VslspError
 from vslsp.experiments.cloud_reproduction import WORKSPACE, Reproduction, reproduce, world_of
+from vslsp.experiments.vsl3d_slips import DemonstrationSlips, place_box
 from vslsp.sim.cloud_scene import TRAY_POSITION
 from vslsp.vsl3d.cloud import DepthCamera
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, draw_grasp, trial_clouds, trial_pictures
 from vslsp.vsl3d.registration import transform_error
-from vslsp.vsl3d.vsl import MovedObject, get_object
+from vslsp.vsl3d.vsl import MovedObject
 from vslsp.worlds.rgbd_table import RgbdTable, random_layout
 
 __all__ = [
@@ -114,9 +115,11 @@ class OperationResult(RobotOperation):
     final_error_deg: float | None = None  # the turn about the vertical
     final_rotation_deg: float | None = None  # the whole rotation (reported, not judged)
     error: str | None = None
+    extra: dict = field(default_factory=dict)  # with --tutor-slips: the slip's record
 
     def to_dict(self) -> dict:
-        return self._record({key: value for key, value in asdict(self).items() if key != "execution"})
+        data = {key: value for key, value in asdict(self).items() if key not in ("execution", "extra")}
+        return self._record({**data, **self.extra})
 
 
 @dataclass(frozen=True)
@@ -151,32 +154,46 @@ def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[
 
 
 def demonstrate(
-    scene: RgbdTable, layout: dict, rng: np.random.Generator, method: str, seed: int
+    scene: RgbdTable,
+    layout: dict,
+    rng: np.random.Generator,
+    method: str,
+    seed: int,
+    slips: DemonstrationSlips | None = None,
 ) -> tuple[list[tuple[MovedObject | None, str | None]], dict[str, np.ndarray], list[np.ndarray]]:
     """The tutor's operations in ``scene``: per operation getObject's result (or why it failed),
-    the true goal poses, and the pre|post RGB pictures with the found frames."""
+    the true goal poses, and the pre|post RGB pictures with the found frames. With ``slips`` the
+    tutor may also nudge another object on the table (not one in the box) in each operation."""
+    slips = slips or DemonstrationSlips(None, seed)
     demonstrated: list[tuple[MovedObject | None, str | None]] = []
     goals: dict[str, np.ndarray] = {}
     images: list[np.ndarray] = []
-    for name, (x, y), into_tray in OPERATIONS:
+    in_box: list[str] = []
+    for index, (name, (x, y), into_tray) in enumerate(OPERATIONS):
         scene.say(f"the tutor moves {name}" + (" into the box" if into_tray else ""))
         scene.park()
         pre_image = scene.capture()
         support = scene.surface_height(x, y) if into_tray else 0.0
         yaw = layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)
+        start = scene.bounds(name)
         scene.tutor_move(name, scene.resting_pose(name, x, y, yaw, support=support))
         scene.settle()
+        in_box += [name] if into_tray else []
+        later = [place_box(*place) for _, place, tray in OPERATIONS[index + 1 :] if not tray]
+        slips.during(scene, index, [n for n in scene.bodies if n != name and n not in in_box], [start, *later])
         post_image = scene.capture()
         goals[name] = scene.truth(name)
         try:
-            moved = get_object(world_of(pre_image), world_of(post_image), method=method, seed=seed)
+            moved = slips.get_object(world_of(pre_image), world_of(post_image), method, seed)
             demonstrated.append((moved, None))
+            slips.found[index] = slips.record(scene, moved, moved.to_dict())
             camera = DepthCamera.of(pre_image.camera)
+            pre_rgb, post_rgb = slips.picture(pre_image.rgb, post_image.rgb, camera, scene, moved)
             images.append(
                 np.hstack(
                     [
-                        draw_frame(pre_image.rgb, camera, moved.pre.frame, (255, 0, 0)),
-                        draw_frame(post_image.rgb, camera, moved.post.frame, (0, 160, 0)),
+                        draw_frame(pre_rgb, camera, moved.pre.frame, (255, 0, 0)),
+                        draw_frame(post_rgb, camera, moved.post.frame, (0, 160, 0)),
                     ]
                 )
             )
@@ -203,19 +220,32 @@ def say_outcome(scene: RgbdTable, index: int, result: RobotOperation) -> None:
 
 
 def judge_operation(
-    scene: RgbdTable, index: int, name: str, summary: dict, record: Reproduction, goal: np.ndarray
+    scene: RgbdTable,
+    index: int,
+    name: str,
+    summary: dict,
+    record: Reproduction,
+    goal: np.ndarray,
+    extra: dict | None = None,
 ) -> OperationResult:
-    """The operation's result from the robot's record and the truth."""
+    """The operation's result from the robot's record and the truth (``extra``: more fields of its record)."""
     picked = next((a.held for a in reversed(record.attempts) if a.held is not None), None)
     errors: tuple[float | None, float | None, float | None] = (None, None, None)
     if record.attempts:
         lower, upper = scene.bounds(name)
         errors = pose_error(goal, scene.truth(name), (lower + upper) / 2.0)
-    return OperationResult(index, name, summary, record.to_dict(), picked, *errors, error=record.diagnosis)
+    return OperationResult(
+        index, name, summary, record.to_dict(), picked, *errors, error=record.diagnosis, extra=extra or {}
+    )
 
 
 def run_table_cleaning(
-    seed: int = 0, method: str = "prerejective_ransac", video: Any = None, views: int = 1
+    seed: int = 0,
+    method: str = "prerejective_ransac",
+    video: Any = None,
+    views: int = 1,
+    tutor_slips: float | None = None,
+    slip_detection: bool = True,
 ) -> tuple[TableCleaningResult, dict[str, Any]]:
     """Demonstrate the table cleaning in a seeded random scene, reshuffle, reproduce with the
     robot. Returns the outcome and the report's pictures: ``demonstration`` (per operation the
@@ -224,13 +254,16 @@ def run_table_cleaning(
     reproduction capture's cloud coloured by segment) and ``final`` (the demonstrated final
     scene beside the reproduced one, (H, 2W, 3)). ``video``: a :class:`~vslsp.sim.video.SceneVideo`
     that films both scenes; ``views``: the RGB-D sensors whose clouds are fused (1, the paper's
-    single view, or 2: the far sensor too)."""
+    single view, or 2: the far sensor too). ``tutor_slips``: the probability that the tutor also nudges another
+    object in an operation (None: the option not given), found or not by the ``slip_detection``
+    (:mod:`vslsp.experiments.vsl3d_slips`)."""
     rng = np.random.default_rng(seed)
     names = [name for name, _, _ in OPERATIONS] + ["blob"]  # the blob stays on the table
     layout = random_layout(names, seed, keep_clear=KEEP_CLEAR)
     with RgbdTable(layout, robot=True, views=views) as scene:
         film(scene, video, "table cleaning: the tutor's demonstration")
-        demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed)
+        slips = DemonstrationSlips(tutor_slips, seed, slip_detection)
+        demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed, slips)
         scene.park()
         demonstrated_final = scene.picture()
     reshuffled = random_layout(names, seed + 1, keep_clear=KEEP_CLEAR)
@@ -244,7 +277,7 @@ def run_table_cleaning(
         put_down: list[np.ndarray] = []  # where earlier operations put their objects
         for index, ((name, _, _), (moved, failure)) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
             if moved is None:
-                results.append(OperationResult(index, name, None, error=failure))
+                results.append(OperationResult(index, name, None, error=failure, extra=slips.extra(index)))
                 continue
 
             def motion_for(match, world, moved=moved):
@@ -254,7 +287,8 @@ def run_table_cleaning(
             record = reproduce(
                 scene, moved.pre, motion_for, method=method, seed=seed, movable=movable, placed=tuple(put_down)
             )
-            results.append(judge_operation(scene, index, name, moved.to_dict(), record, goals[name]))
+            summary = slips.found[index]
+            results.append(judge_operation(scene, index, name, summary, record, goals[name], slips.extra(index)))
             say_outcome(scene, index, results[-1])
             if record.placed is not None:
                 put_down.append(record.placed)

@@ -80,7 +80,7 @@ class Vsl3dExperiment(Task):
     :meth:`reproduce` and the report's sentence (:attr:`summary_line`)."""
 
     system = System.VSL_3D
-    options = frozenset({Option.METHOD, Option.VIDEO, Option.VIEWS})
+    options = frozenset({Option.METHOD, Option.VIDEO, Option.VIEWS, Option.TUTOR_SLIPS, Option.SLIP_DETECTION})
     summary_line = "Operations"
 
     def check(self) -> None:
@@ -91,6 +91,9 @@ class Vsl3dExperiment(Task):
         views = self.option(Option.VIEWS, 1)
         if isinstance(views, bool) or views not in (1, 2):
             raise InputError(f"--views takes 1 (the paper's single view) or 2 (two fused depth cameras), got {views!r}")
+        slips = self.option(Option.TUTOR_SLIPS)
+        if slips is not None and not 0.0 <= float(slips) <= 1.0:
+            raise InputError(f"--tutor-slips is a probability from 0 to 1, not {slips}")
         if self.option(Option.VIDEO):
             from vslsp.sim.video import check_encoder
 
@@ -114,6 +117,16 @@ class Vsl3dExperiment(Task):
         """Demonstrate and reproduce the trial of ``seed`` (filmed by ``video``, a
         :class:`~vslsp.sim.video.SceneVideo`, when given): the operations' records and the pictures."""
         raise NotImplementedError
+
+    @property
+    def slips(self) -> dict[str, Any]:
+        """The tutor's slips as the experiments take them: ``tutor_slips`` (None: not given) and
+        ``slip_detection`` (on unless turned off: off is the paper's getObject, the baseline)."""
+        slips = self.option(Option.TUTOR_SLIPS)
+        return {
+            "tutor_slips": None if slips is None else float(slips),
+            "slip_detection": bool(self.option(Option.SLIP_DETECTION, True)),
+        }
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         from vslsp.sim.video import SceneVideo, tabletop_scene_camera
@@ -139,7 +152,8 @@ class Vsl3dExperiment(Task):
         )
 
     def summary(self, results: list[TrialResult]) -> dict:
-        return {"method": self.method, **self.recorded_views(), **operation_summary(results)}
+        given = any(self.option(o) is not None for o in (Option.TUTOR_SLIPS, Option.SLIP_DETECTION))
+        return {"method": self.method, **self.recorded_views(), **operation_summary(results), **(self.slips if given else {})}
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
         return [
@@ -178,7 +192,7 @@ class TableCleaning(Vsl3dExperiment):
     def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
         from vslsp.experiments.table_cleaning import run_table_cleaning
 
-        outcome, pictures = run_table_cleaning(seed, self.method, video, views=self.views)
+        outcome, pictures = run_table_cleaning(seed, self.method, video, views=self.views, **self.slips)
         return [op.to_dict() for op in outcome.operations], pictures
 
 
@@ -199,5 +213,5 @@ class Stacking(Vsl3dExperiment):
     def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
         from vslsp.experiments.stacking import run_stacking
 
-        outcome, pictures = run_stacking(seed, self.method, video=video, views=self.views)
+        outcome, pictures = run_stacking(seed, self.method, video=video, views=self.views, **self.slips)
         return [op.to_dict() for op in outcome], pictures

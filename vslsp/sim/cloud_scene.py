@@ -362,6 +362,17 @@ class CloudScene(PhysicsClient):
         _, _, fraction, _, _ = pb.rayTest(start, end, physicsClientId=self.client)[0]
         return float(start[2] - fraction * (start[2] - end[2]))
 
+    def near(self, name: str, distance: float) -> list[str]:
+        """The other objects, boxes and the tray (``"tray"``) within ``distance`` m of object
+        ``name`` (closest points of their collision shapes)."""
+        body, c = self._body(name), self.client
+        others = {**self.bodies, **({"tray": self.tray} if self.tray is not None else {})}
+        return [
+            other
+            for other, handle in others.items()
+            if handle != body and pb.getClosestPoints(body, handle, distance, physicsClientId=c)
+        ]
+
     def _body(self, name: str) -> int:
         if name not in self.bodies:
             raise InputError(f"no object named {name!r}; the scene has {sorted(self.bodies)}")

@@ -19,7 +19,7 @@ from vslsp.outputs import atomic_file
 from vslsp.vsl3d.cloud import DepthCamera, Frame, voxel_downsample
 from vslsp.vsl3d.grasping import Grasp
 from vslsp.vsl3d.kdtree import KDTree
-from vslsp.vsl3d.vsl import MovedObject, euclidean_clusters
+from vslsp.vsl3d.vsl import OPERATED, MovedObject, euclidean_clusters
 
 SEGMENT_GAP = 0.01  # points closer than this are one segment in the cloud picture
 PALETTE = np.array(
@@ -101,6 +101,30 @@ def cloud_view(points: np.ndarray, size: tuple[int, int] = (480, 640), elevation
     return image
 
 
+def draw_moves(
+    pre: np.ndarray, post: np.ndarray, camera: DepthCamera, moved: MovedObject, names: Sequence[str | None] = ()
+) -> tuple[np.ndarray, np.ndarray]:
+    """The pre- and post-action RGB views (H, W, 3) with the slip detection's finding marked: each
+    object the tutor disturbed in orange (its frame before on ``pre``, after on ``post``), and
+    ``names`` (of ``moved.moves``, in order; the report's truth) written at the frames: which
+    object was operated, which disturbed."""
+    pre, post = np.ascontiguousarray(pre.copy()), np.ascontiguousarray(post.copy())
+    for index, move in enumerate(moved.moves):
+        name = names[index] if index < len(names) and names[index] else "object"
+        before, after = move.frames
+        colours = ((255, 0, 0), (0, 160, 0)) if move.role == OPERATED else (DISTURBED_COLOUR, DISTURBED_COLOUR)
+        for image, frame, colour in ((pre, before, colours[0]), (post, after, colours[1])):
+            if move.role != OPERATED:
+                image[:] = draw_frame(image, camera, frame, colour)
+            corner = np.array([[frame.lower[0], frame.lower[1], frame.upper[2]]])
+            uv, _ = camera.project(corner)
+            text = f"{move.role}: {name}"
+            (width, _), _ = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, 0.4, 1)
+            x, y = min(max(0, int(uv[0, 0])), image.shape[1] - width - 2), max(12, int(uv[0, 1]) - 4)
+            cv2.putText(image, text, (x, y), cv2.FONT_HERSHEY_SIMPLEX, 0.4, colour, 1, cv2.LINE_AA)
+    return pre, post
+
+
 def trial_pictures(
     demonstration: list[np.ndarray],
     matched: list[np.ndarray],
@@ -127,10 +151,19 @@ CLOUD_VOXEL = 0.004
 MAX_CLOUD_POINTS = 12_000
 
 
-def labelled_cloud(scene: np.ndarray, found: np.ndarray, caption: str) -> dict[str, np.ndarray]:
+#: A report cloud's labels: the rest of the scene, the object (getObject's, or the match), an
+#: object the tutor disturbed (the slip detection's finding).
+SCENE_LABEL, OBJECT_LABEL, DISTURBED_LABEL = 0, 1, 2
+DISTURBED_COLOUR = (255, 140, 0)  # a disturbed object's frames on the RGB views (orange)
+
+
+def labelled_cloud(
+    scene: np.ndarray, found: np.ndarray, caption: str, disturbed: Sequence[np.ndarray] = ()
+) -> dict[str, np.ndarray]:
     """A cloud for the report: ``scene`` (N, 3) and the object's points ``found`` (M, 3), both
     decimated; ``labels`` (K,) is 1 on the object's points and 0 on the rest of the scene (the
-    scene's points within a voxel of the object's are the object's)."""
+    scene's points within a voxel of the object's are the object's), 2 on the scene's points
+    within a voxel of a ``disturbed`` object's (each (L, 3))."""
     found = voxel_downsample(found, CLOUD_VOXEL) if len(found) else np.zeros((0, 3))
     rest = voxel_downsample(scene, CLOUD_VOXEL) if len(scene) else np.zeros((0, 3))
     if len(found) and len(rest):
@@ -138,6 +171,10 @@ def labelled_cloud(scene: np.ndarray, found: np.ndarray, caption: str) -> dict[s
         rest = rest[gap[:, 0] > CLOUD_VOXEL]
     points = np.vstack([rest, found])
     labels = np.r_[np.zeros(len(rest), np.uint8), np.ones(len(found), np.uint8)]
+    for other in disturbed:
+        if len(other) and len(rest):
+            gap, _ = KDTree(np.asarray(other, dtype=float)).query(rest, 1, CLOUD_VOXEL)
+            labels[: len(rest)][gap[:, 0] <= CLOUD_VOXEL] = DISTURBED_LABEL
     keep = slice(None, None, max(1, -(-len(points) // MAX_CLOUD_POINTS)))
     return {"points": points[keep].astype(np.float32), "labels": labels[keep], "caption": np.array(caption)}
 
@@ -156,8 +193,15 @@ def trial_clouds(
         if moved is not None and moved.scenes is not None:
             pre, post = moved.scenes
             caption = f"demonstration {number}: the %s-action scene, the object getObject found (red)"
-            clouds[f"demonstration_{number}_pre"] = labelled_cloud(pre, moved.pre.points, caption % "pre")
-            clouds[f"demonstration_{number}_post"] = labelled_cloud(post, moved.post.points, caption % "post")
+            disturbed = moved.disturbed
+            if disturbed:
+                caption += ", the objects the tutor disturbed (orange)"
+            clouds[f"demonstration_{number}_pre"] = labelled_cloud(
+                pre, moved.pre.points, caption % "pre", [m.before for m in disturbed]
+            )
+            clouds[f"demonstration_{number}_post"] = labelled_cloud(
+                post, moved.post.points, caption % "post", [m.after for m in disturbed]
+            )
     for index, record in sorted(reproduced.items()):
         attempt = record.last
         if attempt is not None and attempt.match is not None:

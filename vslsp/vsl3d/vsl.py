@@ -220,16 +220,60 @@ class CloudObservation:
         return cls(points, Frame(tuple(lower), tuple(upper)), viewpoint)
 
 
+OPERATED, DISTURBED = "operated", "disturbed"
+
+
+@dataclass(frozen=True, eq=False)
+class Move:
+    """One object that moved in an operation (:mod:`vslsp.vsl3d.moves`): its changed points that
+    ``left`` (K, 3) and that ``arrived`` (L, 3), the object itself ``before`` (its pre-action
+    points) and ``after`` (its post-action points), and its ``role``: :data:`OPERATED` or
+    :data:`DISTURBED` (the tutor's slip)."""
+
+    left: np.ndarray
+    arrived: np.ndarray
+    before: np.ndarray
+    after: np.ndarray
+    role: str
+
+    @property
+    def shift(self) -> float:
+        """How far (m) the middle of the object's points moved in the table plane."""
+        middle = [(p.min(axis=0) + p.max(axis=0)) / 2.0 for p in (self.before, self.after)]
+        return float(np.linalg.norm(middle[1][:2] - middle[0][:2]))
+
+    @property
+    def frames(self) -> tuple[Frame, Frame]:
+        """The cuboids around the object before and after (the report's pictures)."""
+        return Frame.around(self.before, FRAME_MARGIN), Frame.around(self.after, FRAME_MARGIN)
+
+    def to_dict(self) -> dict:
+        return {
+            "role": self.role,
+            "pre_centroid": np.round(self.before.mean(axis=0), 4).tolist(),
+            "post_centroid": np.round(self.after.mean(axis=0), 4).tolist(),
+            "shift_mm": round(1000 * self.shift, 1),
+            "changed_points": [len(self.left), len(self.arrived)],
+        }
+
+
 @dataclass(frozen=True, eq=False)
 class MovedObject:
     """What ``getObject`` finds: the object's ``pre`` and ``post`` observations and its motion,
     ``registration.transform`` (4, 4), taking the pre points onto the post points; ``scenes``:
-    the pre- and post-action worlds' points it was found in (the report's clouds)."""
+    the pre- and post-action worlds' points it was found in (the report's clouds); ``moves``:
+    with the slip detection, every object that moved, the operated one first (empty without)."""
 
     pre: CloudObservation
     post: CloudObservation
     registration: Registration
     scenes: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
+    moves: tuple[Move, ...] = field(default=(), repr=False)
+
+    @property
+    def disturbed(self) -> tuple[Move, ...]:
+        """The objects the tutor disturbed (the slip detection's finding; empty without it)."""
+        return tuple(move for move in self.moves if move.role == DISTURBED)
 
     @property
     def transform(self) -> np.ndarray:
@@ -338,6 +382,15 @@ def get_object(
         )
     before = points[(labels == leaving[0]) & ~side]
     after = points[(labels == arriving[0]) & side]
+    return moved_object(pre, post, before, after, method=method, seed=seed)
+
+
+def moved_object(
+    pre: WorldCloud, post: WorldCloud, before: np.ndarray, after: np.ndarray, *, method: str, seed: int
+) -> MovedObject:
+    """The object whose pre-action observation is ``before`` (N, 3) (points of ``pre``) and
+    post-action observation ``after`` (M, 3) (of ``post``), with its motion registered from one
+    onto the other. Raises :class:`TaskFailed` when no motion fits."""
     viewpoint, post_viewpoint = pre.viewpoint_at(before), post.viewpoint_at(after)
     registration = align(
         before,
