@@ -20,6 +20,8 @@ from vslsp.studio.report_data import read_report, read_trial, report_folders, tr
 MAX_VIEW_POINTS = 20_000
 #: The object's points in a labelled cloud (VSL-3D's report clouds: ``labels`` 1).
 OBJECT_COLOUR = (0.85, 0.1, 0.1)
+#: An object the tutor disturbed (VSL-3D's report clouds with ``--tutor-slips``: ``labels`` 2).
+DISTURBED_COLOUR = (1.0, 0.55, 0.0)
 
 
 def file_link(rel: str) -> str:
@@ -28,7 +30,8 @@ def file_link(rel: str) -> str:
 
 def load_cloud(root: Path, rel: str) -> dict | None:
     """A cloud file under the root for the 3-D view: ``points`` (N, 3) centred and scaled to about a
-    unit cube, ``colours`` (N, 3) (the labelled object red, the rest by height), ``caption``, ``count``;
+    unit cube, ``colours`` (N, 3) (the labelled object red, one the tutor disturbed orange, the rest
+    by height), ``caption``, ``count``;
     None when the file is not a cloud (an ``.npz`` with ``points`` (N, 3): VSL-3D's report clouds,
     :func:`vslsp.vsl3d.pictures.write_clouds`, or an observation, ``CloudObservation.save``)."""
     import numpy as np  # here: the studio starts without it
@@ -54,6 +57,7 @@ def load_cloud(root: Path, rel: str) -> dict | None:
     colours = np.stack([0.2 + 0.3 * heat, 0.45 + 0.2 * heat, 0.9 - 0.4 * heat], axis=1)
     if labels is not None:
         colours[labels == 1] = OBJECT_COLOUR
+        colours[labels == 2] = DISTURBED_COLOUR
     return {
         "points": np.round(centred, 4).tolist(),
         "colours": np.round(colours, 3).tolist(),
