@@ -153,7 +153,18 @@ class Vsl3dExperiment(Task):
 
     def summary(self, results: list[TrialResult]) -> dict:
         given = any(self.option(o) is not None for o in (Option.TUTOR_SLIPS, Option.SLIP_DETECTION))
-        return {"method": self.method, **self.recorded_views(), **operation_summary(results), **(self.slips if given else {})}
+        if not given:
+            return {"method": self.method, **self.recorded_views(), **operation_summary(results)}
+        operations = [op for r in results for op in (r.operations or [])]
+        found = [op for op in operations if op.get("slip") and (op.get("demonstration") or {}).get("disturbed")]
+        return {
+            "method": self.method,
+            **self.recorded_views(),
+            **operation_summary(results),
+            **self.slips,
+            "operations_slipped": sum(bool(op.get("slip")) for op in operations),
+            "slips_found": len(found),
+        }
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
         return [
@@ -163,6 +174,16 @@ class Vsl3dExperiment(Task):
             + (f", {data['views']} fused depth cameras" if data.get("views", 1) > 1 else "")
             + ").",
             "",
+            *(
+                [
+                    f"Tutor slips (P = {data['tutor_slips']}): {data['operations_slipped']} operations slipped, "
+                    f"{data['slips_found']} found disturbed by the slip detection "
+                    f"({'on' if data['slip_detection'] else 'off: getObject as in the paper'}).",
+                    "",
+                ]
+                if "operations_slipped" in data
+                else []
+            ),
         ]
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
