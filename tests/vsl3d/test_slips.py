@@ -9,10 +9,10 @@ from helpers.vsl3d import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, assert_within_boun
 from vslsp.errors import TaskFailed
 from vslsp.sim.cloud_scene import CloudScene
 from vslsp.tasks.registry import get_task
-from vslsp.vsl3d.moves import get_operated_object
+from vslsp.vsl3d.moves import MIN_SIDE_POINTS, detect_moves, get_operated_object
 from vslsp.vsl3d.pictures import DISTURBED_LABEL, OBJECT_LABEL, trial_clouds
 from vslsp.vsl3d.registration import transform_error
-from vslsp.vsl3d.vsl import DISTURBED, OPERATED
+from vslsp.vsl3d.vsl import DISTURBED, OPERATED, changed_points
 from vslsp.worlds.rgbd_table import SLIP_CLEARANCE, RgbdTable
 from vslsp.worlds.slips import Slip
 
@@ -95,3 +95,30 @@ def test_a_trial_with_a_slip_in_every_operation_succeeds_with_the_detection(name
         assert {m["object"] for m in op["demonstration"]["moved"]} == {op["moved"], op["slip"]["object"]}
     baseline = get_task(name, tutor_slips=1.0, slip_detection=False).run_trial(3)
     assert not baseline.success and "several objects moved" in baseline.error
+
+
+def test_a_centimetre_slide_that_changes_one_side_only_is_a_disturbance():
+    # A slide of a centimetre changes the duckling's rim on one side only (20 points left, 134
+    # arrived): an arrival, but not the one with the most new points, the duck's in the box.
+    with CloudScene({"duck": (0.42, -0.17, 0.4), "duckling": (0.62, -0.10, 1.0)}) as scene:
+        pre, _, _, _ = demonstrate(scene, "duck", 0.56, 0.16, 1.5, into_tray=True)
+        slide = 0.0107 * np.array([np.cos(np.radians(135)), np.sin(np.radians(135))])
+        nudge(scene, "duckling", *slide, -1.6)
+        post = world(scene)
+        moves = detect_moves(pre, post, changed_points(post, pre), changed_points(pre, post))
+        assert [move.role for move in moves] == [OPERATED, DISTURBED]
+        assert_within_bounds(moves[0].after, scene, "duck")
+        assert_within_bounds(moves[1].after, scene, "duckling")
+    assert len(moves[1].left) < MIN_SIDE_POINTS <= len(moves[1].arrived)
+
+
+@pytest.mark.slow
+def test_a_slide_that_leaves_its_place_nearly_full_is_a_disturbance():
+    # table-cleaning seed 14 at P = 0.5: the duckling slid 1.07 cm in operation 1 and only its
+    # rim's leaving side changed (171 of its ~900 points left, 8 arrived): two departures, of
+    # which only the duck left its place empty.
+    result = get_task("table-cleaning", tutor_slips=0.5).run_trial(14)
+    assert result.success, result.error
+    first = result.operations[0]
+    assert first["slip"]["object"] == "duckling"
+    assert first["demonstration"]["operated"] == "duck" and first["demonstration"]["disturbed"] == ["duckling"]

@@ -18,9 +18,14 @@ move:
 
 The rule for the operated object: the tutor's operation carries an object from its place to
 another (into the box, onto a landmark, in front of the box: places apart), so the operated
-object is the one departure-only segment with the one arrival-only segment; every object that
-moved within its own place was disturbed. Any other combination (two objects carried off, an
-object that left the view) is not one operation plus disturbances and is refused as before.
+object is the one that left its place empty (a departure-only segment of which at least
+:data:`EMPTIED` of the points left) and arrived at an empty place (an arrival-only segment of
+which at least :data:`EMPTIED` of the points are new) or, where it joined what stood there (the
+box, a landmark), where the most new points are; every other moved object was disturbed: it moved within
+its own place, or a slide of a centimetre changed one side of it only (its rim left, nothing
+new beyond the threshold; its place keeps most of its points). Any other combination (two
+objects carried off, nothing carried off, an object that left the view) is not one operation
+plus disturbances and is refused as before.
 """
 
 from __future__ import annotations
@@ -57,6 +62,10 @@ SEGMENT_GAP = 0.008
 # A side (left or arrived) of a segment counts with at least this many changed points (1.6 cm^2
 # of 2 mm voxels); fewer are the rim of an object that settled a little differently.
 MIN_SIDE_POINTS = 40
+# An object carried away leaves its place empty: at least this share of the points its segment had
+# before left (a nudged object's segment keeps most of its points: only its rim changed); one
+# carried to an empty place fills it: at least this share of its segment's points are new.
+EMPTIED = 0.5
 SEVERAL = "several objects moved"
 
 
@@ -113,17 +122,25 @@ def detect_moves(
         gone, came = segment & changed & ~is_post, segment & changed & is_post
         if gone.sum() + came.sum() < min_points:
             continue
+        move = Move(points[gone], points[came], points[segment & ~is_post], points[segment & is_post], DISTURBED)
         if gone.sum() >= MIN_SIDE_POINTS and came.sum() >= MIN_SIDE_POINTS:
-            before, after = points[segment & ~is_post], points[segment & is_post]
-            in_place.append(Move(points[gone], points[came], before, after, DISTURBED))
+            in_place.append(move)
         elif gone.sum() >= MIN_SIDE_POINTS:
-            departures.append(points[gone])
+            departures.append(move)
         elif came.sum() >= MIN_SIDE_POINTS:
-            arrivals.append(points[came])
-    if len(departures) != 1 or len(arrivals) != 1:
+            arrivals.append(move)
+    # A nudge may change one side only (a centimetre's slide: its rim left, nothing new beyond the
+    # threshold): the place an object was carried from is the one it left empty (most of its
+    # points gone); the place it was carried to, the one it filled (most of its points new) or,
+    # where it joined what stood there (the box, a landmark), the one with the most new points.
+    departures.sort(key=lambda m: -len(m.left) / len(m.before))
+    arrivals.sort(key=lambda m: -len(m.arrived))
+    carried = [m for m in departures if len(m.left) >= EMPTIED * len(m.before)]
+    filled = [m for m in arrivals if len(m.arrived) >= EMPTIED * len(m.after)]
+    if len(carried) != 1 or not arrivals or len(filled) > 1:
         where = "; ".join(
-            [f"left {_centre(p)}" for p in departures]
-            + [f"arrived {_centre(p)}" for p in arrivals]
+            [f"left {_centre(m.left)}" for m in departures]
+            + [f"arrived {_centre(m.arrived)}" for m in arrivals]
             + [f"moved in its place {_centre(m.after)}" for m in in_place]
         )
         raise TaskFailed(
@@ -131,8 +148,10 @@ def detect_moves(
             "the rest were only nudged in theirs; VSL-3D learns one object carried per operation",
             cause=SEVERAL,
         )
-    operated = Move(departures[0], arrivals[0], departures[0], arrivals[0], OPERATED)
-    return (operated, *sorted(in_place, key=lambda m: -m.shift))
+    arrival = (filled or arrivals)[0]
+    operated = Move(carried[0].left, arrival.arrived, carried[0].left, arrival.arrived, OPERATED)
+    others = [*in_place, *departures[1:], *(m for m in arrivals if m is not arrival)]
+    return (operated, *sorted(others, key=lambda m: -m.shift))
 
 
 def objects(points: np.ndarray, changed: np.ndarray) -> np.ndarray:

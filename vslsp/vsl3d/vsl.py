@@ -237,21 +237,31 @@ class Move:
     role: str
 
     @property
+    def sides(self) -> tuple[np.ndarray, np.ndarray]:
+        """The object's points before and after (its changed points where the capture had none
+        of it on that side: an object that came from nowhere in view, or went)."""
+        before = self.before if len(self.before) else self.left
+        after = self.after if len(self.after) else self.arrived
+        return (before if len(before) else after), (after if len(after) else before)
+
+    @property
     def shift(self) -> float:
         """How far (m) the middle of the object's points moved in the table plane."""
-        middle = [(p.min(axis=0) + p.max(axis=0)) / 2.0 for p in (self.before, self.after)]
+        middle = [(p.min(axis=0) + p.max(axis=0)) / 2.0 for p in self.sides]
         return float(np.linalg.norm(middle[1][:2] - middle[0][:2]))
 
     @property
     def frames(self) -> tuple[Frame, Frame]:
         """The cuboids around the object before and after (the report's pictures)."""
-        return Frame.around(self.before, FRAME_MARGIN), Frame.around(self.after, FRAME_MARGIN)
+        before, after = self.sides
+        return Frame.around(before, FRAME_MARGIN), Frame.around(after, FRAME_MARGIN)
 
     def to_dict(self) -> dict:
+        before, after = self.sides
         return {
             "role": self.role,
-            "pre_centroid": np.round(self.before.mean(axis=0), 4).tolist(),
-            "post_centroid": np.round(self.after.mean(axis=0), 4).tolist(),
+            "pre_centroid": np.round(before.mean(axis=0), 4).tolist(),
+            "post_centroid": np.round(after.mean(axis=0), 4).tolist(),
             "shift_mm": round(1000 * self.shift, 1),
             "changed_points": [len(self.left), len(self.arrived)],
         }
