@@ -230,3 +230,12 @@ def test_the_rules_catch_what_they_are_for():
     )
     found = clock_problems(ROOT / "tests" / "tasks" / "example_tasks.py", task)
     assert [problem.split(":")[1] for problem in found] == ["3"], found
+
+
+def test_no_two_test_files_share_a_name():
+    """The test folders are no packages (pytest's rootdir import mode): two files of one name in
+    different folders make the second an import error when both are collected in one run."""
+    names: dict[str, list[str]] = {}
+    for path in sorted((ROOT / "tests").rglob("test_*.py")):
+        names.setdefault(path.name, []).append(str(path.relative_to(ROOT)))
+    assert {name: paths for name, paths in names.items() if len(paths) > 1} == {}
