@@ -49,7 +49,8 @@ class HouseRoof(Task):
         :func:`~vslsp.experiments.seeds.reproduction_seed`; ``keep`` holds on to the images for the report."""
         import time
 
-        from vslsp.experiments.house_roof_trial import ObservationFeatures, UnseenOperation, demonstrate, reproduce
+        from vslsp.experiments.house_roof_trial import ObservationFeatures, demonstrate, reproduce
+        from vslsp.vsl.slips import UnseenOperation
         from vslsp.worlds.house_roof.board import HouseWorld
 
         slips = self.option(Option.TUTOR_SLIPS)

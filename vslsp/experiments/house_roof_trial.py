@@ -46,7 +46,7 @@ from vslsp.vision.matching import FrameMode, Match, NoMatch, frame_sizes
 from vslsp.vsl.demonstration import Demonstration, ImagePlane
 from vslsp.vsl.matcher import Search, match_observation
 from vslsp.vsl.recorder import Recorder
-from vslsp.vsl.slips import Moves, separate
+from vslsp.vsl.slips import Moves, UnseenOperation, separate
 from vslsp.worlds.house_roof import HouseBoard, roof_name
 from vslsp.worlds.house_roof.board import (
     ANGLE_TOLERANCE,
@@ -140,15 +140,6 @@ def demonstrate(seed: int, tutor_slips: float | None = None, detection: bool = T
             record = {**_moved_record(moves, board.state, (operation.pose_post.x, operation.pose_post.y)), **record}
         records.append(record)
     return HouseRoofDemonstration(recorder.demonstration(), start, board.state, tuple(records), tuple(found))
-
-
-class UnseenOperation(InputError):
-    """The recorder could not see the tutor's operation; ``slips``: the records of the operations
-    so far (this one's last), for the report."""
-
-    def __init__(self, message: str, slips: tuple[dict, ...]) -> None:
-        super().__init__(message)
-        self.slips = slips
 
 
 def _moved_record(moves: Moves, state: HouseWorld, recorded: tuple[float, float]) -> dict:

@@ -49,6 +49,8 @@ class TabletopDemonstration:
     items: tuple[str, ...]
     anchors: tuple[str | None, ...]
     relative: tuple[tuple[float, float, float, float], ...]
+    slips: tuple[dict, ...] = ()  # with --tutor-slips, per operation: moved, operated, disturbed, slip
+    moves: tuple = ()  # with the slip detection, per operation: its vslsp.vsl.slips.Moves (for the pictures)
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,8 +16,10 @@ object, :func:`find_moved` finds each of them:
    features is one object's move (one that leaves them where they were is the unchanged rim);
 3. one object per place: the placements are taken nearest first (a slip nudges an object by a
    few cm, an operation carries one from its place to another, so the pairing that moves
-   objects least is the right one when two objects look alike), each pre and post keypoint
-   used once; a second pass pairs the regions left unexplained with the post keypoints left.
+   objects least is the right one when two objects look alike), each pre keypoint used once
+   and a fit a quarter of whose post keypoints another object took already refused; two fits
+   of one object (a symmetric one fits turned too) count once; a second pass pairs the regions
+   left unexplained with the post keypoints left.
 
 The rule for the operated object (:func:`_decide`): **the one that left its place for another**
 (its old and new places are different changed regions; given the pre-place observation, it
@@ -44,6 +46,7 @@ from dataclasses import dataclass, field
 import cv2
 import numpy as np
 
+from vslsp.errors import InputError
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import channel_max
 from vslsp.vision.matching import SCALE_RANGE
@@ -101,6 +104,16 @@ class Moves:
         return (self.operated, *self.disturbed) if self.operated is not None else self.disturbed
 
 
+class UnseenOperation(InputError):
+    """The recorder could not see the tutor's operation; ``slips``: the report's records of the
+    operations so far (per operation: what moved, which one was operated, the tutor's slip),
+    this one's last."""
+
+    def __init__(self, message: str, slips: tuple[dict, ...]) -> None:
+        super().__init__(message)
+        self.slips = slips
+
+
 def changed_pixels(pre: np.ndarray, post: np.ndarray) -> np.ndarray:
     """Image subtraction and thresholding: the pixels (H, W) uint8 {0, 1} that changed between
     the observations (H, W, 3) uint8, smoothed, closed over small gaps."""
@@ -144,7 +157,7 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
         # One object per place, nearest first: each keypoint of either observation is used once.
         candidates.sort(key=lambda c: c[0])
         for _, obj, sources, targets in candidates:
-            if used_before & set(sources.tolist()) or len(used_after & set(targets.tolist())) > len(targets) // 2:
+            if used_before & set(sources.tolist()) or 4 * len(used_after & set(targets.tolist())) > len(targets):
                 continue
             used_before |= set(sources.tolist())
             used_after |= set(targets.tolist())

@@ -89,7 +89,13 @@ class HouseBoard:
                     self.state = replace(self.state, bodies=tuple(bodies))
                 else:
                     self.state = self.state.with_roof(int(index), moved)
-                return Slip(slip.operation, slip.name, sign * slip.dx_m, sign * slip.dy_m, sign * slip.dyaw_deg)
+                return Slip(
+                    slip.operation,
+                    slip.name,
+                    float(sign * slip.dx_m),
+                    float(sign * slip.dy_m),
+                    float(sign * slip.dyaw_deg),
+                )
         return None
 
     def _free(self, kind: str, index: int, old: Pose2, new: Pose2) -> bool:
