@@ -215,10 +215,17 @@ def _demonstration_picture(demo) -> np.ndarray:
             cv2.LINE_AA,
             tipLength=0.05,
         )
+        title = f"op {k}: post (turn {np.degrees(demo.turns[k - 1]):.0f} deg)"
+        if demo.slips:  # with --tutor-slips: the objects that moved, as the slip detection found them
+            from vslsp.experiments.slip_pictures import mark_moves, moves_caption
+
+            post = demo.actual_posts[k - 1].copy() if demo.actual_posts else post
+            mark_moves(post, demo.moves[k - 1] if demo.moves else None, demo.slips[k - 1])
+            title = f"op {k}: post; {moves_caption(demo.slips[k - 1])}"
         panels = [
             label(small(pre), f"op {k}: pre-pick"),
             label(small(pre_place), f"op {k}: pre-place"),
-            label(small(post), f"op {k}: post (turn {np.degrees(demo.turns[k - 1]):.0f} deg)"),
+            label(small(post), title),
         ]
         rows.append(np.hstack(panels))
     return np.vstack(rows)

@@ -79,6 +79,7 @@ class HouseRoofDemonstration:
     world_after: HouseWorld
     slips: tuple[dict, ...] = ()  # per operation with --tutor-slips: moved, operated, disturbed, slip
     moves: tuple[Moves | None, ...] = ()  # per operation with the slip detection: what it found (for pictures)
+    actual_posts: tuple[np.ndarray, ...] = ()  # with --tutor-slips: the post observations as seen (slips and all)
 
     @property
     def pre_place(self) -> tuple[np.ndarray, ...]:
@@ -114,7 +115,9 @@ def demonstrate(seed: int, tutor_slips: float | None = None, detection: bool = T
     start = board.state
     recorder = Recorder(ImagePlane(board.observe()))
     tutor = None if tutor_slips is None else TutorSlips(tutor_slips, seed)
-    records, found = [], []
+    records: list[dict] = []
+    found: list[Moves | None] = []
+    posts: list[np.ndarray] = []
     for k, slot in enumerate(DEMONSTRATED):
         pre = board.observe()
         board.tutor_move(roof_name(k), None)  # in the hand: the pre-place observation
@@ -125,21 +128,21 @@ def demonstrate(seed: int, tutor_slips: float | None = None, detection: bool = T
             continue
         drawn = tutor.draw(k, board.slip_candidates(roof_name(k)))
         slip = None if drawn is None else board.nudge(drawn)
-        post = board.observe()
+        seen = board.observe()
         record: dict = {} if slip is None else {"slip": slip.to_dict()}
-        moves = None
-        if detection:
-            moves, post = separate(pre, post, pre_place)
+        moves, post = (None, seen) if not detection else separate(pre, seen, pre_place)
+        found.append(moves)
+        posts.append(seen)
         try:
             operation = recorder.record(pre, post, pre_place)
         except InputError as unseen:
             raise UnseenOperation(str(unseen), (*records, record)) from unseen
-        finally:
-            found.append(moves)
         if moves is not None:
             record = {**_moved_record(moves, board.state, (operation.pose_post.x, operation.pose_post.y)), **record}
         records.append(record)
-    return HouseRoofDemonstration(recorder.demonstration(), start, board.state, tuple(records), tuple(found))
+    return HouseRoofDemonstration(
+        recorder.demonstration(), start, board.state, tuple(records), tuple(found), tuple(posts)
+    )
 
 
 def _moved_record(moves: Moves, state: HouseWorld, recorded: tuple[float, float]) -> dict:

@@ -143,14 +143,14 @@ class TabletopExperiment(Task):
             except InputError as unseen:
                 from vslsp.vsl.slips import UnseenOperation
 
-                slipped = isinstance(unseen, UnseenOperation) and self.option(Option.TUTOR_SLIPS) is not None
+                slips = unseen.slips if isinstance(unseen, UnseenOperation) else ()
                 return TrialResult(
                     self.name,
                     seed,
                     False,
                     f"demonstration: {unseen}",
                     # with --tutor-slips: the demonstrated operations' records so far
-                    operations=[{"operation": k, **r} for k, r in enumerate(unseen.slips, start=1)] if slipped else [],
+                    operations=[{"operation": k, **r} for k, r in enumerate(slips, start=1)],
                     details={"variant": variant},
                     failure_cause="demonstration",
                 )
@@ -270,12 +270,19 @@ def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:
         pre, pre_place = op.pre_pick.copy(), op.pre_place.copy()
         square(pre, op.pick_point, int(demo.pick_frame), PICK)
         square(pre_place, op.place_point, int(demo.place_frame), PLACE)
+        post, title = op.post_place, f"op {k + 1}: post-place"
+        if task_demo.slips:  # with --tutor-slips: the items that moved, as the slip detection found them
+            from vslsp.experiments.slip_pictures import mark_moves, moves_caption
+
+            post = task_demo.actual_posts[k].copy()
+            mark_moves(post, task_demo.moves[k] if task_demo.moves else None, task_demo.slips[k])
+            title = f"op {k + 1}: post-place; {moves_caption(task_demo.slips[k])}"
         rows.append(
             np.hstack(
                 [
                     label(small(pre), f"op {k + 1}: pre-pick ({task_demo.items[k]})"),
                     label(small(pre_place), f"op {k + 1}: pre-place"),
-                    label(small(op.post_place), f"op {k + 1}: post-place"),
+                    label(small(post), title),
                 ]
             )
         )

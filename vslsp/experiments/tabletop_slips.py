@@ -43,7 +43,10 @@ def demonstrate_with_slips(
     view = TableView(world)
     recorder = Recorder(TableModel(view))
     tutor = TutorSlips(probability, world.seed)
-    items, anchors, relations, records, found = [], [], [], [], []
+    items, anchors, relations = [], [], []
+    records: list[dict] = []
+    found: list[Moves | None] = []
+    posts: list[np.ndarray] = []
     seen = None
     for k, (name, where, anchor) in enumerate(task.moves(rng)):
         world.say(f"the tutor puts {name} in place")
@@ -67,6 +70,7 @@ def demonstrate_with_slips(
         if detection:
             moves, post = separate(pre_pick, seen, pre_place)
         found.append(moves)
+        posts.append(seen)
         try:
             operation = recorder.record(pre_pick, post, pre_place, heights)
         except InputError as unseen:
@@ -75,7 +79,13 @@ def demonstrate_with_slips(
             record = {**moved_record(moves, world, view, operation.place_point), **record}
         records.append(record)
     return TabletopDemonstration(
-        recorder.demonstration(), tuple(items), tuple(anchors), tuple(relations), tuple(records), tuple(found)
+        recorder.demonstration(),
+        tuple(items),
+        tuple(anchors),
+        tuple(relations),
+        tuple(records),
+        tuple(found),
+        tuple(posts),
     )
 
 
