@@ -16,12 +16,13 @@ observation is the world as it is (the disturbed item where the slip left it).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from vslsp.errors import InputError
-from vslsp.experiments.tabletop_protocol import TabletopDemonstration, look, relation
+from vslsp.experiments.tabletop_protocol import Move, TabletopDemonstration, look, relation
 from vslsp.vsl.pick_place import TableModel, TableView
 from vslsp.vsl.recorder import Heights, Recorder
 from vslsp.vsl.slips import Moves, UnseenOperation, separate
@@ -29,12 +30,18 @@ from vslsp.worlds.panda_table import layouts as scenes
 from vslsp.worlds.slips import TutorSlips
 
 if TYPE_CHECKING:
-    from vslsp.experiments.tabletop import TabletopExperiment
     from vslsp.worlds.panda_table import PandaTable
 
 
+class Demonstrated(Protocol):
+    """A tabletop task as the tutor demonstrates it: its moves (a
+    :class:`~vslsp.experiments.tabletop.TabletopExperiment`)."""
+
+    def moves(self, rng: np.random.Generator) -> Iterator[Move]: ...
+
+
 def demonstrate_with_slips(
-    task: TabletopExperiment, world: PandaTable, rng: np.random.Generator, probability: float, detection: bool
+    task: Demonstrated, world: PandaTable, rng: np.random.Generator, probability: float, detection: bool
 ) -> TabletopDemonstration:
     """The tutor's demonstration of ``task`` in ``world`` with the tutor's slips (probability
     ``probability`` per operation, seeded by the world's seed), recorded with or without the
