@@ -14,6 +14,7 @@ from vslsp.grounding.operation import ground
 from vslsp.vsl.slips import find_moved, separate
 from vslsp.worlds.house_roof import HouseBoard
 from vslsp.worlds.house_roof.board import SLOTS, HouseWorld
+from vslsp.worlds.slips import Slip
 
 
 def operation_with_slip(seed: int, nudged: str, shift: tuple[float, float, float]):
@@ -86,14 +87,11 @@ def test_at_probability_zero_the_demonstration_is_recorded_as_without_the_option
 
 
 def test_the_board_nudges_only_free_objects_and_keeps_them_on_the_board():
-    board = HouseBoard(HouseWorld.random(2, body_turn=0.5))
+    board = HouseBoard(HouseWorld.random(8, body_turn=0.5))
     board.tutor_move("roof-0", compose(board.state.bodies[0], SLOTS["top"]))
-    candidates = board.slip_candidates("roof-1")
-    assert candidates == ["roof-2", "body-1", "body-2"]  # roof-0 and body-0 are a finished house
-    from vslsp.worlds.slips import Slip
-
-    x, y, _ = board.state.roofs[2]
-    out = Slip(0, "roof-2", -(x - 20.0) / 1000.0, 0.0, 5.0)  # off the left edge this way: the other way
-    applied = board.nudge(out)
-    assert applied is not None and applied.dx_m > 0
-    assert board.state.roofs[2][0] > x
+    assert board.slip_candidates("roof-2") == ["roof-1", "body-1", "body-2"]  # roof-0 on body-0: a house
+    x, y, _ = board.state.roofs[1]
+    assert x < 80.0  # near the left edge: a 3 cm nudge to the left would leave the board
+    applied = board.nudge(Slip(0, "roof-1", -0.03, 0.0, 5.0))
+    assert applied is not None and applied.dx_m == pytest.approx(0.03) and applied.dyaw_deg == pytest.approx(-5.0)
+    assert board.state.roofs[1][:2] == pytest.approx((x + 30.0, y))

@@ -17,16 +17,17 @@ object, :func:`find_moved` finds each of them:
 3. one object per place: the placements are taken nearest first (a slip nudges an object by a
    few cm, an operation carries one from its place to another, so the pairing that moves
    objects least is the right one when two objects look alike), each pre keypoint used once
-   and a fit a quarter of whose post keypoints another object took already refused; two fits
-   of one object (a symmetric one fits turned too) count once; a second pass pairs the regions
+   and a fit a quarter of whose post keypoints another object took already refused; of two
+   fits of one object (from where it was) the nearer stands; a second pass pairs the regions
    left unexplained with the post keypoints left.
 
 The rule for the operated object (:func:`_decide`): **the one that left its place for another**
 (its old and new places are different changed regions; given the pre-place observation, it
 left from where that one lacks what the pre one shows; the farthest moved if several): a
 pick-and-place carries the object from its place to another, the tutor's slip nudges one by a
-few cm, so that its old and new places make one region. The others are disturbed, except what
-changed where the operated object left or arrived (what it covered or uncovered). When the
+few cm, so that its old and new places make one region (or lie less than twice its keypoints'
+spread apart). Those others are disturbed, except what changed where the operated object left
+or arrived (what it covered or uncovered). When the
 operated object's features do not identify it, it is what changed once the disturbed objects
 are restored.
 
@@ -171,15 +172,20 @@ def _decide(moved: list[MovedObject], regions: np.ndarray, taken: np.ndarray | N
     """The rule: the operated object is the one that left its place for another (where it was
     and where it is lie in different changed regions of ``regions`` (H, W) labels; given the
     pixels ``taken`` (H, W) where the pre-place observation lacks what the pre one shows, it
-    left from there), the farthest moved if several; an object whose old and new places make
-    one changed region was nudged, a disturbance. What changed where the operated object left
-    or arrived is the operation's (what it covered or uncovered there), not another object's
-    move; so is a fit that carries the unchanged surroundings of where the operated object left
-    or arrived onto an identical object elsewhere (it leaves its region, but not from ``taken``)."""
+    left from there), the farthest moved if several. The others are disturbed when they were
+    nudged: their old and new places make one changed region, or the move is shorter than
+    twice the object's keypoint spread (a slip moves an object by about its own size at most; a
+    longer move from elsewhere is a fit of something else's look, an identical object's). What
+    changed where the operated object left or arrived is the operation's (what it covered or
+    uncovered there), not another object's move."""
     leaving = [obj for obj in moved if _label(regions, obj.before) != _label(regions, obj.after)]
     carried = [obj for obj in leaving if taken is None or _on(taken, obj.keypoints_before)]
     operated = max(carried, key=lambda o: o.distance) if carried else None
-    disturbed = [obj for obj in moved if obj not in leaving]
+    disturbed = [
+        obj
+        for obj in moved
+        if obj is not operated and (obj not in leaving or obj.distance <= 2.0 * _spread(obj.keypoints_before))
+    ]
     if operated is not None:
         disturbed = [obj for obj in disturbed if not _within(operated, obj)]
     return Moves(operated, tuple(sorted(disturbed, key=lambda o: -o.distance)))
@@ -197,13 +203,11 @@ def _spread(points: np.ndarray) -> float:
 
 
 def _same_object(a: MovedObject, b: MovedObject) -> bool:
-    """Two fits of one object (a symmetric one fits turned as well): where they were and where
-    they are both lie within the larger keypoint spread."""
+    """Two fits of one object (a symmetric one fits turned as well; one whose look others share
+    in part fits onto them too): where they were lies within the larger keypoint spread. The
+    nearer one, taken first, stands."""
     reach = max(_spread(a.keypoints_before), _spread(b.keypoints_before), _SAME_PX)
-    return bool(
-        np.hypot(a.before[0] - b.before[0], a.before[1] - b.before[1]) <= reach
-        and np.hypot(a.after[0] - b.after[0], a.after[1] - b.after[1]) <= reach
-    )
+    return bool(np.hypot(a.before[0] - b.before[0], a.before[1] - b.before[1]) <= reach)
 
 
 def _within(operated: MovedObject, other: MovedObject) -> bool:
