@@ -17,8 +17,9 @@ object, :func:`find_moved` finds each of them:
 3. one object per place: the placements are taken nearest first (a slip nudges an object by a
    few cm, an operation carries one from its place to another, so the pairing that moves
    objects least is the right one when two objects look alike), each pre keypoint used once
-   and a fit a quarter of whose post keypoints another object took already refused; of two
-   fits of one object (from where it was) the nearer stands; a second pass pairs the regions
+   and a fit a quarter of whose post keypoints another object took already refused; a fit
+   waits for one from where the same object was that explains it twice as well and whose place
+   is free (objects that share part of their look), else the nearer stands; a second pass pairs the regions
    left unexplained with the post keypoints left.
 
 The rule for the operated object (:func:`_decide`): **the one that left its place for another**
@@ -42,7 +43,7 @@ VSL) the observations are recorded as they are.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import cv2
 import numpy as np
@@ -57,6 +58,7 @@ MIN_REGION = 150  # px: a changed region smaller than this is noise (an object i
 MIN_INLIERS = 4  # SIFT matches that agree on one object's move
 EXPLAINS = 0.6  # a move explains its object when it leaves at most this share of the difference
 STILL_PX, STILL_DEG = 3.0, 2.0  # a placement moving its features less than this is no move
+_RIVAL = 2.0  # a fit explaining its object this many times worse than another, free one is not its move
 _SAME_PX = 10.0  # px: a rim about an object's keypoints
 _FITS = 6  # placements fitted per region at most
 _CLOSE = np.ones((9, 9), np.uint8)
@@ -75,6 +77,7 @@ class MovedObject:
     keypoints_before: np.ndarray
     keypoints_after: np.ndarray
     transform: np.ndarray = field(default_factory=lambda: np.eye(2, 3), repr=False)  # (2, 3) px, pre -> post
+    mismatch: float = 0.0  # what is left of the difference once moved (share of it left in place)
 
     @property
     def distance(self) -> float:
@@ -155,15 +158,43 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
             members = np.nonzero(owner == region)[0]
             if not used_before & set(members.tolist()):
                 candidates += _placements(before, after, members, free, on_change, (pre, post))
-        # One object per place, nearest first: each keypoint of either observation is used once.
+        # One object per place, nearest first: each keypoint of either observation is used once;
+        # a fit waits for a later one from where the same object was that explains it
+        # :data:`_RIVAL` times better and whose place is still free (an object whose look
+        # others share in part fits onto them too, worse).
         candidates.sort(key=lambda c: c[0])
-        for _, obj, sources, targets in candidates:
-            if used_before & set(sources.tolist()) or 4 * len(used_after & set(targets.tolist())) > len(targets):
+
+        def available(
+            candidate: tuple[float, MovedObject, np.ndarray, np.ndarray],
+            taken_before: set[int],
+            taken_after: set[int],
+            placed: list[MovedObject],
+        ) -> bool:
+            """Whether no accepted object took the fit's pre keypoints, a quarter of its post
+            ones, or the place it puts its object (each place holds one object)."""
+            _, obj, sources, targets = candidate
+            return (
+                not taken_before & set(sources.tolist())
+                and 4 * len(taken_after & set(targets.tolist())) <= len(targets)
+                and not any(_same_place(obj, other) for other in placed)
+            )
+
+        for k, candidate in enumerate(candidates):
+            _, obj, sources, targets = candidate
+            if not available(candidate, used_before, used_after, moved) or any(
+                _same_object(obj, other) for other in moved
+            ):
+                continue
+            if any(
+                _same_object(obj, later[1])
+                and _RIVAL * later[1].mismatch < obj.mismatch
+                and available(later, used_before, used_after, moved)
+                for later in candidates[k + 1 :]
+            ):
                 continue
             used_before |= set(sources.tolist())
             used_after |= set(targets.tolist())
-            if not any(_same_object(obj, other) for other in moved):  # another fit of one object
-                moved.append(obj)
+            moved.append(obj)
     taken = None if pre_place is None else cv2.dilate(changed_pixels(pre, pre_place), np.ones((5, 5), np.uint8))
     return _decide(moved, grown, taken)
 
@@ -210,6 +241,13 @@ def _same_object(a: MovedObject, b: MovedObject) -> bool:
     return bool(np.hypot(a.before[0] - b.before[0], a.before[1] - b.before[1]) <= reach)
 
 
+def _same_place(a: MovedObject, b: MovedObject) -> bool:
+    """Whether the two fits put their objects in one place: where they are lies within the
+    larger keypoint spread."""
+    reach = max(_spread(a.keypoints_after), _spread(b.keypoints_after), _SAME_PX)
+    return bool(np.hypot(a.after[0] - b.after[0], a.after[1] - b.after[1]) <= reach)
+
+
 def _within(operated: MovedObject, other: MovedObject) -> bool:
     """Whether ``other``'s move lies where ``operated`` left or arrived: its centre or most of its
     keypoints, before or after, within the operated object's keypoint spread (and a rim) of its
@@ -239,7 +277,7 @@ def _placements(
     ``changed`` pixels (H, W) both before and after (an object that moved left its place and
     arrived at another; the unchanged surroundings of a region match themselves) and the
     object's pixels moved by it match the post observation (``images``: pre, post) better than
-    left where they were (:func:`_explains`). Each with its distance, the object and its inlier
+    left where they were (:func:`_mismatch`). Each with its distance, the object and its inlier
     keypoint indices (pre, post)."""
     if len(members) < MIN_INLIERS or len(free) < MIN_INLIERS:
         return []
@@ -275,19 +313,21 @@ def _placements(
                 after.keypoints[targets, :2].copy(),
                 model,
             )
-            if _explains(obj, *images):
-                found.append((shift, obj, sources, targets))
+            share = _mismatch(obj, *images)
+            if share <= EXPLAINS:
+                found.append((shift, replace(obj, mismatch=share), sources, targets))
         # The inlier pairs are this placement's; the same keypoints may still place their object
         # elsewhere (an identical object), which the nearest-first pairing decides.
         source_index, target_index = source_index[~inliers], target_index[~inliers]
     return found
 
 
-def _explains(obj: MovedObject, pre: np.ndarray, post: np.ndarray) -> bool:
-    """Identification by matching: the object's pixels (the hull of its keypoints before) moved
-    by its transform look like the post observation there (H, W, 3 both) by far better than
-    left where they were (mean grey difference at most :data:`EXPLAINS` of it): a fit that
-    only lines up a few features of what something else covered or uncovered does not."""
+def _mismatch(obj: MovedObject, pre: np.ndarray, post: np.ndarray) -> float:
+    """Identification by matching: the mean grey difference between the object's pixels (the
+    hull of its keypoints before) moved by its transform and the post observation there (H, W,
+    3 both), as a share of their difference left where they were. A move explains its object
+    when the share is at most :data:`EXPLAINS`: a fit that only lines up a few features of what
+    something else covered or uncovered does not."""
     mask = np.zeros(pre.shape[:2], np.uint8)
     cv2.fillConvexPoly(mask, cv2.convexHull(np.round(obj.keypoints_before).astype(np.int32)), 1)
     grey_pre = cv2.cvtColor(pre, cv2.COLOR_RGB2GRAY).astype(np.float32)
@@ -296,10 +336,10 @@ def _explains(obj: MovedObject, pre: np.ndarray, post: np.ndarray) -> bool:
     moved = cv2.warpAffine(grey_pre, obj.transform, size, flags=cv2.INTER_LINEAR)
     moved_mask = cv2.warpAffine(mask, obj.transform, size, flags=cv2.INTER_NEAREST) > 0
     if not moved_mask.any() or not mask.any():
-        return False
+        return 1.0
     fitted = float(np.mean(np.abs(moved - grey_post)[moved_mask]))
     left = float(np.mean(np.abs(grey_pre - grey_post)[mask > 0]))
-    return fitted <= EXPLAINS * left
+    return fitted / max(left, 1e-6)
 
 
 def _on(mask: np.ndarray, keypoints: np.ndarray) -> bool:
