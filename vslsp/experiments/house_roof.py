@@ -22,7 +22,7 @@ from vslsp.errors import InputError
 from vslsp.experiments.seeds import reproduction_seed
 from vslsp.outcomes import Diagnosis
 from vslsp.outputs import atomic_file
-from vslsp.tasks.base import System, Task, TrialResult
+from vslsp.tasks.base import Option, System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square
 from vslsp.tasks.registry import register
 
@@ -36,6 +36,7 @@ class HouseRoof(Task):
 
     name = "house-roof"
     system = System.VSL
+    options = frozenset({Option.TUTOR_SLIPS, Option.SLIP_DETECTION})
     paper_section = "Simulation (Figure 4: roof placement)"
     description = (
         "The tutor puts two roofs on their house bodies and the third upside down below its body; each "
@@ -49,16 +50,19 @@ class HouseRoof(Task):
         import time
 
         from vslsp.experiments.house_roof_trial import ObservationFeatures, demonstrate, reproduce
+        from vslsp.vsl.slips import UnseenOperation
         from vslsp.worlds.house_roof.board import HouseWorld
 
+        slips = self.option(Option.TUTOR_SLIPS)
         try:
-            demo = demonstrate(seed)
+            demo = demonstrate(seed, slips, bool(self.option(Option.SLIP_DETECTION, True)))
         except InputError as unseen:  # the recorder could not see the tutor's operation
             return TrialResult(
                 self.name,
                 seed,
                 False,
                 f"demonstration: {unseen}",
+                operations=_slip_records(unseen.slips if isinstance(unseen, UnseenOperation) else (), slips),
                 details={"reproduction_ms": {}},
                 failure_cause="demonstration",
             )
@@ -78,6 +82,8 @@ class HouseRoof(Task):
             seed,
             success,
             error,
+            # with --tutor-slips: per demonstrated operation what moved, which was operated, the slip
+            operations=_slip_records(demo.slips, slips),
             details={"reproduction_ms": milliseconds, **results},
             artefacts=(demo, reproductions) if keep else None,
             failure_cause=cause,
@@ -103,6 +109,9 @@ class HouseRoof(Task):
                 },
                 "ms_per_reproduction": round(sum(times) / len(times), 1) if times else None,
             }
+        if self.option(Option.TUTOR_SLIPS) is not None:  # the studio re-runs a trial with these
+            data["tutor_slips"] = self.option(Option.TUTOR_SLIPS)
+            data["slip_detection"] = bool(self.option(Option.SLIP_DETECTION, True))
         return data
 
     def shown_seed(self, results: list[TrialResult]) -> int:
@@ -150,6 +159,12 @@ class HouseRoof(Task):
                 "correct: the growing frame sees the roof already placed (Figure 4c)",
             ),
         ]
+
+
+def _slip_records(records: tuple[dict, ...], slips: float | None) -> list[dict] | None:
+    """With ``--tutor-slips``: per demonstrated operation what moved, which one was operated,
+    which were disturbed, and the tutor's ``slip`` (ground truth) when one happened."""
+    return None if slips is None else [{"operation": k, **r} for k, r in enumerate(records, start=1)]
 
 
 def _failure(adaptive: dict) -> tuple[str, str]:
@@ -200,10 +215,17 @@ def _demonstration_picture(demo) -> np.ndarray:
             cv2.LINE_AA,
             tipLength=0.05,
         )
+        title = f"op {k}: post (turn {np.degrees(demo.turns[k - 1]):.0f} deg)"
+        if demo.slips:  # with --tutor-slips: the objects that moved, as the slip detection found them
+            from vslsp.experiments.slip_pictures import mark_moves, moves_caption
+
+            post = demo.actual_posts[k - 1].copy() if demo.actual_posts else post
+            mark_moves(post, demo.moves[k - 1] if demo.moves else None, demo.slips[k - 1])
+            title = f"op {k}: post; {moves_caption(demo.slips[k - 1])}"
         panels = [
             label(small(pre), f"op {k}: pre-pick"),
             label(small(pre_place), f"op {k}: pre-place"),
-            label(small(post), f"op {k}: post (turn {np.degrees(demo.turns[k - 1]):.0f} deg)"),
+            label(small(post), title),
         ]
         rows.append(np.hstack(panels))
     return np.vstack(rows)

@@ -46,6 +46,7 @@ from vslsp.vision.matching import FrameMode, Match, NoMatch, frame_sizes
 from vslsp.vsl.demonstration import Demonstration, ImagePlane
 from vslsp.vsl.matcher import Search, match_observation
 from vslsp.vsl.recorder import Recorder
+from vslsp.vsl.slips import Moves, UnseenOperation, separate
 from vslsp.worlds.house_roof import HouseBoard, roof_name
 from vslsp.worlds.house_roof.board import (
     ANGLE_TOLERANCE,
@@ -56,6 +57,7 @@ from vslsp.worlds.house_roof.board import (
     HouseWorld,
     pose_dict,
 )
+from vslsp.worlds.slips import TutorSlips
 
 PIXEL_SIZE = 0.001  # m per px: the board is 96 x 72 cm
 REST = (480.0, 800.0, 0.15)  # the hand's rest point: px beyond the bottom edge (robot side), m high
@@ -75,6 +77,9 @@ class HouseRoofDemonstration:
     demonstration: Demonstration
     world_before: HouseWorld
     world_after: HouseWorld
+    slips: tuple[dict, ...] = ()  # per operation with --tutor-slips: moved, operated, disturbed, slip
+    moves: tuple[Moves | None, ...] = ()  # per operation with the slip detection: what it found (for pictures)
+    actual_posts: tuple[np.ndarray, ...] = ()  # with --tutor-slips: the post observations as seen (slips and all)
 
     @property
     def pre_place(self) -> tuple[np.ndarray, ...]:
@@ -95,19 +100,73 @@ def _recorded(value: _T | None) -> _T:
     return value
 
 
-def demonstrate(seed: int) -> HouseRoofDemonstration:
+def demonstrate(seed: int, tutor_slips: float | None = None, detection: bool = True) -> HouseRoofDemonstration:
     """The tutor's demonstration in a seeded world of upright-ish houses: roof k onto body k in
-    slot ``DEMONSTRATED[k]``, recorded operation by operation with its pre-place observation."""
+    slot ``DEMONSTRATED[k]``, recorded operation by operation with its pre-place observation.
+
+    With ``tutor_slips`` P the tutor, with probability P per operation, also nudges another
+    object as it puts the roof down (:class:`~vslsp.worlds.slips.TutorSlips`, seeded by
+    ``seed``; :meth:`HouseBoard.slip_candidates`), after the pre-place observation and before
+    the post one. With the ``detection`` VSL finds every object that moved
+    (:func:`~vslsp.vsl.slips.separate`) and records the operation from the post observation the
+    tutor meant (the disturbed objects restored); without it (the paper's VSL) from the post
+    observation as it is."""
     board = HouseBoard.from_layout(HouseWorld.random(seed, body_turn=0.5))
     start = board.state
     recorder = Recorder(ImagePlane(board.observe()))
+    tutor = None if tutor_slips is None else TutorSlips(tutor_slips, seed)
+    records: list[dict] = []
+    found: list[Moves | None] = []
+    posts: list[np.ndarray] = []
     for k, slot in enumerate(DEMONSTRATED):
         pre = board.observe()
         board.tutor_move(roof_name(k), None)  # in the hand: the pre-place observation
         pre_place = board.observe()
         board.tutor_move(roof_name(k), compose(board.state.bodies[k], SLOTS[slot]))
-        recorder.record(pre, board.observe(), pre_place)
-    return HouseRoofDemonstration(recorder.demonstration(), start, board.state)
+        if tutor is None:
+            recorder.record(pre, board.observe(), pre_place)
+            continue
+        drawn = tutor.draw(k, board.slip_candidates(roof_name(k)))
+        slip = None if drawn is None else board.nudge(drawn)
+        seen = board.observe()
+        record: dict = {} if slip is None else {"slip": slip.to_dict()}
+        moves, post = (None, seen) if not detection else separate(pre, seen, pre_place)
+        found.append(moves)
+        posts.append(seen)
+        try:
+            operation = recorder.record(pre, post, pre_place)
+        except InputError as unseen:
+            raise UnseenOperation(str(unseen), (*records, record)) from unseen
+        if moves is not None:
+            record = {**_moved_record(moves, board.state, (operation.pose_post.x, operation.pose_post.y)), **record}
+        records.append(record)
+    return HouseRoofDemonstration(
+        recorder.demonstration(), start, board.state, tuple(records), tuple(found), tuple(posts)
+    )
+
+
+def _moved_record(moves: Moves, state: HouseWorld, recorded: tuple[float, float]) -> dict:
+    """The operation's ``moved``, ``operated`` and ``disturbed`` objects, named by the board's
+    truth (the object nearest to where each was seen after the operation; the report's names,
+    not perception's), and where perception saw each. The operated object is the one recorded
+    (seen at ``recorded`` px after the operation): when its features did not identify it, it is
+    what changed once the disturbed objects were restored."""
+    operated = _name_at(state, recorded)
+    disturbed = [_name_at(state, obj.after) for obj in moves.disturbed]
+    names = [_name_at(state, obj.after) for obj in moves.moved]
+    return {
+        "moved": [operated, *disturbed],
+        "operated": operated,
+        "disturbed": disturbed,
+        "moves": [{"object": name, **obj.to_dict()} for name, obj in zip(names, moves.moved)],
+    }
+
+
+def _name_at(state: HouseWorld, point: tuple[float, float]) -> str:
+    """The object (roof-j or body-j) nearest to image ``point`` (ground truth)."""
+    objects = [(f"body-{j}", pose) for j, pose in enumerate(state.bodies)]
+    objects += [(roof_name(j), pose) for j, pose in enumerate(state.roofs) if pose is not None]
+    return min(objects, key=lambda o: np.hypot(o[1][0] - point[0], o[1][1] - point[1]))[0]
 
 
 @dataclass(frozen=True, eq=False)

@@ -43,7 +43,7 @@ class TabletopExperiment(Task):
 
     system = System.VSL
     paper_section = "Real-world Experiments (Table 1)"
-    options = frozenset({Option.VIDEO})
+    options = frozenset({Option.VIDEO, Option.TUTOR_SLIPS, Option.SLIP_DETECTION})
     anchor_map: dict[str, str] = {}  # anchors renamed for the judge (the user's intervention)
     variant = ""  # the report's name for a trial that differs from the others ("intervention")
 
@@ -75,7 +75,14 @@ class TabletopExperiment(Task):
         return list(range(len(demo.items)))
 
     def demonstrate(self, world: PandaTable, rng: np.random.Generator) -> TabletopDemonstration:
-        """The tutor's demonstration in ``world``, recorded operation by operation."""
+        """The tutor's demonstration in ``world``, recorded operation by operation (with
+        ``--tutor-slips``: :func:`~vslsp.experiments.tabletop_slips.demonstrate_with_slips`)."""
+        if self.option(Option.TUTOR_SLIPS) is not None:
+            from vslsp.experiments.tabletop_slips import demonstrate_with_slips
+
+            return demonstrate_with_slips(
+                self, world, rng, self.option(Option.TUTOR_SLIPS), bool(self.option(Option.SLIP_DETECTION, True))
+            )
         from vslsp.experiments.tabletop_protocol import TabletopDemonstration, relation, tutor_move
         from vslsp.vsl.pick_place import TableModel, TableView
         from vslsp.vsl.recorder import Recorder
@@ -134,12 +141,16 @@ class TabletopExperiment(Task):
             try:
                 demo = task.demonstrate(world, rng)
             except InputError as unseen:
+                from vslsp.vsl.slips import UnseenOperation
+
+                slips = unseen.slips if isinstance(unseen, UnseenOperation) else ()
                 return TrialResult(
                     self.name,
                     seed,
                     False,
                     f"demonstration: {unseen}",
-                    operations=[],
+                    # with --tutor-slips: the demonstrated operations' records so far
+                    operations=[{"operation": k, **r} for k, r in enumerate(slips, start=1)],
                     details={"variant": variant},
                     failure_cause="demonstration",
                 )
@@ -159,6 +170,8 @@ class TabletopExperiment(Task):
                 else {}
             )
         operations = [o.to_dict() for o in outcomes]
+        if self.option(Option.TUTOR_SLIPS) is not None:  # the demonstrated operation's moved objects and slip
+            operations = [{**op, **demo.slips[o.index]} for op, o in zip(operations, outcomes)]
         error, cause = (None, None) if success else _failure(operations)
         return TrialResult(
             self.name,
@@ -184,6 +197,9 @@ class TabletopExperiment(Task):
             },
             "s_per_trial": round(sum(r.time_s for r in results) / len(results), 2) if results else None,
         }
+        if self.option(Option.TUTOR_SLIPS) is not None:  # the studio re-runs a trial with these
+            data["tutor_slips"] = self.option(Option.TUTOR_SLIPS)
+            data["slip_detection"] = bool(self.option(Option.SLIP_DETECTION, True))
         for variant in sorted({r.details["variant"] for r in results if r.details.get("variant")}):
             chosen = [r for r in results if r.details.get("variant") == variant]
             data[variant] = {"trials": len(chosen), "successes": sum(r.success for r in chosen)}
@@ -254,12 +270,19 @@ def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:
         pre, pre_place = op.pre_pick.copy(), op.pre_place.copy()
         square(pre, op.pick_point, int(demo.pick_frame), PICK)
         square(pre_place, op.place_point, int(demo.place_frame), PLACE)
+        post, title = op.post_place, f"op {k + 1}: post-place"
+        if task_demo.slips:  # with --tutor-slips: the items that moved, as the slip detection found them
+            from vslsp.experiments.slip_pictures import mark_moves, moves_caption
+
+            post = task_demo.actual_posts[k].copy()
+            mark_moves(post, task_demo.moves[k] if task_demo.moves else None, task_demo.slips[k])
+            title = f"op {k + 1}: post-place; {moves_caption(task_demo.slips[k])}"
         rows.append(
             np.hstack(
                 [
                     label(small(pre), f"op {k + 1}: pre-pick ({task_demo.items[k]})"),
                     label(small(pre_place), f"op {k + 1}: pre-place"),
-                    label(small(op.post_place), f"op {k + 1}: post-place"),
+                    label(small(post), title),
                 ]
             )
         )

@@ -49,6 +49,9 @@ class TabletopDemonstration:
     items: tuple[str, ...]
     anchors: tuple[str | None, ...]
     relative: tuple[tuple[float, float, float, float], ...]
+    slips: tuple[dict, ...] = ()  # with --tutor-slips, per operation: moved, operated, disturbed, slip
+    moves: tuple = ()  # with the slip detection, per operation: its vslsp.vsl.slips.Moves (for the pictures)
+    actual_posts: tuple[np.ndarray, ...] = ()  # with --tutor-slips: the post-place observations as seen
 
 
 @dataclass(frozen=True, eq=False)

@@ -10,10 +10,18 @@ reproduction plans the hand's path and lets the grasped roof land where it ends)
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from vslsp.geometry.poses import Pose2
-from vslsp.worlds.house_roof.board import HouseWorld
+from vslsp.worlds.house_roof.board import ANGLE_TOLERANCE, BASELINE, POSITION_TOLERANCE, WORLD_SIZE, HouseWorld
+from vslsp.worlds.slips import Slip
+
+PIXEL_M = 0.001  # m per px of the board (96 x 72 cm): the scale a slip in metres is applied with
+# How close (px) a nudged object may come to another, unless it was closer already (the
+# clearances of HouseWorld.random: a free body keeps room for its roof above and below).
+_NUDGE_CLEARANCE = {("body", "body"): 250.0, ("body", "roof"): 180.0, ("roof", "roof"): 110.0}
 
 __all__ = ["HouseBoard", "HouseWorld", "roof_name"]
 
@@ -49,6 +57,69 @@ class HouseBoard:
 
     def close(self) -> None:
         """Nothing to release: the board is an image."""
+
+    # -- the tutor's slips (vslsp.worlds.slips) --------------------------------------------
+    def slip_candidates(self, operated: str) -> list[str]:
+        """What the tutor's hand may disturb while operating roof ``operated``: the loose roofs
+        and the bodies without a roof (what the demonstration goes on to operate on, or to put
+        a roof on), in a fixed order; a finished house is left alone (its roof would stay behind)."""
+        state = self.state
+        loose = [j for j, pose in enumerate(state.roofs) if pose is not None and not _slotted(state, pose)]
+        roofs = [roof_name(j) for j in loose if roof_name(j) != operated]
+        return roofs + [f"body-{j}" for j, slots in state.houses().items() if not slots]
+
+    def nudge(self, slip: Slip) -> Slip | None:
+        """Apply the tutor's ``slip`` (metres and degrees, at :data:`PIXEL_M` m per px; θ turns
+        x towards y): the object moves by it, or the other way when that way would leave the
+        board or come closer to another object than the board's clearance (unless it was that
+        close already); returns the slip applied, or None when neither way is free."""
+        kind, index = slip.name.split("-")
+        pose = (self.state.bodies if kind == "body" else self.state.roofs)[int(index)]
+        assert pose is not None  # a candidate lies on the board
+        for sign in (1.0, -1.0):
+            moved = (
+                pose[0] + sign * slip.dx_m / PIXEL_M,
+                pose[1] + sign * slip.dy_m / PIXEL_M,
+                pose[2] + sign * float(np.radians(slip.dyaw_deg)),
+            )
+            if self._free(kind, int(index), pose, moved):
+                if kind == "body":
+                    bodies = list(self.state.bodies)
+                    bodies[int(index)] = moved
+                    self.state = replace(self.state, bodies=tuple(bodies))
+                else:
+                    self.state = self.state.with_roof(int(index), moved)
+                return Slip(
+                    slip.operation,
+                    slip.name,
+                    float(sign * slip.dx_m),
+                    float(sign * slip.dy_m),
+                    float(sign * slip.dyaw_deg),
+                )
+        return None
+
+    def _free(self, kind: str, index: int, old: Pose2, new: Pose2) -> bool:
+        margin = 75.0 if kind == "body" else 55.0
+        below = 180.0 if kind == "body" else 60.0
+        if not (margin <= new[0] <= WORLD_SIZE[0] - margin and margin <= new[1] <= BASELINE[0][1] - below):
+            return False
+        others = [("body", j, p) for j, p in enumerate(self.state.bodies)]
+        others += [("roof", j, p) for j, p in enumerate(self.state.roofs) if p is not None]
+        for other, j, pose in others:
+            if (other, j) == (kind, index):
+                continue
+            clearance = _NUDGE_CLEARANCE[(kind, other) if kind <= other else (other, kind)]
+            before = float(np.hypot(old[0] - pose[0], old[1] - pose[1]))
+            after = float(np.hypot(new[0] - pose[0], new[1] - pose[1]))
+            if after < min(before, clearance):
+                return False
+        return True
+
+
+def _slotted(state: HouseWorld, roof: Pose2) -> bool:
+    """Whether ``roof`` lies in a body's slot (within the judge's tolerances)."""
+    _, _, position, angle = state.slot_of(roof)
+    return position <= POSITION_TOLERANCE and angle <= ANGLE_TOLERANCE
 
 
 def _index(name: str) -> int:

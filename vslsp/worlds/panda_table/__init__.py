@@ -10,8 +10,14 @@ the robot is the Panda (``pick_and_place``).
 
 from __future__ import annotations
 
+import numpy as np
+
 from vslsp.sim.panda import Panda
 from vslsp.sim.tabletop import Item, Placement, TabletopWorld
+from vslsp.worlds.slips import Slip
+
+SLIP_AREA = ((0.25, 0.80), (-0.38, 0.38))  # (x, y) m: where a nudged object's centre stays (in view, on the table)
+_LEVEL = 0.003  # m: an item rests on what its bottom is this close to
 
 __all__ = ["Item", "PandaTable", "Placement"]
 
@@ -34,3 +40,90 @@ class PandaTable(TabletopWorld):
     def truth(self, name: str) -> tuple[float, float, float, float]:
         """Item ``name``'s pose: x, y, z (its bottom, m), yaw (rad)."""
         return self.pose(name)
+
+    # -- the tutor's slips (vslsp.worlds.slips) --------------------------------------------
+    def slip_candidates(self, operated: str) -> list[str]:
+        """What the tutor's hand may disturb while operating ``operated``: every other movable
+        item in view that carries nothing and lies on the table or on a static landmark (a
+        base, a bin, a label), in the world's order: the items the task goes on to operate on
+        and those it has put in place already."""
+        return [
+            name
+            for name, item in self.specs.items()
+            if item.movable
+            and name != operated
+            and _inside(self.pose(name), SLIP_AREA)
+            and not self._carried_by(name)
+            and self._support(name) != ""
+        ]
+
+    def nudge(self, slip: Slip) -> Slip | None:
+        """Apply the tutor's ``slip`` (m, deg) to its object, which stays on what it lies on:
+        moved by it, or the other way when that way would leave :data:`SLIP_AREA` or its
+        support, or come closer to another item than their footprints' discs allow (unless it
+        was that close already); the world settles. Returns the slip applied, or None when
+        neither way is free."""
+        x, y, _, yaw = self.pose(slip.name)
+        support = self._support(slip.name) or None
+        for sign in (1.0, -1.0):
+            moved = (x + sign * slip.dx_m, y + sign * slip.dy_m)
+            if self._free(slip.name, support, (x, y), moved):
+                self.tutor_place(
+                    slip.name, Placement(*moved, yaw + sign * float(np.radians(slip.dyaw_deg)), on=support)
+                )
+                return Slip(
+                    slip.operation,
+                    slip.name,
+                    float(sign * slip.dx_m),
+                    float(sign * slip.dy_m),
+                    float(sign * slip.dyaw_deg),
+                )
+        return None
+
+    def _radius(self, name: str) -> float:
+        return float(np.hypot(*self.specs[name].size[:2])) / 2.0
+
+    def _carried_by(self, name: str) -> bool:
+        """Whether another item lies on ``name``."""
+        x, y, z, _ = self.pose(name)
+        top = z + self.specs[name].size[2]
+        return any(
+            abs(self.pose(other)[2] - top) < _LEVEL
+            and np.hypot(self.pose(other)[0] - x, self.pose(other)[1] - y) < self._radius(name)
+            for other in self.specs
+            if other != name
+        )
+
+    def _support(self, name: str) -> str | None:
+        """What ``name`` lies on: None (the table), a static item's name, or "" (another movable item)."""
+        x, y, z, _ = self.pose(name)
+        if z < _LEVEL:
+            return None
+        for other, item in self.specs.items():
+            ox, oy, oz, _ = self.pose(other)
+            if other != name and abs(oz + item.size[2] - z) < _LEVEL and np.hypot(ox - x, oy - y) < self._radius(other):
+                return other if not item.movable else ""
+        return ""
+
+    def _free(self, name: str, support: str | None, old: tuple[float, float], new: tuple[float, float]) -> bool:
+        if not _inside(new, SLIP_AREA):
+            return False
+        if support is not None:  # stays on its support: its centre over the support's top
+            sx, sy, _, syaw = self.pose(support)
+            along = (new[0] - sx) * np.cos(syaw) + (new[1] - sy) * np.sin(syaw)
+            across = -(new[0] - sx) * np.sin(syaw) + (new[1] - sy) * np.cos(syaw)
+            half = np.array(self.specs[support].size[:2]) / 2.0 - 0.01
+            if abs(along) > half[0] or abs(across) > half[1]:
+                return False
+        for other in self.specs:
+            if other in (name, support):
+                continue
+            ox, oy = self.pose(other)[:2]
+            reach = self._radius(name) + self._radius(other)
+            if np.hypot(new[0] - ox, new[1] - oy) < min(np.hypot(old[0] - ox, old[1] - oy), reach):
+                return False
+        return True
+
+
+def _inside(pose, area: tuple[tuple[float, float], tuple[float, float]]) -> bool:
+    return area[0][0] <= pose[0] <= area[0][1] and area[1][0] <= pose[1] <= area[1][1]

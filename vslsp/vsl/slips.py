@@ -1,0 +1,382 @@
+"""Every object that moved in one demonstrated operation, and which of them the operation was
+about (issue 30: the tutor's slips; the paper's own limit, VSL "Results": "if the tutor
+accidentally moves one object while operating another, the algorithm may fail").
+
+Algorithm 1 line 7 (``getObject``) takes the change between the pre- and the post-action
+observation for the one object the tutor operated. When the tutor's hand also nudged another
+object, :func:`find_moved` finds each of them:
+
+1. image subtraction and thresholding of the pre and post observations (H, W, 3), closed into
+   changed regions (those of at least :data:`MIN_REGION` px);
+2. per-object identification by matching: the SIFT features of the pre observation inside each
+   region are matched to those of the post observation inside the changed pixels (both nearest
+   descriptors of each, so that identical objects, the house-roof board's roofs, still match),
+   and RANSAC fits similarities one after the other (at least :data:`MIN_INLIERS` inliers, a
+   scale within :data:`~vslsp.vision.matching.SCALE_RANGE`); each placement that moves its
+   features is one object's move (one that leaves them where they were is the unchanged rim);
+3. one object per place: the placements are taken nearest first (a slip nudges an object by a
+   few cm, an operation carries one from its place to another, so the pairing that moves
+   objects least is the right one when two objects look alike), each pre keypoint used once
+   and a fit a quarter of whose post keypoints another object took already refused; a fit
+   waits for one from where the same object was that explains it twice as well and whose place
+   is free (objects that share part of their look), else the nearer stands; a second pass pairs the regions
+   left unexplained with the post keypoints left.
+
+The rule for the operated object (:func:`_decide`): **the one that left its place for another**
+(its old and new places are different changed regions; given the pre-place observation, it
+left from where that one lacks what the pre one shows; the farthest moved if several): a
+pick-and-place carries the object from its place to another, the tutor's slip nudges one by a
+few cm, so that its old and new places make one region (or lie less than twice its keypoints'
+spread apart). Those others are disturbed, except what changed where the operated object left
+or arrived (what it covered or uncovered). When the
+operated object's features do not identify it, it is what changed once the disturbed objects
+are restored.
+
+The reproduction must not copy the accident: :func:`separate` gives the post observation the
+tutor meant, the disturbed objects' changed pixels restored from the pre observation (each
+changed pixel of a region a disturbed object moved in goes to the object whose identified
+keypoints are nearest), so that the operation is recorded as if only the operated object had
+moved: no disturbed object is taken for the operation, and no place for the operated object's
+is measured against a neighbour the tutor knocked aside. With the detection off (the paper's
+VSL) the observations are recorded as they are.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import cv2
+import numpy as np
+
+from vslsp.errors import InputError
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.image import channel_max
+from vslsp.vision.matching import SCALE_RANGE
+
+CHANGE_THRESHOLD = 40  # grey levels: a pixel changed between the two observations
+MIN_REGION = 150  # px: a changed region smaller than this is noise (an object is thousands)
+MIN_INLIERS = 4  # SIFT matches that agree on one object's move
+EXPLAINS = 0.6  # a move explains its object when it leaves at most this share of the difference
+STILL_PX, STILL_DEG = 3.0, 2.0  # a placement moving its features less than this is no move
+_RIVAL = 2.0  # a fit explaining its object this many times worse than another, free one is not its move
+_SAME_PX = 10.0  # px: a rim about an object's keypoints
+_FITS = 6  # placements fitted per region at most
+_CLOSE = np.ones((9, 9), np.uint8)
+_RIM = np.ones((15, 15), np.uint8)  # the features of a region's rim are its object's too
+
+
+@dataclass(frozen=True, eq=False)
+class MovedObject:
+    """One object that moved: where it was in the pre observation and where it is in the post
+    one (the centre of its matched features, (x, y) px), the turn (rad, image coordinates), its
+    matched keypoints before (N, 2) and after (N, 2) px."""
+
+    before: tuple[float, float]
+    after: tuple[float, float]
+    turn: float
+    keypoints_before: np.ndarray
+    keypoints_after: np.ndarray
+    transform: np.ndarray = field(default_factory=lambda: np.eye(2, 3), repr=False)  # (2, 3) px, pre -> post
+    mismatch: float = 0.0  # what is left of the difference once moved (share of it left in place)
+
+    @property
+    def distance(self) -> float:
+        """How far it moved (px)."""
+        return float(np.hypot(self.after[0] - self.before[0], self.after[1] - self.before[1]))
+
+    def to_dict(self) -> dict:
+        return {
+            "before_px": [round(c, 1) for c in self.before],
+            "after_px": [round(c, 1) for c in self.after],
+            "distance_px": round(self.distance, 1),
+            "turn_deg": round(float(np.degrees(self.turn)), 1),
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class Moves:
+    """The objects that moved in one operation: the ``operated`` one (None when its features
+    did not identify it: then it is what changed once the disturbed ones are restored) and the
+    ``disturbed`` ones, farthest first."""
+
+    operated: MovedObject | None
+    disturbed: tuple[MovedObject, ...]
+
+    @property
+    def moved(self) -> tuple[MovedObject, ...]:
+        """Every object identified as moved, the operated one first."""
+        return (self.operated, *self.disturbed) if self.operated is not None else self.disturbed
+
+
+class UnseenOperation(InputError):
+    """The recorder could not see the tutor's operation; ``slips``: the report's records of the
+    operations so far (per operation: what moved, which one was operated, the tutor's slip),
+    this one's last."""
+
+    def __init__(self, message: str, slips: tuple[dict, ...]) -> None:
+        super().__init__(message)
+        self.slips = slips
+
+
+def changed_pixels(pre: np.ndarray, post: np.ndarray) -> np.ndarray:
+    """Image subtraction and thresholding: the pixels (H, W) uint8 {0, 1} that changed between
+    the observations (H, W, 3) uint8, smoothed, closed over small gaps."""
+    difference = channel_max(cv2.absdiff(cv2.GaussianBlur(pre, (5, 5), 0), cv2.GaussianBlur(post, (5, 5), 0)))
+    changed = (difference > CHANGE_THRESHOLD).astype(np.uint8)
+    return cv2.morphologyEx(changed, cv2.MORPH_CLOSE, _CLOSE)
+
+
+def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None) -> Moves:
+    """Every object that moved between the pre and post observations (H, W, 3) uint8, the
+    operated one told from the disturbed ones (see the module docstring for the steps and the
+    rule); given the pre-place observation (H, W, 3: the world while the tutor held the object)
+    the operated object is one that the pre-place observation lacks."""
+    changed = changed_pixels(pre, post)
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(changed)
+    regions = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= MIN_REGION]
+    if not regions:
+        return Moves(None, ())
+    area = cv2.dilate(np.isin(labels, regions).astype(np.uint8), _RIM)
+    before, after = extract_features(pre, area), extract_features(post, area)
+    if len(before) < MIN_INLIERS or len(after) < MIN_INLIERS:
+        return Moves(None, ())
+    # Each pre keypoint belongs to the region it lies in (or next to).
+    grown = cv2.dilate(labels.astype(np.float32), _RIM).astype(np.int32)
+    where = np.clip(np.round(before.keypoints[:, :2]).astype(int), 0, [pre.shape[1] - 1, pre.shape[0] - 1])
+    owner = grown[where[:, 1], where[:, 0]]
+    on_change = cv2.dilate(changed, np.ones((5, 5), np.uint8))
+    used_before: set[int] = set()
+    used_after: set[int] = set()
+    moved: list[MovedObject] = []
+    # Two passes: the second pairs what is left unexplained (a region whose object's features
+    # also fit an identical object's new place, taken by that object in the first pass) with
+    # the post keypoints no object has taken yet.
+    for _ in range(2):
+        free = np.array(sorted(set(range(len(after))) - used_after), int)
+        candidates: list[tuple[float, MovedObject, np.ndarray, np.ndarray]] = []
+        for region in regions:
+            members = np.nonzero(owner == region)[0]
+            if not used_before & set(members.tolist()):
+                candidates += _placements(before, after, members, free, on_change, (pre, post))
+        # One object per place, nearest first: each keypoint of either observation is used once;
+        # a fit waits for a later one from where the same object was that explains it
+        # :data:`_RIVAL` times better and whose place is still free (an object whose look
+        # others share in part fits onto them too, worse).
+        candidates.sort(key=lambda c: c[0])
+
+        def available(
+            candidate: tuple[float, MovedObject, np.ndarray, np.ndarray],
+            taken_before: set[int],
+            taken_after: set[int],
+            placed: list[MovedObject],
+        ) -> bool:
+            """Whether no accepted object took the fit's pre keypoints, a quarter of its post
+            ones, or the place it puts its object (each place holds one object)."""
+            _, obj, sources, targets = candidate
+            return (
+                not taken_before & set(sources.tolist())
+                and 4 * len(taken_after & set(targets.tolist())) <= len(targets)
+                and not any(_same_place(obj, other) for other in placed)
+            )
+
+        for k, candidate in enumerate(candidates):
+            _, obj, sources, targets = candidate
+            if not available(candidate, used_before, used_after, moved) or any(
+                _same_object(obj, other) for other in moved
+            ):
+                continue
+            if any(
+                _same_object(obj, later[1])
+                and _RIVAL * later[1].mismatch < obj.mismatch
+                and available(later, used_before, used_after, moved)
+                for later in candidates[k + 1 :]
+            ):
+                continue
+            used_before |= set(sources.tolist())
+            used_after |= set(targets.tolist())
+            moved.append(obj)
+    taken = None if pre_place is None else cv2.dilate(changed_pixels(pre, pre_place), np.ones((5, 5), np.uint8))
+    return _decide(moved, grown, taken)
+
+
+def _decide(moved: list[MovedObject], regions: np.ndarray, taken: np.ndarray | None) -> Moves:
+    """The rule: the operated object is the one that left its place for another (where it was
+    and where it is lie in different changed regions of ``regions`` (H, W) labels; given the
+    pixels ``taken`` (H, W) where the pre-place observation lacks what the pre one shows, it
+    left from there), the farthest moved if several. The others are disturbed when they were
+    nudged: their old and new places make one changed region, or the move is shorter than
+    twice the object's keypoint spread (a slip moves an object by about its own size at most; a
+    longer move from elsewhere is a fit of something else's look, an identical object's). What
+    changed where the operated object left or arrived is the operation's (what it covered or
+    uncovered there), not another object's move."""
+    leaving = [obj for obj in moved if _label(regions, obj.before) != _label(regions, obj.after)]
+    carried = [obj for obj in leaving if taken is None or _on(taken, obj.keypoints_before)]
+    operated = max(carried, key=lambda o: o.distance) if carried else None
+    disturbed = [
+        obj
+        for obj in moved
+        if obj is not operated and (obj not in leaving or obj.distance <= 2.0 * _spread(obj.keypoints_before))
+    ]
+    if operated is not None:
+        disturbed = [obj for obj in disturbed if not _within(operated, obj)]
+    return Moves(operated, tuple(sorted(disturbed, key=lambda o: -o.distance)))
+
+
+def _label(regions: np.ndarray, point: tuple[float, float]) -> int:
+    x = min(max(int(round(point[0])), 0), regions.shape[1] - 1)
+    y = min(max(int(round(point[1])), 0), regions.shape[0] - 1)
+    return int(regions[y, x])
+
+
+def _spread(points: np.ndarray) -> float:
+    """The radius (px) of keypoints (N, 2) about their centre."""
+    return float(np.max(np.hypot(*(points - points.mean(axis=0)).T))) if len(points) else 0.0
+
+
+def _same_object(a: MovedObject, b: MovedObject) -> bool:
+    """Two fits of one object (a symmetric one fits turned as well; one whose look others share
+    in part fits onto them too): where they were lies within the larger keypoint spread. The
+    nearer one, taken first, stands."""
+    reach = max(_spread(a.keypoints_before), _spread(b.keypoints_before), _SAME_PX)
+    return bool(np.hypot(a.before[0] - b.before[0], a.before[1] - b.before[1]) <= reach)
+
+
+def _same_place(a: MovedObject, b: MovedObject) -> bool:
+    """Whether the two fits put their objects in one place: where they are lies within the
+    larger keypoint spread."""
+    reach = max(_spread(a.keypoints_after), _spread(b.keypoints_after), _SAME_PX)
+    return bool(np.hypot(a.after[0] - b.after[0], a.after[1] - b.after[1]) <= reach)
+
+
+def _within(operated: MovedObject, other: MovedObject) -> bool:
+    """Whether ``other``'s move lies where ``operated`` left or arrived: its centre or most of its
+    keypoints, before or after, within the operated object's keypoint spread (and a rim) of its
+    places."""
+    for centre, points in ((operated.before, operated.keypoints_before), (operated.after, operated.keypoints_after)):
+        reach = _spread(points) + _SAME_PX
+        if min(np.hypot(*np.subtract(centre, other.before)), np.hypot(*np.subtract(centre, other.after))) <= reach:
+            return True
+        for kept in (other.keypoints_before, other.keypoints_after):
+            if np.mean(np.hypot(*(kept - np.asarray(centre)).T) <= reach) > 0.5:
+                return True
+    return False
+
+
+def _placements(
+    before: Features,
+    after: Features,
+    members: np.ndarray,
+    free: np.ndarray,
+    changed: np.ndarray,
+    images: tuple[np.ndarray, np.ndarray],
+) -> list[tuple[float, MovedObject, np.ndarray, np.ndarray]]:
+    """The moves of the objects whose pre keypoints are ``members`` (indices into ``before``):
+    RANSAC similarities fitted one after the other on each keypoint's two nearest matches among
+    ``after`` (only those indexed by ``free``; each fit's inlier pairs taken out before the
+    next). A placement is an object's move when it moves its keypoints and most of them lie on
+    ``changed`` pixels (H, W) both before and after (an object that moved left its place and
+    arrived at another; the unchanged surroundings of a region match themselves) and the
+    object's pixels moved by it match the post observation (``images``: pre, post) better than
+    left where they were (:func:`_mismatch`). Each with its distance, the object and its inlier
+    keypoint indices (pre, post)."""
+    if len(members) < MIN_INLIERS or len(free) < MIN_INLIERS:
+        return []
+    pairs = cv2.BFMatcher(cv2.NORM_L2).knnMatch(before.descriptors[members], after.descriptors[free], k=2)
+    source_index = np.array([members[m.queryIdx] for match in pairs for m in match], int)
+    target_index = np.array([free[m.trainIdx] for match in pairs for m in match], int)
+    found = []
+    cv2.setRNGSeed(0)  # deterministic RANSAC
+    for _ in range(_FITS):
+        if len(np.unique(source_index)) < MIN_INLIERS:
+            break
+        source = before.keypoints[source_index, :2].reshape(-1, 1, 2)
+        target = after.keypoints[target_index, :2].reshape(-1, 1, 2)
+        model, inliers = cv2.estimateAffinePartial2D(source, target, method=cv2.RANSAC, ransacReprojThreshold=6.0)
+        if model is None or inliers is None:
+            break
+        inliers = inliers.ravel().astype(bool)
+        sources, targets = np.unique(source_index[inliers]), np.unique(target_index[inliers])
+        if min(len(sources), len(targets)) < MIN_INLIERS:
+            break
+        scale, turn = float(np.hypot(model[0, 0], model[1, 0])), float(np.arctan2(model[1, 0], model[0, 0]))
+        centre = before.keypoints[sources, :2].mean(axis=0)
+        moved_to = model[:, :2] @ centre + model[:, 2]
+        shift = float(np.hypot(*(moved_to - centre)))
+        still = shift < STILL_PX and abs(np.degrees(turn)) < STILL_DEG
+        seen = _on(changed, before.keypoints[sources]) and _on(changed, after.keypoints[targets])
+        if SCALE_RANGE[0] <= scale <= SCALE_RANGE[1] and not still and seen:
+            obj = MovedObject(
+                (float(centre[0]), float(centre[1])),
+                (float(moved_to[0]), float(moved_to[1])),
+                turn,
+                before.keypoints[sources, :2].copy(),
+                after.keypoints[targets, :2].copy(),
+                model,
+            )
+            share = _mismatch(obj, *images)
+            if share <= EXPLAINS:
+                found.append((shift, replace(obj, mismatch=share), sources, targets))
+        # The inlier pairs are this placement's; the same keypoints may still place their object
+        # elsewhere (an identical object), which the nearest-first pairing decides.
+        source_index, target_index = source_index[~inliers], target_index[~inliers]
+    return found
+
+
+def _mismatch(obj: MovedObject, pre: np.ndarray, post: np.ndarray) -> float:
+    """Identification by matching: the mean grey difference between the object's pixels (the
+    hull of its keypoints before) moved by its transform and the post observation there (H, W,
+    3 both), as a share of their difference left where they were. A move explains its object
+    when the share is at most :data:`EXPLAINS`: a fit that only lines up a few features of what
+    something else covered or uncovered does not."""
+    mask = np.zeros(pre.shape[:2], np.uint8)
+    cv2.fillConvexPoly(mask, cv2.convexHull(np.round(obj.keypoints_before).astype(np.int32)), 1)
+    grey_pre = cv2.cvtColor(pre, cv2.COLOR_RGB2GRAY).astype(np.float32)
+    grey_post = cv2.cvtColor(post, cv2.COLOR_RGB2GRAY).astype(np.float32)
+    size = (pre.shape[1], pre.shape[0])
+    moved = cv2.warpAffine(grey_pre, obj.transform, size, flags=cv2.INTER_LINEAR)
+    moved_mask = cv2.warpAffine(mask, obj.transform, size, flags=cv2.INTER_NEAREST) > 0
+    if not moved_mask.any() or not mask.any():
+        return 1.0
+    fitted = float(np.mean(np.abs(moved - grey_post)[moved_mask]))
+    left = float(np.mean(np.abs(grey_pre - grey_post)[mask > 0]))
+    return fitted / max(left, 1e-6)
+
+
+def _on(mask: np.ndarray, keypoints: np.ndarray) -> bool:
+    """Whether most ``keypoints`` (N, >=2) lie on ``mask`` (H, W)."""
+    xy = np.clip(np.round(keypoints[:, :2]).astype(int), 0, [mask.shape[1] - 1, mask.shape[0] - 1])
+    return bool(np.mean(mask[xy[:, 1], xy[:, 0]] > 0) >= 0.5)
+
+
+def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None) -> tuple[Moves, np.ndarray]:
+    """The objects that moved between ``pre`` and ``post`` (H, W, 3) uint8 (the operated one
+    lacking in ``pre_place``, when given) and the post observation the tutor meant (H, W, 3):
+    the disturbed objects' changed pixels restored from ``pre``. A changed pixel is a disturbed
+    object's when its changed region holds a disturbed object's identified keypoints (where it
+    was or where it is) and, of all the moved objects' keypoints, the nearest is a disturbed
+    object's."""
+    moves = find_moved(pre, post, pre_place)
+    if not moves.disturbed:
+        return moves, post
+    changed = cv2.dilate(changed_pixels(pre, post), np.ones((5, 5), np.uint8))
+    _, regions = cv2.connectedComponents(changed)
+    seeds = {}
+    for key, objects in (("operated", moves.moved[: 1 if moves.operated else 0]), ("disturbed", moves.disturbed)):
+        points = [p for obj in objects for p in np.vstack([obj.keypoints_before, obj.keypoints_after])]
+        xy = np.round(np.array(points, float).reshape(-1, 2)).astype(int)
+        inside = (xy[:, 0] >= 0) & (xy[:, 1] >= 0) & (xy[:, 0] < changed.shape[1]) & (xy[:, 1] < changed.shape[0])
+        seeds[key] = xy[inside]
+    # Only the changed regions the disturbed objects' keypoints lie in; in one shared with the
+    # operated object, the pixels nearer to a disturbed object's keypoint.
+    touched = np.isin(regions, regions[seeds["disturbed"][:, 1], seeds["disturbed"][:, 0]]) & (regions > 0)
+    restore = touched
+    if len(seeds["operated"]):
+        distance = {}
+        for key, xy in seeds.items():
+            image = np.full(changed.shape, 255, np.uint8)
+            image[xy[:, 1], xy[:, 0]] = 0
+            distance[key] = cv2.distanceTransform(image, cv2.DIST_L2, 5)
+        restore = touched & (distance["disturbed"] < distance["operated"])
+    meant = post.copy()
+    meant[restore] = pre[restore]
+    return moves, meant
