@@ -98,10 +98,18 @@ def match_observation(
         return NoMatch("no placement of the observation fits in the world at any frame size")
     chosen, refitted, seen = None, [False] * len(candidates), world.astype(np.float32)
     alive = list(range(len(candidates)))  # the candidates no frame has ruled out yet
+    shared, taken = -np.inf, 0  # the best correlation any frame reached so far; the leader
     for size in search.compare:
         scores = _scores(observation, seen, point, size, candidates, alive)
-        if chosen is not None and max(scores.values()) < chosen.score - MARGIN:
-            break  # the frame has grown past what the demonstration and this world share
+        if chosen is not None and max(scores.values()) < shared - MARGIN:
+            # The frame has grown past what the demonstration and this world share: its best
+            # correlation fell MARGIN below the best a smaller frame reached. Measured against
+            # the best so far, not the last frame's: the correlation may fall in steps each
+            # short of MARGIN (0.99, 0.94, 0.85 as the frame takes in more of the board the
+            # new world does not share), and a frame past that decides by chance, against the
+            # place the smaller frames put first (trial 882695's third operation: the free
+            # body led the finished houses by 0.094 at two frames, then lost at the largest).
+            break
         # The rules. A frame narrows the candidates down (the paper: context "narrows down the
         # possible matches and leaves only a single matching observation"): one it beats by
         # MARGIN is out for good, so a larger frame, which sees mostly the rest of the board
@@ -127,17 +135,43 @@ def match_observation(
             if all(scores[i] < max(scores.values()) - MARGIN for i in redo):
                 break  # the re-fitted stay beaten: re-fitting the rest could only widen their lead
         alive = _narrowed(candidates, scores, object_size)
-        unique = len(alive) == 1
+        unique, taken = len(alive) == 1, alive[0]
         chosen = replace(
-            candidates[alive[0]],
-            score=float(scores[alive[0]]),
+            candidates[taken],
+            score=float(scores[taken]),
             frame=int(size),
             ambiguous=not unique,
             candidates=len(candidates),
         )
+        shared = max(shared, chosen.score)
         if unique and chosen.score >= MIN_SCORE:
             break
-    return chosen if chosen is not None else candidates[0]
+    if chosen is None:
+        return candidates[0]
+    # The match taken is a place and a pose. A copy of the place, seen by the same camera,
+    # correlates within MARGIN of 1 at the first frame (the place and its nearest
+    # surroundings); a fit that falls short of that fitted a few features, not the copy, and
+    # is re-fitted before it is taken, whether or not a comparison re-fitted it (trial
+    # 882692's third operation: the rivals' fits were degenerate, so nothing was compared, and
+    # the free body's copy, fitted at 0.96 scale and 0.79 correlation, was taken 6 degrees
+    # off). Which place is taken stays as it was; a good fit keeps its pose.
+    first = search.compare[0]
+    if (
+        not refitted[taken]
+        and _correlation(observation, seen, point, first, candidates[taken].transform) < 1.0 - MARGIN
+    ):
+        fitted = refit(observation, seen, point, first, candidates[taken])
+        score = _correlation(observation, seen, point, chosen.frame, fitted.transform)
+        chosen = replace(
+            chosen,
+            x=fitted.x,
+            y=fitted.y,
+            theta=fitted.theta,
+            score=score,
+            transform=fitted.transform,
+            decomposition=fitted.decomposition,
+        )
+    return chosen
 
 
 def _candidates(
