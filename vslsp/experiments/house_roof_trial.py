@@ -284,9 +284,10 @@ def place_search(frame: FrameMode | str, object_size: float) -> Search:
     the others by ``MARGIN``, each beaten one re-fitted first (a poor RANSAC fit of a free
     body's copy must not lose it the comparison at a frame too small to see the roofs; see
     :func:`~vslsp.vsl.matcher.match_observation`). When none does, the best candidate of the largest frame that
-    still sees what the demonstration saw (the best correlation has not dropped by ``MARGIN``)
-    is taken, flagged ambiguous; with a single (fixed) frame that is the first place that
-    matches best."""
+    still sees what the demonstration saw (its best correlation has not dropped ``MARGIN`` below
+    the best any smaller frame reached) is taken, flagged ambiguous; with a single (fixed) frame
+    that is the first place that matches best. A match taken on a fit that correlates poorly at
+    the first frame is re-fitted first (the place stays, the pose is the copy's)."""
     return Search.compared(place_frames(frame, object_size), _COPIES)
 
 

@@ -15,7 +15,10 @@ A recorded observation (pre-pick or pre-place) is found in the new world in two 
    good the candidates it beats by :data:`~vslsp.vision.matching.MARGIN`, until one is left
    (the paper's adaptive frame telling identical objects apart by their surroundings, which
    "narrows down the possible matches"). Before a frame rules a candidate out, it is re-fitted
-   (:func:`refit`) and compared again: see :func:`match_observation`.
+   (:func:`refit`) and compared again; the frame stops growing once its best correlation falls
+   MARGIN below the best a smaller frame reached (it sees mostly what the two worlds do not
+   share); and the match taken is re-fitted when its fit correlates poorly at the first
+   frame: see :func:`match_observation`.
 
 What differs between the tasks is data, a :class:`Search`: the rounds of placements (their
 frame sides, how many, how far about each the world features are left out) and the comparison
