@@ -205,3 +205,31 @@ def test_a_frame_grown_past_what_the_worlds_share_does_not_overturn_the_smaller_
     assert isinstance(match, Match) and match.ambiguous and search.compare[0] < match.frame < search.compare[-1]
     target = compose(world.bodies[2], SLOTS["below"])
     assert np.hypot(match.x - target[0], match.y - target[1]) < 6.0
+
+
+def test_a_pick_fitted_far_turned_is_refitted_all_round():
+    # Trial 883153, operation 3: RANSAC fitted the roof to pick 135 degrees off (0.75 at the
+    # pick frame; the copy's pose correlates 0.96), which a local re-fit cannot reach, and the
+    # roof landed on the right slot that far turned. Re-fitted from turns all round its place.
+    from vslsp.experiments.house_roof_trial import PICK_TURNS
+    from vslsp.experiments.seeds import reproduction_seed
+
+    seed = 883153
+    demo = demonstrate(seed)
+    world = HouseWorld.random(reproduction_seed(seed))
+    reproduction = reproduce(demo, world, "adaptive", ObservationFeatures(demo))
+    assert [op.diagnosis for op in reproduction.operations] == ["ok", "ok", "ok"] and reproduction.success
+    # The same pick, found in the world before operation 3, with and without the turns.
+    for op in reproduction.operations[:2]:
+        assert op.grasped is not None and op.landed is not None
+        world = world.with_roof(op.grasped, op.landed)
+    recorded = demo.demonstration.operations[2]
+    point, frames = (recorded.pose_pre.x, recorded.pose_pre.y), [pick_frame(recorded.object_size)]
+    args = (recorded.pre_observation, world.render(), point, recorded.object_size)
+    poor = match_observation(*args, Search.growing(frames))
+    good = match_observation(*args, Search.growing(frames, turns=PICK_TURNS))
+    assert isinstance(poor, Match) and isinstance(good, Match) and good.score > poor.score + 0.1
+    roof = world.roofs[0]
+    assert roof is not None and np.hypot(good.x - roof[0], good.y - roof[1]) < 3.0
+    turn = np.angle(np.exp(1j * (good.theta - (roof[2] - recorded.pose_pre.theta))))
+    assert abs(turn) < np.radians(4.0)  # the demonstration's recorded turn is a measurement

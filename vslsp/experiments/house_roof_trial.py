@@ -63,6 +63,7 @@ TRAJECTORY = TrajectoryParameters(height=0.08, samples=40)
 PICK_FRAME = 1.5  # the pre-pick frame's side, in object sizes
 PLACE_FRAME = 2.0  # the pre-place frame's first side, in object sizes (the paper: two to three)
 ADAPTIVE_LIMIT = 8.0  # the adaptive pre-place frame grows up to this many object sizes
+PICK_TURNS = 12  # a poor pick fit is re-fitted from this many turns all round its place (every 30 deg)
 _COPIES = 4  # copies of the place's surroundings looked for (three bodies, and one spare)
 
 
@@ -202,7 +203,7 @@ def reproduce(
             seen,
             (operation.pose_pre.x, operation.pose_pre.y),
             operation.object_size,
-            Search.growing([pick_frame(operation.object_size)]),
+            Search.growing([pick_frame(operation.object_size)], turns=PICK_TURNS),
             features.pre_pick[k],
         )
         if isinstance(pick, NoMatch):

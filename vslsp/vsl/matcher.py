@@ -60,12 +60,17 @@ class Search:
 
     rounds: tuple[Round, ...]
     compare: tuple[int, ...] = ()
+    turns: int = 0
 
     @classmethod
-    def growing(cls, frames: Sequence[int] | None = None, tries: int = 1, leave_out: float = 0.0) -> Search:
+    def growing(
+        cls, frames: Sequence[int] | None = None, tries: int = 1, leave_out: float = 0.0, turns: int = 0
+    ) -> Search:
         """One placement with frames growing while it is ambiguous (``tries`` of them, the
-        first that fits wins)."""
-        return cls((Round(None if frames is None else tuple(frames), tries, leave_out),))
+        first that fits wins). With ``turns`` (and one frame side), a placement whose fit
+        correlates ``MARGIN`` short of a copy's is re-fitted from that many turns all round its
+        place (:func:`refit_all_round`)."""
+        return cls((Round(None if frames is None else tuple(frames), tries, leave_out),), turns=turns)
 
     @classmethod
     def compared(cls, frames: Sequence[int], copies: int) -> Search:
@@ -150,7 +155,21 @@ def match_observation(
         if unique and chosen.score >= MIN_SCORE:
             break
     if chosen is None:
-        return candidates[0]
+        match = candidates[0]
+        frames = search.rounds[0].frames
+        if search.turns and frames is not None and len(frames) == 1:
+            # A copy of the object, seen by the same camera, correlates within MARGIN of 1 at
+            # its frame; a fit that falls short of that fitted a few features, not the copy,
+            # and may be turned far off (trial 883153's third pick: RANSAC fitted the roof 135
+            # degrees off at 0.75, which put it on its slot that far turned; the copy's pose
+            # correlates 0.96). It is re-fitted from turns all round its place, as a local
+            # re-fit from the fit's own turn cannot reach a copy that far off. A good fit keeps
+            # its pose.
+            seen = world.astype(np.float32)
+            if _correlation(observation, seen, point, frames[0], match.transform) < 1.0 - MARGIN:
+                fitted = refit_all_round(observation, seen, point, frames[0], match, search.turns)
+                match = replace(fitted, frame=match.frame, ambiguous=match.ambiguous, candidates=match.candidates)
+        return match
     # The match taken is a place and a pose. A copy of the place, seen by the same camera,
     # correlates within MARGIN of 1 at the first frame (the place and its nearest
     # surroundings); a fit that falls short of that fitted a few features, not the copy, and
@@ -260,6 +279,21 @@ def refit(observation: np.ndarray, world: np.ndarray, point: tuple[float, float]
         transform=transform,
         decomposition=decomposition,
     )
+
+
+def refit_all_round(
+    observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, match: Match, turns: int
+) -> Match:
+    """``match`` re-fitted (:func:`refit`) from ``turns`` turns evenly all round its place
+    (its own turn the first): the best-correlating of the re-fits."""
+    here = np.array([match.x, match.y])
+    best = refit(observation, world, point, size, match)
+    for k in range(1, turns):
+        transform = _about(here, 0.0, 0.0, 2.0 * np.pi * k / turns) @ match.transform
+        fitted = refit(observation, world, point, size, replace(match, transform=transform))
+        if fitted.score > best.score:
+            best = fitted
+    return best
 
 
 def _about(centre: np.ndarray, dx: float, dy: float, turn: float, scale: float = 1.0) -> np.ndarray:
