@@ -65,6 +65,7 @@ TRAJECTORY = TrajectoryParameters(height=0.08, samples=40)
 PICK_FRAME = 1.5  # the pre-pick frame's side, in object sizes
 PLACE_FRAME = 2.0  # the pre-place frame's first side, in object sizes (the paper: two to three)
 ADAPTIVE_LIMIT = 8.0  # the adaptive pre-place frame grows up to this many object sizes
+PICK_TURNS = 12  # a poor pick fit is re-fitted from this many turns all round its place (every 30 deg)
 _COPIES = 4  # copies of the place's surroundings looked for (three bodies, and one spare)
 
 
@@ -261,7 +262,7 @@ def reproduce(
             seen,
             (operation.pose_pre.x, operation.pose_pre.y),
             operation.object_size,
-            Search.growing([pick_frame(operation.object_size)]),
+            Search.growing([pick_frame(operation.object_size)], turns=PICK_TURNS),
             features.pre_pick[k],
         )
         if isinstance(pick, NoMatch):
@@ -343,9 +344,10 @@ def place_search(frame: FrameMode | str, object_size: float) -> Search:
     the others by ``MARGIN``, each beaten one re-fitted first (a poor RANSAC fit of a free
     body's copy must not lose it the comparison at a frame too small to see the roofs; see
     :func:`~vslsp.vsl.matcher.match_observation`). When none does, the best candidate of the largest frame that
-    still sees what the demonstration saw (the best correlation has not dropped by ``MARGIN``)
-    is taken, flagged ambiguous; with a single (fixed) frame that is the first place that
-    matches best."""
+    still sees what the demonstration saw (its best correlation has not dropped ``MARGIN`` below
+    the best any smaller frame reached) is taken, flagged ambiguous; with a single (fixed) frame
+    that is the first place that matches best. A match taken on a fit that correlates poorly at
+    the first frame is re-fitted first (the place stays, the pose is the copy's)."""
     return Search.compared(place_frames(frame, object_size), _COPIES)
 
 

@@ -15,7 +15,10 @@ A recorded observation (pre-pick or pre-place) is found in the new world in two 
    good the candidates it beats by :data:`~vslsp.vision.matching.MARGIN`, until one is left
    (the paper's adaptive frame telling identical objects apart by their surroundings, which
    "narrows down the possible matches"). Before a frame rules a candidate out, it is re-fitted
-   (:func:`refit`) and compared again: see :func:`match_observation`.
+   (:func:`refit`) and compared again; the frame stops growing once its best correlation falls
+   MARGIN below the best a smaller frame reached (it sees mostly what the two worlds do not
+   share); and the match taken is re-fitted when its fit correlates poorly at the first
+   frame: see :func:`match_observation`.
 
 What differs between the tasks is data, a :class:`Search`: the rounds of placements (their
 frame sides, how many, how far about each the world features are left out) and the comparison
@@ -57,12 +60,17 @@ class Search:
 
     rounds: tuple[Round, ...]
     compare: tuple[int, ...] = ()
+    turns: int = 0
 
     @classmethod
-    def growing(cls, frames: Sequence[int] | None = None, tries: int = 1, leave_out: float = 0.0) -> Search:
+    def growing(
+        cls, frames: Sequence[int] | None = None, tries: int = 1, leave_out: float = 0.0, turns: int = 0
+    ) -> Search:
         """One placement with frames growing while it is ambiguous (``tries`` of them, the
-        first that fits wins)."""
-        return cls((Round(None if frames is None else tuple(frames), tries, leave_out),))
+        first that fits wins). With ``turns`` (and one frame side), a placement whose fit
+        correlates ``MARGIN`` short of a copy's is re-fitted from that many turns all round its
+        place (:func:`refit_all_round`)."""
+        return cls((Round(None if frames is None else tuple(frames), tries, leave_out),), turns=turns)
 
     @classmethod
     def compared(cls, frames: Sequence[int], copies: int) -> Search:
@@ -98,10 +106,18 @@ def match_observation(
         return NoMatch("no placement of the observation fits in the world at any frame size")
     chosen, refitted, seen = None, [False] * len(candidates), world.astype(np.float32)
     alive = list(range(len(candidates)))  # the candidates no frame has ruled out yet
+    shared, taken = -np.inf, 0  # the best correlation any frame reached so far; the leader
     for size in search.compare:
         scores = _scores(observation, seen, point, size, candidates, alive)
-        if chosen is not None and max(scores.values()) < chosen.score - MARGIN:
-            break  # the frame has grown past what the demonstration and this world share
+        if chosen is not None and max(scores.values()) < shared - MARGIN:
+            # The frame has grown past what the demonstration and this world share: its best
+            # correlation fell MARGIN below the best a smaller frame reached. Measured against
+            # the best so far, not the last frame's: the correlation may fall in steps each
+            # short of MARGIN (0.99, 0.94, 0.85 as the frame takes in more of the board the
+            # new world does not share), and a frame past that decides by chance, against the
+            # place the smaller frames put first (trial 882695's third operation: the free
+            # body led the finished houses by 0.094 at two frames, then lost at the largest).
+            break
         # The rules. A frame narrows the candidates down (the paper: context "narrows down the
         # possible matches and leaves only a single matching observation"): one it beats by
         # MARGIN is out for good, so a larger frame, which sees mostly the rest of the board
@@ -127,17 +143,57 @@ def match_observation(
             if all(scores[i] < max(scores.values()) - MARGIN for i in redo):
                 break  # the re-fitted stay beaten: re-fitting the rest could only widen their lead
         alive = _narrowed(candidates, scores, object_size)
-        unique = len(alive) == 1
+        unique, taken = len(alive) == 1, alive[0]
         chosen = replace(
-            candidates[alive[0]],
-            score=float(scores[alive[0]]),
+            candidates[taken],
+            score=float(scores[taken]),
             frame=int(size),
             ambiguous=not unique,
             candidates=len(candidates),
         )
+        shared = max(shared, chosen.score)
         if unique and chosen.score >= MIN_SCORE:
             break
-    return chosen if chosen is not None else candidates[0]
+    if chosen is None:
+        match = candidates[0]
+        frames = search.rounds[0].frames
+        if search.turns and frames is not None and len(frames) == 1:
+            # A copy of the object, seen by the same camera, correlates within MARGIN of 1 at
+            # its frame; a fit that falls short of that fitted a few features, not the copy,
+            # and may be turned far off (trial 883153's third pick: RANSAC fitted the roof 135
+            # degrees off at 0.75, which put it on its slot that far turned; the copy's pose
+            # correlates 0.96). It is re-fitted from turns all round its place, as a local
+            # re-fit from the fit's own turn cannot reach a copy that far off. A good fit keeps
+            # its pose.
+            seen = world.astype(np.float32)
+            if _correlation(observation, seen, point, frames[0], match.transform) < 1.0 - MARGIN:
+                fitted = refit_all_round(observation, seen, point, frames[0], match, search.turns)
+                match = replace(fitted, frame=match.frame, ambiguous=match.ambiguous, candidates=match.candidates)
+        return match
+    # The match taken is a place and a pose. A copy of the place, seen by the same camera,
+    # correlates within MARGIN of 1 at the first frame (the place and its nearest
+    # surroundings); a fit that falls short of that fitted a few features, not the copy, and
+    # is re-fitted before it is taken, whether or not a comparison re-fitted it (trial
+    # 882692's third operation: the rivals' fits were degenerate, so nothing was compared, and
+    # the free body's copy, fitted at 0.96 scale and 0.79 correlation, was taken 6 degrees
+    # off). Which place is taken stays as it was; a good fit keeps its pose.
+    first = search.compare[0]
+    if (
+        not refitted[taken]
+        and _correlation(observation, seen, point, first, candidates[taken].transform) < 1.0 - MARGIN
+    ):
+        fitted = refit(observation, seen, point, first, candidates[taken])
+        score = _correlation(observation, seen, point, chosen.frame, fitted.transform)
+        chosen = replace(
+            chosen,
+            x=fitted.x,
+            y=fitted.y,
+            theta=fitted.theta,
+            score=score,
+            transform=fitted.transform,
+            decomposition=fitted.decomposition,
+        )
+    return chosen
 
 
 def _candidates(
@@ -223,6 +279,21 @@ def refit(observation: np.ndarray, world: np.ndarray, point: tuple[float, float]
         transform=transform,
         decomposition=decomposition,
     )
+
+
+def refit_all_round(
+    observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, match: Match, turns: int
+) -> Match:
+    """``match`` re-fitted (:func:`refit`) from ``turns`` turns evenly all round its place
+    (its own turn the first): the best-correlating of the re-fits."""
+    here = np.array([match.x, match.y])
+    best = refit(observation, world, point, size, match)
+    for k in range(1, turns):
+        transform = _about(here, 0.0, 0.0, 2.0 * np.pi * k / turns) @ match.transform
+        fitted = refit(observation, world, point, size, replace(match, transform=transform))
+        if fitted.score > best.score:
+            best = fitted
+    return best
 
 
 def _about(centre: np.ndarray, dx: float, dy: float, turn: float, scale: float = 1.0) -> np.ndarray:
