@@ -66,25 +66,7 @@ def detect_change(pre: np.ndarray, post: np.ndarray) -> Change:
     when nothing moved, when several objects moved (naming them and where), or when the object
     left the view.
     """
-    pre, post = as_rgb(pre, "pre-action image"), as_rgb(post, "post-action image")
-    if pre.shape != post.shape:
-        raise InputError(
-            f"the images differ in size: pre-action {pre.shape[1]}x{pre.shape[0]}, post-action "
-            f"{post.shape[1]}x{post.shape[0]}; take both with the same camera and resolution"
-        )
-    seg_pre, seg_post = segment(pre), segment(post)
-    changed = change_mask(seg_pre, seg_post)
-    left = [describe(seg_pre, label) for label in moved_labels(seg_pre, changed)]
-    arrived = [describe(seg_post, label) for label in moved_labels(seg_post, changed)]
-    # An object that only changed in one image and is still in place in the other was hidden
-    # or revealed by the moved one (seen in perspective), not moved itself.
-    left = [o for o in left if any(a.name == o.name for a in arrived) or not _in_place(o, seg_post)]
-    arrived = [o for o in arrived if any(a.name == o.name for a in left) or not _in_place(o, seg_pre)]
-    if not left and not arrived:
-        raise GroundingFailed(
-            "nothing moved between the pre- and the post-action image; give the images taken "
-            "just before and just after the tutor moved one object"
-        )
+    left, arrived, seg_pre, seg_post = moved_regions(pre, post, "the tutor moved one object")
     if len(left) == 1 and len(arrived) == 1 and left[0].name == arrived[0].name:
         return Change(left[0], arrived[0], seg_pre, seg_post)
     if len(left) == 1 and not arrived:
@@ -104,7 +86,35 @@ def detect_change(pre: np.ndarray, post: np.ndarray) -> Change:
     )
 
 
-def _in_place(obj: DetectedObject, other: Segmentation) -> bool:
+def moved_regions(
+    pre: np.ndarray, post: np.ndarray, operation: str
+) -> tuple[list[DetectedObject], list[DetectedObject], Segmentation, Segmentation]:
+    """The objects that left in ``pre`` and arrived in ``post`` (RGB images of one size) and both
+    segmentations. Raises InputError when the images differ in size, GroundingFailed when nothing
+    moved (the message asks for images just before and just after ``operation``)."""
+    pre, post = as_rgb(pre, "pre-action image"), as_rgb(post, "post-action image")
+    if pre.shape != post.shape:
+        raise InputError(
+            f"the images differ in size: pre-action {pre.shape[1]}x{pre.shape[0]}, post-action "
+            f"{post.shape[1]}x{post.shape[0]}; take both with the same camera and resolution"
+        )
+    seg_pre, seg_post = segment(pre), segment(post)
+    changed = change_mask(seg_pre, seg_post)
+    left = [describe(seg_pre, label) for label in moved_labels(seg_pre, changed)]
+    arrived = [describe(seg_post, label) for label in moved_labels(seg_post, changed)]
+    # An object that only changed in one image and is still in place in the other was hidden
+    # or revealed by the moved one (seen in perspective), not moved itself.
+    left = [o for o in left if any(a.name == o.name for a in arrived) or not in_place(o, seg_post)]
+    arrived = [o for o in arrived if any(a.name == o.name for a in left) or not in_place(o, seg_pre)]
+    if not left and not arrived:
+        raise GroundingFailed(
+            "nothing moved between the pre- and the post-action image; give the images taken "
+            f"just before and just after {operation}"
+        )
+    return left, arrived, seg_pre, seg_post
+
+
+def in_place(obj: DetectedObject, other: Segmentation) -> bool:
     """Whether ``other`` has an object of the same colour overlapping ``obj``'s box."""
     x, y, w, h = obj.box
     for label in other.object_labels:

@@ -14,10 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from vslsp.errors import GroundingFailed, InputError
-from vslsp.vision.change import Change, change_mask, moved_labels
-from vslsp.vision.image import as_rgb
-from vslsp.vision.objects import DetectedObject, Segmentation, describe, segment
+from vslsp.errors import GroundingFailed
+from vslsp.vision.change import Change, moved_regions
+from vslsp.vision.objects import DetectedObject
 
 
 def detect_moves(pre: np.ndarray, post: np.ndarray) -> list[Change]:
@@ -27,24 +26,7 @@ def detect_moves(pre: np.ndarray, post: np.ndarray) -> list[Change]:
     Raises InputError when the images differ in size; GroundingFailed when nothing moved or a
     moved object is seen in one image only (it left the view, or came into it).
     """
-    pre, post = as_rgb(pre, "pre-action image"), as_rgb(post, "post-action image")
-    if pre.shape != post.shape:
-        raise InputError(
-            f"the images differ in size: pre-action {pre.shape[1]}x{pre.shape[0]}, post-action "
-            f"{post.shape[1]}x{post.shape[0]}; take both with the same camera and resolution"
-        )
-    seg_pre, seg_post = segment(pre), segment(post)
-    changed = change_mask(seg_pre, seg_post)
-    left = [describe(seg_pre, label) for label in moved_labels(seg_pre, changed)]
-    arrived = [describe(seg_post, label) for label in moved_labels(seg_post, changed)]
-    # As detect_change: changed in one image only and in place in the other is hidden or revealed.
-    left = [o for o in left if any(a.name == o.name for a in arrived) or not in_place(o, seg_post)]
-    arrived = [o for o in arrived if any(a.name == o.name for a in left) or not in_place(o, seg_pre)]
-    if not left and not arrived:
-        raise GroundingFailed(
-            "nothing moved between the pre- and the post-action image; give the images taken "
-            "just before and just after the tutor's operation"
-        )
+    left, arrived, seg_pre, seg_post = moved_regions(pre, post, "the tutor's operation")
     changes = []
     waiting = list(arrived)
     for before in sorted(left, key=lambda o: o.centroid):
@@ -63,17 +45,6 @@ def detect_moves(pre: np.ndarray, post: np.ndarray) -> list[Change]:
             "wholly in view before; keep every object inside the camera's view"
         )
     return changes
-
-
-def in_place(obj: DetectedObject, other: Segmentation) -> bool:
-    """Whether ``other`` has an object of the same colour overlapping ``obj``'s box."""
-    x, y, w, h = obj.box
-    for label in other.object_labels:
-        ox, oy, ow, oh = (int(v) * other.scale for v in other.stats[label][:4])
-        overlaps = ox < x + w and x < ox + ow and oy < y + h and y < oy + oh
-        if overlaps and describe(other, label).name == obj.name:
-            return True
-    return False
 
 
 def _at(obj: DetectedObject) -> str:
