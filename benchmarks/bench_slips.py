@@ -9,43 +9,70 @@ Target: >= 99 % of 100 trials with detection on at P = 0.5, for house-roof, the 
 tasks, table-cleaning, stacking and the three iCub experiments.
 
     python benchmarks/bench_slips.py EXPERIMENT [EXPERIMENT ...] [--trials N] [--seed S]
-                                     [--probability P] [--workers W] [--json]
+                                     [--probability P] [--detection on off] [--workers W]
+                                     [--chunk K] [--out FILE.jsonl] [--report-only] [--json]
+
+The seeds run in rounds of ``--chunk``, each round every experiment with the detection on and
+off, so that a run stopped early still compares the two on the same seeds; ``--out`` keeps the
+trials (one JSON line each) and a later run with the same file runs only those missing, so the
+100 trials of eleven experiments may be gathered over several runs or machines.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import sys
 from collections import Counter
+from pathlib import Path
 
 from vslsp.tasks import get_task, run_trials
 from vslsp.tasks.statistics import wilson_interval
 
 
-def slipped(results) -> int:
-    """Operations of ``results`` in which the tutor slipped (their ``slip`` record; the iCub's
+def slipped(result) -> int:
+    """Operations of ``result`` in which the tutor slipped (their ``slip`` record; the iCub's
     demonstrated operations are its ``tutor_operations``, its ``operations`` the robot's steps)."""
-    demonstrated = [op for r in results for op in r.details.get("tutor_operations", [])]
-    return sum(1 for r in results for op in r.operations or [] if op.get("slip")) + sum(
+    demonstrated = result.details.get("tutor_operations", [])
+    return sum(1 for op in result.operations or [] if op.get("slip")) + sum(
         1 for op in demonstrated if op.get("slip", {}).get("applied")
     )
 
 
-def measure(name: str, seeds: list[int], probability: float, detection: bool, workers: int) -> dict:
+def run(name: str, seeds: list[int], probability: float, detection: bool, workers: int) -> tuple[list[dict], bool]:
+    """The trials of ``seeds`` of experiment ``name``, one record each (those finished when
+    Ctrl-C or SIGTERM stopped the run), and whether it was stopped."""
     task = get_task(name, tutor_slips=probability, slip_detection=detection)
-    results = run_trials(task, seeds, workers=workers).results
-    successes = sum(r.success for r in results)
-    low, high = wilson_interval(successes, len(results))
+    trials = run_trials(task, seeds, workers=workers)
+    records = [
+        {
+            "experiment": name,
+            "probability": probability,
+            "slip_detection": detection,
+            "seed": r.seed,
+            "success": r.success,
+            "slipped": slipped(r),
+            "cpu_s": round(r.cpu_s, 3),
+            "cause": None if r.success else r.cause,
+            "error": r.error,
+        }
+        for r in trials.results
+    ]
+    return records, bool(trials.interrupted)
+
+
+def row(records: list[dict]) -> dict:
+    """Success, its 95 % interval, the operations slipped and the failures of ``records``."""
+    successes = sum(r["success"] for r in records)
+    low, high = wilson_interval(successes, len(records))
     return {
-        "experiment": name,
-        "slip_detection": detection,
-        "trials": len(results),
+        "trials": len(records),
         "successes": successes,
-        "rate": successes / len(results),
+        "rate": successes / len(records),
         "interval_95": [round(low, 3), round(high, 3)],
-        "operations_slipped": slipped(results),
-        "failures": dict(Counter(r.cause for r in results if not r.success)),
-        "failed_seeds": [r.seed for r in results if not r.success],
+        "operations_slipped": sum(r["slipped"] for r in records),
+        "failures": dict(Counter(r["cause"] for r in records if not r["success"])),
+        "failed": {r["seed"]: r["error"] for r in records if not r["success"]},
     }
 
 
@@ -55,32 +82,97 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=100)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--probability", type=float, default=0.5)
+    parser.add_argument("--detection", nargs="+", default=["on", "off"], choices=["on", "off"])
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--chunk", type=int, default=10, help="seeds per round of every experiment and detection")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="a JSON-lines file of the trials: appended after each round, "
+        "and the trials it holds already are not run again (resume)",
+    )
+    parser.add_argument("--report-only", action="store_true", help="run nothing: report the trials in --out")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     seeds = list(range(args.seed, args.seed + args.trials))
-    rows = [
-        measure(name, seeds, args.probability, detection, args.workers)
+    detections = [d == "on" for d in args.detection]
+    records = []
+    if args.out is not None and args.out.exists():
+        records = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
+    rounds = [
+        (seeds[start : start + args.chunk], detection, name)
+        for start in range(0, len(seeds), args.chunk)
+        for detection in detections
+        for name in args.experiments
+        if not args.report_only
+    ]
+    for chunk, detection, name in rounds:
+        done = {r["seed"] for r in _of(records, name, args.probability, detection)}
+        todo = [s for s in chunk if s not in done]
+        if todo:
+            new, stopped = run(name, todo, args.probability, detection, args.workers)
+            records.extend(new)
+            print(
+                f"{name} detection {'on' if detection else 'off'} seeds {todo[0]}-{todo[-1]}: "
+                f"{sum(r['success'] for r in new)}/{len(new)}",
+                file=sys.stderr,
+                flush=True,
+            )
+            if args.out is not None:
+                with args.out.open("a") as stream:
+                    stream.writelines(json.dumps(r) + "\n" for r in new)
+            if stopped:  # the finished trials are kept; the report covers what ran
+                break
+    report(records, args, seeds)
+
+
+def _of(records: list[dict], name: str, probability: float, detection: bool) -> list[dict]:
+    return [
+        r
+        for r in records
+        if r["experiment"] == name and r["probability"] == probability and r["slip_detection"] is detection
+    ]
+
+
+def report(records: list[dict], args: argparse.Namespace, seeds: list[int]) -> None:
+    """Print (or with ``--json`` write) the rows of ``records`` on ``seeds``."""
+    wanted = set(seeds)
+    groups = {
+        (name, detection): [r for r in _of(records, name, args.probability, detection) if r["seed"] in wanted]
         for name in args.experiments
         for detection in (True, False)
-    ]
+    }
+    rows = {key: row(group) for key, group in groups.items() if group}
+    if not rows:
+        raise SystemExit("no trials to report")
     if args.json:
-        print(json.dumps({"probability": args.probability, "seed": args.seed, "rows": rows}))
-        return
-    print(f"tutor slips P = {args.probability}, seeds {seeds[0]}-{seeds[-1]}")
-    print(f"{'experiment':<22} {'detection':<9} {'success':>9} {'rate':>7} {'95 % interval':>15} {'slipped':>8}")
-    for row in rows:
-        low, high = row["interval_95"]
         print(
-            f"{row['experiment']:<22} {'on' if row['slip_detection'] else 'off':<9} "
-            f"{row['successes']:>4}/{row['trials']:<4} {100 * row['rate']:>6.1f}% "
-            f"{100 * low:>6.1f}-{100 * high:<6.1f}% {row['operations_slipped']:>8}"
+            json.dumps(
+                {
+                    "probability": args.probability,
+                    "seed": args.seed,
+                    "rows": [{"experiment": n, "slip_detection": d, **r} for (n, d), r in rows.items()],
+                }
+            )
         )
-        if row["failures"]:
-            print(f"    failures: {row['failures']} (seeds {row['failed_seeds'][:12]})")
+        return
+    covered = sorted({r["seed"] for group in groups.values() for r in group})
+    print(f"tutor slips P = {args.probability}, {len(covered)} seeds from {covered[0]} to {covered[-1]}")
+    print(f"{'experiment':<22} {'detection':<9} {'success':>9} {'rate':>7} {'95 % interval':>15} {'slipped':>8}")
+    for (name, detection), data in rows.items():
+        low, high = data["interval_95"]
+        print(
+            f"{name:<22} {'on' if detection else 'off':<9} "
+            f"{data['successes']:>4}/{data['trials']:<4} {100 * data['rate']:>6.1f}% "
+            f"{100 * low:>6.1f}-{100 * high:<6.1f}% {data['operations_slipped']:>8}"
+        )
+        for seed, error in data["failed"].items():
+            print(f"    seed {seed}: {error}")
     for name in args.experiments:
-        on, off = (next(r for r in rows if r["experiment"] == name and r["slip_detection"] is d) for d in (True, False))
-        print(f"{name}: detection on {100 * on['rate']:.1f} % vs off {100 * off['rate']:.1f} % (target >= 99 % on)")
+        on, off = rows.get((name, True)), rows.get((name, False))
+        if on and off:
+            print(f"{name}: detection on {100 * on['rate']:.1f} % vs off {100 * off['rate']:.1f} % (target >= 99 % on)")
 
 
 if __name__ == "__main__":

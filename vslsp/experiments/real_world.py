@@ -147,7 +147,7 @@ class TowerOfHanoi(TabletopExperiment):
 
             def where(world, target=target, below=below, jitter=jitter):
                 x, y, _ = scenes.BASE_POSES[target]
-                return Placement(x + jitter[0], y + jitter[1], 0.0, on=below)
+                return world.as_it_lies(Placement(x + jitter[0], y + jitter[1], 0.0, on=below))
 
             yield name, where, below  # judged on what it stands on: stack order
 

@@ -269,7 +269,7 @@ def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:
     for k, op in enumerate(demo.operations):
         pre, pre_place = op.pre_pick.copy(), op.pre_place.copy()
         square(pre, op.pick_point, int(demo.pick_frame), PICK)
-        square(pre_place, op.place_point, int(demo.place_frame), PLACE)
+        square(pre_place, op.place_point, int(op.place_frame or demo.place_frame), PLACE)
         post, title = op.post_place, f"op {k + 1}: post-place"
         if task_demo.slips:  # with --tutor-slips: the items that moved, as the slip detection found them
             from vslsp.experiments.slip_pictures import mark_moves, moves_caption

@@ -17,8 +17,10 @@ observation is the world as it is (the disturbed item where the slip left it).
 from __future__ import annotations
 
 from collections.abc import Iterator
+from dataclasses import replace
 from typing import TYPE_CHECKING, Protocol
 
+import cv2
 import numpy as np
 
 from vslsp.errors import InputError
@@ -55,6 +57,7 @@ def demonstrate_with_slips(
     found: list[Moves | None] = []
     posts: list[np.ndarray] = []
     seen = None
+    nudged: list[np.ndarray] = []  # the disturbed items' keypoints (N, 2) px where the slips left them
     for k, (name, where, anchor) in enumerate(task.moves(rng)):
         world.say(f"the tutor puts {name} in place")
         pre_pick = look(world) if seen is None else seen
@@ -84,6 +87,7 @@ def demonstrate_with_slips(
             raise UnseenOperation(str(unseen), (*records, record)) from unseen
         if moves is not None:
             record = {**moved_record(moves, world, view, operation.place_point), **record}
+            nudged = on_nudged(recorder, operation, moves, nudged)
         records.append(record)
     return TabletopDemonstration(
         recorder.demonstration(),
@@ -94,6 +98,39 @@ def demonstrate_with_slips(
         tuple(found),
         tuple(posts),
     )
+
+
+def on_nudged(recorder: Recorder, operation, moves: Moves, nudged: list[np.ndarray]) -> list[np.ndarray]:
+    """Mind what was put on an item the tutor's slip had nudged. The rule: an item put on a
+    nudged one lies where it lies on it, so its place is found by the item below (the
+    operation's pre-place frame that item's size, not the wider one whose surroundings the
+    slip no longer agrees with: the Tower of Hanoi's disk put on a disk nudged off its base's
+    centre, which the new world has centred). ``nudged``: the keypoints (N, 2) px of the items
+    disturbed so far, where the slips left them; an item stays nudged until the tutor takes it
+    (a third of its keypoints where the operated item was seen); the operation's own disturbed
+    items join. Sets the last recorded operation's frame; returns the items nudged now."""
+    below = [points for points in nudged if _inside(operation.place_point, points)]
+    if below:
+        side = max(float(np.ptp(points, axis=0).max()) for points in below)
+        recorder.operations[-1] = replace(operation, place_frame=side)
+    taken = moves.operated.keypoints_before if moves.operated is not None else np.zeros((0, 2))
+    kept = [points for points in nudged if not _same_item(points, taken)]
+    return kept + [obj.keypoints_after for obj in moves.disturbed]
+
+
+def _inside(point: tuple[float, float], points: np.ndarray) -> bool:
+    """Whether ``point`` (px) lies in the convex hull of ``points`` (N, 2) px."""
+    hull = cv2.convexHull(np.asarray(points, np.float32))
+    return cv2.pointPolygonTest(hull, (float(point[0]), float(point[1])), False) >= 0
+
+
+def _same_item(points: np.ndarray, taken: np.ndarray, near: float = 3.0) -> bool:
+    """Whether a third of ``points`` (N, 2) px lie within ``near`` px of ``taken`` (M, 2): the
+    nudged item is the one the tutor took."""
+    if not len(points) or not len(taken):
+        return False
+    gaps = np.min(np.hypot(*(points[:, None, :] - taken[None, :, :]).transpose(2, 0, 1)), axis=1)
+    return bool(np.mean(gaps <= near) >= 1.0 / 3.0)
 
 
 def moved_record(moves: Moves, world: PandaTable, view: TableView, recorded: tuple[float, float]) -> dict:

@@ -15,15 +15,31 @@ def small(image: np.ndarray, scale: float = SCALE) -> np.ndarray:
 
 
 def label(image: np.ndarray, text: str, origin: tuple[int, int] = (8, 26)) -> np.ndarray:
-    """A copy of ``image`` with ``text`` in white on a dark band, readable on any background."""
+    """A copy of ``image`` with ``text`` in white on a dark band, readable on any background;
+    a text wider than the picture goes on as many lines as it needs (broken between words)."""
     image = image.copy()
-    (width, height), baseline = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, 0.6, 2)
     x, y = origin
-    top, bottom = max(0, y - height - 6), min(image.shape[0], y + baseline + 4)
-    band = image[top:bottom, max(0, x - 6) : min(image.shape[1], x + width + 6)]
-    band[:] = (0.25 * band).astype(image.dtype)
-    cv2.putText(image, text, origin, cv2.FONT_HERSHEY_SIMPLEX, 0.6, (255, 255, 255), 2, cv2.LINE_AA)
+    for line in _lines(text, image.shape[1] - x - 6):
+        (width, height), baseline = cv2.getTextSize(line, cv2.FONT_HERSHEY_SIMPLEX, 0.6, 2)
+        top, bottom = max(0, y - height - 6), min(image.shape[0], y + baseline + 4)
+        band = image[top:bottom, max(0, x - 6) : min(image.shape[1], x + width + 6)]
+        band[:] = (0.25 * band).astype(image.dtype)
+        cv2.putText(image, line, (x, y), cv2.FONT_HERSHEY_SIMPLEX, 0.6, (255, 255, 255), 2, cv2.LINE_AA)
+        y += height + baseline + 10
     return image
+
+
+def _lines(text: str, width: int) -> list[str]:
+    """``text`` broken between words into lines at most ``width`` px wide as :func:`label`
+    draws them (a single word wider than that keeps a line of its own)."""
+    lines: list[str] = []
+    for word in text.split(" "):
+        joined = f"{lines[-1]} {word}" if lines else word
+        if lines and cv2.getTextSize(joined, cv2.FONT_HERSHEY_SIMPLEX, 0.6, 2)[0][0] <= width:
+            lines[-1] = joined
+        else:
+            lines.append(word)
+    return lines or [""]
 
 
 def square(image: np.ndarray, centre: tuple[float, float], size: float, colour: tuple[int, int, int]) -> None:

@@ -110,6 +110,10 @@ class RecordedOperation:
     pick_z: float
     place_z: float
     features: Features
+    # The side (px) of this operation's pre-place frame when it is not the demonstration's
+    # (:attr:`PickPlaceDemonstration.place_frame`): the object it was put on, when the tutor's
+    # slip had nudged that one (:func:`~vslsp.experiments.tabletop_slips.demonstrate_with_slips`).
+    place_frame: float | None = None
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def observation_features(self, which: str, point: tuple[float, float], side: float) -> Features:
@@ -137,7 +141,7 @@ class RecordedOperation:
             "pick_z": round(self.pick_z, 4),
             "place_z": round(self.place_z, 4),
             "features": len(self.features),
-        }
+        } | ({} if self.place_frame is None else {"place_frame_px": round(self.place_frame, 1)})
 
 
 @dataclass(frozen=True, eq=False)

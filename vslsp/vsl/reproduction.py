@@ -112,23 +112,31 @@ def _match_dict(match: Match) -> dict:
     return {k: round(v, 4) if isinstance(v, float) else v for k, v in match.to_dict().items()}
 
 
-def place_frames(demo: PickPlaceDemonstration, world_shape: tuple[int, ...]) -> list[int]:
+def place_frames(demo: PickPlaceDemonstration, world_shape: tuple[int, ...], k: int | None = None) -> list[int]:
     """The Panda's pre-place frame sides (px) in a world of ``world_shape`` (H, W, ...): from
-    the pre-place frame, growing up to :data:`PLACE_GROWTH` times it."""
-    start = demo.place_frame
+    the pre-place frame (operation ``k``'s own, when it has one), growing up to
+    :data:`PLACE_GROWTH` times it."""
+    start = first_place_frame(demo, k)
     return [s for s in frame_sizes(start, world_shape) if s <= PLACE_GROWTH * start + 0.5] or [int(round(start))]
+
+
+def first_place_frame(demo: PickPlaceDemonstration, k: int | None = None) -> float:
+    """The side (px) of operation ``k``'s first pre-place frame: its own when it has one (put
+    on an object the tutor's slip had nudged: that object's size), else the demonstration's."""
+    own = None if k is None else demo.operations[k].place_frame
+    return demo.place_frame if own is None else own
 
 
 def find_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match | NoMatch:
     """``findBestMatch`` of operation ``k``'s pre-place observation in ``world`` (h, w, 3): one
     placement, its frames (:func:`place_frames`) growing while it is ambiguous.
     :class:`NoMatch` when nothing matches."""
-    op, sizes = demo.operations[k], place_frames(demo, world.shape)
+    op, sizes = demo.operations[k], place_frames(demo, world.shape, k)
     return match_observation(
         op.pre_place,
         world,
         op.place_point,
-        demo.place_frame,
+        first_place_frame(demo, k),
         Search.growing(sizes),
         op.observation_features("pre_place", op.place_point, max(sizes)),
         world_features,

@@ -19,8 +19,14 @@ object, :func:`find_moved` finds each of them:
    objects least is the right one when two objects look alike), each pre keypoint used once
    and a fit a quarter of whose post keypoints another object took already refused; a fit
    waits for one from where the same object was that explains it twice as well and whose place
-   is free (objects that share part of their look), else the nearer stands; a second pass pairs the regions
-   left unexplained with the post keypoints left.
+   is free (objects that share part of their look), unless it explains its object whole
+   (:data:`_WELL`: then the two are identical objects and the nearer stands); a second pass
+   pairs the regions left unexplained with the post keypoints left. Given the pre-place
+   observation, when this pairing leaves out the object the tutor took (another object's short
+   fit took its arrival), it is paired again with the taken object's fits first;
+4. the slips the pre observation cannot show (:func:`_uncovered_slips`): the hand slips after
+   the object is taken, so the nudges between the pre-place and post observations are slips
+   too (a disk that the operated one covered, nudged once uncovered).
 
 The rule for the operated object (:func:`_decide`): **the one that left its place for another**
 (its old and new places are different changed regions; given the pre-place observation, it
@@ -33,9 +39,10 @@ operated object's features do not identify it, it is what changed once the distu
 are restored.
 
 The reproduction must not copy the accident: :func:`separate` gives the post observation the
-tutor meant, the disturbed objects' changed pixels restored from the pre observation (each
-changed pixel of a region a disturbed object moved in goes to the object whose identified
-keypoints are nearest), so that the operation is recorded as if only the operated object had
+tutor meant, the disturbed objects' changed pixels restored from the pre-place observation
+(the operated object already taken, so a disk it lay on comes back without it; the pre one
+when there is none), each changed pixel of a region a disturbed object moved in going to the
+object whose identified keypoints are nearest, so that the operation is recorded as if only the operated object had
 moved: no disturbed object is taken for the operation, and no place for the operated object's
 is measured against a neighbour the tutor knocked aside. With the detection off (the paper's
 VSL) the observations are recorded as they are.
@@ -59,6 +66,9 @@ MIN_INLIERS = 4  # SIFT matches that agree on one object's move
 EXPLAINS = 0.6  # a move explains its object when it leaves at most this share of the difference
 STILL_PX, STILL_DEG = 3.0, 2.0  # a placement moving its features less than this is no move
 _RIVAL = 2.0  # a fit explaining its object this many times worse than another, free one is not its move
+# A fit that leaves at most this share of its object's difference explains it whole: it does not
+# wait for a rival (two such fits are of identical objects, a nudge and a carry: nearest first).
+_WELL = 0.1
 _SAME_PX = 10.0  # px: a rim about an object's keypoints
 _FITS = 6  # placements fitted per region at most
 _CLOSE = np.ones((9, 9), np.uint8)
@@ -132,6 +142,8 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
     rule); given the pre-place observation (H, W, 3: the world while the tutor held the object)
     the operated object is one that the pre-place observation lacks."""
     changed = changed_pixels(pre, post)
+    # Where the pre-place observation lacks what the pre one shows: the object the tutor took.
+    taken = None if pre_place is None else cv2.dilate(changed_pixels(pre, pre_place), np.ones((5, 5), np.uint8))
     count, labels, stats, _ = cv2.connectedComponentsWithStats(changed)
     regions = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= MIN_REGION]
     if not regions:
@@ -145,6 +157,33 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
     where = np.clip(np.round(before.keypoints[:, :2]).astype(int), 0, [pre.shape[1] - 1, pre.shape[0] - 1])
     owner = grown[where[:, 1], where[:, 0]]
     on_change = cv2.dilate(changed, np.ones((5, 5), np.uint8))
+    pairing = (before, after, regions, owner, on_change, (pre, post))
+    moved = _pair(*pairing)
+    if pre_place is None:
+        return _decide(moved, grown, None)
+    moves = _decide(moved, grown, taken)
+    if moves.operated is None and taken is not None:
+        # The object the tutor took moved for sure. When the nearest-first pairing left it out
+        # (a short fit of another object onto its arrival took its place: disks whose look it
+        # shares in part, under it there), it is paired first.
+        first = _decide(_pair(*pairing, first=taken), grown, taken)
+        moves = first if first.operated is not None else moves
+    return _uncovered_slips(moves, pre_place, post)
+
+
+def _pair(
+    before: Features,
+    after: Features,
+    regions: list[int],
+    owner: np.ndarray,
+    on_change: np.ndarray,
+    images: tuple[np.ndarray, np.ndarray],
+    first: np.ndarray | None = None,
+) -> list[MovedObject]:
+    """The objects that moved: the placements of the pre keypoints of each changed region
+    (``owner``: each keypoint's region) among the post ones, paired one object per place
+    (steps 2 and 3 of the module docstring); the fits that leave from the pixels ``first``
+    (H, W), when given, before the others."""
     used_before: set[int] = set()
     used_after: set[int] = set()
     moved: list[MovedObject] = []
@@ -157,12 +196,12 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
         for region in regions:
             members = np.nonzero(owner == region)[0]
             if not used_before & set(members.tolist()):
-                candidates += _placements(before, after, members, free, on_change, (pre, post))
+                candidates += _placements(before, after, members, free, on_change, images)
         # One object per place, nearest first: each keypoint of either observation is used once;
         # a fit waits for a later one from where the same object was that explains it
         # :data:`_RIVAL` times better and whose place is still free (an object whose look
         # others share in part fits onto them too, worse).
-        candidates.sort(key=lambda c: c[0])
+        candidates.sort(key=lambda c: (first is not None and not _on(first, before.keypoints[c[2]]), c[0]))
 
         def available(
             candidate: tuple[float, MovedObject, np.ndarray, np.ndarray],
@@ -185,7 +224,7 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
                 _same_object(obj, other) for other in moved
             ):
                 continue
-            if any(
+            if obj.mismatch > _WELL and any(
                 _same_object(obj, later[1])
                 and _RIVAL * later[1].mismatch < obj.mismatch
                 and available(later, used_before, used_after, moved)
@@ -195,8 +234,38 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
             used_before |= set(sources.tolist())
             used_after |= set(targets.tolist())
             moved.append(obj)
-    taken = None if pre_place is None else cv2.dilate(changed_pixels(pre, pre_place), np.ones((5, 5), np.uint8))
-    return _decide(moved, grown, taken)
+    return moved
+
+
+def _uncovered_slips(moves: Moves, pre_place: np.ndarray, post: np.ndarray) -> Moves:
+    """``moves`` with the objects the operated one covered in the pre observation that the
+    tutor's hand then nudged. The rule: the hand slips after the object is taken, so every
+    object that moved between the pre-place observation (the operated object held out of view,
+    what it covered uncovered) and the post observation, apart from the operated object's
+    arrival, is disturbed. A disk taken from the one it lay on hides all but a sliver of it in
+    the pre observation, too little to identify it there (Tower of Hanoi: the tutor lifts disk 1
+    off disk 2 and nudges disk 2); in the pre-place one it lies whole. As in :func:`_decide`,
+    a slip is a nudge: a move no longer than twice the object's keypoint spread (a longer one is
+    a fit of something else's look: the identical bases of the Tower of Hanoi, one uncovered by
+    the slip, another covered by the arrival). A fit ending where the operated object arrived
+    is of the arrival (a disk put on another, their looks alike in part), not a slip."""
+    found = [
+        obj
+        for obj in find_moved(pre_place, post).moved
+        if obj.distance <= 2.0 * _spread(obj.keypoints_before)
+        and not any(_same_object(obj, other) or _same_place(obj, other) for other in moves.disturbed)
+        and (moves.operated is None or not _arrives(moves.operated, obj))
+    ]
+    if not found:
+        return moves
+    return Moves(moves.operated, tuple(sorted((*moves.disturbed, *found), key=lambda o: -o.distance)))
+
+
+def _arrives(operated: MovedObject, other: MovedObject) -> bool:
+    """Whether ``other``'s move ends where ``operated`` arrived (within its keypoint spread and
+    a rim): a fit of the operated object's arrival, or of what it covered there."""
+    reach = _spread(operated.keypoints_after) + _SAME_PX
+    return bool(np.hypot(*np.subtract(operated.after, other.after)) <= reach)
 
 
 def _decide(moved: list[MovedObject], regions: np.ndarray, taken: np.ndarray | None) -> Moves:
@@ -351,19 +420,28 @@ def _on(mask: np.ndarray, keypoints: np.ndarray) -> bool:
 def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None) -> tuple[Moves, np.ndarray]:
     """The objects that moved between ``pre`` and ``post`` (H, W, 3) uint8 (the operated one
     lacking in ``pre_place``, when given) and the post observation the tutor meant (H, W, 3):
-    the disturbed objects' changed pixels restored from ``pre``. A changed pixel is a disturbed
-    object's when its changed region holds a disturbed object's identified keypoints (where it
-    was or where it is) and, of all the moved objects' keypoints, the nearest is a disturbed
-    object's."""
+    the disturbed objects' changed pixels restored from the world before the slip. That is the
+    pre-place observation when given (the operated object already taken from its place, so a
+    disturbed object it lay on is restored without it), else the pre one. A changed pixel
+    (between that observation and ``post``) is a disturbed object's when its changed region
+    holds a disturbed object's identified keypoints (where it was or where it is) and, of all
+    the moved objects' keypoints (the operated object's where it arrived, with the pre-place
+    observation), the nearest is a disturbed object's."""
     moves = find_moved(pre, post, pre_place)
     if not moves.disturbed:
         return moves, post
-    changed = cv2.dilate(changed_pixels(pre, post), np.ones((5, 5), np.uint8))
+    source = pre if pre_place is None else pre_place
+    changed = cv2.dilate(changed_pixels(source, post), np.ones((5, 5), np.uint8))
     _, regions = cv2.connectedComponents(changed)
     seeds = {}
-    for key, objects in (("operated", moves.moved[: 1 if moves.operated else 0]), ("disturbed", moves.disturbed)):
-        points = [p for obj in objects for p in np.vstack([obj.keypoints_before, obj.keypoints_after])]
-        xy = np.round(np.array(points, float).reshape(-1, 2)).astype(int)
+    operated: list[np.ndarray] = []
+    if moves.operated is not None:  # with the pre-place observation it changed where it arrived only
+        operated = [moves.operated.keypoints_after]
+        if pre_place is None:
+            operated.append(moves.operated.keypoints_before)
+    disturbed = [points for obj in moves.disturbed for points in (obj.keypoints_before, obj.keypoints_after)]
+    for key, points in (("operated", operated), ("disturbed", disturbed)):
+        xy = np.round(np.vstack(points).reshape(-1, 2) if points else np.zeros((0, 2))).astype(int)
         inside = (xy[:, 0] >= 0) & (xy[:, 1] >= 0) & (xy[:, 0] < changed.shape[1]) & (xy[:, 1] < changed.shape[0])
         seeds[key] = xy[inside]
     # Only the changed regions the disturbed objects' keypoints lie in; in one shared with the
@@ -378,5 +456,5 @@ def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = N
             distance[key] = cv2.distanceTransform(image, cv2.DIST_L2, 5)
         restore = touched & (distance["disturbed"] < distance["operated"])
     meant = post.copy()
-    meant[restore] = pre[restore]
+    meant[restore] = source[restore]
     return moves, meant

@@ -10,6 +10,8 @@ the robot is the Panda (``pick_and_place``).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from vslsp.sim.panda import Panda
@@ -25,13 +27,30 @@ __all__ = ["Item", "PandaTable", "Placement"]
 class PandaTable(TabletopWorld):
     """The Panda table as a :class:`~vslsp.worlds.World`."""
 
+    def __init__(self, layout: list[tuple[Item, Placement]], seed: int = 0, gui: bool = False) -> None:
+        super().__init__(layout, seed, gui)
+        # How far (x, y m) the tutor's slips carried each item from where the tutor put it, with
+        # what it stands on (see :meth:`as_it_lies`).
+        self.slipped: dict[str, tuple[float, float]] = {}
+
     @classmethod
     def from_layout(cls, layout: list[tuple[Item, Placement]], seed: int = 0, gui: bool = False) -> PandaTable:
         return cls(layout, seed, gui)
 
     def tutor_move(self, name: str, where: Placement) -> None:
-        """The tutor puts item ``name`` at ``where`` by hand."""
+        """The tutor puts item ``name`` at ``where`` by hand: it lies as the tutor put it, on
+        what it stands on (which keeps its own slip)."""
+        self.slipped[name] = self.slipped.get(where.on, (0.0, 0.0)) if where.on else (0.0, 0.0)
         self.tutor_place(name, where)
+
+    def as_it_lies(self, where: Placement) -> Placement:
+        """``where``, meant on an item where the tutor put it, on that item as it lies: moved
+        with it when the tutor's slip nudged it (or what it stands on). A tutor stacks a disk on
+        the one below it, wherever the hand's slip left that one; stacked over the base's
+        centre instead, the disk would hang off it (the Tower of Hanoi). Without slips,
+        ``where`` itself."""
+        dx, dy = self.slipped.get(where.on, (0.0, 0.0)) if where.on else (0.0, 0.0)
+        return replace(where, x=where.x + dx, y=where.y + dy) if (dx, dy) != (0.0, 0.0) else where
 
     @property
     def robot(self) -> Panda:
@@ -68,6 +87,8 @@ class PandaTable(TabletopWorld):
         for sign in (1.0, -1.0):
             moved = (x + sign * slip.dx_m, y + sign * slip.dy_m)
             if self._free(slip.name, support, (x, y), moved):
+                before = self.slipped.get(slip.name, (0.0, 0.0))
+                self.slipped[slip.name] = (before[0] + sign * slip.dx_m, before[1] + sign * slip.dy_m)
                 self.tutor_place(
                     slip.name, Placement(*moved, yaw + sign * float(np.radians(slip.dyaw_deg)), on=support)
                 )
