@@ -86,18 +86,25 @@ def check_pose(label: str, pose: tuple[float, float, float] | np.ndarray) -> np.
 
 def wrist_branch(pick: np.ndarray, place: np.ndarray) -> tuple[float, float]:
     """θ_pick and θ_place shifted by the same multiple of π (the fingers close alike) so that
-    joint 7 stays furthest inside its limits; the item turns by θ_place − θ_pick (mod 2π)."""
-    turn = float(np.angle(np.exp(1j * (place[2] - pick[2]))))
+    joint 7 stays furthest inside its limits; the item turns by θ_place − θ_pick (mod 2π). The
+    wrist turns the shorter way, unless no shift keeps joint 7 inside its limits that way: then
+    the longer way, which leaves the item turned the same (a turn of nearly half a revolution
+    between a pick and a place that the arm's base sees from different directions can need
+    more of joint 7 one way than its range holds, and less the other way: stacking, seed 40)."""
+    shorter = float(np.angle(np.exp(1j * (place[2] - pick[2]))))
     best: tuple[float, float, float] | None = None
-    for k in range(-2, 3):
-        theta_pick = float(pick[2] + k * np.pi)
-        theta_place = theta_pick + turn
-        margin = min(
-            UPPER[6] - abs(Panda.wrist_angle(x, y, t))
-            for x, y, t in ((pick[0], pick[1], theta_pick), (place[0], place[1], theta_place))
-        )
-        if best is None or margin > best[0]:
-            best = (margin, theta_pick, theta_place)
+    for turn in (shorter, shorter - float(np.copysign(2.0 * np.pi, shorter))):
+        for k in range(-2, 3):
+            theta_pick = float(pick[2] + k * np.pi)
+            theta_place = theta_pick + turn
+            margin = min(
+                UPPER[6] - abs(Panda.wrist_angle(x, y, t))
+                for x, y, t in ((pick[0], pick[1], theta_pick), (place[0], place[1], theta_place))
+            )
+            if best is None or margin > best[0]:
+                best = (margin, theta_pick, theta_place)
+        if best is not None and best[0] > 0.0:
+            break
     assert best is not None
     return best[1], best[2]
 
