@@ -22,12 +22,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
-from collections import Counter
-from pathlib import Path
 
-from vslsp.tasks import get_task, run_trials
-from vslsp.tasks.statistics import wilson_interval
+from vslsp.tasks import get_task, run_trials, trial_log
 
 
 def slipped(result) -> int:
@@ -39,41 +35,21 @@ def slipped(result) -> int:
     )
 
 
-def run(name: str, seeds: list[int], probability: float, detection: bool, workers: int) -> tuple[list[dict], bool]:
-    """The trials of ``seeds`` of experiment ``name``, one record each (those finished when
-    Ctrl-C or SIGTERM stopped the run), and whether it was stopped."""
-    task = get_task(name, tutor_slips=probability, slip_detection=detection)
+def run(group: dict, seeds: list[int], workers: int) -> tuple[list[dict], bool]:
+    """The trials of ``seeds`` of ``group`` (experiment, probability, slip_detection), one
+    line each (those finished when Ctrl-C or SIGTERM stopped the run), and whether it was
+    stopped."""
+    task = get_task(group["experiment"], tutor_slips=group["probability"], slip_detection=group["slip_detection"])
     trials = run_trials(task, seeds, workers=workers)
-    records = [
-        {
-            "experiment": name,
-            "probability": probability,
-            "slip_detection": detection,
-            "seed": r.seed,
-            "success": r.success,
-            "slipped": slipped(r),
-            "cpu_s": round(r.cpu_s, 3),
-            "cause": None if r.success else r.cause,
-            "error": r.error,
-        }
-        for r in trials.results
-    ]
+    records = trial_log.trial_records(trials.results, **group)
+    for record, result in zip(records, trials.results):
+        record["slipped"] = slipped(result)
     return records, bool(trials.interrupted)
 
 
 def row(records: list[dict]) -> dict:
     """Success, its 95 % interval, the operations slipped and the failures of ``records``."""
-    successes = sum(r["success"] for r in records)
-    low, high = wilson_interval(successes, len(records))
-    return {
-        "trials": len(records),
-        "successes": successes,
-        "rate": successes / len(records),
-        "interval_95": [round(low, 3), round(high, 3)],
-        "operations_slipped": sum(r["slipped"] for r in records),
-        "failures": dict(Counter(r["cause"] for r in records if not r["success"])),
-        "failed": {r["seed"]: r["error"] for r in records if not r["success"]},
-    }
+    return {**trial_log.success_row(records), "operations_slipped": sum(r.get("slipped", 0) for r in records)}
 
 
 def main() -> None:
@@ -83,63 +59,29 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--probability", type=float, default=0.5)
     parser.add_argument("--detection", nargs="+", default=["on", "off"], choices=["on", "off"])
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--chunk", type=int, default=10, help="seeds per round of every experiment and detection")
-    parser.add_argument(
-        "--out",
-        type=Path,
-        default=None,
-        help="a JSON-lines file of the trials: appended after each round, "
-        "and the trials it holds already are not run again (resume)",
-    )
-    parser.add_argument("--report-only", action="store_true", help="run nothing: report the trials in --out")
-    parser.add_argument("--json", action="store_true")
+    trial_log.add_arguments(parser, "experiment and detection")
     args = parser.parse_args()
     seeds = list(range(args.seed, args.seed + args.trials))
-    detections = [d == "on" for d in args.detection]
-    records = []
-    if args.out is not None and args.out.exists():
-        records = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
-    rounds = [
-        (seeds[start : start + args.chunk], detection, name)
-        for start in range(0, len(seeds), args.chunk)
-        for detection in detections
+    groups = [
+        {"experiment": name, "probability": args.probability, "slip_detection": d == "on"}
+        for d in args.detection
         for name in args.experiments
-        if not args.report_only
     ]
-    for chunk, detection, name in rounds:
-        done = {r["seed"] for r in _of(records, name, args.probability, detection)}
-        todo = [s for s in chunk if s not in done]
-        if todo:
-            new, stopped = run(name, todo, args.probability, detection, args.workers)
-            records.extend(new)
-            print(
-                f"{name} detection {'on' if detection else 'off'} seeds {todo[0]}-{todo[-1]}: "
-                f"{sum(r['success'] for r in new)}/{len(new)}",
-                file=sys.stderr,
-                flush=True,
-            )
-            if args.out is not None:
-                with args.out.open("a") as stream:
-                    stream.writelines(json.dumps(r) + "\n" for r in new)
-            if stopped:  # the finished trials are kept; the report covers what ran
-                break
+    records = trial_log.gather(args, seeds, groups, run)
     report(records, args, seeds)
-
-
-def _of(records: list[dict], name: str, probability: float, detection: bool) -> list[dict]:
-    return [
-        r
-        for r in records
-        if r["experiment"] == name and r["probability"] == probability and r["slip_detection"] is detection
-    ]
 
 
 def report(records: list[dict], args: argparse.Namespace, seeds: list[int]) -> None:
     """Print (or with ``--json`` write) the rows of ``records`` on ``seeds``."""
     wanted = set(seeds)
     groups = {
-        (name, detection): [r for r in _of(records, name, args.probability, detection) if r["seed"] in wanted]
+        (name, detection): [
+            r
+            for r in trial_log.of(
+                records, {"experiment": name, "probability": args.probability, "slip_detection": detection}
+            )
+            if r["seed"] in wanted
+        ]
         for name in args.experiments
         for detection in (True, False)
     }

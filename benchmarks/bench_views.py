@@ -22,47 +22,24 @@ from __future__ import annotations
 import argparse
 import json
 import statistics
-import sys
-from collections import Counter
-from pathlib import Path
 
-from vslsp.tasks import get_task, run_trials
-from vslsp.tasks.statistics import wilson_interval
+from vslsp.tasks import get_task, run_trials, trial_log
 
 EXPERIMENTS = ("table-cleaning", "stacking")
 
 
-def run(name: str, seeds: list[int], views: int, workers: int) -> tuple[list[dict], bool]:
-    """The trials of ``seeds`` of experiment ``name`` with ``views`` depth cameras, one record each
-    (those finished when Ctrl-C or SIGTERM stopped the run), and whether it was stopped."""
-    trials = run_trials(get_task(name, views=views), seeds, workers=workers)
-    records = [
-        {
-            "experiment": name,
-            "views": views,
-            "seed": r.seed,
-            "success": r.success,
-            "cpu_s": round(r.cpu_s, 3),
-            "cause": None if r.success else r.cause,
-            "error": r.error,
-        }
-        for r in trials.results
-    ]
-    return records, bool(trials.interrupted)
+def run(group: dict, seeds: list[int], workers: int) -> tuple[list[dict], bool]:
+    """The trials of ``seeds`` of ``group`` (experiment, views), one line each (those finished
+    when Ctrl-C or SIGTERM stopped the run), and whether it was stopped."""
+    trials = run_trials(get_task(group["experiment"], views=group["views"]), seeds, workers=workers)
+    return trial_log.trial_records(trials.results, **group), bool(trials.interrupted)
 
 
 def row(records: list[dict]) -> dict:
     """Success, its 95 % interval, the median CPU seconds and the failures of ``records``."""
-    successes = sum(r["success"] for r in records)
-    low, high = wilson_interval(successes, len(records))
     return {
-        "trials": len(records),
-        "successes": successes,
-        "rate": successes / len(records),
-        "interval_95": [round(low, 3), round(high, 3)],
+        **trial_log.success_row(records),
         "median_cpu_s": round(statistics.median(r["cpu_s"] for r in records), 3),
-        "failures": dict(Counter(r["cause"] for r in records if not r["success"])),
-        "failed": {r["seed"]: r["error"] for r in records if not r["success"]},
     }
 
 
@@ -83,46 +60,12 @@ def main() -> None:
     parser.add_argument("experiments", nargs="*", default=list(EXPERIMENTS))
     parser.add_argument("--trials", type=int, default=50)
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--views", type=int, nargs="+", default=[2, 1], choices=[1, 2])
-    parser.add_argument("--chunk", type=int, default=10, help="seeds per round of every experiment and view")
-    parser.add_argument(
-        "--out",
-        type=Path,
-        default=None,
-        help="a JSON-lines file of the trials: appended after each round, "
-        "and the trials it holds already are not run again (resume)",
-    )
-    parser.add_argument("--report-only", action="store_true", help="run nothing: report the trials in --out")
-    parser.add_argument("--json", action="store_true")
+    trial_log.add_arguments(parser, "experiment and view")
     args = parser.parse_args()
     seeds = list(range(args.seed, args.seed + args.trials))
-    records = []
-    if args.out is not None and args.out.exists():
-        records = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
-    rounds = [
-        (seeds[start : start + args.chunk], views, name)
-        for start in range(0, len(seeds), args.chunk)
-        for views in args.views
-        for name in args.experiments
-        if not args.report_only
-    ]
-    for chunk, views, name in rounds:
-        done = {r["seed"] for r in records if r["experiment"] == name and r["views"] == views}
-        todo = [s for s in chunk if s not in done]
-        if todo:
-            new, stopped = run(name, todo, views, args.workers)
-            records.extend(new)
-            print(
-                f"{name} --views {views} seeds {todo[0]}-{todo[-1]}: {sum(r['success'] for r in new)}/{len(new)}",
-                file=sys.stderr,
-                flush=True,
-            )
-            if args.out is not None:
-                with args.out.open("a") as stream:
-                    stream.writelines(json.dumps(r) + "\n" for r in new)
-            if stopped:  # the finished trials are kept; the report covers what ran
-                break
+    groups = [{"experiment": name, "views": views} for views in args.views for name in args.experiments]
+    records = trial_log.gather(args, seeds, groups, run)
     report(records, args, seeds)
 
 
