@@ -36,9 +36,7 @@ from vslsp.loop.perception import PerceivedState
 from vslsp.loop.pipeline import to_step
 from vslsp.sim import World
 from vslsp.symbolic import Step
-from vslsp.vision.features import object_features
-from vslsp.vsl.demonstration import ImagePlane, Operation, Pose, perceived_turn
-from vslsp.vsl.recorder import Heights
+from vslsp.vsl.demonstration import ImagePlane
 from vslsp.worlds.icub import tutor_slip
 from vslsp.worlds.slips import Slip, TutorSlips
 
@@ -163,23 +161,9 @@ class OperatedPlane(ImagePlane):
     records the operated object when several moved (:func:`~vslsp.grounding.moves.ground_moves`):
     a disturbed one is no operation of the demonstration."""
 
-    def get_object(
-        self, pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None, heights: Heights | None = None
-    ) -> Operation:
-        grounding = ground_moves(pre, post, self.robot_side).operated
-        before, after = grounding.pre_object, grounding.post_object
-        assert before is not None and after is not None  # ground_moves sees every moved object both times
-        return Operation(
-            pre_observation=pre,
-            post_observation=post,
-            grounding=grounding,
-            pose_pre=Pose(float(before.centroid[0]), float(before.centroid[1]), float(np.radians(before.orientation))),
-            pose_post=Pose(float(after.centroid[0]), float(after.centroid[1]), float(np.radians(after.orientation))),
-            object_size=float(max(before.box[2], before.box[3])),
-            features=object_features(pre, before.box),
-            pre_place=pre_place,
-            turn=None if pre_place is None else perceived_turn(pre, pre_place, post),
-        )
+    def ground_operation(self, pre: np.ndarray, post: np.ndarray) -> Grounding:
+        """The operated object's grounding when several moved."""
+        return ground_moves(pre, post, self.robot_side).operated
 
 
 def summary(results: list) -> dict:

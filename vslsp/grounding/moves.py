@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from vslsp.grounding.operation import Grounding
+from vslsp.grounding.operation import Grounding, grounding_of
 from vslsp.grounding.overlay import draw_grounding
-from vslsp.grounding.spatial import check_robot_side, far_of, identify_action
+from vslsp.grounding.spatial import check_robot_side
 from vslsp.stages import in_stage
 from vslsp.vision.change import Change
 from vslsp.vision.landmark import Line, fit_line
@@ -85,21 +85,7 @@ def across_sizes(grounding: Grounding, line: Line) -> float:
 
 def _grounding(change: Change, line_pre: Line, line_post: Line, robot_side: str) -> Grounding:
     """One moved object grounded as :func:`vslsp.grounding.operation.ground` grounds the one."""
-    far_pre = far_of(change.before.centroid, line_pre, robot_side)
-    far_post = far_of(change.after.centroid, line_post, robot_side)
-    return Grounding(
-        name=change.before.name,
-        pre=change.before.centroid,
-        post=change.after.centroid,
-        landmark=line_pre,
-        far_pre=far_pre,
-        far_post=far_post,
-        action=identify_action(far_pre, far_post),
-        robot_side=robot_side,
-        pre_object=change.before,
-        post_object=change.after,
-        post_landmark=line_post,
-    )
+    return grounding_of(change.before, change.after, (line_pre, line_post), robot_side)
 
 
 _DISTURBED = (0, 255, 255)  # RGB: cyan boxes and words for the disturbed objects

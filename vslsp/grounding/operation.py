@@ -95,30 +95,45 @@ def ground(
     change = detect_change(pre, post)
     line_pre = fit_line(change.pre.dark, change.pre.scale, "pre-action image")
     line_post = fit_line(change.post.dark, change.post.scale, "post-action image")
-    far_pre = far_of(change.before.centroid, line_pre, robot_side)
-    far_post = far_of(change.after.centroid, line_post, robot_side)
     scenes: tuple[Scene | None, Scene | None] = (None, None)
     atoms: tuple[dict[Atom, bool] | None, dict[Atom, bool] | None] = (None, None)
     if predicates is not None:
         size = (pre.shape[1], pre.shape[0])
         scenes = (_scene(change.pre, size, line_pre, robot_side), _scene(change.post, size, line_post, robot_side))
         atoms = (ground_atoms(scenes[0], predicates), ground_atoms(scenes[1], predicates))
-    return Grounding(
-        name=change.before.name,
-        pre=change.before.centroid,
-        post=change.after.centroid,
-        landmark=line_pre,
-        far_pre=far_pre,
-        far_post=far_post,
-        action=identify_action(far_pre, far_post),
-        robot_side=robot_side,
-        pre_object=change.before,
-        post_object=change.after,
-        post_landmark=line_post,
+    return grounding_of(
+        change.before,
+        change.after,
+        (line_pre, line_post),
+        robot_side,
         atoms_pre=atoms[0],
         atoms_post=atoms[1],
         scene_pre=scenes[0],
         scene_post=scenes[1],
+    )
+
+
+def grounding_of(
+    before: DetectedObject, after: DetectedObject, lines: tuple[Line, Line], robot_side: str, **found
+) -> Grounding:
+    """The grounding of one object seen ``before`` and ``after`` the action, ``far`` from the
+    landmark ``lines`` (pre, post), the action it makes; ``found``: the atoms and scenes, when
+    predicates were given (:func:`ground`; each moved object of :func:`vslsp.grounding.moves.ground_moves`)."""
+    far_pre = far_of(before.centroid, lines[0], robot_side)
+    far_post = far_of(after.centroid, lines[1], robot_side)
+    return Grounding(
+        name=before.name,
+        pre=before.centroid,
+        post=after.centroid,
+        landmark=lines[0],
+        far_pre=far_pre,
+        far_post=far_post,
+        action=identify_action(far_pre, far_post),
+        robot_side=robot_side,
+        pre_object=before,
+        post_object=after,
+        post_landmark=lines[1],
+        **found,
     )
 
 

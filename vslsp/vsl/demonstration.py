@@ -207,7 +207,7 @@ class ImagePlane:
     ) -> Operation:
         """Ground one operation from its pre- and post-action observations (H, W, 3) uint8 (and
         its pre-place one, for the turn); ``heights`` are not needed (poses stay in pixels)."""
-        grounding = ground(pre, post, self.robot_side)
+        grounding = self.ground_operation(pre, post)
         before, after = grounding.pre_object, grounding.post_object
         if before is None or after is None:
             raise InputError(
@@ -225,6 +225,11 @@ class ImagePlane:
             pre_place=pre_place,
             turn=None if pre_place is None else perceived_turn(pre, pre_place, post),
         )
+
+    def ground_operation(self, pre: np.ndarray, post: np.ndarray) -> Grounding:
+        """The operation's grounding from its pre- and post-action observations: the one
+        object that moved (:func:`~vslsp.grounding.operation.ground`)."""
+        return ground(pre, post, self.robot_side)
 
     def demonstration(self, operations: tuple[Operation, ...]) -> Demonstration:
         return Demonstration(self.landmark, operations, self.robot_side)

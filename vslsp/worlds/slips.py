@@ -38,6 +38,11 @@ class Slip:
     dy_m: float
     dyaw_deg: float
 
+    def both_ways(self) -> tuple[Slip, Slip]:
+        """This slip and the one the other way (a world tries the second when the first is not
+        free)."""
+        return self, Slip(self.operation, self.name, -self.dx_m, -self.dy_m, -self.dyaw_deg)
+
     @property
     def distance_m(self) -> float:
         return math.hypot(self.dx_m, self.dy_m)

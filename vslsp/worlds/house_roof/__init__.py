@@ -76,11 +76,11 @@ class HouseBoard:
         kind, index = slip.name.split("-")
         pose = (self.state.bodies if kind == "body" else self.state.roofs)[int(index)]
         assert pose is not None  # a candidate lies on the board
-        for sign in (1.0, -1.0):
+        for way in slip.both_ways():
             moved = (
-                pose[0] + sign * slip.dx_m / PIXEL_M,
-                pose[1] + sign * slip.dy_m / PIXEL_M,
-                pose[2] + sign * float(np.radians(slip.dyaw_deg)),
+                pose[0] + way.dx_m / PIXEL_M,
+                pose[1] + way.dy_m / PIXEL_M,
+                pose[2] + float(np.radians(way.dyaw_deg)),
             )
             if self._free(kind, int(index), pose, moved):
                 if kind == "body":
@@ -89,13 +89,7 @@ class HouseBoard:
                     self.state = replace(self.state, bodies=tuple(bodies))
                 else:
                     self.state = self.state.with_roof(int(index), moved)
-                return Slip(
-                    slip.operation,
-                    slip.name,
-                    float(sign * slip.dx_m),
-                    float(sign * slip.dy_m),
-                    float(sign * slip.dyaw_deg),
-                )
+                return way
         return None
 
     def _free(self, kind: str, index: int, old: Pose2, new: Pose2) -> bool:

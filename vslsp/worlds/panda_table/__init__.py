@@ -84,21 +84,13 @@ class PandaTable(TabletopWorld):
         neither way is free."""
         x, y, _, yaw = self.pose(slip.name)
         support = self._support(slip.name) or None
-        for sign in (1.0, -1.0):
-            moved = (x + sign * slip.dx_m, y + sign * slip.dy_m)
+        for way in slip.both_ways():
+            moved = (x + way.dx_m, y + way.dy_m)
             if self._free(slip.name, support, (x, y), moved):
                 before = self.slipped.get(slip.name, (0.0, 0.0))
-                self.slipped[slip.name] = (before[0] + sign * slip.dx_m, before[1] + sign * slip.dy_m)
-                self.tutor_place(
-                    slip.name, Placement(*moved, yaw + sign * float(np.radians(slip.dyaw_deg)), on=support)
-                )
-                return Slip(
-                    slip.operation,
-                    slip.name,
-                    float(sign * slip.dx_m),
-                    float(sign * slip.dy_m),
-                    float(sign * slip.dyaw_deg),
-                )
+                self.slipped[slip.name] = (before[0] + way.dx_m, before[1] + way.dy_m)
+                self.tutor_place(slip.name, Placement(*moved, yaw + float(np.radians(way.dyaw_deg)), on=support))
+                return way
         return None
 
     def _radius(self, name: str) -> float:
