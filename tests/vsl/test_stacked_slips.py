@@ -131,3 +131,17 @@ def test_the_tutor_stacks_on_a_nudged_disk_where_it_lies():
         on_top = world.as_it_lies(Placement(x, y, 0.0, on="disk-2"))
         assert (on_top.x, on_top.y) == (on_nudged.x, on_nudged.y)
         assert world.as_it_lies(Placement(x, y, 0.0, on="base-1")).x == x
+
+
+@pytest.mark.slow
+def test_a_nudge_seen_after_the_taking_is_not_swallowed_by_a_fit_of_identical_bases():
+    """Tower of Hanoi seed 30 at P = 0.5, operation 5: disk 1 is lifted off disk 2 and put on
+    base 1, and the hand nudges disk 2. Between the pre-place and post observations the nudge
+    fits, and so does base 1's look onto base 3's (disk 1 covered the one, the nudge uncovered
+    the other); every nudge found there is a slip, whatever else fits."""
+    from vslsp.tasks import get_task
+
+    result = get_task("tower-of-hanoi", tutor_slips=0.5, slip_detection=True).run_trial(30)
+    assert result.success, result.error
+    fifth = result.operations[4]
+    assert fifth["slip"]["object"] == "disk-2" and fifth["disturbed"] == ["disk-2"]

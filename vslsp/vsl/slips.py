@@ -141,23 +141,12 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
     operated one told from the disturbed ones (see the module docstring for the steps and the
     rule); given the pre-place observation (H, W, 3: the world while the tutor held the object)
     the operated object is one that the pre-place observation lacks."""
-    changed = changed_pixels(pre, post)
+    setup = _pairing(pre, post)
+    if setup is None:
+        return Moves(None, ())
+    pairing, grown = setup
     # Where the pre-place observation lacks what the pre one shows: the object the tutor took.
     taken = None if pre_place is None else cv2.dilate(changed_pixels(pre, pre_place), np.ones((5, 5), np.uint8))
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(changed)
-    regions = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= MIN_REGION]
-    if not regions:
-        return Moves(None, ())
-    area = cv2.dilate(np.isin(labels, regions).astype(np.uint8), _RIM)
-    before, after = extract_features(pre, area), extract_features(post, area)
-    if len(before) < MIN_INLIERS or len(after) < MIN_INLIERS:
-        return Moves(None, ())
-    # Each pre keypoint belongs to the region it lies in (or next to).
-    grown = cv2.dilate(labels.astype(np.float32), _RIM).astype(np.int32)
-    where = np.clip(np.round(before.keypoints[:, :2]).astype(int), 0, [pre.shape[1] - 1, pre.shape[0] - 1])
-    owner = grown[where[:, 1], where[:, 0]]
-    on_change = cv2.dilate(changed, np.ones((5, 5), np.uint8))
-    pairing = (before, after, regions, owner, on_change, (pre, post))
     moved = _pair(*pairing)
     if pre_place is None:
         return _decide(moved, grown, None)
@@ -169,6 +158,33 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
         first = _decide(_pair(*pairing, first=taken), grown, taken)
         moves = first if first.operated is not None else moves
     return _uncovered_slips(moves, pre_place, post)
+
+
+# What _pair pairs: the pre and post features, the changed regions' labels, each pre keypoint's
+# region, the changed pixels (H, W) and the images (pre, post).
+_Pairing = tuple[Features, Features, list[int], np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]
+
+
+def _pairing(pre: np.ndarray, post: np.ndarray) -> tuple[_Pairing, np.ndarray] | None:
+    """What :func:`_pair` pairs between ``pre`` and ``post`` (H, W, 3) uint8: the features of
+    both in and about the changed regions (steps 1 and 2 of the module docstring), each pre
+    keypoint's region, the changed pixels and the images; and the regions (H, W) labels, grown
+    by a rim. None when nothing changed or too few features lie there."""
+    changed = changed_pixels(pre, post)
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(changed)
+    regions = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= MIN_REGION]
+    if not regions:
+        return None
+    area = cv2.dilate(np.isin(labels, regions).astype(np.uint8), _RIM)
+    before, after = extract_features(pre, area), extract_features(post, area)
+    if len(before) < MIN_INLIERS or len(after) < MIN_INLIERS:
+        return None
+    # Each pre keypoint belongs to the region it lies in (or next to).
+    grown = cv2.dilate(labels.astype(np.float32), _RIM).astype(np.int32)
+    where = np.clip(np.round(before.keypoints[:, :2]).astype(int), 0, [pre.shape[1] - 1, pre.shape[0] - 1])
+    owner = grown[where[:, 1], where[:, 0]]
+    on_change = cv2.dilate(changed, np.ones((5, 5), np.uint8))
+    return (before, after, regions, owner, on_change, (pre, post)), grown
 
 
 def _pair(
@@ -249,9 +265,10 @@ def _uncovered_slips(moves: Moves, pre_place: np.ndarray, post: np.ndarray) -> M
     a fit of something else's look: the identical bases of the Tower of Hanoi, one uncovered by
     the slip, another covered by the arrival). A fit ending where the operated object arrived
     is of the arrival (a disk put on another, their looks alike in part), not a slip."""
+    setup = _pairing(pre_place, post)
     found = [
         obj
-        for obj in find_moved(pre_place, post).moved
+        for obj in (_pair(*setup[0]) if setup is not None else [])
         if obj.distance <= 2.0 * _spread(obj.keypoints_before)
         and not any(_same_object(obj, other) or _same_place(obj, other) for other in moves.disturbed)
         and (moves.operated is None or not _arrives(moves.operated, obj))

@@ -41,7 +41,8 @@ class Slip:
     def both_ways(self) -> tuple[Slip, Slip]:
         """This slip and the one the other way (a world tries the second when the first is not
         free)."""
-        return self, Slip(self.operation, self.name, -self.dx_m, -self.dy_m, -self.dyaw_deg)
+        ahead = Slip(self.operation, self.name, float(self.dx_m), float(self.dy_m), float(self.dyaw_deg))
+        return ahead, Slip(self.operation, self.name, -ahead.dx_m, -ahead.dy_m, -ahead.dyaw_deg)
 
     @property
     def distance_m(self) -> float:
