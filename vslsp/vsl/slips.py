@@ -297,6 +297,11 @@ def _decide(moved: list[MovedObject], regions: np.ndarray, taken: np.ndarray | N
     uncovered there), not another object's move."""
     leaving = [obj for obj in moved if _label(regions, obj.before) != _label(regions, obj.after)]
     carried = [obj for obj in leaving if taken is None or _on(taken, obj.keypoints_before)]
+    if not carried and taken is not None:
+        # The tutor took it (the pre-place observation lacks it) and put it down beside where
+        # it was, so that its two places make one changed region: still the operation, not a
+        # nudge (domino: the piece a slip had pushed out of line, next put at the row's end).
+        carried = [obj for obj in moved if _on(taken, obj.keypoints_before)]
     operated = max(carried, key=lambda o: o.distance) if carried else None
     disturbed = [
         obj
@@ -472,6 +477,16 @@ def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = N
             image[xy[:, 1], xy[:, 0]] = 0
             distance[key] = cv2.distanceTransform(image, cv2.DIST_L2, 5)
         restore = touched & (distance["disturbed"] < distance["operated"])
+    elif pre_place is not None:
+        # The operated object not identified (its look alike in part to others', as dominoes'
+        # are), a region it shares with a disturbed one holds its arrival too: only the
+        # disturbed objects' own pixels are restored (the hulls of their keypoints before and
+        # after, and a rim), so that the arrival stays for the recorder to find.
+        own = np.zeros(changed.shape, np.uint8)
+        for obj in moves.disturbed:
+            for points in (obj.keypoints_before, obj.keypoints_after):
+                cv2.fillConvexPoly(own, cv2.convexHull(np.round(points).astype(np.int32)), 1)
+        restore = touched & (cv2.dilate(own, _RIM) > 0)
     meant = post.copy()
     meant[restore] = source[restore]
     return moves, meant
