@@ -484,8 +484,8 @@ def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = N
         # after, and a rim), so that the arrival stays for the recorder to find.
         own = np.zeros(changed.shape, np.uint8)
         for obj in moves.disturbed:
-            for points in (obj.keypoints_before, obj.keypoints_after):
-                cv2.fillConvexPoly(own, cv2.convexHull(np.round(points).astype(np.int32)), 1)
+            for kept in (obj.keypoints_before, obj.keypoints_after):
+                cv2.fillConvexPoly(own, cv2.convexHull(np.round(kept).astype(np.int32)), 1)
         restore = touched & (cv2.dilate(own, _RIM) > 0)
     meant = post.copy()
     meant[restore] = source[restore]
