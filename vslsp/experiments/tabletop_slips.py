@@ -25,6 +25,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.experiments.tabletop_protocol import Move, TabletopDemonstration, look, relation
+from vslsp.vision.features import extract_features
 from vslsp.vsl.pick_place import TableModel, TableView
 from vslsp.vsl.recorder import Heights, Recorder
 from vslsp.vsl.slips import Moves, UnseenOperation, separate
@@ -102,17 +103,22 @@ def demonstrate_with_slips(
 
 def on_nudged(recorder: Recorder, operation, moves: Moves, nudged: list[np.ndarray]) -> list[np.ndarray]:
     """Mind what was put on an item the tutor's slip had nudged. The rule: an item put on a
-    nudged one lies where it lies on it, so its place is found by the item below (the
-    operation's pre-place frame that item's size, not the wider one whose surroundings the
-    slip no longer agrees with: the Tower of Hanoi's disk put on a disk nudged off its base's
-    centre, which the new world has centred). ``nudged``: the keypoints (N, 2) px of the items
+    nudged one lies where it lies on it, so its place is found by the item below (that item's
+    features in the pre-place observation, matched as the pick matches its object; the frame
+    reported that item's size), not by the wider frame whose surroundings the slip no longer
+    agrees with (the Tower of Hanoi's disk put on a disk nudged off its base's centre, which the
+    new world has centred). ``nudged``: the keypoints (N, 2) px of the items
     disturbed so far, where the slips left them; an item stays nudged until the tutor takes it
     (a third of its keypoints where the operated item was seen); the operation's own disturbed
     items join. Sets the last recorded operation's frame; returns the items nudged now."""
     below = [points for points in nudged if _inside(operation.place_point, points)]
     if below:
         side = max(float(np.ptp(points, axis=0).max()) for points in below)
-        recorder.operations[-1] = replace(operation, place_frame=side)
+        area = np.zeros(operation.pre_place.shape[:2], np.uint8)
+        for points in below:
+            cv2.fillConvexPoly(area, cv2.convexHull(np.round(points).astype(np.int32)), 1)
+        features = extract_features(operation.pre_place, cv2.dilate(area, np.ones((15, 15), np.uint8)))
+        recorder.operations[-1] = replace(operation, place_frame=side, place_features=features)
     taken = moves.operated.keypoints_before if moves.operated is not None else np.zeros((0, 2))
     kept = [points for points in nudged if not _same_item(points, taken)]
     return kept + [obj.keypoints_after for obj in moves.disturbed]

@@ -114,6 +114,9 @@ class RecordedOperation:
     # (:attr:`PickPlaceDemonstration.place_frame`): the object it was put on, when the tutor's
     # slip had nudged that one (:func:`~vslsp.experiments.tabletop_slips.demonstrate_with_slips`).
     place_frame: float | None = None
+    # The SIFT features of that object in the pre-place observation: the place is found by it,
+    # as the pick finds the object (:func:`~vslsp.vsl.reproduction.find_place`).
+    place_features: Features | None = None
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def observation_features(self, which: str, point: tuple[float, float], side: float) -> Features:

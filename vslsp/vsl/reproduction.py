@@ -132,6 +132,8 @@ def find_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_fe
     placement, its frames (:func:`place_frames`) growing while it is ambiguous.
     :class:`NoMatch` when nothing matches."""
     op, sizes = demo.operations[k], place_frames(demo, world.shape, k)
+    if op.place_features is not None:
+        return match_below(demo, k, world_features)
     return match_observation(
         op.pre_place,
         world,
@@ -140,6 +142,34 @@ def find_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_fe
         Search.growing(sizes),
         op.observation_features("pre_place", op.place_point, max(sizes)),
         world_features,
+    )
+
+
+def match_below(demo: PickPlaceDemonstration, k: int, world_features: Features) -> Match | NoMatch:
+    """The place of operation ``k``, whose object the tutor put on one its hand had nudged
+    (:func:`~vslsp.experiments.tabletop_slips.on_nudged`): that object's features in the
+    pre-place observation found in the world as the pick finds its object (SIFT and RANSAC),
+    the place point carried by that match. The frame about the place that the slip left
+    askew from its surroundings (the base the new world has the disk centred on) would not
+    agree with the world; the object below does, wherever it lies."""
+    op = demo.operations[k]
+    assert op.place_features is not None
+    found = object_candidates(op.place_features, world_features)
+    if not found:
+        return NoMatch(f"operation {k + 1}'s place (the object it goes on) is not in the world")
+    transform, inliers = found[0]
+    x, y = apply(transform, op.place_point)
+    decomposition = decompose(transform)
+    return Match(
+        x,
+        y,
+        decomposition.theta,
+        inliers / len(op.place_features),
+        int(round(first_place_frame(demo, k))),
+        len(found) > 1 and found[1][1] >= _CLOSE * inliers,
+        len(found),
+        transform,
+        decomposition,
     )
 
 
