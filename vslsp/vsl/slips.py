@@ -477,16 +477,25 @@ def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = N
             image[xy[:, 1], xy[:, 0]] = 0
             distance[key] = cv2.distanceTransform(image, cv2.DIST_L2, 5)
         restore = touched & (distance["disturbed"] < distance["operated"])
-    elif pre_place is not None:
+    meant = post.copy()
+    meant[restore] = source[restore]
+    if moves.operated is None and pre_place is not None and not _put_down(pre_place, meant):
         # The operated object not identified (its look alike in part to others', as dominoes'
-        # are), a region it shares with a disturbed one holds its arrival too: only the
-        # disturbed objects' own pixels are restored (the hulls of their keypoints before and
-        # after, and a rim), so that the arrival stays for the recorder to find.
+        # are) and its arrival in a changed region with a disturbed object's, restoring the
+        # regions whole erased the arrival: only the disturbed objects' own pixels are restored
+        # (the hulls of their keypoints before and after, and a rim).
         own = np.zeros(changed.shape, np.uint8)
         for obj in moves.disturbed:
             for kept in (obj.keypoints_before, obj.keypoints_after):
                 cv2.fillConvexPoly(own, cv2.convexHull(np.round(kept).astype(np.int32)), 1)
         restore = touched & (cv2.dilate(own, _RIM) > 0)
-    meant = post.copy()
-    meant[restore] = source[restore]
+        meant = post.copy()
+        meant[restore] = source[restore]
     return moves, meant
+
+
+def _put_down(pre_place: np.ndarray, post: np.ndarray) -> bool:
+    """Whether ``post`` shows something put down that ``pre_place`` lacks (a changed region of
+    at least :data:`MIN_REGION` px)."""
+    count, _, stats, _ = cv2.connectedComponentsWithStats(changed_pixels(pre_place, post))
+    return any(stats[k, cv2.CC_STAT_AREA] >= MIN_REGION for k in range(1, count))
