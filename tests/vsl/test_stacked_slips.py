@@ -168,3 +168,17 @@ def test_dominoes_a_short_carry_is_the_operation_and_an_unidentified_arrival_is_
     assert result.success, result.error
     record = next(op for op in result.operations if op["operation"] == operation and "operated" in op)
     assert record["disturbed"] == ([nudged] if nudged else [])
+
+
+@pytest.mark.slow
+def test_the_taken_roof_is_not_paired_onto_a_nudged_roofs_new_place():
+    """house-roof seed 80 at P = 0.5, operation 2: a roof goes onto a body while the hand nudges
+    an identical roof. The taken roof's own arrival shows too few features to fit; paired first,
+    it fits onto the nudged roof's new place, which a nudge seen between the pre-place and post
+    observations explains: the nudge is the slip, and the arrival is left to the recorder."""
+    from vslsp.tasks import get_task
+
+    result = get_task("house-roof", tutor_slips=0.5, slip_detection=True).run_trial(80)
+    assert result.success, result.error
+    second = result.operations[1]
+    assert second["slip"]["object"] == "roof-2" and second["disturbed"] == ["roof-2"]

@@ -151,13 +151,28 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
     if pre_place is None:
         return _decide(moved, grown, None)
     moves = _decide(moved, grown, taken)
+    nudges = _nudges(pre_place, post)
     if moves.operated is None and taken is not None:
         # The object the tutor took moved for sure. When the nearest-first pairing left it out
         # (a short fit of another object onto its arrival took its place: disks whose look it
-        # shares in part, under it there), it is paired first.
+        # shares in part, under it there), it is paired first; unless that puts it where a
+        # nudge seen between the pre-place and post observations ended (identical roofs: the
+        # taken one's fit onto the nudged one's new place, its own arrival showing too few
+        # features to fit; the nudge is the slip, and the arrival is left to the recorder).
         first = _decide(_pair(*pairing, first=taken), grown, taken)
-        moves = first if first.operated is not None else moves
-    return _uncovered_slips(moves, pre_place, post)
+        if first.operated is not None and not any(_same_place(first.operated, nudge) for nudge in nudges):
+            moves = first
+    return _uncovered_slips(moves, nudges)
+
+
+def _nudges(pre_place: np.ndarray, post: np.ndarray) -> list[MovedObject]:
+    """The slips seen after the object was taken: the moves between the pre-place and post
+    observations no longer than twice the object's keypoint spread (a nudge; a longer one is a
+    fit of something else's look: the identical bases of the Tower of Hanoi, one uncovered by
+    the slip, another covered by the arrival)."""
+    setup = _pairing(pre_place, post)
+    moved = _pair(*setup[0]) if setup is not None else []
+    return [obj for obj in moved if obj.distance <= 2.0 * _spread(obj.keypoints_before)]
 
 
 # What _pair pairs: the pre and post features, the changed regions' labels, each pre keypoint's
@@ -253,24 +268,20 @@ def _pair(
     return moved
 
 
-def _uncovered_slips(moves: Moves, pre_place: np.ndarray, post: np.ndarray) -> Moves:
+def _uncovered_slips(moves: Moves, nudges: list[MovedObject]) -> Moves:
     """``moves`` with the objects the operated one covered in the pre observation that the
     tutor's hand then nudged. The rule: the hand slips after the object is taken, so every
-    object that moved between the pre-place observation (the operated object held out of view,
-    what it covered uncovered) and the post observation, apart from the operated object's
-    arrival, is disturbed. A disk taken from the one it lay on hides all but a sliver of it in
-    the pre observation, too little to identify it there (Tower of Hanoi: the tutor lifts disk 1
-    off disk 2 and nudges disk 2); in the pre-place one it lies whole. As in :func:`_decide`,
-    a slip is a nudge: a move no longer than twice the object's keypoint spread (a longer one is
-    a fit of something else's look: the identical bases of the Tower of Hanoi, one uncovered by
-    the slip, another covered by the arrival). A fit ending where the operated object arrived
-    is of the arrival (a disk put on another, their looks alike in part), not a slip."""
-    setup = _pairing(pre_place, post)
+    nudge between the pre-place observation (the operated object held out of view, what it
+    covered uncovered) and the post observation (:func:`_nudges`) is disturbed, apart from the
+    operated object's arrival. A disk taken from the one it lay on hides all but a sliver of it
+    in the pre observation, too little to identify it there (Tower of Hanoi: the tutor lifts
+    disk 1 off disk 2 and nudges disk 2); in the pre-place one it lies whole. A fit ending
+    where the operated object arrived is of the arrival (a disk put on another, their looks
+    alike in part), not a slip."""
     found = [
         obj
-        for obj in (_pair(*setup[0]) if setup is not None else [])
-        if obj.distance <= 2.0 * _spread(obj.keypoints_before)
-        and not any(_same_object(obj, other) or _same_place(obj, other) for other in moves.disturbed)
+        for obj in nudges
+        if not any(_same_object(obj, other) or _same_place(obj, other) for other in moves.disturbed)
         and (moves.operated is None or not _arrives(moves.operated, obj))
     ]
     if not found:
