@@ -7,7 +7,7 @@ place, and with probability P its hand nudges another item as it lets go
 :meth:`~vslsp.worlds.panda_table.PandaTable.nudge`): after the pre-place observation, before the
 post-place one. The relation the judge holds the reproduction to is the one the tutor meant,
 taken before the slip. With the slip detection (default) VSL finds every item that moved
-between the pre-pick and post-place observations (:func:`~vslsp.vsl.slips.separate`, in the
+between the pre-pick and post-place observations (:func:`~vslsp.vsl.restore.separate`, in the
 top-down view), tells the operated one from the disturbed ones and records the operation from
 the post-place observation the tutor meant (the disturbed items restored); without it (the
 paper's VSL) from the post-place observation as it is. The next operation's pre-pick
@@ -28,7 +28,8 @@ from vslsp.experiments.tabletop_protocol import Move, TabletopDemonstration, loo
 from vslsp.vision.features import extract_features
 from vslsp.vsl.pick_place import TableModel, TableView
 from vslsp.vsl.recorder import Heights, Recorder
-from vslsp.vsl.slips import Moves, UnseenOperation, separate
+from vslsp.vsl.restore import separate
+from vslsp.vsl.slips import Moves, UnseenOperation
 from vslsp.worlds.panda_table import layouts as scenes
 from vslsp.worlds.slips import TutorSlips
 
