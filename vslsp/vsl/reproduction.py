@@ -59,19 +59,30 @@ def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_
     the fraction of φ_k that are inliers; the match is ambiguous when a second placement
     gathers nearly as many. :class:`NoMatch` when the object is not found."""
     op = demo.operations[k]
-    found = object_candidates(op.features, world_features)
+    missing = f"operation {k + 1}'s object is not in the world (no SIFT-RANSAC match)"
+    return features_match(op.features, world_features, op.pick_point, demo.pick_frame, missing)
+
+
+def features_match(
+    features: Features, world_features: Features, point: tuple[float, float], frame: float, missing: str
+) -> Match | NoMatch:
+    """An object's ``features`` found among the world's (SIFT and RANSAC): ``point`` (px) carried
+    by the best placement, the share of the features that are its inliers, ambiguous when a
+    second placement gathers nearly as many; reported with the ``frame`` side (px).
+    :class:`NoMatch` (``missing``) when the object is not found."""
+    found = object_candidates(features, world_features)
     if not found:
-        return NoMatch(f"operation {k + 1}'s object is not in the world (no SIFT-RANSAC match)")
+        return NoMatch(missing)
     transform, inliers = found[0]
-    x, y = apply(transform, op.pick_point)
+    x, y = apply(transform, point)
     decomposition = decompose(transform)
     ambiguous = len(found) > 1 and found[1][1] >= _CLOSE * inliers
     return Match(
         x,
         y,
         decomposition.theta,
-        inliers / len(op.features),
-        int(round(demo.pick_frame)),
+        inliers / len(features),
+        int(round(frame)),
         ambiguous,
         len(found),
         transform,
@@ -154,23 +165,8 @@ def match_below(demo: PickPlaceDemonstration, k: int, world_features: Features) 
     agree with the world; the object below does, wherever it lies."""
     op = demo.operations[k]
     assert op.place_features is not None
-    found = object_candidates(op.place_features, world_features)
-    if not found:
-        return NoMatch(f"operation {k + 1}'s place (the object it goes on) is not in the world")
-    transform, inliers = found[0]
-    x, y = apply(transform, op.place_point)
-    decomposition = decompose(transform)
-    return Match(
-        x,
-        y,
-        decomposition.theta,
-        inliers / len(op.place_features),
-        int(round(first_place_frame(demo, k))),
-        len(found) > 1 and found[1][1] >= _CLOSE * inliers,
-        len(found),
-        transform,
-        decomposition,
-    )
+    missing = f"operation {k + 1}'s place (the object it goes on) is not in the world"
+    return features_match(op.place_features, world_features, op.place_point, first_place_frame(demo, k), missing)
 
 
 @in_stage("perception")
