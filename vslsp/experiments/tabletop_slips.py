@@ -29,7 +29,7 @@ from vslsp.vision.features import extract_features
 from vslsp.vsl.pick_place import TableModel, TableView
 from vslsp.vsl.recorder import Heights, Recorder
 from vslsp.vsl.restore import separate
-from vslsp.vsl.slips import Moves, UnseenOperation
+from vslsp.vsl.slips import Moves, UnseenOperation, keypoint_area
 from vslsp.worlds.panda_table import layouts as scenes
 from vslsp.worlds.slips import TutorSlips
 
@@ -115,10 +115,7 @@ def on_nudged(recorder: Recorder, operation, moves: Moves, nudged: list[np.ndarr
     below = [points for points in nudged if _inside(operation.place_point, points)]
     if below:
         side = max(float(np.ptp(points, axis=0).max()) for points in below)
-        area = np.zeros(operation.pre_place.shape[:2], np.uint8)
-        for points in below:
-            cv2.fillConvexPoly(area, cv2.convexHull(np.round(points).astype(np.int32)), 1)
-        features = extract_features(operation.pre_place, cv2.dilate(area, np.ones((15, 15), np.uint8)))
+        features = extract_features(operation.pre_place, keypoint_area(operation.pre_place.shape, below))
         recorder.operations[-1] = replace(operation, place_frame=side, place_features=features)
     taken = moves.operated.keypoints_before if moves.operated is not None else np.zeros((0, 2))
     kept = [points for points in nudged if not _same_item(points, taken)]

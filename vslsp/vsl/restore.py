@@ -8,7 +8,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from vslsp.vsl.slips import _RIM, MIN_REGION, Moves, changed_pixels, find_moved
+from vslsp.vsl.slips import MIN_REGION, Moves, changed_pixels, find_moved, keypoint_area
 
 
 def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None) -> tuple[Moves, np.ndarray]:
@@ -56,11 +56,10 @@ def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = N
         # are) and its arrival in a changed region with a disturbed object's, restoring the
         # regions whole erased the arrival: only the disturbed objects' own pixels are restored
         # (the hulls of their keypoints before and after, and a rim).
-        own = np.zeros(changed.shape, np.uint8)
-        for obj in moves.disturbed:
-            for kept in (obj.keypoints_before, obj.keypoints_after):
-                cv2.fillConvexPoly(own, cv2.convexHull(np.round(kept).astype(np.int32)), 1)
-        restore = touched & (cv2.dilate(own, _RIM) > 0)
+        own = keypoint_area(
+            changed.shape, [p for obj in moves.disturbed for p in (obj.keypoints_before, obj.keypoints_after)]
+        )
+        restore = touched & (own > 0)
         meant = post.copy()
         meant[restore] = source[restore]
     return moves, meant

@@ -330,6 +330,16 @@ def _decide(moved: list[MovedObject], regions: np.ndarray, taken: np.ndarray | N
     return Moves(operated, tuple(sorted(disturbed, key=lambda o: -o.distance)))
 
 
+def keypoint_area(shape: tuple[int, ...], point_sets) -> np.ndarray:
+    """The pixels (H, W) uint8 {0, 1} of ``shape`` (H, W, ...) that the convex hulls of the
+    keypoint arrays ``point_sets`` (each (N, 2) px) cover, with a rim about them (an object's
+    own pixels, as far as its keypoints show it)."""
+    area = np.zeros(shape[:2], np.uint8)
+    for points in point_sets:
+        cv2.fillConvexPoly(area, cv2.convexHull(np.round(points).astype(np.int32)), 1)
+    return cv2.dilate(area, _RIM)
+
+
 def _label(regions: np.ndarray, point: tuple[float, float]) -> int:
     x = min(max(int(round(point[0])), 0), regions.shape[1] - 1)
     y = min(max(int(round(point[1])), 0), regions.shape[0] - 1)
