@@ -34,6 +34,19 @@ def test_the_summary_rates_the_robots_operations_and_names_the_failures():
     assert "operation 1 (robot, B): grasp failed" in data["failures"][0]["error"]
 
 
+def test_a_demonstration_that_failed_after_recording_slips_is_summarised():
+    """A demonstration stopped at an operation it could not record keeps the operations recorded
+    before (what moved in each, with detection on); they are the tutor's, with no actor."""
+    slip = {"operation": 1, "moved": ["A", "B"], "operated": "A", "disturbed": ["B"], "slip": {"object": "B"}}
+    trials = [
+        TrialResult("domino", 0, True, None, 2.0, [operation("tutor", "ok"), operation("robot", "ok")]),
+        TrialResult("domino", 1, False, "demonstration: features do not match", 1.0, [slip, {"operation": 2}]),
+    ]
+    data = summary(get_task("domino", tutor_slips=0.5), Run(trials, [0, 1]))
+    assert (data["trials"], data["successes"], data["operations"], data["operations_ok"]) == (2, 1, 1, 1)
+    assert "pose_error" not in data  # the robot's one operation recorded no pose error
+
+
 def test_the_tower_of_hanoi_has_the_users_intervention_on_odd_seeds():
     assert (
         not get_task("tower-of-hanoi").for_seed(4).intervention and get_task("tower-of-hanoi").for_seed(5).intervention

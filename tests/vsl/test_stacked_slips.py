@@ -159,6 +159,9 @@ def test_a_nudge_seen_after_the_taking_is_not_swallowed_by_a_fit_of_identical_ba
         # the operated piece not identified (dominoes look alike in part); its arrival shares a
         # changed region with the nudged piece, which alone is restored
         (37, 2, "domino-1"),
+        # the nudged piece turned against its neighbour and pushed it a little; the operated
+        # piece's arrival, widened by that shift, is recorded from its own pixels alone
+        (62, 5, "domino-3"),
     ],
 )
 def test_dominoes_a_short_carry_is_the_operation_and_an_unidentified_arrival_is_kept(seed, operation, nudged):

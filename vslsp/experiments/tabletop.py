@@ -186,7 +186,7 @@ class TabletopExperiment(Task):
 
     def summary(self, results: list[TrialResult]) -> dict:
         """The robot's operations: how many, how many succeeded, the diagnoses of the others."""
-        robot = [op for r in results for op in (r.operations or []) if op["actor"] == "robot"]
+        robot = [op for r in results for op in (r.operations or []) if op.get("actor") == "robot"]
         ok = sum(op["diagnosis"] == Diagnosis.OK for op in robot)
         data: dict[str, Any] = {
             "operations": len(robot),
@@ -229,7 +229,7 @@ class TabletopExperiment(Task):
         return [
             (1000.0 * op["position_error_m"], op["angle_error_deg"])
             for op in result.operations or []
-            if op["actor"] == "robot" and op.get("position_error_m") is not None
+            if op.get("actor") == "robot" and op.get("position_error_m") is not None
         ]
 
     def paper_figures(self, data: Mapping[str, Any]) -> list[tuple[str, str, str]]:

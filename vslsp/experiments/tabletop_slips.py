@@ -28,7 +28,7 @@ from vslsp.experiments.tabletop_protocol import Move, TabletopDemonstration, loo
 from vslsp.vision.features import extract_features
 from vslsp.vsl.pick_place import TableModel, TableView
 from vslsp.vsl.recorder import Heights, Recorder
-from vslsp.vsl.restore import separate
+from vslsp.vsl.restore import only_arrival, separate
 from vslsp.vsl.slips import Moves, UnseenOperation, keypoint_area
 from vslsp.worlds.panda_table import layouts as scenes
 from vslsp.worlds.slips import TutorSlips
@@ -84,7 +84,7 @@ def demonstrate_with_slips(
         found.append(moves)
         posts.append(seen)
         try:
-            operation = recorder.record(pre_pick, post, pre_place, heights)
+            operation = record_meant(recorder, (pre_pick, post, pre_place), heights, moves)
         except InputError as unseen:
             raise UnseenOperation(str(unseen), (*records, record)) from unseen
         if moves is not None:
@@ -100,6 +100,24 @@ def demonstrate_with_slips(
         tuple(found),
         tuple(posts),
     )
+
+
+def record_meant(recorder: Recorder, observations: tuple, heights: Heights, moves: Moves | None):
+    """The operation recorded from its pre-pick, meant post-place and pre-place
+    ``observations``. The rule: a slip's nudge can push a neighbour a little (a domino turned
+    against the next one, a shift too small to be a move of its own), a change that the restore
+    leaves beside the operated item's arrival and that widens its changed region. When the
+    arrival then does not match the operated item's features, every change outside the operated
+    item's own pixels (its keypoints' hull where it arrived, and a rim) is taken for the slip's
+    and restored from the pre-place observation (:func:`~vslsp.vsl.restore.only_arrival`;
+    domino 62). Raises InputError when the operation still cannot be recorded."""
+    pre_pick, post, pre_place = observations
+    try:
+        return recorder.record(pre_pick, post, pre_place, heights)
+    except InputError:
+        if moves is None or moves.operated is None or not moves.disturbed:
+            raise
+        return recorder.record(pre_pick, only_arrival(pre_place, post, moves.operated), pre_place, heights)
 
 
 def on_nudged(recorder: Recorder, operation, moves: Moves, nudged: list[np.ndarray]) -> list[np.ndarray]:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from vslsp.vsl.slips import MIN_REGION, Moves, changed_pixels, find_moved, keypoint_area
+from vslsp.vsl.slips import MIN_REGION, MovedObject, Moves, changed_pixels, find_moved, keypoint_area
 
 
 def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None) -> tuple[Moves, np.ndarray]:
@@ -70,3 +70,14 @@ def _put_down(pre_place: np.ndarray, post: np.ndarray) -> bool:
     at least :data:`MIN_REGION` px)."""
     count, _, stats, _ = cv2.connectedComponentsWithStats(changed_pixels(pre_place, post))
     return any(stats[k, cv2.CC_STAT_AREA] >= MIN_REGION for k in range(1, count))
+
+
+def only_arrival(pre_place: np.ndarray, post: np.ndarray, operated: MovedObject) -> np.ndarray:
+    """``post`` (H, W, 3) with every pixel outside the ``operated`` object's own (the hull of its
+    keypoints where it arrived, and a rim) taken from ``pre_place``: the post observation in
+    which only the operated object's arrival changed (see
+    :func:`vslsp.experiments.tabletop_slips.record_meant` for when)."""
+    own = keypoint_area(post.shape, [operated.keypoints_after]) > 0
+    meant = pre_place.copy()
+    meant[own] = post[own]
+    return meant
