@@ -233,3 +233,30 @@ def test_a_pick_fitted_far_turned_is_refitted_all_round():
     assert roof is not None and np.hypot(good.x - roof[0], good.y - roof[1]) < 3.0
     turn = np.angle(np.exp(1j * (good.theta - (roof[2] - recorded.pose_pre.theta))))
     assert abs(turn) < np.radians(4.0)  # the demonstration's recorded turn is a measurement
+
+
+def test_a_pick_fitted_degenerate_is_refitted_from_its_place():
+    # Trial 884247, operation 1: RANSAC collapsed the pick frame to a point (a zero matrix), the
+    # zero matrix was read as no turn, and the roof, put on a free body, landed 46 degrees off
+    # its slot. A fit without a pose keeps its place and is re-fitted all round from there.
+    from vslsp.experiments.house_roof_trial import PICK_TURNS
+    from vslsp.experiments.seeds import reproduction_seed
+    from vslsp.worlds.house_roof.board import ANGLE_TOLERANCE
+
+    seed = 884247
+    demo = demonstrate(seed)
+    world = HouseWorld.random(reproduction_seed(seed))
+    recorded = demo.demonstration.operations[0]
+    point, frames = (recorded.pose_pre.x, recorded.pose_pre.y), [pick_frame(recorded.object_size)]
+    args = (recorded.pre_observation, world.render(), point, recorded.object_size)
+    fit = match_observation(*args, Search.growing(frames))
+    assert isinstance(fit, Match) and abs(np.linalg.det(fit.transform[:2, :2])) < 1e-6  # the case pinned
+    good = match_observation(*args, Search.growing(frames, turns=PICK_TURNS))
+    assert isinstance(good, Match) and good.score > 0.9
+    roof = world.roofs[world.roof_at((good.x, good.y))]
+    assert roof is not None and np.hypot(good.x - roof[0], good.y - roof[1]) < 3.0
+    reproduction = reproduce(demo, world, "adaptive", ObservationFeatures(demo))
+    assert [op.diagnosis for op in reproduction.operations] == ["ok", "ok", "ok"] and reproduction.success
+    first = reproduction.operations[0]
+    assert first.pick is not None and abs(first.pick.theta - good.theta) < 1e-9
+    assert first.slot is not None and first.slot[3] < ANGLE_TOLERANCE / 3  # it was 46 degrees off

@@ -285,8 +285,16 @@ def refit_all_round(
     observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, match: Match, turns: int
 ) -> Match:
     """``match`` re-fitted (:func:`refit`) from ``turns`` turns evenly all round its place
-    (its own turn the first): the best-correlating of the re-fits."""
+    (its own turn the first): the best-correlating of the re-fits.
+
+    A fit that collapsed the frame to a line or a point (RANSAC on a few features in a line) has
+    a place but no pose: the turn read from it means nothing (trial 884247's first pick: the
+    zero matrix read as no turn, and the roof landed 46 degrees off its slot). It starts as a
+    rigid copy, unturned, at its place, and the turns all round find its pose."""
     here = np.array([match.x, match.y])
+    if not np.sqrt(abs(np.linalg.det(match.transform[:2, :2]))) > _DEGENERATE:
+        shift = np.array([[1.0, 0.0, match.x - point[0]], [0.0, 1.0, match.y - point[1]], [0.0, 0.0, 1.0]])
+        match = replace(match, transform=shift, decomposition=decompose(shift), theta=0.0)
     best = refit(observation, world, point, size, match)
     for k in range(1, turns):
         transform = _about(here, 0.0, 0.0, 2.0 * np.pi * k / turns) @ match.transform
