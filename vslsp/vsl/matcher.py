@@ -250,7 +250,7 @@ def refit(observation: np.ndarray, world: np.ndarray, point: tuple[float, float]
     placement whose frame correlates best with the observation. Its score is that correlation."""
     world = world if world.dtype == np.float32 else world.astype(np.float32)
     here = np.array([match.x, match.y])
-    scale = float(np.sqrt(abs(np.linalg.det(match.transform[:2, :2]))))
+    scale = _scale(match.transform)
     if not scale > _DEGENERATE:
         return match  # a fit that collapses the frame to a line or a point has no pose to start from
     transform = _about(here, 0.0, 0.0, 0.0, 1.0 / scale) @ match.transform
@@ -292,7 +292,7 @@ def refit_all_round(
     zero matrix read as no turn, and the roof landed 46 degrees off its slot). It starts as a
     rigid copy, unturned, at its place, and the turns all round find its pose."""
     here = np.array([match.x, match.y])
-    if not np.sqrt(abs(np.linalg.det(match.transform[:2, :2]))) > _DEGENERATE:
+    if not _scale(match.transform) > _DEGENERATE:
         shift = np.array([[1.0, 0.0, match.x - point[0]], [0.0, 1.0, match.y - point[1]], [0.0, 0.0, 1.0]])
         match = replace(match, transform=shift, decomposition=decompose(shift), theta=0.0)
     best = refit(observation, world, point, size, match)
@@ -302,6 +302,11 @@ def refit_all_round(
         if fitted.score > best.score:
             best = fitted
     return best
+
+
+def _scale(transform: np.ndarray) -> float:
+    """The scale of the similarity ``transform`` (3, 3): 0 for a fit that collapsed its frame."""
+    return float(np.sqrt(abs(np.linalg.det(transform[:2, :2]))))
 
 
 def _about(centre: np.ndarray, dx: float, dy: float, turn: float, scale: float = 1.0) -> np.ndarray:
