@@ -31,14 +31,18 @@ DOMAIN = "pddl/domain.pddl"
 PROBLEM = "pddl/pull-in-order.pddl"
 
 
-def client(root: Path, token: str | None = None) -> Any:
-    """The studio's API on ``root`` (with ``token`` required when given), in this process: a
-    FastAPI TestClient (imported here: the browser tests' fixtures need no FastAPI)."""
+def client(root: Path, token: str = TOKEN, *, send_token: bool = True, **settings: Any) -> Any:
+    """The studio's API on ``root`` behind its guard (``token`` the session's secret, sent as
+    ``Authorization: Bearer`` unless ``send_token`` is false), in this process: a FastAPI TestClient
+    (imported here: the browser tests' fixtures need no FastAPI). Its Host is ``testserver``."""
     from fastapi import FastAPI
     from fastapi.testclient import TestClient
 
     from vslsp.studio import api
+    from vslsp.studio.guard import Access
+    from vslsp.studio.settings import Settings
 
     app = FastAPI()
-    api.install(app, root, token)
-    return TestClient(app)
+    api.install(app, root, Access(token=token, hosts=frozenset({"testserver"})), Settings(**settings))
+    headers = {"authorization": f"Bearer {token}"} if send_token else {}
+    return TestClient(app, headers=headers)

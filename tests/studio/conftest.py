@@ -111,10 +111,9 @@ def _serves(port: int) -> bool:
 
 @pytest.fixture
 def studio(studio_root: Path, request: pytest.FixtureRequest) -> Iterator[str]:
-    """``vslsp studio --root ROOT --no-browser`` on a free port (with ``--token`` for tests marked
-    ``token``); its address once it serves."""
+    """``vslsp studio --root ROOT --no-browser --token TOKEN`` on a free port; its address once it serves."""
     port = free_port()
-    token = ["--token", TOKEN] if request.node.get_closest_marker("token") else []
+    token = ["--token", TOKEN]
     process = subprocess.Popen(
         [sys.executable, "-m", "vslsp", "studio", "--root", str(studio_root), "--port", str(port), "--no-browser"]
         + token,
@@ -134,7 +133,7 @@ def studio(studio_root: Path, request: pytest.FixtureRequest) -> Iterator[str]:
 
 
 @pytest.fixture
-def page(studio: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator:
+def page(studio: str, tmp_path_factory: pytest.TempPathFactory, request: pytest.FixtureRequest) -> Iterator:
     """A headless Chromium tab (Debian's, driven by Playwright), with a home of its own (Chromium
     writes ~/.config/chromium and ~/.cache/dconf)."""
     from playwright.sync_api import sync_playwright
@@ -146,6 +145,8 @@ def page(studio: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator:
         )
         tab = browser.new_page(viewport={"width": 1500, "height": 1100})
         tab.set_default_timeout(WAIT_MS)
+        if not request.node.get_closest_marker("token"):  # the address the studio opens: its cookie set
+            tab.goto(f"{studio}/author?token={TOKEN}")
         yield tab
         browser.close()
 

@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from vslsp.cli.studio import _loopback
+from vslsp.studio.guard import is_loopback
 
 
 def studio(*args: str) -> subprocess.CompletedProcess:
@@ -39,5 +39,11 @@ def test_a_port_in_use_is_exit_2(tmp_path):
     ("host", "loopback"),
     [("127.0.0.1", True), ("::1", True), ("localhost", True), ("0.0.0.0", False), ("192.168.1.5", False)],
 )
-def test_only_loopback_addresses_go_without_a_token(host, loopback):
-    assert _loopback(host) is loopback
+def test_loopback_names_are_told_from_other_addresses(host, loopback):
+    assert is_loopback(host) is loopback
+
+
+@pytest.mark.parametrize("name", ["", "a/b", "host:80", "user@host"])
+def test_a_bad_allowed_host_is_exit_2(tmp_path, name):
+    done = studio("--root", str(tmp_path), "--allow-host", name)
+    assert done.returncode == 2 and "--allow-host" in done.stderr and "Traceback" not in done.stderr

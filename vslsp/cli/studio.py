@@ -3,7 +3,6 @@ the command runs, so that the other commands stay fast and the studio stays an o
 
 from __future__ import annotations
 
-import ipaddress
 import secrets
 import socket
 from pathlib import Path
@@ -11,17 +10,6 @@ from pathlib import Path
 import click
 
 from vslsp.errors import InputError
-
-LOOPBACK = ("127.0.0.1", "localhost", "::1")
-
-
-def _loopback(host: str) -> bool:
-    if host in LOOPBACK:
-        return True
-    try:
-        return ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return False
 
 
 @click.command()
@@ -32,18 +20,44 @@ def _loopback(host: str) -> bool:
 @click.option(
     "--token",
     default=None,
-    help="Required on every request when --host is not a loopback address (generated and printed if not given).",
+    help="The secret every request needs (default: a new one each start, printed in the address it opens).",
 )
-def studio(root: str, host: str, port: int, no_browser: bool, token: str | None) -> None:
+@click.option(
+    "--allow-host",
+    "allow_hosts",
+    multiple=True,
+    help="A further host name the browser may use to reach the studio (a proxy's or the machine's DNS name).",
+)
+@click.option(
+    "--max-runs",
+    type=click.IntRange(1, 64),
+    default=2,
+    show_default=True,
+    help="Runs and picture jobs that run at once; the others wait in a queue.",
+)
+@click.option("--edit-code", is_flag=True, help="Let the predicates editor save .py files under the root.")
+def studio(
+    root: str,
+    host: str,
+    port: int,
+    no_browser: bool,
+    token: str | None,
+    allow_hosts: tuple[str, ...],
+    max_runs: int,
+    edit_code: bool,
+) -> None:
     """Serve the studio over the files under --root: author PDDL, ground images, run experiments,
-    read reports. Everything stays under the root; runs go on when the page is closed."""
+    read reports. Everything stays under the root; runs go on when the page is closed. Every request
+    needs the session's secret (docs/studio.md, "Threat model")."""
     folder = Path(root)
     if not folder.is_dir():
         raise InputError(f"--root {root}: no such folder")
-    if token is not None and len(token) < 16:
-        raise InputError("--token: give at least 16 characters (or leave it out to get one generated)")
-    if not _loopback(host) and token is None:
-        token = secrets.token_urlsafe(24)
+    if token is not None and (len(token) < 16 or not token.isascii() or not token.isprintable() or " " in token):
+        raise InputError("--token: give at least 16 printable ASCII characters without spaces (or leave it out)")
+    token = token or secrets.token_urlsafe(24)
+    for name in allow_hosts:
+        if not name or any(c in name for c in "/:@ ") or not name.isascii():
+            raise InputError(f"--allow-host {name!r}: give a host name such as studio.example.org (no port)")
     from vslsp.studio.app import import_web_stack
 
     try:
@@ -52,12 +66,15 @@ def studio(root: str, host: str, port: int, no_browser: bool, token: str | None)
         raise InputError("the studio needs its extra: pip install 'vslsp[studio]'") from None
     _check_port(host, port)
     from vslsp.studio.app import serve
+    from vslsp.studio.guard import Access
+    from vslsp.studio.settings import Settings
 
-    address = f"http://{'[' + host + ']' if ':' in host else host}:{port}/author"
-    if token is not None:
-        address += f"?token={token}"
+    shown = "127.0.0.1" if host in ("0.0.0.0", "::") else host
+    address = f"http://{'[' + shown + ']' if ':' in shown else shown}:{port}/author?token={token}"
+    access = Access(token=token, bound=host, port=port, hosts=frozenset(n.lower() for n in allow_hosts))
+    settings = Settings(max_jobs=max_runs, edit_code=edit_code)
     click.echo(f"vslsp studio: {address} (root {folder.resolve()}); Ctrl-C stops it", err=True)
-    serve(folder.resolve(), host, port, token, False if no_browser else address.split(f":{port}", 1)[1])
+    serve(folder.resolve(), host, port, access, settings, False if no_browser else address.split(f":{port}", 1)[1])
 
 
 def _check_port(host: str, port: int) -> None:

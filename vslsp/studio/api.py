@@ -8,12 +8,11 @@ Heavy work (planning, grounding) runs in a worker thread so the pages stay live.
 
 from __future__ import annotations
 
-import hmac
 import json
 from pathlib import Path
-from typing import Any
 
 from fastapi import APIRouter, FastAPI, Request
+from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse, JSONResponse
 from starlette.concurrency import run_in_threadpool
 
@@ -21,7 +20,9 @@ from vslsp.errors import InputError, VslspError
 from vslsp.studio import files, runs, trial_figures
 from vslsp.studio import pddl as pddl_work
 from vslsp.studio.files import MAX_UPLOAD_BYTES, Missing, Outside, inside, relative
+from vslsp.studio.guard import Access, Guard
 from vslsp.studio.report_data import read_report, read_trial, report_folders, trial_of
+from vslsp.studio.settings import Settings
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
 UPLOADS = "out/studio/uploads"
@@ -38,7 +39,7 @@ def _status(error: VslspError) -> int:
         return 404
     if isinstance(error, TooLarge):
         return 413
-    if isinstance(error, trial_figures.Drawn):
+    if isinstance(error, (trial_figures.Drawn, files.Conflict)):
         return 409
     return 400 if error.exit_code == 2 else 500
 
@@ -103,17 +104,37 @@ def report_or_trial(root: Path, rel: str) -> dict:
     return {**found, "job": trial_figures.newest(root, found["folder"], trial[1])}
 
 
-def install(app: FastAPI, root: Path, token: str | None = None) -> None:
-    """Add the API, ``/files`` and (with ``token``) the token check to ``app``."""
+def without_root(message: str, root: Path) -> str:
+    """``message`` with the server's own folders (the root, the studio's working folder) left out: an answer
+    names files relative to the root only."""
+    for folder in sorted({str(root), str(Path.cwd().resolve())}, key=len, reverse=True):
+        if len(folder) > 1:
+            message = message.replace(folder + "/", "").replace(folder, ".")
+    return message
+
+
+def install(app: FastAPI, root: Path, access: Access | None = None, settings: Settings | None = None) -> None:
+    """Add the API and ``/files`` to ``app``, and (with ``access``) the guard in front of all of it
+    (:mod:`vslsp.studio.guard`)."""
     root = root.resolve()
+    runs.queue(root, (settings or Settings()).max_jobs)
     api = APIRouter(prefix="/api")
 
     @app.exception_handler(VslspError)
     async def _refused(request: Request, error: VslspError) -> JSONResponse:
-        return JSONResponse({"error": str(error), "exit_code": error.exit_code}, status_code=_status(error))
+        answer = {"error": without_root(str(error), root), "exit_code": error.exit_code}
+        return JSONResponse(answer, status_code=_status(error))
 
-    if token is not None:
-        app.add_middleware(TokenGate, token=token)
+    @app.exception_handler(RequestValidationError)
+    async def _unreadable(request: Request, error: RequestValidationError) -> JSONResponse:
+        problems = error.errors()
+        first = problems[0] if problems else {}
+        where = " ".join(str(part) for part in first.get("loc", ()) if part not in ("query", "body", "path"))
+        what = "is missing" if first.get("type") == "missing" else f"is not valid ({first.get('msg', 'bad value')})"
+        return JSONResponse({"error": f"the parameter {where or '?'} {what}", "exit_code": 2}, status_code=400)
+
+    if access is not None:
+        app.add_middleware(Guard, access=access)
 
     @api.get("/experiments")
     async def experiments() -> dict:
@@ -132,21 +153,28 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
 
     @api.get("/text")
     async def text(path: str) -> dict:
-        return {"path": path, "text": files.read_small(root, path)}
+        content = files.read_small(root, path)
+        return {"path": path, "text": content, "version": files.version_of(inside(root, path))}
 
     @api.post("/save")
     async def save(request: Request) -> dict:
         data = await _body(request)
-        path = data.get("path")
-        if not isinstance(path, str) or not path.endswith((".pddl", ".plan", ".txt", ".py")):
-            raise InputError("path must name a .pddl, .plan, .txt or .py file under the root")
-        written = files.write_text(root, path, _text(data, "text"))
-        return {"path": relative(root, written)}
+        path, base, overwrite = data.get("path"), data.get("base"), data.get("overwrite", False)
+        if not isinstance(path, str):
+            raise InputError("path must name a .pddl, .plan or .txt file under the root")
+        if base is not None and not isinstance(base, str) or not isinstance(overwrite, bool):
+            raise InputError("base must be the version GET /api/text gave, overwrite true or false")
+        content = _text(data, "text")
+        if not overwrite:
+            files.refuse_unseen(root, path, base)
+        written = files.write_text(root, path, content)
+        return {"path": relative(root, written), "version": files.version_of(written)}
 
     @api.post("/check")
     async def check(request: Request) -> dict:
         data = await _body(request)
-        return pddl_work.check(
+        return await run_in_threadpool(
+            pddl_work.check,
             _text(data, "domain"),
             _text(data, "problem", required=False) or None,
             _name(data, "domain_file", "<domain>"),
@@ -210,11 +238,16 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
 
     @api.get("/runs")
     async def all_runs() -> dict:
-        return {"runs": runs.listing(root)}
+        found = await run_in_threadpool(runs.listing, root)
+        return {"runs": found, "queued": sum(run["state"] == "queued" for run in found)}
 
     @api.get("/runs/{run_id}")
     async def one_run(run_id: str) -> dict:
         return runs.get(root, run_id)
+
+    @api.post("/runs/{run_id}/cancel")
+    async def cancel_run(run_id: str) -> dict:
+        return await run_in_threadpool(runs.queue(root).cancel, runs.RUNS, run_id, "run")
 
     @api.get("/reports/{rel:path}")
     async def report(rel: str) -> dict:
@@ -246,45 +279,6 @@ def install(app: FastAPI, root: Path, token: str | None = None) -> None:
         return FileResponse(path)
 
 
-class TokenGate:
-    """ASGI middleware: every HTTP request and websocket must carry the token (``?token=``, the cookie
-    set by the first such visit, or ``Authorization: Bearer``); 401 otherwise."""
-
-    def __init__(self, app: Any, token: str) -> None:
-        self.app, self.token = app, token
-
-    async def __call__(self, scope: dict, receive: Any, send: Any) -> None:
-        if scope["type"] not in ("http", "websocket"):
-            return await self.app(scope, receive, send)
-        from starlette.requests import HTTPConnection
-
-        connection = HTTPConnection(scope)
-        in_query = connection.query_params.get("token")
-        given = (
-            in_query
-            or connection.cookies.get("vslsp_token")
-            or connection.headers.get("authorization", "").removeprefix("Bearer ")
-        )
-        if not hmac.compare_digest((given or "").encode(), self.token.encode()):
-            if scope["type"] == "websocket":
-                return await send({"type": "websocket.close", "code": 1008})
-            refused = JSONResponse(
-                {"error": "this studio needs its token: open the address it printed (?token=...)", "exit_code": 2},
-                status_code=401,
-            )
-            return await refused(scope, receive, send)
-        if scope["type"] == "websocket" or not in_query:
-            return await self.app(scope, receive, send)
-        cookie = f"vslsp_token={self.token}; Path=/; HttpOnly; SameSite=Strict".encode()
-
-        async def with_cookie(message: dict) -> None:
-            if message["type"] == "http.response.start":
-                message = {**message, "headers": [*message.get("headers", []), (b"set-cookie", cookie)]}
-            await send(message)
-
-        return await self.app(scope, receive, with_cookie)
-
-
 def ground_pair(root: Path, data: dict) -> dict:
     """``vslsp ground --json`` on two images under the root (predicates only from a file under it)."""
     from vslsp.grounding import draw_grounding, ground, load_predicates, with_builtins
@@ -294,32 +288,55 @@ def ground_pair(root: Path, data: dict) -> dict:
     side = data.get("robot_side", "bottom")
     if side not in ("bottom", "top", "left", "right"):
         raise InputError(f"robot_side must be bottom, top, left or right, got {side!r}")
-    predicates_rel = data.get("predicates")
-    predicates = None
-    if predicates_rel:
-        predicates = with_builtins(load_predicates(inside(root, _text(data, "predicates"))))
     pre_image = read_image(pre, f"pre-action image {data['pre']}")
     post_image = read_image(post, f"post-action image {data['post']}")
+    predicates_rel = data.get("predicates")
+    predicates = None
+    if predicates_rel:  # only once the images are known good
+        predicates = with_builtins(load_predicates(inside(root, _text(data, "predicates"))))
     grounding = ground(pre_image, post_image, robot_side=side, predicates=predicates)
-    overlay = inside(root, "out/studio/ground/overlay.png", must_exist=False)
-    overlay.parent.mkdir(parents=True, exist_ok=True)
+    overlay = overlay_path(root)
     write_image(overlay, draw_grounding(pre_image, post_image, grounding))
     return {**grounding.to_dict(), "overlay": relative(root, overlay)}
 
 
+#: Where each grounding's overlay is drawn, relative to the root, and how many of the newest are kept.
+OVERLAYS, KEPT_OVERLAYS = "out/studio/ground", 50
+
+
+def overlay_path(root: Path) -> Path:
+    """A new file for one grounding's overlay (``out/studio/ground/overlay-TIME-RANDOM.png``: two requests
+    never draw into the same file), the oldest beyond :data:`KEPT_OVERLAYS` removed."""
+    import secrets
+    import time
+
+    folder = inside(root, OVERLAYS, must_exist=False)
+    folder.mkdir(parents=True, exist_ok=True)
+    drawn = sorted(folder.glob("overlay-*.png"))
+    for old in drawn[: max(0, len(drawn) - KEPT_OVERLAYS + 1)]:
+        old.unlink(missing_ok=True)
+    stamp = time.strftime("%Y%m%d-%H%M%S", time.gmtime())
+    return folder / f"overlay-{stamp}-{secrets.token_hex(4)}.png"
+
+
 def render_scene(root: Path, seed: object) -> dict:
     """``vslsp scene --seed S`` into ``out/studio/scenes/seed-S`` under the root: ``{"folder", "images"}``."""
+    import os
     import subprocess
-    import sys
 
     if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed <= 2**32 - 1:
         raise InputError(f"seed must be a whole number from 0 to 4294967295, got {seed!r}")
+    import tempfile
+
     folder = inside(root, f"out/studio/scenes/seed-{seed}", must_exist=False)
     done = subprocess.run(
-        [sys.executable, "-m", "vslsp", "scene", "--seed", str(seed), "--out", str(folder)],
+        runs.isolated_python("vslsp", "scene", "--seed", str(seed), "--out", str(folder)),
         capture_output=True,
         text=True,
         timeout=300,
+        cwd=tempfile.gettempdir(),  # never the root: nothing under it is imported
+        stdin=subprocess.DEVNULL,
+        env={k: v for k, v in os.environ.items() if k not in runs.NOT_INHERITED},
     )
     if done.returncode != 0:
         lines = done.stderr.strip().splitlines() or ["the scene could not be rendered"]

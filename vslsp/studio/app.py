@@ -9,6 +9,11 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from vslsp.studio.guard import Access
+    from vslsp.studio.settings import Settings
 
 #: Modules only the client side of socket.io imports (engineio's Client and AsyncClient): the studio
 #: serves and never connects out, so they are kept out of its start-up (a quarter of a second and
@@ -29,22 +34,37 @@ def import_web_stack() -> None:
                 del sys.modules[name]
 
 
-def build(root: Path, token: str | None) -> None:
-    """Register the API, the files and the pages on NiceGUI's app."""
+def build(root: Path, access: Access, settings: Settings) -> None:
+    """Register the guard, the API, the files, the pages and the job queue on NiceGUI's app."""
     from nicegui import app
 
-    from vslsp.studio import api, author, pages
+    from vslsp.studio import api, author, layout, pages, runs
 
-    api.install(app, root, token)
+    layout.PAGE_TOKEN["token"] = access.token
+    api.install(app, root, access, settings)
     author.register(root)
-    pages.register(root)
+    pages.register(root, settings)
+    app.on_startup(lambda: runs.queue(root).pump())  # jobs an earlier studio left queued
+    app.on_startup(warm_up)
 
 
-def serve(root: Path, host: str, port: int, token: str | None, show: bool | str) -> None:
+def warm_up() -> None:
+    """Import the experiment registry in a thread at start-up, so that the first run's check does not."""
+    import threading
+
+    def load() -> None:
+        from vslsp.tasks import list_tasks
+
+        list_tasks()
+
+    threading.Thread(target=load, name="vslsp-studio-warm-up", daemon=True).start()
+
+
+def serve(root: Path, host: str, port: int, access: Access, settings: Settings, show: bool | str) -> None:
     """Run the studio until interrupted (uvicorn in this process); ``show``: the page to open in a browser."""
     from nicegui import ui
 
-    build(root, token)
+    build(root, access, settings)
     ui.run(
         host=host,
         port=port,

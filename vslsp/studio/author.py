@@ -6,12 +6,13 @@ problem's conflict on its lines. Paper: "Implementation" (PDDL 3.0 domains and c
 
 from __future__ import annotations
 
+import asyncio
 import html
 import json
 from pathlib import Path
 from typing import Any
 
-from nicegui import ui
+from nicegui import background_tasks, ui
 
 from vslsp.errors import VslspError
 from vslsp.studio import editing, files
@@ -54,8 +55,10 @@ COMPLETION_JS = """
       const doc = context.state.doc.toString();
       const at = [...doc.slice(0, context.pos)].length;
       const body = {domain: text("domain"), problem: text("problem"), in: kind, at};
+      const token = document.querySelector('meta[name="vslsp-token"]')?.content || "";
       const answer = await fetch(window.path_prefix + "/api/complete", {
-        method: "POST", headers: {"content-type": "application/json"}, body: JSON.stringify(body),
+        method: "POST", headers: {"content-type": "application/json", "x-vslsp-token": token},
+        body: JSON.stringify(body),
       });
       if (!answer.ok) return null;
       const found = await answer.json();
@@ -70,14 +73,40 @@ COMPLETION_JS = """
 """
 
 
+#: A warning before the page is left (closed, reloaded, navigated) while an editor holds unsaved edits.
+LEAVE_JS = """
+window.vslspUnsaved = false;
+window.addEventListener("beforeunload", (event) => {
+  if (window.vslspUnsaved) { event.preventDefault(); event.returnValue = ""; }
+});
+"""
+#: How long the editors must rest before their text is checked (a burst of keys is checked once).
+DEBOUNCE_S = 0.15
+#: How often the opened files are looked at for changes on disk.
+DISK_POLL_S = 2.0
+
+
+fingerprint = files.version_of
+
+
 class Author:
-    """One author page: two editors and what they show."""
+    """One author page: two editors and what they show.
+
+    Nothing typed is lost: an editor with edits not saved is marked (and leaving the page asks first);
+    Save asks before it writes over a file the page did not open, or one changed on disk since it was
+    opened; a change on disk is shown as it happens. The text is checked when the keys rest
+    (:data:`DEBOUNCE_S`), off the event loop, and an answer for an older text than the editor's is dropped."""
 
     def __init__(self, root: Path, domain: str | None, problem: str | None) -> None:
         self.root = root
         self.paths = {"domain": domain or "", "problem": problem or ""}
         texts = {kind: files.read_small(root, rel) if rel else "" for kind, rel in self.paths.items()}
+        #: per editor: the text as last opened or saved, the file's fingerprint then
+        self.saved = dict(texts)
+        self.on_disk = {kind: fingerprint(files.inside(root, rel)) if rel else None for kind, rel in self.paths.items()}
+        self.version = 0
         ui.add_css(STYLE)
+        ui.add_body_html(f"<script>{LEAVE_JS}</script>")
         with ui.row().classes("w-full items-center"):
             self.names = {
                 kind: ui.input(f"{kind} (relative to the root)", value=self.paths[kind]).classes("w-72")
@@ -88,16 +117,21 @@ class Author:
             ui.button("Plan", on_click=self.plan).props("id=plan")
             ui.button("Validate", on_click=self.validate).props("id=validate")
             ui.label("Ctrl-Space: complete the name at the cursor (F2: the names as buttons)").classes("text-grey-7")
+        self.notice = ui.label().classes("text-warning disk-notice")
+        self.unsaved_marks: dict[str, Any] = {}
         with ui.row().classes("w-full no-wrap"):
             self.editors: dict[str, Any] = {}
             for kind in ("domain", "problem"):
                 with ui.column().classes("w-1/2"):
-                    ui.label(kind.capitalize()).classes("text-bold")
+                    with ui.row().classes("items-center"):
+                        ui.label(kind.capitalize()).classes("text-bold")
+                        self.unsaved_marks[kind] = ui.label("● unsaved").classes(f"text-warning unsaved-{kind}")
+                        self.unsaved_marks[kind].set_visibility(False)
                     editor = ui.codemirror(
                         texts[kind],
                         language="Common Lisp",
                         line_wrapping=True,
-                        on_change=lambda _event: self.check(),
+                        on_change=lambda _event: self.changed(),
                         keymap={"F2": lambda _event, k=kind: self.complete(k)},
                     ).classes(f"w-full h-96 border editor-{kind}")
                     self.editors[kind] = editor
@@ -116,14 +150,64 @@ class Author:
         ids = {kind: editor.id for kind, editor in self.editors.items()}
         client = ui.context.client
         client.on_connect(lambda: client.run_javascript(COMPLETION_JS % json.dumps(ids)))
+        ui.timer(DISK_POLL_S, self.look_at_disk)
 
     def file(self, kind: str) -> str:
         return self.names[kind].value or f"<{kind}>"
 
-    def check(self) -> None:
-        """The language engine on both editors' text; marks, messages and quick fixes redrawn."""
+    def changed(self) -> None:
+        """An edit: the unsaved marks, stale marks and buttons cleared, a check once the keys rest."""
+        self.version += 1
+        self.show_unsaved()
+        self.completions.clear()  # F2's names were for the text before the edit
+        for kind in ("problem", "plan"):
+            self.mark(kind, [])  # violation and conflict marks were for the text before the edit
+        background_tasks.create(self.check_later(self.version), name="vslsp-check")
+
+    def show_unsaved(self) -> None:
+        dirty = {kind: editor.value != self.saved[kind] for kind, editor in self.editors.items()}
+        for kind, mark in self.unsaved_marks.items():
+            mark.set_visibility(dirty[kind])
+        ui.run_javascript(f"window.vslspUnsaved = {'true' if any(dirty.values()) else 'false'};")
+
+    async def check_later(self, version: int) -> None:
+        await asyncio.sleep(DEBOUNCE_S)
+        if version != self.version:
+            return  # more keys came: the newest edit checks
         domain, problem = self.editors["domain"].value, self.editors["problem"].value
-        self.checked = pddl_work.check(domain, problem or None, self.file("domain"), self.file("problem"))
+        names = (self.file("domain"), self.file("problem"))
+        try:
+            answer = await in_thread(pddl_work.check, domain, problem or None, *names)
+        except VslspError:
+            return
+        if version == self.version:  # an answer for an older text is dropped
+            self.show_check(answer)
+
+    def look_at_disk(self) -> None:
+        """Say when an opened file changed on disk (another editor, git) since the page opened or saved it."""
+        changed = []
+        for kind, rel in self.paths.items():
+            if rel and self.on_disk[kind] is not None:
+                try:
+                    now = fingerprint(files.inside(self.root, rel, must_exist=False))
+                except VslspError:
+                    continue
+                if now != self.on_disk[kind]:
+                    changed.append(rel)
+        self.notice.set_text(
+            f"changed on disk since opened: {', '.join(changed)} (Open to load it; Save asks before writing over it)"
+            if changed
+            else ""
+        )
+
+    def check(self) -> None:
+        """The language engine on both editors' text, at once (the page being built, a fix applied)."""
+        domain, problem = self.editors["domain"].value, self.editors["problem"].value
+        self.show_check(pddl_work.check(domain, problem or None, self.file("domain"), self.file("problem")))
+
+    def show_check(self, checked: dict) -> None:
+        """Marks, messages and quick fixes of a check redrawn."""
+        self.checked = checked
         for kind, editor in self.editors.items():
             found, tips = editing.decorations(editor.value, self.file(kind), self.checked)
             self.draw(kind, found, tips)
@@ -147,7 +231,9 @@ class Author:
         begin = editing.offset(starts, text, fix["line"], fix["column"])
         end = editing.offset(starts, text, fix["end_line"], fix["end_column"])
         self.editors[kind].value = text[:begin] + fix["text"] + text[end:]
+        self.version += 1
         self.check()
+        self.show_unsaved()
 
     async def complete(self, kind: str) -> None:
         editor = self.editors[kind]
@@ -164,20 +250,59 @@ class Author:
         value = self.editors[kind].value
         self.editors[kind].value = value[:begin] + text + value[end:]
         self.completions.clear()
+        self.version += 1
         self.check()
+        self.show_unsaved()
 
     def open_files(self) -> None:
         query = "&".join(f"{k}={self.names[k].value}" for k in ("domain", "problem") if self.names[k].value)
         ui.navigate.to(f"/author?{query}")
 
-    def save(self) -> None:
+    def risks(self) -> list[str]:
+        """What Save would write over without the user having seen it: a file the page did not open, or
+        one that changed on disk since it was opened or saved."""
+        found = []
+        for kind in self.editors:
+            rel = self.names[kind].value
+            if not rel:
+                continue
+            try:
+                now = fingerprint(files.inside(self.root, rel, must_exist=False))
+            except VslspError:
+                continue  # refused again, with its message, when written
+            if now is None:
+                continue
+            if rel != self.paths[kind]:
+                found.append(f"{rel} exists and is not the file this page opened")
+            elif now != self.on_disk[kind]:
+                found.append(f"{rel} changed on disk since this page opened it")
+        return found
+
+    async def save(self) -> None:
+        risks = self.risks()
+        if risks:
+            with ui.dialog() as dialog, ui.card():
+                for risk in risks:
+                    ui.label(risk).classes("save-risk")
+                ui.label("Write over it?")
+                with ui.row():
+                    ui.button("Overwrite", on_click=lambda: dialog.submit(True)).props("id=overwrite")
+                    ui.button("Cancel", on_click=lambda: dialog.submit(False)).props("flat id=keep")
+            if not await dialog:
+                ui.notify("not saved", type="warning")
+                return
         try:
             for kind, editor in self.editors.items():
-                if self.names[kind].value:
-                    files.write_text(self.root, self.names[kind].value, editor.value)
+                rel = self.names[kind].value
+                if rel:
+                    text = editor.value
+                    written = files.write_text(self.root, rel, text)
+                    self.paths[kind], self.saved[kind], self.on_disk[kind] = rel, text, fingerprint(written)
         except VslspError as error:
             ui.notify(str(error), type="negative")
             return
+        self.show_unsaved()
+        self.look_at_disk()
         ui.notify("saved", type="positive")
 
     def _texts(self) -> tuple[str, str, str, str]:
@@ -196,7 +321,9 @@ class Author:
         self.mark("problem", [])
         with self.results:
             if answer.get("plan") is None:
-                ui.label(f"no plan: {answer['error']}").classes("text-negative plan-error")
+                message = str(answer["error"])
+                said = message if message.startswith("no plan") else f"no plan: {message}"
+                ui.label(said).classes("text-negative plan-error")
                 self.show_conflict(answer.get("conflict") or [])
                 return
             ui.label(f"plan: {len(answer['plan'])} steps ({answer['planner']}, {answer['time_s']:.2f} s)")
@@ -227,9 +354,12 @@ class Author:
             return
         with self.results:
             verdict = "valid" if answer["valid"] else "invalid"
-            ui.label(f"{verdict}: {answer['reason']}").classes(f"verdict verdict-{verdict}")
             lines = editing.formula_lines(problem, problem_file)
             violations = self.violations(answer, lines)
+            listed = {v["message"] for v in violations}
+            reason = "" if answer["reason"] in listed else f": {answer['reason']}"  # each message once
+            count = f" ({len(violations)} violation{'s' * (len(violations) != 1)})" if violations else ""
+            ui.label(f"{verdict}{reason}{count}").classes(f"verdict verdict-{verdict}")
             for violation in violations:
                 ui.label(violation["message"]).classes("violation")
             self.mark("problem", [(v["line"], "violation", v["message"]) for v in violations if v.get("line")])

@@ -42,16 +42,36 @@ class RunBoard:
             with ui.row().classes("items-center"):
                 text = ui.label().classes("run-text")
                 links = ui.row()
+                cancel = ui.button("Cancel").props("flat dense no-caps").classes("cancel-run")
             error = ui.label().classes("text-negative")
             picture = ui.image().classes("w-96 live-picture")
             caption = ui.label().classes("text-caption live-caption")
         picture.set_visibility(False)
-        return {"card": card, "text": text, "links": links, "error": error, "picture": picture, "caption": caption}
+        found = {"card": card, "text": text, "links": links, "error": error, "picture": picture, "caption": caption}
+        found["cancel"] = cancel
+        cancel.on_click(lambda: self.cancel(found))
+        return found
+
+    async def cancel(self, card: dict[str, Any]) -> None:
+        from vslsp.errors import VslspError
+        from vslsp.studio.layout import in_thread
+
+        try:
+            await in_thread(runs.queue(self.root).cancel, runs.RUNS, card["id"], "run")
+        except VslspError as error:
+            ui.notify(str(error), type="warning")
+            return
+        ui.notify(f"cancelling run {card['id']}")
+        self.refresh()
 
     def _update(self, card: dict[str, Any], status: dict) -> None:
         request = status.get("request") or {}
         state, done, total = status["state"], status["done"], status["total"]
+        card["id"] = status["id"]
+        card["cancel"].set_visibility(state in ("queued", "running"))
         now = f", trial {done + 1} of {total} running" if state == "running" and done < total else ""
+        if state == "queued" and status.get("position"):
+            now = f", number {status['position']} in the queue"
         card["text"].set_text(
             f"{status['id']}: {request.get('experiment')} — {state}, {done}/{total} trials, "
             f"{status['successes']} succeeded{now}"

@@ -29,12 +29,41 @@ class Missing(InputError):
     """A path under the root that does not exist (HTTP 404)."""
 
 
+class Conflict(InputError):
+    """A save over a file the request has not seen as it is now (HTTP 409)."""
+
+
+def version_of(path: Path) -> str | None:
+    """The version of a file's content (a hash of its bytes), None when there is no file."""
+    import hashlib
+
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def refuse_unseen(root: Path, rel: str, base: str | None) -> None:
+    """:class:`Conflict` when ``rel`` exists and is not the version ``base`` (what the page read): a save
+    never writes over a file nobody opened, or one changed on disk since, unless told to overwrite."""
+    now = version_of(inside(root, rel, must_exist=False))
+    if now is None or now == base:
+        return
+    if base is None:
+        raise Conflict(f'{rel} exists and was not opened: open it first (its version), or send "overwrite": true')
+    raise Conflict(f'{rel} changed on disk since it was opened: open it again, or send "overwrite": true')
+
+
 def inside(root: Path, rel: str, *, must_exist: bool = True) -> Path:
     """The file ``rel`` names under ``root`` (resolved), or :class:`Outside` / :class:`Missing`."""
     if not isinstance(rel, str) or not rel.strip():
         raise InputError("give a path relative to the studio's root")
     if "\x00" in rel or "\\" in rel:
         raise Outside(f"{rel!r}: not a path under the studio's root")
+    if len(rel.encode("utf-8", "surrogateescape")) > 4096 or any(
+        len(part.encode("utf-8", "surrogateescape")) > 255 for part in rel.split("/")
+    ):
+        raise InputError("the path is too long: a name has at most 255 bytes and a path at most 4096")
     pure = PurePosixPath(rel)
     decoded = PurePosixPath(unquote(unquote(rel)))  # an encoded '..' (%2e%2e, %252e%252e) is refused too
     if pure.is_absolute() or ".." in (*pure.parts, *decoded.parts) or rel.startswith("~"):
@@ -66,16 +95,34 @@ def read_small(root: Path, rel: str, limit: int = MAX_TEXT_CHARS) -> str:
         raise InputError(f"{rel}: not UTF-8 text; save it as UTF-8") from None
 
 
-def write_text(root: Path, rel: str, text: str) -> Path:
-    """Write ``text`` to ``rel`` under the root (folders under the root created)."""
+#: The kinds of file the studio writes (a PDDL domain or problem, a plan, notes).
+WRITABLE = (".pddl", ".plan", ".txt")
+
+
+def write_text(root: Path, rel: str, text: str, *, code: bool = False) -> Path:
+    """Write ``text`` to ``rel`` under the root (folders under the root created), replacing the file whole.
+
+    Only :data:`WRITABLE` kinds, and ``.py`` with ``code`` (the predicates editor of a studio started with
+    ``--edit-code``); never into a hidden folder or a hidden file (``.venv/``, ``.git/``, ``.bashrc``), where a
+    file would change what Python or a tool runs."""
+    kinds = (*WRITABLE, ".py") if code else WRITABLE
+    if not isinstance(rel, str) or not rel.endswith(kinds):
+        more = "" if code else " (Python files only with vslsp studio --edit-code)"
+        raise InputError(f"the studio saves {', '.join(kinds)} files{more}; {str(rel)[:200]!r} is none")
+    if any(part.startswith(".") for part in PurePosixPath(rel).parts):
+        raise InputError(f"{rel}: the studio never writes into hidden files or folders")
     if len(text) > MAX_TEXT_CHARS:
         raise InputError(f"{rel}: the text is over {MAX_TEXT_CHARS // 1024} KiB; the studio saves smaller files")
     path = inside(root, rel, must_exist=False)
     if path.is_dir():
         raise InputError(f"{rel}: is a folder; give a file name")
+    if path.exists() and not path.is_file():
+        raise InputError(f"{rel}: not a regular file; give a file name")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
+        from vslsp.outputs import write_text as write_whole
+
+        write_whole(path, text)
     except OSError as error:
         raise InputError(f"{rel}: cannot write the file ({error.strerror})") from None
     return path

@@ -11,18 +11,28 @@ from vslsp.errors import VslspError
 from vslsp.studio import api, files, reports, runs
 from vslsp.studio.board import RunBoard
 from vslsp.studio.layout import frame, in_thread
+from vslsp.studio.settings import Settings
 
 
 def _rel_link(rel: str) -> str:
     return "/files/" + quote(rel)
 
 
-def ground_page(root: Path, pre: str | None, post: str | None, predicates: str | None) -> None:
+def ground_page(root: Path, pre: str | None, post: str | None, predicates: str | None, settings: Settings) -> None:
     """Pick or drop a pre/post image pair, a predicates file under the root; the overlay, the moved
     object and the true atoms before and after. Paper: "VSL" (getObject by image subtraction)."""
     frame("Ground")
     images = files.listing(root, api.IMAGE_SUFFIXES)
     predicate_files = [p for p in files.listing(root, (".py",)) if "predicate" in Path(p).name]
+    unknown = [f"{name} {value}" for name, value in (("pre", pre), ("post", post)) if value and value not in images]
+    pre, post = (value if value in images else None for value in (pre, post))
+    if predicates and predicates not in predicate_files:
+        unknown.append(f"predicates {predicates}")
+        predicates = None
+    if unknown:
+        ui.label(f"not an image or predicates file under the root: {', '.join(unknown)}").classes(
+            "text-negative page-error"
+        )
     with ui.row().classes("items-end"):
         chosen = {
             "pre": ui.select(images, value=pre, label="pre-action image", with_input=True).classes("w-80 pick-pre"),
@@ -100,13 +110,22 @@ def ground_page(root: Path, pre: str | None, post: str | None, predicates: str |
         rel = chosen_predicates.value
         with ui.dialog() as dialog, ui.card().classes("w-2/3"):
             editor = ui.codemirror(files.read_small(root, rel), language="Python").classes("w-full h-96")
+            if not settings.edit_code:
+                editor.props("disable")
+                ui.label("read only: the studio writes no Python file unless started with --edit-code").classes(
+                    "text-grey-7 code-read-only"
+                )
 
             def save() -> None:
-                files.write_text(root, rel, editor.value)
+                try:
+                    files.write_text(root, rel, editor.value, code=settings.edit_code)
+                except VslspError as error:
+                    ui.notify(str(error), type="negative")
+                    return
                 dialog.close()
                 ui.notify(f"saved {rel}; ground again to use it")
 
-            ui.button("Save", on_click=save)
+            ui.button("Save", on_click=save).set_enabled(settings.edit_code)
         dialog.open()
 
     edit.on_click(open_editor)
@@ -132,33 +151,55 @@ def experiments_page(root: Path) -> None:
         workers = ui.number("workers", value=1, min=1, precision=0).classes("w-24")
         backend = ui.select(["local", "ray"], value="local", label="backend").classes("w-24")
         faults = ui.checkbox("faults")
+        video = ui.checkbox("video")
+    with ui.row().classes("items-end"):
+        slips = ui.number("tutor slips (P)", value=None, min=0, max=1, step=0.1).classes("w-32 pick-slips")
+        detection = ui.select({None: "default", True: "on", False: "off"}, value=None, label="slip detection")
+        method = ui.select(
+            {None: "default", "prerejective_ransac": "prerejective_ransac", "sac_ia": "sac_ia", "icp": "icp"},
+            value=None,
+            label="VSL-3D method",
+        ).classes("w-48")
+        views = ui.select({None: "default", 1: "1", 2: "2"}, value=None, label="views").classes("w-24")
+        planner = ui.input("planner (default: fast-downward)").classes("w-56")
         start = ui.button("Start").props("id=start")
 
-    def start_run() -> None:
+    async def start_run() -> None:
+        given = {
+            "faults": bool(faults.value),
+            "video": bool(video.value),
+            "tutor_slips": None if slips.value in (None, "") else float(slips.value),
+            "slip_detection": detection.value,
+            "method": method.value,
+            "views": views.value,
+            "planner": planner.value or None,
+        }
         request = {
             "experiment": name.value,
             "trials": int(trials.value or 1),
             "seed": int(seed.value or 0),
             "workers": int(workers.value or 1),
             "backend": backend.value,
-            "faults": bool(faults.value),
+            **{k: v for k, v in given.items() if v not in (None, False)},
         }
         try:
-            run_id = runs.start(root, request)
+            run_id = await in_thread(lambda: {"id": runs.start(root, request)})
         except VslspError as error:
             ui.notify(str(error), type="negative")
             return
-        ui.notify(f"started run {run_id}")
+        ui.notify(f"queued run {run_id['id']}")
         board.refresh()
 
     start.on_click(start_run)
     board = RunBoard(root)
 
 
-def register(root: Path) -> None:
+def register(root: Path, settings: Settings | None = None) -> None:
+    settings = settings or Settings()
+
     @ui.page("/ground")
     def _ground(pre: str | None = None, post: str | None = None, predicates: str | None = None) -> None:
-        ground_page(root, pre, post, predicates)
+        ground_page(root, pre, post, predicates, settings)
 
     @ui.page("/experiments")
     def _experiments() -> None:

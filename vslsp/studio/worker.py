@@ -2,7 +2,8 @@
 the page that started it. It reads its request from the status file. An experiment run (the default
 ``kind``) runs the trials with :func:`vslsp.tasks.run_trials` and writes progress to the status file
 after each trial (``state``, ``done``, ``total``, ``successes``), then the report; a ``figures`` job
-re-runs one trial of a report and draws its pictures (:mod:`vslsp.studio.trial_figures`). Its trials'
+re-runs one trial of a report and draws its pictures (:mod:`vslsp.studio.trial_figures`). The studio's root
+is the status file's ``root`` (the job runs from a working folder of its own, never the root). Its trials'
 cameras publish their newest view to the file the studio named in the environment (:mod:`vslsp.sim.live`)."""
 
 from __future__ import annotations
@@ -16,9 +17,15 @@ from typing import Any
 
 def main(status_path: str) -> int:
     """Do the job in ``status_path``; 0 when it is done, 1 when it failed."""
-    from vslsp.errors import VslspError
+    import signal
+
+    from vslsp.errors import Interrupted, VslspError
     from vslsp.studio.runs import write_status
 
+    def cancelled(number: int, _frame: object) -> None:
+        raise Interrupted(signal.Signals(number).name)
+
+    signal.signal(signal.SIGTERM, cancelled)  # the studio cancels a job with SIGTERM
     path = Path(status_path)
     status = json.loads(path.read_text())
     status["pid"] = os.getpid()  # a later studio tells a live job from a dead one by it
@@ -27,9 +34,11 @@ def main(status_path: str) -> int:
         if status.get("kind") == "figures":
             from vslsp.studio.trial_figures import draw
 
-            status.update(draw(Path.cwd(), status["request"]), state="done")
+            status.update(draw(Path(status["root"]), status["request"]), state="done")
         else:
             run(path, status)
+    except (Interrupted, KeyboardInterrupt):
+        status.update(state="cancelled", error="cancelled before any trial finished")
     except VslspError as error:
         status.update(state="failed", error=str(error))
     except Exception as error:  # a trial's own failure is in its record; this is the job itself failing
@@ -40,11 +49,11 @@ def main(status_path: str) -> int:
 
 def run(path: Path, status: dict[str, Any]) -> None:
     """The experiment run of ``status["request"]``: its trials, then the report in ``report/``."""
-    from vslsp.studio.runs import write_status
+    from vslsp.studio.runs import task_options, write_status
     from vslsp.tasks import get_task, run_trials, write_report
 
     request = status["request"]
-    task = get_task(request["experiment"], faults=bool(request.get("faults")))
+    task = get_task(request["experiment"], **task_options(request, str(path.parent / "report")))
     seeds = list(range(request["seed"], request["seed"] + request["trials"]))
 
     def done(result: Any) -> None:
@@ -55,8 +64,13 @@ def run(path: Path, status: dict[str, Any]) -> None:
     outcome = run_trials(task, seeds, workers=request["workers"], backend=request["backend"], on_done=done)
     status["state"] = "writing report"
     write_status(path, status)
-    write_report(path.parent / "report", task, outcome)
-    status.update(state="done", report=f"{status['folder']}/report")
+    if outcome.results:
+        write_report(path.parent / "report", task, outcome)
+        status["report"] = f"{status['folder']}/report"
+    if outcome.interrupted:  # cancelled (SIGTERM from the studio): the finished trials are in the report
+        status.update(state="cancelled", error=f"cancelled after {len(outcome.results)} of {len(seeds)} trials")
+    else:
+        status["state"] = "done"
 
 
 if __name__ == "__main__":
