@@ -17,8 +17,7 @@ from fastapi.responses import FileResponse, JSONResponse
 from starlette.concurrency import run_in_threadpool
 
 from vslsp.errors import InputError, VslspError
-from vslsp.studio import files, runs, trial_figures
-from vslsp.studio import pddl as pddl_work
+from vslsp.studio import engine, files, runs, trial_figures
 from vslsp.studio.files import MAX_UPLOAD_BYTES, Missing, Outside, inside, relative
 from vslsp.studio.guard import Access, Guard
 from vslsp.studio.report_data import read_report, read_trial, report_folders, trial_of
@@ -129,7 +128,8 @@ def install(app: FastAPI, root: Path, access: Access | None = None, settings: Se
     async def _unreadable(request: Request, error: RequestValidationError) -> JSONResponse:
         problems = error.errors()
         first = problems[0] if problems else {}
-        where = " ".join(str(part) for part in first.get("loc", ()) if part not in ("query", "body", "path"))
+        loc = tuple(first.get("loc", ()))
+        where = " ".join(str(part) for part in (loc[1:] if loc[:1] in (("query",), ("body",), ("path",)) else loc))
         what = "is missing" if first.get("type") == "missing" else f"is not valid ({first.get('msg', 'bad value')})"
         return JSONResponse({"error": f"the parameter {where or '?'} {what}", "exit_code": 2}, status_code=400)
 
@@ -173,8 +173,8 @@ def install(app: FastAPI, root: Path, access: Access | None = None, settings: Se
     @api.post("/check")
     async def check(request: Request) -> dict:
         data = await _body(request)
-        return await run_in_threadpool(
-            pddl_work.check,
+        return await engine.call(
+            "check",
             _text(data, "domain"),
             _text(data, "problem", required=False) or None,
             _name(data, "domain_file", "<domain>"),
@@ -187,7 +187,7 @@ def install(app: FastAPI, root: Path, access: Access | None = None, settings: Se
         args = (_text(data, "domain"), _text(data, "problem"))
         names = (_name(data, "domain_file", "<domain>"), _name(data, "problem_file", "<problem>"))
         try:
-            return JSONResponse(await run_in_threadpool(pddl_work.plan, *args, *names))
+            return JSONResponse(await engine.call("plan", *args, *names))
         except VslspError as error:
             if error.exit_code != 1:
                 raise
@@ -199,7 +199,7 @@ def install(app: FastAPI, root: Path, access: Access | None = None, settings: Se
         data = await _body(request)
         args = (_text(data, "domain"), _text(data, "problem"), _text(data, "plan"))
         names = (_name(data, "domain_file", "<domain>"), _name(data, "problem_file", "<problem>"))
-        return await run_in_threadpool(pddl_work.validate, *args, *names)
+        return await engine.call("validate", *args, *names)
 
     @api.post("/ground")
     async def ground(request: Request) -> dict:
@@ -267,7 +267,7 @@ def install(app: FastAPI, root: Path, access: Access | None = None, settings: Se
     @api.post("/complete")
     async def complete(request: Request) -> dict:
         data = await _body(request)
-        return await run_in_threadpool(pddl_work.complete, *_completion_request(data))
+        return await engine.call("complete", *_completion_request(data))
 
     app.include_router(api)
 

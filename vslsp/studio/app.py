@@ -38,7 +38,7 @@ def build(root: Path, access: Access, settings: Settings) -> None:
     """Register the guard, the API, the files, the pages and the job queue on NiceGUI's app."""
     from nicegui import app
 
-    from vslsp.studio import api, author, layout, pages, runs
+    from vslsp.studio import api, author, engine, layout, pages, runs
 
     layout.PAGE_TOKEN["token"] = access.token
     api.install(app, root, access, settings)
@@ -46,6 +46,8 @@ def build(root: Path, access: Access, settings: Settings) -> None:
     pages.register(root, settings)
     app.on_startup(lambda: runs.queue(root).pump())  # jobs an earlier studio left queued
     app.on_startup(warm_up)
+    app.on_startup(engine.warm_up)
+    app.on_shutdown(engine.shut_down)
 
 
 def warm_up() -> None:

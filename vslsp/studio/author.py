@@ -15,9 +15,8 @@ from typing import Any
 from nicegui import background_tasks, ui
 
 from vslsp.errors import VslspError
-from vslsp.studio import editing, files
-from vslsp.studio import pddl as pddl_work
-from vslsp.studio.layout import frame, in_thread
+from vslsp.studio import editing, engine, files
+from vslsp.studio.layout import frame
 
 STYLE = """
 .vslsp-error { text-decoration: underline wavy #c62828; }
@@ -144,9 +143,9 @@ class Author:
             self.results = ui.column().classes("w-2/3 results")
         self.checked: dict = {}
         self.shown: dict[str, list[dict]] = {}
-        self.drawn = False
-        self.check()
         self.drawn = True
+        self.client = ui.context.client
+        background_tasks.create(self.check_later(self.version, 0.0), name="vslsp-check")  # off the loop
         ids = {kind: editor.id for kind, editor in self.editors.items()}
         client = ui.context.client
         client.on_connect(lambda: client.run_javascript(COMPLETION_JS % json.dumps(ids)))
@@ -170,14 +169,15 @@ class Author:
             mark.set_visibility(dirty[kind])
         ui.run_javascript(f"window.vslspUnsaved = {'true' if any(dirty.values()) else 'false'};")
 
-    async def check_later(self, version: int) -> None:
-        await asyncio.sleep(DEBOUNCE_S)
+    async def check_later(self, version: int, rest: float = DEBOUNCE_S) -> None:
+        await asyncio.sleep(rest)
         if version != self.version:
             return  # more keys came: the newest edit checks
+        await self.client.connected()
         domain, problem = self.editors["domain"].value, self.editors["problem"].value
         names = (self.file("domain"), self.file("problem"))
         try:
-            answer = await in_thread(pddl_work.check, domain, problem or None, *names)
+            answer = await engine.call("check", domain, problem or None, *names)
         except VslspError:
             return
         if version == self.version:  # an answer for an older text is dropped
@@ -199,11 +199,6 @@ class Author:
             if changed
             else ""
         )
-
-    def check(self) -> None:
-        """The language engine on both editors' text, at once (the page being built, a fix applied)."""
-        domain, problem = self.editors["domain"].value, self.editors["problem"].value
-        self.show_check(pddl_work.check(domain, problem or None, self.file("domain"), self.file("problem")))
 
     def show_check(self, checked: dict) -> None:
         """Marks, messages and quick fixes of a check redrawn."""
@@ -231,9 +226,7 @@ class Author:
         begin = editing.offset(starts, text, fix["line"], fix["column"])
         end = editing.offset(starts, text, fix["end_line"], fix["end_column"])
         self.editors[kind].value = text[:begin] + fix["text"] + text[end:]
-        self.version += 1
-        self.check()
-        self.show_unsaved()
+        self.changed()
 
     async def complete(self, kind: str) -> None:
         editor = self.editors[kind]
@@ -249,10 +242,7 @@ class Author:
     def insert(self, kind: str, begin: int, end: int, text: str) -> None:
         value = self.editors[kind].value
         self.editors[kind].value = value[:begin] + text + value[end:]
-        self.completions.clear()
-        self.version += 1
-        self.check()
-        self.show_unsaved()
+        self.changed()
 
     def open_files(self) -> None:
         query = "&".join(f"{k}={self.names[k].value}" for k in ("domain", "problem") if self.names[k].value)
@@ -314,7 +304,7 @@ class Author:
             ui.spinner()
         domain, problem, domain_file, problem_file = self._texts()
         try:
-            answer = await in_thread(pddl_work.plan, domain, problem, domain_file, problem_file)
+            answer = await engine.call("plan", domain, problem, domain_file, problem_file)
         except VslspError as error:
             answer = {"plan": None, "error": str(error), "conflict": getattr(error, "conflict", None)}
         self.results.clear()
@@ -347,7 +337,7 @@ class Author:
         plan_text = self.plan_editor.value
         self.results.clear()
         try:
-            answer = await in_thread(pddl_work.validate, domain, problem, plan_text, domain_file, problem_file)
+            answer = await engine.call("validate", domain, problem, plan_text, domain_file, problem_file)
         except VslspError as error:
             with self.results:
                 ui.label(str(error)).classes("text-negative validate-error")

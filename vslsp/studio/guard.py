@@ -20,9 +20,9 @@ requests (``fetch(..., {mode: "no-cors"})``, a form, a websocket), and a DNS nam
    (``/api/...``) must carry the token in a header (a page of another origin cannot add one without a
    CORS preflight, which the studio never grants), NiceGUI's own (its socket.io channel, its
    uploads) must come with the studio's own ``Origin``.
-4. **Bodies**: the API takes ``application/json`` only (``multipart/form-data`` for ``/api/upload``),
-   415 otherwise; every body is counted while it is read and cut at its limit (413), so a huge or
-   endless post never sits in memory.
+4. **Bodies**: the API takes ``application/json`` only (``multipart/form-data`` for ``/api/upload``;
+   a POST without a body, such as a cancel, may name no type), 415 otherwise; every body is counted
+   while it is read and cut at its limit (413), so a huge or endless post never sits in memory.
 """
 
 from __future__ import annotations
@@ -174,7 +174,8 @@ class Guard:
                 )
             kind = headers.get("content-type", "").split(";")[0].strip().lower()
             wanted = "multipart/form-data" if path == "/api/upload" else "application/json"
-            if kind != wanted:
+            bodiless = headers.get("content-length", "0") == "0" and "transfer-encoding" not in headers
+            if kind != wanted and not (bodiless and not kind):  # a bodiless POST (cancel) needs no type
                 return _refusal(415, f"send the body as {wanted}, not {kind or 'no content type'}")
             return None
         if not any(_same(given, access.token) for given in (in_header, in_query, in_cookie)):

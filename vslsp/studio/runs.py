@@ -198,6 +198,7 @@ class Queue:
     def __init__(self, root: Path, limit: int) -> None:
         self.root, self.limit = root.resolve(), limit
         self.children: dict[str, subprocess.Popen] = {}
+        self.ended: dict[str, int] = {}  # the exit codes of the children reaped
         self.lock = threading.RLock()
         self.thread: threading.Thread | None = None
 
@@ -217,12 +218,13 @@ class Queue:
                     continue
                 if status.get("state") not in ENDED:
                     found.append((base, job_id, status))
-        return sorted(found, key=lambda job: job[1])
+        return sorted(found, key=lambda job: (float(job[2].get("queued_at") or 0), job[1]))
 
     def pump(self) -> None:
         with self.lock:
             for job_id, child in list(self.children.items()):
                 if child.poll() is not None:  # reaped: no zombie is left
+                    self.ended[job_id] = child.returncode
                     del self.children[job_id]
             pending = self.jobs()
             running = [j for j in pending if j[2].get("state") != "queued" and self.alive(j[1], j[2])]
@@ -245,6 +247,8 @@ class Queue:
         child = self.children.get(job_id)
         if child is not None:
             return child.poll() is None
+        if job_id in self.ended:
+            return False
         pid = status.get("pid")
         if not isinstance(pid, int):
             return "started" in status and time.time() - float(status["started"]) < 30  # starting
@@ -272,6 +276,7 @@ class Queue:
                 return read_job(self.root, base, job_id, what)
             child = self.children.get(job_id)
             pid = child.pid if child is not None else status.get("pid")
+            write_status(path, {**json.loads(path.read_text()), "cancel_requested": True})
             if isinstance(pid, int):
                 try:
                     os.kill(pid, signal.SIGTERM)
@@ -337,7 +342,9 @@ def read_job(root: Path, base: str, job_id: str, what: str) -> dict:
     if not queue(root).alive(job_id, status):
         time.sleep(0.2)  # the worker may have written its last status as it ended
         status = json.loads(path.read_text())
-        if status.get("state") not in ENDED:
+        if status.get("state") not in ENDED and status.get("cancel_requested"):
+            status.update(state="cancelled", error="cancelled before any trial finished")
+        elif status.get("state") not in ENDED:
             status.update(state="failed", error=f"the {what}'s process ended before it finished (see its log.txt)")
     if status.get("state") not in ENDED:
         status["state"] = "running"
