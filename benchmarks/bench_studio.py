@@ -11,7 +11,13 @@ runs the same function on its websocket). Reference: the engine alone in this pr
 (:func:`vslsp.symbolic.language.analyse`). Each figure is the minimum over the runs (the machine may
 be shared; the minimum is the run least disturbed), the median beside it.
 
-    .venv/bin/python benchmarks/bench_studio.py [--starts 3] [--checks 50]
+Under load (issue 40): while another client's check of a 400 KB domain runs, the time Start
+(``POST /api/runs``) takes to answer (target < 300 ms) and the time the studio takes to answer other
+clients (``GET /api/runs`` and a check of the shipped domain; target < 100 ms); the studio's memory
+while 20 clients post 100 MB each at once (target: under +200 MB); 12 runs of 1,000 trials started at
+once (the queue: how many run) and one cancelled (target: stopped within 5 s).
+
+    .venv/bin/python benchmarks/bench_studio.py [--starts 3] [--checks 50] [--no-load]
 """
 
 from __future__ import annotations
@@ -25,14 +31,19 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
+import urllib.error
 import urllib.request
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from vslsp.symbolic.language import analyse
 
 REPO = Path(__file__).resolve().parents[1]
 DOMAIN, PROBLEM = REPO / "pddl" / "domain.pddl", REPO / "pddl" / "pull-in-order.pddl"
+TOKEN = "bench-studio-token-0123456789"
+HEADERS = {"content-type": "application/json", "authorization": f"Bearer {TOKEN}"}
 
 
 def _free_port() -> int:
@@ -46,13 +57,15 @@ def start_studio(root: Path) -> tuple[subprocess.Popen, int, float]:
     port = _free_port()
     began = time.perf_counter()
     process = subprocess.Popen(
-        [sys.executable, "-m", "vslsp", "studio", "--root", str(root), "--port", str(port), "--no-browser"],
+        [sys.executable, "-m", "vslsp", "studio", "--root", str(root), "--port", str(port), "--no-browser"]
+        + ["--token", TOKEN, "--max-runs", "2"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
     while True:
         try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{port}/author", timeout=5) as answer:
+            opened = urllib.request.Request(f"http://127.0.0.1:{port}/author", headers=HEADERS)
+            with urllib.request.urlopen(opened, timeout=5) as answer:
                 answer.read()
             return process, port, time.perf_counter() - began
         except OSError:
@@ -73,9 +86,7 @@ def checks(port: int, count: int) -> list[float]:
     times = []
     for number in range(count):
         body = json.dumps({"domain": typo if number % 2 else domain, "problem": problem}).encode()
-        request = urllib.request.Request(
-            f"http://127.0.0.1:{port}/api/check", body, {"content-type": "application/json"}
-        )
+        request = urllib.request.Request(f"http://127.0.0.1:{port}/api/check", body, HEADERS)
         began = time.perf_counter()
         with urllib.request.urlopen(request) as answer:
             answer.read()
@@ -90,14 +101,135 @@ def completions(port: int, count: int) -> list[float]:
     body = json.dumps({"domain": domain, "problem": PROBLEM.read_text(), "in": "domain", "at": at}).encode()
     times = []
     for _ in range(count):
-        request = urllib.request.Request(
-            f"http://127.0.0.1:{port}/api/complete", body, {"content-type": "application/json"}
-        )
+        request = urllib.request.Request(f"http://127.0.0.1:{port}/api/complete", body, HEADERS)
         began = time.perf_counter()
         with urllib.request.urlopen(request) as answer:
             assert "far" in json.loads(answer.read())["items"]
         times.append(time.perf_counter() - began)
     return times
+
+
+def call(port: int, method: str, path: str, body: object = None) -> tuple[float, dict]:
+    """One API request; (seconds, answer)."""
+    data = None if body is None else json.dumps(body).encode()
+    request = urllib.request.Request(f"http://127.0.0.1:{port}{path}", data, HEADERS, method=method)
+    began = time.perf_counter()
+    try:
+        with urllib.request.urlopen(request, timeout=600) as answer:
+            found = json.loads(answer.read() or b"{}")
+    except urllib.error.HTTPError as refused:
+        found = json.loads(refused.read() or b"{}")
+    return time.perf_counter() - began, found
+
+
+def large_domain(target_bytes: int = 400_000) -> str:
+    """A domain of about ``target_bytes``: many predicates and actions, each action using several."""
+    predicates, actions, number = [], [], 0
+    while sum(map(len, actions)) < target_bytes:
+        predicates.append(f"(p{number} ?x - thing)")
+        uses = " ".join(f"(p{(number * 7 + k) % (number + 1)} ?x)" for k in range(4))
+        actions.append(
+            f"  (:action a{number}\n    :parameters (?x - thing)\n    :precondition (and {uses})\n"
+            f"    :effect (and (not (p{number} ?x)) (p{(number + 1) % (number + 1)} ?x)))\n"
+        )
+        number += 1
+    head = "(define (domain large)\n  (:requirements :strips :typing)\n  (:types thing)\n"
+    return head + f"  (:predicates {' '.join(predicates)})\n" + "".join(actions) + ")\n"
+
+
+def rss_mb(pid: int) -> float:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    return 0.0
+
+
+def under_load(port: int, pid: int) -> None:
+    """The figures of issue 40's load targets (see the module's docstring)."""
+    big = large_domain()
+    call(port, "POST", "/api/check", {"domain": DOMAIN.read_text(), "problem": PROBLEM.read_text()})  # warm
+    began = time.perf_counter()
+    call(port, "POST", "/api/check", {"domain": big})
+    alone = time.perf_counter() - began
+    busy = threading.Event()
+
+    def checking() -> None:
+        while not busy.is_set():
+            call(port, "POST", "/api/check", {"domain": big})
+
+    worker = threading.Thread(target=checking, daemon=True)
+    worker.start()
+    time.sleep(0.3)
+    others, starts = [], []
+    small = {"domain": DOMAIN.read_text(), "problem": PROBLEM.read_text()}
+    for _ in range(20):
+        others.append(call(port, "GET", "/api/runs")[0])
+        others.append(call(port, "POST", "/api/check", small)[0])
+    for _ in range(3):
+        seconds, run = call(port, "POST", "/api/runs", {"experiment": "house-roof", "trials": 1000, "seed": 0})
+        starts.append(seconds)
+        call(port, "POST", f"/api/runs/{run['id']}/cancel")
+    busy.set()
+    worker.join()
+    print(
+        f"while a {len(big) // 1000} KB domain is checked ({alone:.2f} s a check): Start answers in "
+        f"max {1000 * max(starts):.0f} ms (target < 300 ms); other clients in median "
+        f"{1000 * statistics.median(others):.0f} ms, max {1000 * max(others):.0f} ms (target < 100 ms)"
+    )
+    before = rss_mb(pid)
+    peak = [before]
+
+    def watch() -> None:
+        while not busy.is_set():
+            peak.append(rss_mb(pid))
+            time.sleep(0.02)
+
+    busy.clear()
+    watcher = threading.Thread(target=watch, daemon=True)
+    watcher.start()
+
+    def huge(number: int) -> int:
+        def chunks():
+            for _ in range(100):
+                yield b" " * (1024 * 1024)
+
+        request = urllib.request.Request(
+            f"http://127.0.0.1:{port}/api/check", chunks() if number % 2 else b" " * (100 * 1024 * 1024), HEADERS
+        )
+        try:
+            urllib.request.urlopen(request, timeout=120).read()
+        except urllib.error.HTTPError as refused:
+            return refused.code
+        except OSError:
+            return 0  # the studio closed the connection after its answer, while the rest was being sent
+        return 200
+
+    with ThreadPoolExecutor(20) as clients:
+        codes = list(clients.map(huge, range(20)))
+    busy.set()
+    watcher.join()
+    print(
+        f"20 parallel posts of 100 MB (half declared, half chunked): answers {sorted(set(codes))}; the studio "
+        f"{before:.0f} MB before, peak +{max(peak) - before:.0f} MB (target < +200 MB)"
+    )
+    ids = [
+        call(port, "POST", "/api/runs", {"experiment": "house-roof", "trials": 1000, "seed": 1000 * n})[1]["id"]
+        for n in range(12)
+    ]
+    time.sleep(3)
+    listed = call(port, "GET", "/api/runs")[1]
+    running = [r["id"] for r in listed["runs"] if r["state"] == "running"]
+    asked = time.perf_counter()
+    call(port, "POST", f"/api/runs/{running[0]}/cancel")
+    while call(port, "GET", f"/api/runs/{running[0]}")[1]["state"] not in ("cancelled", "failed", "done"):
+        time.sleep(0.1)
+    stopped = time.perf_counter() - asked
+    print(
+        f"12 runs of 1,000 trials started at once: {len(running)} running, {listed['queued']} queued; "
+        f"one cancelled, ended in {stopped:.1f} s (target < 5 s)"
+    )
+    for run_id in ids:
+        call(port, "POST", f"/api/runs/{run_id}/cancel")
 
 
 def engine(count: int) -> list[float]:
@@ -114,6 +246,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--starts", type=int, default=3)
     parser.add_argument("--checks", type=int, default=50)
+    parser.add_argument("--no-load", action="store_true", help="Skip the figures under load (issue 40).")
     options = parser.parse_args()
     root = Path(tempfile.mkdtemp(prefix="bench-studio-"))
     shutil.copytree(REPO / "pddl", root / "pddl")
@@ -130,6 +263,8 @@ def main() -> None:
         completing = completions(port, options.checks)
         alone = engine(options.checks)
         assert process is not None
+        if not options.no_load:
+            under_load(port, process.pid)
         process.terminate()
         process.wait()
     finally:
