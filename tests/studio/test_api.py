@@ -204,3 +204,40 @@ def test_a_rendered_scene_gives_images_under_the_root(studio_root):
     assert answer["folder"] == "out/studio/scenes/seed-2" and answer["images"]
     assert all((studio_root / image).read_bytes()[:4] == b"\x89PNG" for image in answer["images"])
     assert web.post("/api/scene", json={"seed": -1}).status_code == 400
+
+
+def _at(text: str, marker: str, inside: int) -> int:
+    return text.index(marker) + inside
+
+
+def test_navigate_definition_references_rename_and_outline(studio_root):
+    sent = texts(studio_root)
+    at = _at(sent["domain"], "(not (far ?b))", len("(not (f"))
+    web = client(studio_root)
+    ask = {**sent, "in": "domain", "at": at}
+    found = web.post("/api/navigate", json={**ask, "what": "definition"}).json()
+    assert (found["name"], found["signature"]) == ("far", "(far ?b - block)")
+    assert found["locations"][0]["line"] == 8 and found["locations"][0]["in"] == "domain"
+    places = web.post("/api/navigate", json={**ask, "what": "references"}).json()["locations"]
+    assert {p["in"] for p in places} == {"domain", "problem"} and len(places) == 15
+    edits = web.post("/api/navigate", json={**ask, "what": "rename", "new_name": "distant"}).json()["edits"]
+    assert len(edits) == 15 and all(e["text"] == "distant" for e in edits)
+    for reserved in ("and", "either", "forall", "9lives", "a b"):
+        refused = web.post("/api/navigate", json={**ask, "what": "rename", "new_name": reserved})
+        assert refused.status_code == 400 and refused.json()["exit_code"] == 2, reserved
+    outline = web.post("/api/navigate", json={**ask, "what": "outline"}).json()["outline"]
+    shown = [(o["kind"], o["name"]) for o in outline][:3]
+    assert shown == [("domain", "vsl-sp"), ("type", "block"), ("predicate", "far")]
+    assert outline[3]["children"][0]["name"] == "?b"
+    assert web.post("/api/navigate", json={**ask, "at": 0, "what": "definition"}).json()["name"] is None
+    assert web.post("/api/navigate", json={**ask, "what": "teleport"}).status_code == 400
+
+
+def test_completion_items_carry_their_kind_and_declaration(studio_root):
+    sent = texts(studio_root)
+    domain = sent["domain"].replace("(not (far ?b))", "(not (f ?b))", 1)
+    at = _at(domain, "(not (f ", len("(not (f"))
+    answer = client(studio_root).post("/api/complete", json={**sent, "domain": domain, "in": "domain", "at": at}).json()
+    [far] = [e for e in answer["entries"] if e["label"] == "far"]
+    assert far == {"label": "far", "kind": "predicate", "type": "function", "detail": "(far ?b - block)"}
+    assert {e["kind"] for e in answer["entries"]} <= {"predicate", "keyword"}

@@ -67,7 +67,7 @@ def test_ctrl_space_completes_the_name_at_the_cursor(page, studio):
     # Until the page has added its completion source, Ctrl-Space offers CodeMirror's own words.
     page.wait_for_function("window.vslspCompletion && window.vslspCompletion.domain")
     page.keyboard.press("Control+Space")
-    offered = page.locator(".cm-tooltip-autocomplete li")
+    offered = page.locator(".cm-tooltip-autocomplete li .cm-completionLabel")
     offered.first.wait_for()
     assert "far" in offered.all_inner_texts()
     offered.filter(has_text="far").first.click()

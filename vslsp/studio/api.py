@@ -269,6 +269,17 @@ def install(app: FastAPI, root: Path, access: Access | None = None, settings: Se
         data = await _body(request)
         return await engine.call("complete", *_completion_request(data))
 
+    @api.post("/navigate")
+    async def navigate(request: Request) -> dict:
+        data = await _body(request)
+        domain, problem, editor, at, *names = _completion_request(data)
+        what, new_name = data.get("what"), data.get("new_name")
+        if what not in ("definition", "references", "rename", "outline"):
+            raise InputError(f"'what' must be definition, references, rename or outline, got {what!r}")
+        if new_name is not None and not isinstance(new_name, str):
+            raise InputError("'new_name' must be text")
+        return await engine.call("navigate", domain, problem, editor, at, what, new_name, *names)
+
     app.include_router(api)
 
     @app.get("/files/{rel:path}")

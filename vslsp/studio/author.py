@@ -16,6 +16,7 @@ from nicegui import background_tasks, ui
 
 from vslsp.errors import VslspError
 from vslsp.studio import editing, engine, files
+from vslsp.studio.author_navigation import Navigation
 from vslsp.studio.layout import frame
 
 STYLE = """
@@ -28,6 +29,9 @@ STYLE = """
 .vslsp-ref { text-decoration: underline dotted #90a4ae; }
 table.timeline { border-collapse: collapse; font-family: monospace; font-size: 12px; }
 table.timeline td, table.timeline th { border: 1px solid #ccc; padding: 2px 6px; vertical-align: top; }
+.vslsp-hover { font-family: monospace; font-size: 13px; padding: 4px 8px; background: #263238; color: #eceff1;
+  border-radius: 4px; white-space: pre; }
+.cm-tooltip:has(.vslsp-hover) { border: none; background: transparent; }
 td.kept { background: #e8f5e9; } td.broken { background: #ffcdd2; } td.open { background: #fffde7; }
 """
 
@@ -62,10 +66,26 @@ COMPLETION_JS = """
       if (!answer.ok) return null;
       const found = await answer.json();
       const from = [...doc].slice(0, found.from).join("").length;
-      return {from, options: found.items.map((label) => ({label})), validFor: /^[?\\w-]*$/};
+      const options = (found.entries || found.items.map((label) => ({label}))).map(
+        (e) => ({label: e.label, type: e.type, detail: e.detail}));
+      return {from, options, validFor: /^[?\\w-]*$/};
     };
     const data = CM.EditorState.languageData.of(() => [{autocomplete: source}]);
-    view.dispatch({effects: CM.StateEffect.appendConfig.of(data)});
+    // Hover: a name's declaration in a styled tooltip (the mark's data-hover, from the check).
+    const hover = CM.hoverTooltip((view, pos) => {
+      const at = view.domAtPos(pos).node;
+      const element = at && (at.nodeType === 3 ? at.parentElement : at);
+      const mark = element && element.closest ? element.closest("[data-hover]") : null;
+      if (!mark) return null;
+      return {pos, above: true, create: () => {
+        const dom = document.createElement("div");
+        dom.className = "vslsp-hover";
+        dom.textContent = mark.dataset.hover;
+        return {dom};
+      }};
+    });
+    view.dispatch({effects: CM.StateEffect.appendConfig.of([data, hover])});
+    view.dom.addEventListener("focusin", () => { window.vslspLast = kind; });
     window.vslspCompletion = {...window.vslspCompletion, [kind]: true};  // Ctrl-Space asks the server now
   }
 })(%s);
@@ -88,7 +108,7 @@ DISK_POLL_S = 2.0
 fingerprint = files.version_of
 
 
-class Author:
+class Author(Navigation):
     """One author page: two editors and what they show.
 
     Nothing typed is lost: an editor with edits not saved is marked (and leaving the page asks first);
@@ -115,6 +135,9 @@ class Author:
             ui.button("Save", on_click=self.save).props("id=save")
             ui.button("Plan", on_click=self.plan).props("id=plan")
             ui.button("Validate", on_click=self.validate).props("id=validate")
+            ui.button("Definition", on_click=lambda: self.navigate("definition")).props("flat id=definition")
+            ui.button("References", on_click=lambda: self.navigate("references")).props("flat id=references")
+            ui.button("Rename", on_click=self.ask_rename).props("flat id=rename")
             ui.label("Ctrl-Space: complete the name at the cursor (F2: the names as buttons)").classes("text-grey-7")
         self.notice = ui.label().classes("text-warning disk-notice")
         self.unsaved_marks: dict[str, Any] = {}
@@ -131,11 +154,20 @@ class Author:
                         language="Common Lisp",
                         line_wrapping=True,
                         on_change=lambda _event: self.changed(),
-                        keymap={"F2": lambda _event, k=kind: self.complete(k)},
+                        keymap={
+                            "F2": lambda _event, k=kind: self.complete(k),
+                            "F12": lambda _event, k=kind: self.navigate("definition", k),
+                            "Shift-F12": lambda _event, k=kind: self.navigate("references", k),
+                        },
                     ).classes(f"w-full h-96 border editor-{kind}")
                     self.editors[kind] = editor
         self.completions = ui.row().classes("completions")
-        self.diagnostics = ui.column().classes("w-full diagnostics")
+        self.found = ui.column().classes("w-full navigation")
+        with ui.row().classes("w-full no-wrap"):
+            self.diagnostics = ui.column().classes("w-2/3 diagnostics")
+            with ui.column().classes("w-1/3"):
+                ui.label("Outline").classes("text-bold")
+                self.outline = ui.column().classes("outline")
         with ui.row().classes("w-full no-wrap"):
             with ui.column().classes("w-1/3"):
                 ui.label("Plan to validate (one (action arg ...) per line)").classes("text-bold")
@@ -201,8 +233,9 @@ class Author:
         )
 
     def show_check(self, checked: dict) -> None:
-        """Marks, messages and quick fixes of a check redrawn."""
+        """Marks, messages, quick fixes and the outline of a check redrawn."""
         self.checked = checked
+        self.show_outline()
         for kind, editor in self.editors.items():
             found, tips = editing.decorations(editor.value, self.file(kind), self.checked)
             self.draw(kind, found, tips)

@@ -36,7 +36,13 @@ def decorations(text: str, file: str, checked: dict) -> tuple[list[dict], dict[i
         end = offset(starts, text, hover["line"], hover["end_column"])
         if end > begin:
             found.append(
-                {"kind": "mark", "from": begin, "to": end, "class": "vslsp-ref", "attributes": {"title": hover["text"]}}
+                {
+                    "kind": "mark",
+                    "from": begin,
+                    "to": end,
+                    "class": "vslsp-ref",
+                    "attributes": {"data-hover": hover["text"]},  # the editor's styled hover tooltip shows it
+                }
             )
     lines_done: set[int] = set()
     for diagnostic in checked.get("diagnostics", []):
@@ -64,8 +70,22 @@ def decorations(text: str, file: str, checked: dict) -> tuple[list[dict], dict[i
     return found, tooltips
 
 
+#: CodeMirror's completion types (its icons) of the kinds of name PDDL completes.
+COMPLETION_TYPES = {
+    "predicate": "function",
+    "action": "method",
+    "type": "type",
+    "constant": "constant",
+    "object": "constant",
+    "variable": "variable",
+    "keyword": "keyword",
+}
+
+
 def complete(text: str, at: int, checked: dict, problem: bool) -> dict:
-    """Completion at offset ``at``: ``{"from": the start of the name typed, "items": [names]}``."""
+    """Completion at offset ``at``: ``{"from": the start of the name typed, "items": [names], "entries":
+    [{"label", "kind" (predicate, type, constant, object, variable, keyword), "type" (CodeMirror's icon),
+    "detail" (the declaration: ``(far ?b - block)``)}]}``."""
     from vslsp.lsp import context
     from vslsp.symbolic.language import EFFECT_OPERATORS, GOAL_OPERATORS, PDDL3_NAMES, REQUIREMENTS
     from vslsp.symbolic.language.vocabulary import ACTION_KEYWORDS, DOMAIN_SECTIONS, PROBLEM_SECTIONS
@@ -90,8 +110,18 @@ def complete(text: str, at: int, checked: dict, problem: bool) -> dict:
         if not problem or cursor.prefix.startswith("?"):
             items += _variables(text)
     prefix = cursor.prefix.lower()
-    chosen = [item for item in dict.fromkeys(items) if item.lower().startswith(prefix)]
-    return {"from": cursor.start, "items": chosen[:50]}
+    chosen = [item for item in dict.fromkeys(items) if item.lower().startswith(prefix)][:50]
+    return {"from": cursor.start, "items": chosen, "entries": [_entry(item, names, checked) for item in chosen]}
+
+
+def _entry(item: str, names: dict, checked: dict) -> dict:
+    signatures = checked.get("signatures", {})
+    kind = next(
+        (k for k in ("predicate", "type", "constant", "object") if item in names.get(k, ())),
+        "variable" if item.startswith("?") else "type" if item == "object" else "keyword",
+    )
+    detail = signatures.get(kind, {}).get(item, "")
+    return {"label": item, "kind": kind, "type": COMPLETION_TYPES[kind], "detail": detail or kind}
 
 
 def _variables(text: str) -> list[str]:

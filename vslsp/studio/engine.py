@@ -26,7 +26,7 @@ from vslsp.errors import InputError, TaskFailed, VslspError
 #: Worker processes (two at most: this is work for the machine's cores, beside the runs).
 WORKERS = max(1, min(2, os.cpu_count() or 1))
 #: The engine's calls, by name (only these run in a worker).
-CALLS = ("check", "complete", "plan", "validate")
+CALLS = ("check", "complete", "plan", "validate", "navigate")
 
 _pool: ProcessPoolExecutor | None = None
 _lock = threading.Lock()
@@ -34,10 +34,10 @@ _lock = threading.Lock()
 
 def _work(name: str, args: tuple) -> tuple[str, Any]:
     """In a worker: ``vslsp.studio.pddl.NAME(*args)``, an error as ``("error", ...)`` (plain data)."""
-    from vslsp.studio import pddl
+    from vslsp.studio import navigation, pddl
 
     try:
-        return "ok", getattr(pddl, name)(*args)
+        return "ok", getattr(navigation if name == "navigate" else pddl, name)(*args)
     except VslspError as error:
         return "error", (error.exit_code, str(error), getattr(error, "conflict", None))
 

@@ -24,7 +24,9 @@ PLAN_TIMEOUT_S = 60.0
 def check(domain: str, problem: str | None, domain_file: str = "<domain>", problem_file: str = "<problem>") -> dict:
     """``pddl check --json`` on the editor's text: ``diagnostics`` (each with ``fixes``), ``exit_code``,
     ``warnings``, ``error`` (with an error), ``hovers`` (``{file: [{line, column, end_column, text}]}``:
-    the declaration of each name, for hover), ``names`` (kind -> names, for completion)."""
+    the declaration of each name, for hover), ``names`` (kind -> names, for completion), ``signatures``
+    (kind -> name -> its declaration, for completion's details) and ``outline`` (file -> the tree of its
+    declarations, :func:`vslsp.studio.navigation.outline`)."""
     from vslsp.symbolic.language import analyse
 
     analysis = analyse(domain, domain_file, problem or None, problem_file)
@@ -51,6 +53,13 @@ def check(domain: str, problem: str | None, domain_file: str = "<domain>", probl
                 {"line": span.line, "column": span.column, "end_column": span.end_column, "text": declaration.signature}
             )
     report["hovers"] = hovers
+    report["signatures"] = {
+        kind: {d.name: d.signature for d in index.of_kind(kind) if d.signature}
+        for kind in ("type", "predicate", "action", "object", "constant")
+    }
+    from vslsp.studio.navigation import outline
+
+    report["outline"] = {file: outline(index.in_file(file)) for file in (domain_file, problem_file)}
     return report
 
 
