@@ -26,6 +26,7 @@ import math
 import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
@@ -172,6 +173,15 @@ def scene_of(
     return Scene(int(size[0]), int(size[1]), members, landmark, robot_side)
 
 
+Atom = tuple[str, tuple[str, ...]]  # (predicate, (object, ...))
+
+
+class AtomSource(Protocol):
+    """Decides predicates outside this process: every atom of ``predicates`` over ``scene``."""
+
+    def evaluate(self, scene: Scene, predicates: Sequence[Predicate]) -> dict[Atom, bool]: ...
+
+
 @dataclass(frozen=True, eq=False)
 class Predicate:
     """A named predicate of ``arity`` 1 or 2 and the function that decides it.
@@ -182,6 +192,9 @@ class Predicate:
     name: str
     arity: int
     function: Callable[..., bool] = field(compare=False)
+    #: Where the predicate is decided when not in this process (a user's file run in a child:
+    #: :class:`vslsp.grounding.contained.UserPredicates`); None: by calling ``function`` here.
+    source: AtomSource | None = field(default=None, compare=False, repr=False)
 
     def __call__(self, *args: object) -> bool:
         return self.function(*args)
@@ -311,16 +324,20 @@ def collecting() -> Iterator[Registry]:
         _ACTIVE.pop()
 
 
-Atom = tuple[str, tuple[str, ...]]  # (predicate, (object, ...))
-
-
 def ground_atoms(scene: Scene, predicates: Sequence[Predicate]) -> dict[Atom, bool]:
     """Every ground atom of ``predicates`` over the scene's objects (ordered pairs of distinct
-    objects for binary ones), with its value."""
+    objects for binary ones), with its value. Predicates decided elsewhere (``source``) are
+    asked once per source for all their atoms; the values keep the predicates' order."""
     objects = list(scene.objects.values())
+    decided: dict[Atom, bool] = {}
+    sources = {id(p.source): p.source for p in predicates if p.source is not None}
+    for source in sources.values():
+        decided.update(source.evaluate(scene, [p for p in predicates if p.source is source]))
     values: dict[Atom, bool] = {}
     for made in predicates:
-        if made.arity == 1:
+        if made.source is not None:
+            values.update((atom, decided[atom]) for atom in atoms_of(made, objects))
+        elif made.arity == 1:
             for obj in objects:
                 values[(made.name, (obj.name,))] = made.evaluate((obj,), scene)
         else:
@@ -329,6 +346,14 @@ def ground_atoms(scene: Scene, predicates: Sequence[Predicate]) -> dict[Atom, bo
                     if a is not b:
                         values[(made.name, (a.name, b.name))] = made.evaluate((a, b), scene)
     return values
+
+
+def atoms_of(made: Predicate, objects: Sequence[SceneObject]) -> Iterator[Atom]:
+    """The ground atoms of ``made`` over ``objects``, in the order :func:`ground_atoms` decides them."""
+    if made.arity == 1:
+        yield from ((made.name, (obj.name,)) for obj in objects)
+    else:
+        yield from ((made.name, (a.name, b.name)) for a in objects for b in objects if a is not b)
 
 
 def atom_text(atom: Atom) -> str:
