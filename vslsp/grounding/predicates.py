@@ -24,6 +24,7 @@ import contextlib
 import inspect
 import math
 import re
+import traceback
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -220,7 +221,8 @@ class Predicate:
             if passes_through(error):
                 raise
             raise InputError(
-                f"predicate {self.name} raised {describe(error)} while grounding {self._atom(args)}; {fix}"
+                f"predicate {self.name} raised {describe(error)} while grounding {self._atom(args)}; "
+                f"{fix}{_raised_at(error, self.function)}"
             ) from None
         if value is True or value is False:
             return value
@@ -233,6 +235,15 @@ class Predicate:
 
     def _atom(self, args: Sequence[SceneObject]) -> str:
         return f"({self.name} {' '.join(a.name for a in args)})"
+
+
+def _raised_at(error: BaseException, function: Callable) -> str:
+    """``, line N raised it``: the last line of the function's file in the traceback."""
+    code = getattr(function, "__code__", None)
+    if code is None:
+        return ""
+    lines = [f.lineno for f in traceback.extract_tb(error.__traceback__) if f.filename == code.co_filename]
+    return f", line {lines[-1]} raised it" if lines else ""
 
 
 def _where(function: Callable) -> str:
