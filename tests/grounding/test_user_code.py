@@ -190,3 +190,14 @@ def test_the_session_has_a_deadline_of_its_own(tmp_path):
             for _ in range(5):
                 user.evaluate(_scene(), user.predicates)  # 2 atoms: 1.2 s each, within the 2 s per call
         assert time.monotonic() - began < 4
+
+
+def test_predicates_sent_to_another_process_are_that_process_s_own(tmp_path):
+    import pickle
+
+    from vslsp.grounding.contained import shared_predicates
+
+    shared = shared_predicates(EXAMPLE)
+    again = pickle.loads(pickle.dumps(shared))  # as an experiment's result comes back from a worker
+    assert [p.name for p in again] == [p.name for p in shared] and again[0].source is shared[0].source
+    assert pickle.loads(pickle.dumps(shared[2]))(_scene().objects["red"], _scene()) is True  # warm red

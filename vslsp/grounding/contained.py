@@ -39,7 +39,7 @@ import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import vslsp
 from vslsp.errors import InputError
@@ -47,6 +47,11 @@ from vslsp.files import shown
 from vslsp.grounding.predicates import Atom, Box, Landmark, Predicate, Scene, SceneObject, atoms_of
 from vslsp.grounding.user_code import LOAD_TIME_LIMIT_S, PREDICATE_TIME_LIMIT_S
 from vslsp.vision.landmark import Line
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from vslsp.grounding.operation import Grounding
 
 _BOOTSTRAP = (
     "import sys; sys.path.insert(0, sys.argv[1]); "
@@ -138,13 +143,18 @@ class UserPredicates:
             absolute = user._absolute
             reply = user._call({"load": absolute, "limits": _child_limits(chosen)}, chosen.call_s + chosen.load_s)
             user.predicates = tuple(
-                Predicate(p["name"], int(p["arity"]), _remote(user, p["name"]), source=user)
+                Predicate(p["name"], int(p["arity"]), _Remote(user, p["name"]), source=user)
                 for p in reply["predicates"]
             )
         except BaseException:
             user.close()
             raise
         return user
+
+    def __reduce__(self) -> tuple:
+        # Sent to another process (an experiment's result from a worker), it is that process's
+        # own child of the same file: the predicates stay what they are, the process is not shared.
+        return (_shared, (str(self.path.resolve()), self.limits))
 
     def __enter__(self) -> UserPredicates:
         return self
@@ -268,14 +278,20 @@ class UserPredicates:
 
 
 def ground_with_user_predicates(
-    pre_image: Any, post_image: Any, robot_side: str, predicates_path: str | Path, limits: Limits | None = None
-) -> Any:
+    pre_image: np.ndarray,
+    post_image: np.ndarray,
+    robot_side: str,
+    predicates_path: str | Path | None,
+    limits: Limits | None = None,
+) -> Grounding:
     """:func:`~vslsp.grounding.ground` of RGB images ``pre_image``, ``post_image`` (H, W, 3) uint8 with
     ``far`` and the predicates of the file ``predicates_path``, decided in a child process that ends
-    with the call (the :class:`~vslsp.grounding.Grounding`; errors of the file: InputError)."""
+    with the call (errors of the file: InputError, exit 2). Without a file: ``ground`` as it is."""
     from vslsp.grounding.loader import with_builtins
     from vslsp.grounding.operation import ground
 
+    if predicates_path is None:
+        return ground(pre_image, post_image, robot_side=robot_side)
     with UserPredicates.start(predicates_path, limits) as user:
         return ground(pre_image, post_image, robot_side=robot_side, predicates=with_builtins(user.predicates))
 
@@ -286,15 +302,19 @@ _SHARED: dict[tuple[int, str, Limits], UserPredicates] = {}
 def shared_predicates(path: str | Path, limits: Limits | None = None) -> tuple[Predicate, ...]:
     """The predicates of ``path`` from one child per file and process, started on first use and
     killed when the process exits (an experiment's trials ground many times: one start-up)."""
-    key = (os.getpid(), str(Path(path).resolve()), limits or DEFAULT_LIMITS)
+    return _shared(str(Path(path).resolve()), limits or DEFAULT_LIMITS).predicates
+
+
+def _shared(path: str, limits: Limits) -> UserPredicates:
+    key = (os.getpid(), path, limits)
     user = _SHARED.get(key)
     if user is None or user._process.poll() is not None:
         if not _SHARED:
             import atexit
 
             atexit.register(_close_shared)
-        user = _SHARED[key] = UserPredicates.start(path, key[2])
-    return user.predicates
+        user = _SHARED[key] = UserPredicates.start(path, limits)
+    return user
 
 
 def _close_shared() -> None:
@@ -332,14 +352,17 @@ def scene_from_json(data: Mapping) -> Scene:
     return Scene(data["width"], data["height"], objects, landmark, data["robot_side"])
 
 
-def _remote(user: UserPredicates, name: str) -> Any:
-    def decide(*args: Any) -> bool:  # a predicate called directly: one atom, one call
-        *objects, scene = args
-        made = next(p for p in user.predicates if p.name == name)
-        return user.evaluate(scene, [made])[(name, tuple(o.name for o in objects))]
+class _Remote:
+    """A predicate's function when it is called directly (``p(obj, scene)``): one atom, one call."""
 
-    decide.__qualname__ = decide.__name__ = name
-    return decide
+    def __init__(self, user: UserPredicates, name: str) -> None:
+        self.user, self.name = user, name
+        self.__qualname__ = self.__name__ = name
+
+    def __call__(self, *args: Any) -> bool:
+        *objects, scene = args
+        made = next(p for p in self.user.predicates if p.name == self.name)
+        return self.user.evaluate(scene, [made])[(self.name, tuple(o.name for o in objects))]
 
 
 def _child_limits(limits: Limits) -> dict:
