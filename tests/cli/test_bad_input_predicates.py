@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import json
 import os
+import signal
+import subprocess
+import sys
 import textwrap
 import time
 from pathlib import Path
@@ -155,3 +158,38 @@ def test_a_predicate_that_closes_stdout_or_floods_it_leaves_the_answer_whole(tmp
         assert result.returncode == 0 and "Traceback" not in result.stderr, result.stderr
         assert "(odd blue)" in json.loads(result.stdout)["atoms"]["pre"]  # stdout is the one JSON object
         assert len(result.stderr) < 70_000  # the output is copied up to 64 kB, then counted
+
+
+@pytest.mark.parametrize("number, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)], ids=["SIGINT", "SIGTERM"])
+def test_an_interrupt_while_a_predicate_blocks_ends_the_command_and_the_predicates_process(
+    tmp_path, pair, number, code
+):
+    record = tmp_path / "group"
+    body = (
+        f"open({str(record)!r}, 'w').write(str(os.getpgid(0)))\n"
+        "signal.pthread_sigmask(signal.SIG_BLOCK, set(signal.Signals))\nwhile True:\n    pass"
+    )
+    path = _file(tmp_path, "import os, signal\n", body)
+    checkout = str(Path(__file__).parents[2])
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([checkout, os.environ.get("PYTHONPATH", "")])}
+    process = subprocess.Popen(
+        [sys.executable, "-m", "vslsp", "ground", *map(str, pair), "--predicates", str(path)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not (record.exists() and record.read_text()) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        process.send_signal(number)  # to vslsp alone, as `kill` would; a terminal's Ctrl-C reaches vslsp's group
+        _, stderr = process.communicate(timeout=20)
+    finally:
+        process.kill()
+    assert process.returncode == code and "Traceback" not in stderr, stderr
+    pgid = int(record.read_text())
+    deadline = time.monotonic() + 2
+    while _group_alive(pgid) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert _group_alive(pgid) == []
