@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 
+import vslsp
 from vslsp.errors import InputError
 from vslsp.grounding import ground, load_predicates, with_builtins
 from vslsp.grounding.contained import Limits, UserPredicates, ground_with_user_predicates
@@ -167,6 +168,8 @@ def test_the_child_sees_no_secret_and_works_in_its_own_folder(tmp_path, monkeypa
     assert "secret" not in json.dumps(seen["env"])
     assert seen["cwd"] != str(tmp_path) and seen["env"]["HOME"] == seen["cwd"] and not Path(seen["cwd"]).exists()
     assert str(tmp_path) not in seen["path"] and seen["stdin"] == ""  # no PYTHONPATH, stdin is /dev/null
+    assert "" not in seen["path"] and seen["cwd"] not in seen["path"]  # nor its working folder
+    assert seen["path"][0] == str(Path(vslsp.__file__).resolve().parent.parent)  # but vslsp's own
 
 
 def test_closing_and_flooding_its_output_does_not_touch_ours(tmp_path, capfd):

@@ -26,7 +26,7 @@ import click
     default=None,
     help="A Python file of predicates (@predicate from vslsp.grounding) to ground for every object and "
     "ordered pair, before and after. The file runs as Python with your rights, like a pytest "
-    "conftest.py: use only files you trust.",
+    "conftest.py, in a child process with time and memory limits (docs/grounding.md): use only files you trust.",
 )
 @click.option("--json", "as_json", is_flag=True, help='Print one JSON object on stdout ({"error": ...} on failure).')
 @click.option(

@@ -102,10 +102,12 @@ class UserPredicates:
         self.predicates: tuple[Predicate, ...] = ()
         self._owner = os.getpid()
         self._spent = 0.0
+        self._lock = threading.Lock()
         self._folder = tempfile.mkdtemp(prefix="vslsp-predicates-")
         self._output = _Relay(limits.output_bytes)
         self._buffer = b""
         requests_r, self._requests = os.pipe()
+        os.set_blocking(self._requests, False)  # written with a deadline (_write)
         self._replies, replies_w = os.pipe()
         lifeline_r, self._lifeline = os.pipe()
         location = str(Path(vslsp.__file__).resolve().parent.parent)
@@ -142,10 +144,13 @@ class UserPredicates:
         try:
             absolute = user._absolute
             reply = user._call({"load": absolute, "limits": _child_limits(chosen)}, chosen.call_s + chosen.load_s)
-            user.predicates = tuple(
-                Predicate(p["name"], int(p["arity"]), _Remote(user, p["name"]), source=user)
-                for p in reply["predicates"]
-            )
+            try:
+                user.predicates = tuple(
+                    Predicate(str(p["name"]), int(p["arity"]), _Remote(user, str(p["name"])), source=user)
+                    for p in reply["predicates"]
+                )
+            except (KeyError, TypeError, ValueError):
+                raise user._broken("answered something that is not its predicates") from None
         except BaseException:
             user.close()
             raise
@@ -167,10 +172,13 @@ class UserPredicates:
         order :func:`~vslsp.grounding.predicates.ground_atoms` decides them."""
         reply = self._call({"scene": scene_to_json(scene), "names": [p.name for p in predicates]}, self.limits.call_s)
         values: dict[Atom, bool] = {}
-        for name, args, value in reply["values"]:
-            if not isinstance(value, bool):
-                raise self._broken("answered something that is not an atom's value")
-            values[(str(name), tuple(str(a) for a in args))] = value
+        try:
+            for name, args, value in reply["values"]:
+                if not isinstance(value, bool):
+                    raise TypeError(value)
+                values[(str(name), tuple(str(a) for a in args))] = value
+        except (KeyError, TypeError, ValueError):
+            raise self._broken("answered something that is not the atoms' values") from None
         objects = list(scene.objects.values())
         if values.keys() != {atom for made in predicates for atom in atoms_of(made, objects)}:
             raise self._broken("answered other atoms than it was asked for")
@@ -186,6 +194,10 @@ class UserPredicates:
         shutil.rmtree(self._folder, ignore_errors=True)
 
     def _call(self, message: dict, seconds: float) -> Any:
+        with self._lock:  # one request at a time on the pipes (threads of a server may share a child)
+            return self._exchange(message, seconds)
+
+    def _exchange(self, message: dict, seconds: float) -> Any:
         if self._owner != os.getpid():
             raise InputError(f"predicates file {self.name}: its process belongs to another process of vslsp")
         if self._process.poll() is not None:
@@ -193,11 +205,8 @@ class UserPredicates:
         left = self.limits.session_s - self._spent
         deadline_s = min(seconds, left)
         began = time.monotonic()
-        try:
-            os.write(self._requests, json.dumps(message, default=_plain).encode() + b"\n")
-        except (BrokenPipeError, OSError):
-            raise self._ended() from None
-        line = self._read_line(began + deadline_s)
+        request = json.dumps(message, default=_plain).encode() + b"\n"
+        line = self._read_line(began + deadline_s) if self._write(request, began + deadline_s) else None
         self._spent += time.monotonic() - began
         if line is None:
             _kill_group(self._process)
@@ -221,6 +230,21 @@ class UserPredicates:
         if "error" in reply:
             raise InputError(self._explain(str(reply["error"])))
         return reply
+
+    def _write(self, data: bytes, deadline: float) -> bool:
+        """Send ``data``; False past ``deadline`` (a child that loops reads no large scene)."""
+        view = memoryview(data)
+        while view:
+            left = deadline - time.monotonic()
+            if left <= 0 or not select.select([], [self._requests], [], left)[1]:
+                return False
+            try:
+                view = view[os.write(self._requests, view) :]
+            except BlockingIOError:
+                continue
+            except OSError:  # the child closed its end: it ended
+                raise self._ended() from None
+        return True
 
     def _read_line(self, deadline: float) -> bytes | None:
         """The next reply line; b"" at the end of the pipe, None past ``deadline``."""
@@ -369,7 +393,7 @@ def _child_limits(limits: Limits) -> dict:
     return {
         "memory_bytes": limits.memory_mb * 1024 * 1024,
         "cpu_s": limits.cpu_s,
-        "processes": _user_tasks() + limits.processes,
+        "processes": None if os.getuid() == 0 else _user_tasks() + limits.processes,  # root is not counted
         "predicate_s": limits.predicate_s,
         "load_s": limits.load_s,
     }
