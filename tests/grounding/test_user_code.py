@@ -15,7 +15,7 @@ import vslsp
 from vslsp.errors import InputError
 from vslsp.grounding import ground, load_predicates, with_builtins
 from vslsp.grounding.contained import Limits, UserPredicates, ground_with_user_predicates
-from vslsp.grounding.predicates import Box, Landmark, Scene, SceneObject
+from vslsp.grounding.predicates import Box, Landmark, Scene, SceneObject, ground_atoms
 from vslsp.grounding.synthetic import Square, tabletop_image
 from vslsp.vision.landmark import Line
 
@@ -204,3 +204,23 @@ def test_predicates_sent_to_another_process_are_that_process_s_own(tmp_path):
     again = pickle.loads(pickle.dumps(shared))  # as an experiment's result comes back from a worker
     assert [p.name for p in again] == [p.name for p in shared] and again[0].source is shared[0].source
     assert pickle.loads(pickle.dumps(shared[2]))(_scene().objects["red"], _scene()) is True  # warm red
+
+
+def test_a_stopped_child_answers_every_later_call_with_the_same_error_at_once(tmp_path):
+    from vslsp.grounding import contained
+
+    path = _file(tmp_path, "while True:\n    pass")
+    with contained.UserPredicates.start(path, QUICK) as user:
+        with pytest.raises(InputError, match="did not answer within 2 s") as first:
+            user.evaluate(_scene(), user.predicates)
+        began = time.monotonic()
+        with pytest.raises(InputError) as again:
+            user.evaluate(_scene(), user.predicates)
+        assert str(again.value) == str(first.value) and time.monotonic() - began < 0.5
+    shared = contained.shared_predicates(path, QUICK)  # an experiment's trials: the first one waits
+    with pytest.raises(InputError, match="did not answer"):
+        ground_atoms(_scene(), shared)
+    began = time.monotonic()
+    with pytest.raises(InputError, match="did not answer"):  # the next trial is not restarted to wait again
+        contained.shared_predicates(path, QUICK)
+    assert time.monotonic() - began < 0.5

@@ -103,6 +103,8 @@ class UserPredicates:
         self._owner = os.getpid()
         self._spent = 0.0
         self._lock = threading.Lock()
+        #: Why the child was stopped (a deadline, its end, a bad reply); None while it runs.
+        self.failure: str | None = None
         self._folder = tempfile.mkdtemp(prefix="vslsp-predicates-")
         self._output = _Relay(limits.output_bytes)
         self._buffer = b""
@@ -195,7 +197,14 @@ class UserPredicates:
 
     def _call(self, message: dict, seconds: float) -> Any:
         with self._lock:  # one request at a time on the pipes (threads of a server may share a child)
-            return self._exchange(message, seconds)
+            if self.failure is not None:
+                raise InputError(self.failure)
+            try:
+                return self._exchange(message, seconds)
+            except InputError as error:
+                if self._process.poll() is not None:  # stopped: every later call gets the same answer
+                    self.failure = str(error)
+                raise
 
     def _exchange(self, message: dict, seconds: float) -> Any:
         if self._owner != os.getpid():
@@ -325,13 +334,16 @@ _SHARED: dict[tuple[int, str, Limits], UserPredicates] = {}
 
 def shared_predicates(path: str | Path, limits: Limits | None = None) -> tuple[Predicate, ...]:
     """The predicates of ``path`` from one child per file and process, started on first use and
-    killed when the process exits (an experiment's trials ground many times: one start-up)."""
+    killed when the process exits (an experiment's trials ground many times: one start-up). Once
+    its child was stopped, every later call raises the InputError that stopped it."""
     return _shared(str(Path(path).resolve()), limits or DEFAULT_LIMITS).predicates
 
 
 def _shared(path: str, limits: Limits) -> UserPredicates:
     key = (os.getpid(), path, limits)
     user = _SHARED.get(key)
+    if user is not None and user.failure is not None:  # not restarted: the next trial would wait as long
+        raise InputError(user.failure)
     if user is None or user._process.poll() is not None:
         if not _SHARED:
             import atexit
