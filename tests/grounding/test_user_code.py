@@ -224,3 +224,10 @@ def test_a_stopped_child_answers_every_later_call_with_the_same_error_at_once(tm
     with pytest.raises(InputError, match="did not answer"):  # the next trial is not restarted to wait again
         contained.shared_predicates(path, QUICK)
     assert time.monotonic() - began < 0.5
+
+
+def test_code_that_breaks_the_process_itself_ends_it_with_one_line_and_no_traceback(tmp_path, capfd):
+    # the bootstrap's arguments: vslsp's folder, then the requests', replies' and lifeline's descriptors
+    message, _ = _refused(_file(tmp_path, "os.close(int(sys.argv[3]))\nreturn True"))
+    assert "its process ended (exit code 70); its last output: the predicates' process broke: OSError" in message
+    assert "Traceback" not in capfd.readouterr().err

@@ -30,7 +30,23 @@ _PR_SET_PDEATHSIG = 1
 
 
 def serve(requests_fd: int, replies_fd: int, lifeline_fd: int, parent: int) -> None:
-    """Answer vslsp's requests until it closes them (or goes away: then the whole group ends)."""
+    """Answer vslsp's requests until it closes them (or goes away: then the whole group ends).
+
+    When the user's code breaks the process itself (closes the pipes, replaces what vslsp
+    needs), it ends with one line saying why on its output, which vslsp shows; no traceback."""
+    try:
+        _serve(requests_fd, replies_fd, lifeline_fd, parent)
+    except BaseException as error:  # noqa: BLE001 - whatever the user's code broke; vslsp reports the end
+        from vslsp.grounding.user_code import describe
+
+        try:
+            os.write(2, f"\nthe predicates' process broke: {describe(error)}\n".encode(errors="replace"))
+        except OSError:
+            pass
+        os._exit(70)
+
+
+def _serve(requests_fd: int, replies_fd: int, lifeline_fd: int, parent: int) -> None:
     _die_with(parent, lifeline_fd)
     sys.stdout = sys.stderr  # what the user's code prints is captured output, never a reply
     from vslsp.errors import VslspError
