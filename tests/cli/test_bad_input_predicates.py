@@ -11,11 +11,11 @@ import signal
 import subprocess
 import sys
 import textwrap
-import time
 from pathlib import Path
 
 import pytest
 from helpers.cli import vslsp, vslsp_process
+from helpers.events import became_true, wait_until
 
 from vslsp.errors import InputError
 from vslsp.grounding import contained, predicate
@@ -118,9 +118,8 @@ def test_a_predicate_that_blocks_signals_or_takes_the_alarm_is_stopped_at_the_de
     capsys, monkeypatch, tmp_path, pair, prelude, body
 ):
     monkeypatch.setattr(contained, "DEFAULT_LIMITS", contained.Limits(call_s=2.0))
-    began = time.monotonic()
     code, out, err = vslsp(capsys, "ground", *pair, "--predicates", _file(tmp_path, prelude, body), "--json")
-    assert code == 2 and time.monotonic() - began < 20, err
+    assert code == 2, err
     assert "did not answer within 2 s (it may block or loop)" in json.loads(out)["error"]
 
 
@@ -134,15 +133,11 @@ def test_processes_a_predicate_starts_do_not_outlive_the_command(tmp_path, pair)
         "return True"
     )
     path = _file(tmp_path, "import os, subprocess\n", body)
-    began = time.monotonic()
     result = vslsp_process("ground", *pair, "--predicates", path, "--json")
-    assert result.returncode == 0 and time.monotonic() - began < 60, result.stderr
+    assert result.returncode == 0, result.stderr
     pgid = int(record.read_text())
     assert pgid != os.getpgid(0)
-    deadline = time.monotonic() + 2
-    while _group_alive(pgid) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert _group_alive(pgid) == []  # no orphan sleep
+    wait_until(lambda: _group_alive(pgid) == [], "the predicates' processes to end")  # no orphan sleep
 
 
 def test_a_predicate_that_closes_stdout_or_floods_it_leaves_the_answer_whole(tmp_path, pair):
@@ -180,16 +175,11 @@ def test_an_interrupt_while_a_predicate_blocks_ends_the_command_and_the_predicat
         env=env,
     )
     try:
-        deadline = time.monotonic() + 60
-        while not (record.exists() and record.read_text()) and time.monotonic() < deadline:
-            time.sleep(0.05)
+        assert became_true(lambda: record.exists() and record.read_text() != "", process), process.stderr
         process.send_signal(number)  # to vslsp alone, as `kill` would; a terminal's Ctrl-C reaches vslsp's group
         _, stderr = process.communicate(timeout=20)
     finally:
         process.kill()
     assert process.returncode == code and "Traceback" not in stderr, stderr
     pgid = int(record.read_text())
-    deadline = time.monotonic() + 2
-    while _group_alive(pgid) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert _group_alive(pgid) == []
+    wait_until(lambda: _group_alive(pgid) == [], "the predicates' processes to end")

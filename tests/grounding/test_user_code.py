@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import json
 import textwrap
-import time
 from pathlib import Path
 
 import pytest
+from helpers.events import wait_until
 
 import vslsp
 from vslsp.errors import InputError
@@ -40,23 +40,22 @@ def _file(folder: Path, body: str, prelude: str = "", name: str = "mine.py") -> 
     return path
 
 
-def _group(pgid: int, wait_s: float = 0.0) -> list[int]:
-    """The live processes of process group ``pgid`` (zombies, killed and not yet reaped by init, are
-    gone), waiting up to ``wait_s`` for them to end."""
-    deadline = time.monotonic() + wait_s
-    while True:
-        members = []
-        for entry in Path("/proc").iterdir():
-            if entry.name.isdigit():
-                try:
-                    state, _, group = (entry / "stat").read_text().rsplit(")", 1)[1].split()[:3]
-                except OSError:
-                    continue
-                if int(group) == pgid and state != "Z":
-                    members.append(int(entry.name))
-        if not members or time.monotonic() > deadline:
-            return members
-        time.sleep(0.05)
+def _group(pgid: int) -> list[int]:
+    """The live processes of process group ``pgid`` (a zombie, killed and not yet reaped by init, is gone)."""
+    members = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                state, _, group = (entry / "stat").read_text().rsplit(")", 1)[1].split()[:3]
+            except OSError:
+                continue
+            if int(group) == pgid and state != "Z":
+                members.append(int(entry.name))
+    return members
+
+
+def _gone(pgid: int) -> None:
+    wait_until(lambda: _group(pgid) == [], f"the processes of group {pgid} to end")
 
 
 def _decide(path: Path, limits: Limits | None = None) -> tuple[dict, int]:
@@ -67,14 +66,13 @@ def _decide(path: Path, limits: Limits | None = None) -> tuple[dict, int]:
         return user.evaluate(_scene(), user.predicates), pgid
     finally:
         user.close()
-        assert _group(pgid, wait_s=2.0) == [], "a process of the predicates file outlived it"
+        _gone(pgid)  # no process of the predicates file outlives it
 
 
-def _refused(path: Path, limits: Limits | None = None) -> tuple[str, float]:
-    began = time.monotonic()
+def _refused(path: Path, limits: Limits | None = None) -> str:
     with pytest.raises(InputError) as refused:
         _decide(path, limits)
-    return str(refused.value), time.monotonic() - began
+    return str(refused.value)
 
 
 def test_a_normal_file_grounds_the_same_atoms_as_in_this_process():
@@ -100,15 +98,15 @@ def test_one_child_answers_many_scenes_and_a_direct_call(tmp_path):
 
 def test_an_alarm_the_file_sets_and_a_loop_that_disarms_the_timer_are_stopped_at_the_deadline(tmp_path):
     path = _file(tmp_path, "while True:\n    signal.setitimer(signal.ITIMER_REAL, 0)", prelude="signal.alarm(1)")
-    message, took = _refused(path, QUICK)
-    # the file's own alarm (default action: end the process) or the deadline: either way one error, at once
-    assert "predicates file" in message and str(path) in message and took < 10, message
+    message = _refused(path, QUICK)
+    # the file's own alarm (default action: end the process) or the deadline: either way one error
+    assert "predicates file" in message and str(path) in message, message
 
 
 def test_blocked_signals_and_an_endless_loop_are_stopped_at_the_deadline(tmp_path):
     body = "signal.pthread_sigmask(signal.SIG_BLOCK, set(signal.Signals))\nwhile True:\n    pass"
-    message, took = _refused(_file(tmp_path, body), QUICK)
-    assert "did not answer within 2 s (it may block or loop)" in message and took < 10, message
+    message = _refused(_file(tmp_path, body), QUICK)
+    assert "did not answer within 2 s (it may block or loop)" in message, message
 
 
 def test_processes_the_file_starts_end_with_it(tmp_path):
@@ -123,30 +121,30 @@ def test_processes_the_file_starts_end_with_it(tmp_path):
     assert int((tmp_path / "group").read_text()) == pgid
     assert len(_group(pgid)) == 3  # the child and two sleeps
     user.close()
-    assert _group(pgid, wait_s=2.0) == []
+    _gone(pgid)
 
 
 def test_a_predicate_that_forks_and_hangs_leaves_no_orphan(tmp_path):
     body = "if os.fork() == 0:\n    os.execvp('sleep', ['sleep', '302'])\ntime.sleep(1000)"
-    message, _ = _refused(_file(tmp_path, body), QUICK)
+    message = _refused(_file(tmp_path, body), QUICK)
     assert "did not answer within 2 s" in message  # _decide checked that the group is gone
 
 
 def test_an_exception_is_one_line_naming_the_file_the_line_and_the_exception(tmp_path):
     path = _file(tmp_path, "x = 1\nreturn x / 0")
-    message, _ = _refused(path)
+    message = _refused(path)
     assert message.startswith("predicate odd raised ZeroDivisionError: division by zero while grounding (odd ")
     assert f"{path}:4" in message and "line 7 raised it" in message and "\n" not in message
 
 
 def test_a_process_that_ends_is_reported_with_its_exit_code(tmp_path):
-    message, _ = _refused(_file(tmp_path, "print('leaving'); sys.stdout.flush(); os._exit(3)"))
+    message = _refused(_file(tmp_path, "print('leaving'); sys.stdout.flush(); os._exit(3)"))
     assert "its process ended (exit code 3); its last output: leaving" in message, message
 
 
 def test_a_memory_hog_meets_the_address_space_limit(tmp_path):
     body = "hoard = []\nwhile True:\n    hoard.append(bytearray(10_000_000))"
-    message, _ = _refused(_file(tmp_path, body), Limits(memory_mb=700))
+    message = _refused(_file(tmp_path, body), Limits(memory_mb=700))
     assert "raised MemoryError" in message and "its memory limit is 700 MB" in message, message
 
 
@@ -188,11 +186,9 @@ def test_closing_and_flooding_its_output_does_not_touch_ours(tmp_path, capfd):
 def test_the_session_has_a_deadline_of_its_own(tmp_path):
     path = _file(tmp_path, "time.sleep(0.6); return True")
     with UserPredicates.start(path, Limits(session_s=3.0)) as user:
-        began = time.monotonic()
         with pytest.raises(InputError, match=r"its calls took more than 3 s in all"):
             for _ in range(5):
-                user.evaluate(_scene(), user.predicates)  # 2 atoms: 1.2 s each, within the 2 s per call
-        assert time.monotonic() - began < 4
+                user.evaluate(_scene(), user.predicates)  # 2 atoms: 1.2 s each, within the 30 s per call
 
 
 def test_predicates_sent_to_another_process_are_that_process_s_own(tmp_path):
@@ -206,28 +202,30 @@ def test_predicates_sent_to_another_process_are_that_process_s_own(tmp_path):
     assert pickle.loads(pickle.dumps(shared[2]))(_scene().objects["red"], _scene()) is True  # warm red
 
 
-def test_a_stopped_child_answers_every_later_call_with_the_same_error_at_once(tmp_path):
+def test_a_stopped_child_answers_every_later_call_with_the_same_error_and_is_not_restarted(tmp_path, monkeypatch):
     from vslsp.grounding import contained
 
     path = _file(tmp_path, "while True:\n    pass")
     with contained.UserPredicates.start(path, QUICK) as user:
         with pytest.raises(InputError, match="did not answer within 2 s") as first:
             user.evaluate(_scene(), user.predicates)
-        began = time.monotonic()
         with pytest.raises(InputError) as again:
             user.evaluate(_scene(), user.predicates)
-        assert str(again.value) == str(first.value) and time.monotonic() - began < 0.5
+        assert str(again.value) == str(first.value)
     shared = contained.shared_predicates(path, QUICK)  # an experiment's trials: the first one waits
     with pytest.raises(InputError, match="did not answer"):
         ground_atoms(_scene(), shared)
-    began = time.monotonic()
-    with pytest.raises(InputError, match="did not answer"):  # the next trial is not restarted to wait again
+
+    def no_restart(*args: object) -> None:
+        raise AssertionError("restarted: the next trial would wait as long")
+
+    monkeypatch.setattr(contained.UserPredicates, "start", no_restart)
+    with pytest.raises(InputError, match="did not answer"):
         contained.shared_predicates(path, QUICK)
-    assert time.monotonic() - began < 0.5
 
 
 def test_code_that_breaks_the_process_itself_ends_it_with_one_line_and_no_traceback(tmp_path, capfd):
     # the bootstrap's arguments: vslsp's folder, then the requests', replies' and lifeline's descriptors
-    message, _ = _refused(_file(tmp_path, "os.close(int(sys.argv[3]))\nreturn True"))
+    message = _refused(_file(tmp_path, "os.close(int(sys.argv[3]))\nreturn True"))
     assert "its process ended (exit code 70); its last output: the predicates' process broke: OSError" in message
     assert "Traceback" not in capfd.readouterr().err

@@ -36,7 +36,7 @@ import sys
 import tempfile
 import threading
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -44,9 +44,8 @@ from typing import TYPE_CHECKING, Any
 import vslsp
 from vslsp.errors import InputError
 from vslsp.files import shown
-from vslsp.grounding.predicates import Atom, Box, Landmark, Predicate, Scene, SceneObject, atoms_of
+from vslsp.grounding.predicates import Atom, Predicate, Scene, atoms_of
 from vslsp.grounding.user_code import LOAD_TIME_LIMIT_S, PREDICATE_TIME_LIMIT_S
-from vslsp.vision.landmark import Line
 
 if TYPE_CHECKING:
     import numpy as np
@@ -172,7 +171,7 @@ class UserPredicates:
     def evaluate(self, scene: Scene, predicates: Sequence[Predicate]) -> dict[Atom, bool]:
         """Every ground atom of ``predicates`` (this file's) over the scene, with its value, in the
         order :func:`~vslsp.grounding.predicates.ground_atoms` decides them."""
-        reply = self._call({"scene": scene_to_json(scene), "names": [p.name for p in predicates]}, self.limits.call_s)
+        reply = self._call({"scene": scene.to_dict(), "names": [p.name for p in predicates]}, self.limits.call_s)
         values: dict[Atom, bool] = {}
         try:
             for name, args, value in reply["values"]:
@@ -356,36 +355,6 @@ def _shared(path: str, limits: Limits) -> UserPredicates:
 def _close_shared() -> None:
     for key in [k for k in _SHARED if k[0] == os.getpid()]:
         _SHARED.pop(key).close()
-
-
-def scene_to_json(scene: Scene) -> dict:
-    """The scene as JSON (floats exact: the child sees the very numbers vslsp does)."""
-    landmark = None
-    if scene.landmark is not None:
-        line = scene.landmark.line
-        landmark = {"p1": list(line.p1), "p2": list(line.p2), "robot_side": scene.landmark.robot_side}
-    return {
-        "width": scene.width,
-        "height": scene.height,
-        "robot_side": scene.robot_side,
-        "landmark": landmark,
-        "objects": [
-            [o.name, o.x, o.y, [o.footprint.x0, o.footprint.y0, o.footprint.x1, o.footprint.y1], o.area, o.orientation]
-            for o in scene.objects.values()
-        ],
-    }
-
-
-def scene_from_json(data: Mapping) -> Scene:
-    """The :class:`Scene` of :func:`scene_to_json`."""
-    objects = {}
-    for name, x, y, box, area, orientation in data["objects"]:
-        objects[name] = SceneObject(name, x, y, Box(*box), area, orientation)
-    landmark = data["landmark"]
-    if landmark is not None:
-        line = Line(tuple(landmark["p1"]), tuple(landmark["p2"]))  # type: ignore[arg-type]
-        landmark = Landmark(line, landmark["robot_side"])
-    return Scene(data["width"], data["height"], objects, landmark, data["robot_side"])
 
 
 class _Remote:

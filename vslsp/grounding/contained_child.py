@@ -50,9 +50,8 @@ def _serve(requests_fd: int, replies_fd: int, lifeline_fd: int, parent: int) -> 
     _die_with(parent, lifeline_fd)
     sys.stdout = sys.stderr  # what the user's code prints is captured output, never a reply
     from vslsp.errors import VslspError
-    from vslsp.grounding.contained import scene_from_json
     from vslsp.grounding.loader import load_predicates
-    from vslsp.grounding.predicates import ground_atoms
+    from vslsp.grounding.predicates import Scene, ground_atoms
 
     requests = os.fdopen(requests_fd, "rb")
     replies = os.fdopen(replies_fd, "wb")
@@ -66,7 +65,7 @@ def _serve(requests_fd: int, replies_fd: int, lifeline_fd: int, parent: int) -> 
                 predicates = {p.name: p for p in load_predicates(message["load"])}
                 reply: dict = {"predicates": [{"name": p.name, "arity": p.arity} for p in predicates.values()]}
             else:
-                scene = scene_from_json(message["scene"])
+                scene = Scene.from_dict(message["scene"])
                 values = ground_atoms(scene, [predicates[name] for name in message["names"]])
                 reply = {"values": [[name, list(args), value] for (name, args), value in values.items()]}
         except VslspError as error:

@@ -130,6 +130,36 @@ class Scene:
     landmark: Landmark | None = None
     robot_side: str = "bottom"
 
+    def to_dict(self) -> dict:
+        """The scene as JSON (every float exact: a predicates file's process sees the very numbers)."""
+        landmark = None
+        if self.landmark is not None:
+            line = self.landmark.line
+            landmark = {"p1": list(line.p1), "p2": list(line.p2), "robot_side": self.landmark.robot_side}
+        objects = [
+            [o.name, o.x, o.y, [o.footprint.x0, o.footprint.y0, o.footprint.x1, o.footprint.y1], o.area, o.orientation]
+            for o in self.objects.values()
+        ]
+        return {
+            "width": self.width,
+            "height": self.height,
+            "robot_side": self.robot_side,
+            "landmark": landmark,
+            "objects": objects,
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping) -> Scene:
+        """The scene of :meth:`to_dict`."""
+        objects = {}
+        for name, x, y, box, area, orientation in data["objects"]:
+            objects[name] = SceneObject(name, x, y, Box(*box), area, orientation)
+        landmark = None
+        if data["landmark"] is not None:
+            (x1, y1), (x2, y2) = data["landmark"]["p1"], data["landmark"]["p2"]
+            landmark = Landmark(Line((x1, y1), (x2, y2)), data["landmark"]["robot_side"])
+        return cls(data["width"], data["height"], objects, landmark, data["robot_side"])
+
     @property
     def towards_robot(self) -> tuple[float, float]:
         """Unit direction (x, y) in the image pointing towards the robot."""
