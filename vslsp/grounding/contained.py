@@ -282,7 +282,10 @@ class UserPredicates:
             code = None
         _kill_group(self._process)
         if code is not None and code < 0:
-            why = f"killed by {signal.Signals(-code).name}"
+            try:
+                why = f"killed by {signal.Signals(-code).name}"
+            except ValueError:  # a real-time signal Python has no name for
+                why = f"killed by signal {-code}"
             if -code in (signal.SIGXCPU, signal.SIGKILL):
                 why += f" (at its CPU-time limit of {self.limits.cpu_s} s, or killed from outside)"
         else:
