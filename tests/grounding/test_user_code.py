@@ -229,3 +229,8 @@ def test_code_that_breaks_the_process_itself_ends_it_with_one_line_and_no_traceb
     message = _refused(_file(tmp_path, "os.close(int(sys.argv[3]))\nreturn True"))
     assert "its process ended (exit code 70); its last output: the predicates' process broke: OSError" in message
     assert "Traceback" not in capfd.readouterr().err
+
+
+def test_a_predicate_that_burns_cpu_meets_the_cpu_time_limit(tmp_path):
+    message = _refused(_file(tmp_path, "while True:\n    pass"), Limits(cpu_s=2, predicate_s=60.0, call_s=60.0))
+    assert "its process ended (killed by SIGXCPU (at its CPU-time limit of 2 s" in message, message
