@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 
 import click
@@ -25,7 +26,7 @@ import click
     default=None,
     help="A Python file of predicates (@predicate from vslsp.grounding) to ground for every object and "
     "ordered pair, before and after. The file runs as Python with your rights, like a pytest "
-    "conftest.py: use only files you trust.",
+    "conftest.py, in a child process with time and memory limits (docs/grounding.md): use only files you trust.",
 )
 @click.option("--json", "as_json", is_flag=True, help='Print one JSON object on stdout ({"error": ...} on failure).')
 @click.option(
@@ -45,8 +46,9 @@ def ground(
 def _ground(
     pre: str, post: str, robot_side: str, predicates_file: str | None, as_json: bool, overlay: str | None
 ) -> None:
-    from vslsp.grounding import draw_grounding, load_predicates, with_builtins
+    from vslsp.grounding import draw_grounding, with_builtins
     from vslsp.grounding import ground as ground_pair
+    from vslsp.grounding.contained import UserPredicates
     from vslsp.outputs import refuse_input, refuse_link
     from vslsp.vision.image import check_image_output, read_image, write_image
 
@@ -58,9 +60,12 @@ def _ground(
             {"pre-action image": pre, "post-action image": post, "predicates file": predicates_file},
             "--overlay",
         )
-    predicates = with_builtins(load_predicates(predicates_file)) if predicates_file else None
-    pre_image, post_image = read_image(pre, "pre-action image"), read_image(post, "post-action image")
-    grounding = ground_pair(pre_image, post_image, robot_side=robot_side, predicates=predicates)
+    with contextlib.ExitStack() as stack:
+        predicates = None
+        if predicates_file:  # the user's code runs in a child process (vslsp.grounding.contained)
+            predicates = with_builtins(stack.enter_context(UserPredicates.start(predicates_file)).predicates)
+        pre_image, post_image = read_image(pre, "pre-action image"), read_image(post, "post-action image")
+        grounding = ground_pair(pre_image, post_image, robot_side=robot_side, predicates=predicates)
     if overlay:
         write_image(overlay, draw_grounding(pre_image, post_image, grounding))
     if as_json:

@@ -79,11 +79,12 @@ class IcubExperiment(Task):
         return Path(skills) if skills else default_library_path()
 
     def predicates(self) -> tuple:
-        """The user's predicates (``--predicates FILE.py``), loaded from the file; () without one."""
-        from vslsp.grounding import load_predicates
+        """The user's predicates (``--predicates FILE.py``), decided in one child process per file and
+        process for the whole run (:func:`vslsp.grounding.contained.shared_predicates`); () without one."""
+        from vslsp.grounding.contained import shared_predicates
 
         path = self.option(Option.PREDICATES)
-        return tuple(load_predicates(path)) if path else ()
+        return shared_predicates(path) if path else ()
 
     def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
         """The experiment's trial: demonstrate, learn, reproduce and judge, into ``trial``

@@ -40,10 +40,7 @@ def load_predicates(path: str | Path) -> tuple[Predicate, ...]:
     """
     path = Path(path)
     name = shown(path)
-    if path.suffix != ".py":
-        raise InputError(f"predicates file {name} must be a Python file ending in .py")
-    if regular_file(path, "predicates file").st_size > MAX_FILE_BYTES:
-        raise InputError(f"predicates file {name} is over {MAX_FILE_BYTES // 1000} kB; keep predicates in a small file")
+    check_predicates_file(path)
     digest = hashlib.sha1(os.fsencode(path.resolve())).hexdigest()[:12]
     module_name = f"vslsp_user_predicates_{digest}"
     spec = importlib.util.spec_from_file_location(module_name, path)
@@ -76,6 +73,15 @@ def load_predicates(path: str | Path) -> tuple[Predicate, ...]:
             '@predicate("name") from vslsp.grounding'
         )
     return tuple(p for p in with_builtins(predicates) if p not in BUILTINS)
+
+
+def check_predicates_file(path: Path) -> None:
+    """An InputError unless ``path`` is a regular ``.py`` file of at most :data:`MAX_FILE_BYTES`."""
+    name = shown(path)
+    if path.suffix != ".py":
+        raise InputError(f"predicates file {name} must be a Python file ending in .py")
+    if regular_file(path, "predicates file").st_size > MAX_FILE_BYTES:
+        raise InputError(f"predicates file {name} is over {MAX_FILE_BYTES // 1000} kB; keep predicates in a small file")
 
 
 def check_unique(predicates: Sequence[Predicate]) -> tuple[Predicate, ...]:

@@ -24,8 +24,10 @@ import contextlib
 import inspect
 import math
 import re
+import traceback
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
@@ -128,6 +130,36 @@ class Scene:
     landmark: Landmark | None = None
     robot_side: str = "bottom"
 
+    def to_dict(self) -> dict:
+        """The scene as JSON (every float exact: a predicates file's process sees the very numbers)."""
+        landmark = None
+        if self.landmark is not None:
+            line = self.landmark.line
+            landmark = {"p1": list(line.p1), "p2": list(line.p2), "robot_side": self.landmark.robot_side}
+        objects = [
+            [o.name, o.x, o.y, [o.footprint.x0, o.footprint.y0, o.footprint.x1, o.footprint.y1], o.area, o.orientation]
+            for o in self.objects.values()
+        ]
+        return {
+            "width": self.width,
+            "height": self.height,
+            "robot_side": self.robot_side,
+            "landmark": landmark,
+            "objects": objects,
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping) -> Scene:
+        """The scene of :meth:`to_dict`."""
+        objects = {}
+        for name, x, y, box, area, orientation in data["objects"]:
+            objects[name] = SceneObject(name, x, y, Box(*box), area, orientation)
+        landmark = None
+        if data["landmark"] is not None:
+            (x1, y1), (x2, y2) = data["landmark"]["p1"], data["landmark"]["p2"]
+            landmark = Landmark(Line((x1, y1), (x2, y2)), data["landmark"]["robot_side"])
+        return cls(data["width"], data["height"], objects, landmark, data["robot_side"])
+
     @property
     def towards_robot(self) -> tuple[float, float]:
         """Unit direction (x, y) in the image pointing towards the robot."""
@@ -172,6 +204,15 @@ def scene_of(
     return Scene(int(size[0]), int(size[1]), members, landmark, robot_side)
 
 
+Atom = tuple[str, tuple[str, ...]]  # (predicate, (object, ...))
+
+
+class AtomSource(Protocol):
+    """Decides predicates outside this process: every atom of ``predicates`` over ``scene``."""
+
+    def evaluate(self, scene: Scene, predicates: Sequence[Predicate]) -> dict[Atom, bool]: ...
+
+
 @dataclass(frozen=True, eq=False)
 class Predicate:
     """A named predicate of ``arity`` 1 or 2 and the function that decides it.
@@ -182,6 +223,9 @@ class Predicate:
     name: str
     arity: int
     function: Callable[..., bool] = field(compare=False)
+    #: Where the predicate is decided when not in this process (a user's file run in a child:
+    #: :class:`vslsp.grounding.contained.UserPredicates`); None: by calling ``function`` here.
+    source: AtomSource | None = field(default=None, compare=False, repr=False)
 
     def __call__(self, *args: object) -> bool:
         return self.function(*args)
@@ -207,7 +251,8 @@ class Predicate:
             if passes_through(error):
                 raise
             raise InputError(
-                f"predicate {self.name} raised {describe(error)} while grounding {self._atom(args)}; {fix}"
+                f"predicate {self.name} raised {describe(error)} while grounding {self._atom(args)}; "
+                f"{fix}{_raised_at(error, self.function)}"
             ) from None
         if value is True or value is False:
             return value
@@ -220,6 +265,15 @@ class Predicate:
 
     def _atom(self, args: Sequence[SceneObject]) -> str:
         return f"({self.name} {' '.join(a.name for a in args)})"
+
+
+def _raised_at(error: BaseException, function: Callable) -> str:
+    """``, line N raised it``: the last line of the function's file in the traceback."""
+    code = getattr(function, "__code__", None)
+    if code is None:
+        return ""
+    lines = [f.lineno for f in traceback.extract_tb(error.__traceback__) if f.filename == code.co_filename]
+    return f", line {lines[-1]} raised it" if lines else ""
 
 
 def _where(function: Callable) -> str:
@@ -311,16 +365,20 @@ def collecting() -> Iterator[Registry]:
         _ACTIVE.pop()
 
 
-Atom = tuple[str, tuple[str, ...]]  # (predicate, (object, ...))
-
-
 def ground_atoms(scene: Scene, predicates: Sequence[Predicate]) -> dict[Atom, bool]:
     """Every ground atom of ``predicates`` over the scene's objects (ordered pairs of distinct
-    objects for binary ones), with its value."""
+    objects for binary ones), with its value. Predicates decided elsewhere (``source``) are
+    asked once per source for all their atoms; the values keep the predicates' order."""
     objects = list(scene.objects.values())
+    decided: dict[Atom, bool] = {}
+    sources = {id(p.source): p.source for p in predicates if p.source is not None}
+    for source in sources.values():
+        decided.update(source.evaluate(scene, [p for p in predicates if p.source is source]))
     values: dict[Atom, bool] = {}
     for made in predicates:
-        if made.arity == 1:
+        if made.source is not None:
+            values.update((atom, decided[atom]) for atom in atoms_of(made, objects))
+        elif made.arity == 1:
             for obj in objects:
                 values[(made.name, (obj.name,))] = made.evaluate((obj,), scene)
         else:
@@ -329,6 +387,14 @@ def ground_atoms(scene: Scene, predicates: Sequence[Predicate]) -> dict[Atom, bo
                     if a is not b:
                         values[(made.name, (a.name, b.name))] = made.evaluate((a, b), scene)
     return values
+
+
+def atoms_of(made: Predicate, objects: Sequence[SceneObject]) -> Iterator[Atom]:
+    """The ground atoms of ``made`` over ``objects``, in the order :func:`ground_atoms` decides them."""
+    if made.arity == 1:
+        yield from ((made.name, (obj.name,)) for obj in objects)
+    else:
+        yield from ((made.name, (a.name, b.name)) for a in objects for b in objects if a is not b)
 
 
 def atom_text(atom: Atom) -> str:
