@@ -91,3 +91,9 @@ def test_save_asks_before_writing_over_a_file_changed_on_disk(page, studio, stud
     page.locator(".unsaved-domain").wait_for(state="hidden")
     assert "; mine" in domain.read_text()
     assert page.evaluate("window.vslspUnsaved") is False
+
+
+def test_a_ground_address_naming_no_image_says_so(page, studio):
+    page.goto(f"{studio}/ground?pre=nowhere.png&post=examples/grounding/post.png")
+    page.locator(".page-error", has_text="not an image or predicates file under the root: pre nowhere.png").wait_for()
+    page.locator("#ground").wait_for()  # the page works on

@@ -303,3 +303,29 @@ def test_children_run_isolated_from_the_root(studio_root):
     (studio_root / "vslsp" / "__init__.py").write_text("raise SystemExit('shadowed')\n")
     answer = client(studio_root).post("/api/scene", json={"seed": 1})
     assert answer.status_code == 200, answer.text
+
+
+def test_predicates_run_in_a_child_without_the_studio_or_the_root(studio_root, monkeypatch):
+    """A predicates file under the root runs in a process of its own: not the studio's, without its
+    environment's secrets, not with the root as its folder or on its import path."""
+    import os
+
+    monkeypatch.setenv("VSLSP_SECRET_FOR_TEST", "s3cret")
+    (studio_root / "helper_module.py").write_text("X = 1\n")
+    example = (studio_root / "examples/grounding/predicates.py").read_text()
+    spy = (
+        "import os, sys\n"
+        f"assert os.getpid() != {os.getpid()}, 'ran in the studio'\n"
+        "assert 'VSLSP_SECRET_FOR_TEST' not in os.environ, 'secret inherited'\n"
+        f"assert os.getcwd() != {str(studio_root)!r}, 'cwd is the root'\n"
+        "try:\n    import helper_module\nexcept ImportError:\n    pass\nelse:\n    raise AssertionError('root importable')\n"
+    )
+    (studio_root / "examples/grounding/spy_predicates.py").write_text(spy + example)
+    sent = {
+        "pre": "examples/grounding/pre.png",
+        "post": "examples/grounding/post.png",
+        "predicates": "examples/grounding/spy_predicates.py",
+    }
+    answer = client(studio_root).post("/api/ground", json=sent)
+    assert answer.status_code == 200, answer.json()
+    assert answer.json()["atoms"]["pre"]

@@ -291,8 +291,9 @@ def install(app: FastAPI, root: Path, access: Access | None = None, settings: Se
 
 
 def ground_pair(root: Path, data: dict) -> dict:
-    """``vslsp ground --json`` on two images under the root (predicates only from a file under it)."""
-    from vslsp.grounding import draw_grounding, ground, load_predicates, with_builtins
+    """``vslsp ground --json`` on two images under the root (predicates only from a file under it, run in a
+    child process with limits, never in the studio's)."""
+    from vslsp.grounding import draw_grounding, ground_with_user_predicates
     from vslsp.vision.image import read_image, write_image
 
     pre, post = (inside(root, _text(data, key)) for key in ("pre", "post"))
@@ -301,11 +302,10 @@ def ground_pair(root: Path, data: dict) -> dict:
         raise InputError(f"robot_side must be bottom, top, left or right, got {side!r}")
     pre_image = read_image(pre, f"pre-action image {data['pre']}")
     post_image = read_image(post, f"post-action image {data['post']}")
-    predicates_rel = data.get("predicates")
-    predicates = None
-    if predicates_rel:  # only once the images are known good
-        predicates = with_builtins(load_predicates(inside(root, _text(data, "predicates"))))
-    grounding = ground(pre_image, post_image, robot_side=side, predicates=predicates)
+    # The predicates (the user's Python) only once the images are known good, and in a child process with
+    # limits, isolated from the root and from the studio (vslsp.grounding.contained).
+    predicates = inside(root, _text(data, "predicates")) if data.get("predicates") else None
+    grounding = ground_with_user_predicates(pre_image, post_image, side, predicates)
     overlay = overlay_path(root)
     write_image(overlay, draw_grounding(pre_image, post_image, grounding))
     return {**grounding.to_dict(), "overlay": relative(root, overlay)}
