@@ -318,7 +318,8 @@ def test_predicates_run_in_a_child_without_the_studio_or_the_root(studio_root, m
         f"assert os.getpid() != {os.getpid()}, 'ran in the studio'\n"
         "assert 'VSLSP_SECRET_FOR_TEST' not in os.environ, 'secret inherited'\n"
         f"assert os.getcwd() != {str(studio_root)!r}, 'cwd is the root'\n"
-        "try:\n    import helper_module\nexcept ImportError:\n    pass\nelse:\n    raise AssertionError('root importable')\n"
+        "try:\n    import helper_module\nexcept ImportError:\n    pass\n"
+        "else:\n    raise AssertionError('root importable')\n"
     )
     (studio_root / "examples/grounding/spy_predicates.py").write_text(spy + example)
     sent = {
