@@ -288,7 +288,7 @@ def test_a_cancelled_run_keeps_its_finished_trials(studio_root):
     asked = __import__("time").monotonic()
     web.post(f"/api/runs/{run_id}/cancel")
     status = _wait(web, run_id, ("cancelled",), 30)
-    assert __import__("time").monotonic() - asked < 5 + 10  # stopped within 5 s, the report written after
+    assert __import__("time").monotonic() - asked < 5  # stopped, and its report written, within 5 s
     report = web.get(f"/api/reports/{status['report']}").json()
     assert report["summary"]["trials"] >= 1 and report["summary"]["interrupted"]
 
