@@ -16,7 +16,16 @@ PACKAGE = Path(vslsp.__file__).parent
 #: Each subpackage's layer (docs/architecture.md, "Layers").
 LAYERS = {
     **dict.fromkeys(
-        ("vslsp.errors", "vslsp.outcomes", "vslsp.outputs", "vslsp.files", "vslsp.stages", "vslsp.data"), 0
+        (
+            "vslsp.errors",
+            "vslsp.outcomes",
+            "vslsp.outputs",
+            "vslsp.files",
+            "vslsp.stages",
+            "vslsp.data",
+            "vslsp.provenance",
+        ),
+        0,
     ),
     **dict.fromkeys(("vslsp.geometry", "vslsp.dmp"), 1),
     "vslsp.sim": 2,

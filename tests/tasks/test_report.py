@@ -81,3 +81,25 @@ def test_the_trial_re_run_for_the_figures_equals_the_recorded_one(tmp_path, name
     assert again.artefacts is not None and record(again) == record(recorded)
     assert data["shown_trial"]["seed"] == seed and data["shown_trial"]["success"] == recorded.success
     assert len(assert_links_resolve(tmp_path)) >= 2
+
+
+def test_a_report_says_where_it_came_from_and_when_its_rate_says_little(tmp_path):
+    import platform
+    import subprocess
+    from pathlib import Path
+
+    import vslsp
+
+    task = DiceBelowFive()
+    data = write_report(tmp_path, task, run_trials(task, range(3)))
+    made = data["provenance"]
+    assert made["python"] == platform.python_version() and made["platform"] == platform.platform()
+    assert made["vslsp"] and made["command"]
+    checkout = Path(vslsp.__file__).resolve().parents[1]
+    if (checkout / ".git").exists():
+        head = subprocess.run(["git", "-C", str(checkout), "rev-parse", "HEAD"], capture_output=True, text=True)
+        assert made["commit"] == head.stdout.strip()
+    text = (tmp_path / "report.md").read_text()
+    assert "With 3 trials the rate says little" in text and f"Made by vslsp {made['vslsp']}" in text
+    many = write_report(tmp_path / "many", task, run_trials(task, range(20)))
+    assert "says little" not in (tmp_path / "many" / "report.md").read_text() and many["provenance"] == made

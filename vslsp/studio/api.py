@@ -19,16 +19,12 @@ from starlette.concurrency import run_in_threadpool
 from vslsp.errors import InputError, VslspError
 from vslsp.studio import engine, files, runs, trial_figures
 from vslsp.studio.files import MAX_UPLOAD_BYTES, Missing, Outside, inside, relative
-from vslsp.studio.guard import Access, Guard
+from vslsp.studio.guard import Access, Guard, TooLarge
 from vslsp.studio.report_data import read_report, read_trial, report_folders, trial_of
 from vslsp.studio.settings import Settings
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
 UPLOADS = "out/studio/uploads"
-
-
-class TooLarge(InputError):
-    """A request body over its limit (HTTP 413)."""
 
 
 def _status(error: VslspError) -> int:

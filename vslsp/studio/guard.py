@@ -35,6 +35,8 @@ from dataclasses import dataclass, field
 from typing import Any
 from urllib.parse import parse_qsl, urlencode, urlsplit
 
+from vslsp.errors import InputError
+
 #: Host names that always name this machine's loopback.
 LOOPBACK_NAMES = frozenset({"localhost", "127.0.0.1", "::1"})
 #: Methods that only read.
@@ -215,8 +217,8 @@ class Guard:
         return sending
 
 
-class BodyTooLarge(Exception):
-    """A body that passed its limit while being read."""
+class TooLarge(InputError):
+    """A request body over its limit (HTTP 413), found while it is read."""
 
 
 class _Counted:
@@ -230,8 +232,6 @@ class _Counted:
         if message["type"] == "http.request":
             self.seen += len(message.get("body", b""))
             if self.seen > self.limit:
-                from vslsp.studio.api import TooLarge
-
                 raise TooLarge(f"the request is over {self.limit // (1024 * 1024)} MiB")
         return message
 

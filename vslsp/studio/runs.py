@@ -29,6 +29,8 @@ from vslsp.studio.files import Missing
 
 #: Where the runs live, relative to the root.
 RUNS = "out/studio/runs"
+#: Where the jobs drawing a trial's pictures live (:mod:`vslsp.studio.trial_figures`).
+FIGURES = "out/studio/figures"
 #: The picture the run's trials publish (:mod:`vslsp.sim.live`), in the run's folder.
 LIVE = "live.png"
 _ID = re.compile(r"^[0-9]{8}-[0-9]{6}-[0-9a-f]{6}$")
@@ -203,8 +205,6 @@ class Queue:
         self.thread: threading.Thread | None = None
 
     def bases(self) -> tuple[str, ...]:
-        from vslsp.studio.trial_figures import FIGURES
-
         return (RUNS, FIGURES)
 
     def jobs(self) -> list[tuple[str, str, dict]]:

@@ -25,7 +25,7 @@ from vslsp.studio.files import Missing, inside, relative
 from vslsp.studio.report_data import DRAWN, TRIAL_FOLDER, read_summary
 
 #: Where the figure jobs live, relative to the root.
-FIGURES = "out/studio/figures"
+FIGURES = runs.FIGURES
 #: ``REL/trials/SEED/figures``: the pictures of one trial of the report folder REL.
 ADDRESS = re.compile(r"^(?P<folder>.+?)/trials/(?P<seed>[0-9]{1,10})/figures/?$")
 #: The options a report records in its summary (the others, ``--skills``, ``--predicates``,

@@ -23,6 +23,9 @@ from vslsp.tasks.runner import Run
 from vslsp.tasks.statistics import pose_error, total_stages, wilson_interval
 from vslsp.tasks.trial import run_one
 
+#: Below this many trials a report says that its success rate's interval is wide.
+FEW_TRIALS = 20
+
 
 def summary(task: Task, run: Run, folder: Path | None = None) -> dict:
     """The JSON summary of a run (the ``--json`` output and the head of ``report.json``)."""
@@ -52,6 +55,9 @@ def summary(task: Task, run: Run, folder: Path | None = None) -> dict:
         data["trials_requested"] = len(run.seeds)
         data["interrupted"] = run.interrupted
     data.update(task.summary(results))
+    from vslsp.provenance import provenance
+
+    data["provenance"] = provenance()
     data["results"] = [r.to_dict() for r in results]
     data["report"] = str(folder) if folder is not None else None
     return data
@@ -113,6 +119,19 @@ def markdown(task: Task, data: dict) -> str:
         f"{data['mean_time_s']} s |",
         "",
     ]
+    if data["trials"] < FEW_TRIALS:
+        lines += [
+            f"With {data['trials']} trial{'s' * (data['trials'] != 1)} the rate says little: its 95 % interval spans "
+            f"{100 * lo:.0f}-{100 * hi:.0f} %. Run {FEW_TRIALS} or more (`--trials`) to compare methods.",
+            "",
+        ]
+    made = data.get("provenance")
+    if made:
+        commit = f", commit {made['commit'][:12]}{' with changes' if made['changed'] else ''}" if made["commit"] else ""
+        lines += [
+            f"Made by vslsp {made['vslsp']}{commit}, Python {made['python']}, {made['platform']}: `{made['command']}`",
+            "",
+        ]
     lines += _statistics(data)
     rows = task.paper_figures(data)
     if rows:
