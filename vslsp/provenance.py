@@ -38,7 +38,8 @@ def _commit() -> dict[str, Any] | None:
 
 
 def provenance() -> dict[str, Any]:
-    """``{"vslsp", "commit", "changed" (uncommitted changes), "python", "platform", "command"}``."""
+    """``{"vslsp", "commit", "changed" (uncommitted changes), "python", "platform", "command"}`` (a report adds
+    ``seeds``: its first and last)."""
     try:
         version = metadata.version("vslsp")
     except metadata.PackageNotFoundError:

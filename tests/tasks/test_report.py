@@ -100,6 +100,10 @@ def test_a_report_says_where_it_came_from_and_when_its_rate_says_little(tmp_path
         head = subprocess.run(["git", "-C", str(checkout), "rev-parse", "HEAD"], capture_output=True, text=True)
         assert made["commit"] == head.stdout.strip()
     text = (tmp_path / "report.md").read_text()
-    assert "With 3 trials the rate says little" in text and f"Made by vslsp {made['vslsp']}" in text
-    many = write_report(tmp_path / "many", task, run_trials(task, range(20)))
-    assert "says little" not in (tmp_path / "many" / "report.md").read_text() and many["provenance"] == made
+    assert made["seeds"] == [0, 2]
+    assert "with 3 trials the rate says little" in text and f"Made by vslsp {made['vslsp']}" in text
+    lo, hi = data["success_ci95"]
+    assert f"spans {100 * lo:.0f}-{100 * hi:.0f} %" in text
+    many = write_report(tmp_path / "many", task, run_trials(task, range(400)))
+    assert many["success_ci95"][1] - many["success_ci95"][0] < 0.2
+    assert "says little" not in (tmp_path / "many" / "report.md").read_text()

@@ -23,8 +23,8 @@ from vslsp.tasks.runner import Run
 from vslsp.tasks.statistics import pose_error, total_stages, wilson_interval
 from vslsp.tasks.trial import run_one
 
-#: Below this many trials a report says that its success rate's interval is wide.
-FEW_TRIALS = 20
+#: A report says that its success rate says little when the rate's 95 % interval is wider than this.
+WIDE_INTERVAL = 0.20
 
 
 def summary(task: Task, run: Run, folder: Path | None = None) -> dict:
@@ -57,7 +57,7 @@ def summary(task: Task, run: Run, folder: Path | None = None) -> dict:
     data.update(task.summary(results))
     from vslsp.provenance import provenance
 
-    data["provenance"] = provenance()
+    data["provenance"] = {**provenance(), "seeds": [run.seeds[0], run.seeds[-1]] if run.seeds else []}
     data["results"] = [r.to_dict() for r in results]
     data["report"] = str(folder) if folder is not None else None
     return data
@@ -119,10 +119,11 @@ def markdown(task: Task, data: dict) -> str:
         f"{data['mean_time_s']} s |",
         "",
     ]
-    if data["trials"] < FEW_TRIALS:
+    if hi - lo > WIDE_INTERVAL:
         lines += [
-            f"With {data['trials']} trial{'s' * (data['trials'] != 1)} the rate says little: its 95 % interval spans "
-            f"{100 * lo:.0f}-{100 * hi:.0f} %. Run {FEW_TRIALS} or more (`--trials`) to compare methods.",
+            f"**Few trials**: with {data['trials']} trial{'s' * (data['trials'] != 1)} the rate says little, its 95 % "
+            f"interval spans {100 * lo:.0f}-{100 * hi:.0f} % (wider than {100 * WIDE_INTERVAL:.0f} points); run more "
+            "(`--trials`) before comparing methods.",
             "",
         ]
     made = data.get("provenance")
