@@ -236,6 +236,24 @@ def positive_float(maximum: float | None = None) -> PositiveFloat:
     return PositiveFloat(maximum)
 
 
+class Pixels(click.ParamType):
+    """A finite number of pixels >= 0 (``--min-move 8``)."""
+
+    name = "px"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> float:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is not a number of pixels; give e.g. 8", param, ctx)
+        if not math.isfinite(number) or number < 0:
+            self.fail(f"{value} is not a number of pixels from 0 up; give e.g. 8", param, ctx)
+        return number
+
+
+PIXELS = Pixels()
+
+
 class Probability(click.ParamType):
     """A finite float from 0 to 1."""
 

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from vslsp.grounding.operation import Grounding
 from vslsp.outputs import atomic_file, write_text
 
 # The paper's Table 3: the preconditions and effects VSL extracts for push and pull.
@@ -35,13 +36,26 @@ def step_caption(title: str, grounding, step, fault: dict | None) -> list[str]:
     return lines
 
 
+def observed_grounding(pre: np.ndarray, post: np.ndarray) -> tuple[Grounding | None, str]:
+    """The grounding of an executed step's pre/post observation for its picture and record, as
+    ``vslsp ground PRE POST`` gives it on the raw images written beside it (the same
+    ``--min-move`` default: a neighbour the robot's hand nudged by a few pixels is left out),
+    or None and why not (nothing moved: a skipped step; the images are still shown)."""
+    from vslsp.errors import VslspError
+    from vslsp.grounding.operation import ground
+    from vslsp.vision.change import default_min_move
+
+    try:
+        return ground(pre, post, min_move=default_min_move(pre.shape)), ""
+    except VslspError as error:
+        return None, str(error).split(";")[0].split(" (")[0]  # e.g. "nothing moved between ... image"
+
+
 def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
     """Every observed pre/post pair drawn and captioned (with the camera's raw images), the
     learned PDDL, the first problem and plan, the executions, and the trajectory figure."""
-    from vslsp.errors import VslspError
     from vslsp.grounding import draw_grounding
     from vslsp.grounding.moves import draw_moves
-    from vslsp.grounding.operation import ground
     from vslsp.tasks.drawing import caption, label
     from vslsp.vision.image import write_image
 
@@ -51,11 +65,9 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
     number = {id(step): k for k, step in enumerate(trial.steps, start=1)}
     faults = {entry["step"]: entry for entry in fault_log}
     for i, (title, pre, post, grounding, step) in enumerate(trial.observations, start=1):
+        why = "no object changed side"
         if grounding is None and step is not None:
-            try:
-                grounding = ground(pre, post)
-            except VslspError:
-                grounding = None  # nothing moved (a skipped step): the images are still shown
+            grounding, why = observed_grounding(pre, post)
         # With the slip detection: every cube that moved, the operated one and the disturbed.
         moves = trial.watcher.pictures.get(i - 1) if getattr(trial, "watcher", None) is not None else None
         if moves is not None:
@@ -63,7 +75,7 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
         elif grounding is not None:
             picture = draw_grounding(pre, post, grounding)
         else:  # nothing moved, so nothing to ground: the two images, named
-            picture = np.hstack([label(pre, "pre"), label(post, "post: no object changed side")])
+            picture = np.hstack([label(pre, "pre"), label(post, f"post: {why}")])
         fault = faults.get(number.get(id(step), -1)) if step is not None else None
         lines = step_caption(title, grounding, step, fault)
         if moves is not None:

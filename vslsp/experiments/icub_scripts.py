@@ -21,7 +21,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from vslsp.errors import TaskFailed, VslspError
+from vslsp.errors import TaskFailed
+from vslsp.experiments.icub_report import observed_grounding
 from vslsp.experiments.icub_run import IcubRun
 from vslsp.experiments.icub_slips import OperatedPlane
 from vslsp.experiments.icub_vsl import reproduce_vsl
@@ -300,10 +301,7 @@ def _record(trial: IcubRun, run: Execution) -> None:
     trial.steps.extend(run.steps)
     trial.replans += run.replans
     for i, (step, (before, after)) in enumerate(zip(run.steps, zip(run.states, run.states[1:])), start=1):
-        try:
-            grounding = ground(before.image, after.image)
-        except VslspError:
-            grounding = None  # nothing moved (a skipped step): the images still go in the report
+        grounding = observed_grounding(before.image, after.image)[0]
         trial.observations.append(
             (f"VSL-SP execution step {i}: {step.action} {step.obj}", before.image, after.image, grounding, step)
         )
