@@ -102,6 +102,14 @@ MAX_WORKERS = 64
     "every observed step and learned into the action models, rules and goals. It runs as Python with "
     "your rights, like a pytest conftest.py.",
 )
+@click.option(
+    "--tasks",
+    "task_files",
+    type=click.Path(dir_okay=False),
+    multiple=True,
+    help="A Python file of your own tasks (@register from vslsp.tasks, docs/tasks.md), loaded before NAME "
+    "is looked up and in every worker; repeatable. It runs as Python with your rights: use only files you trust.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object on stdout.")
 def experiment(
     name: str | None,
@@ -121,6 +129,7 @@ def experiment(
     views: int | None,
     predicates_file: str | None,
     out: str | None,
+    task_files: tuple[str, ...],
     as_json: bool,
 ) -> None:
     """Run experiment NAME (see --list) and write a report folder.
@@ -130,8 +139,9 @@ def experiment(
     written first).
     """
     from vslsp.errors import InputError
-    from vslsp.tasks import get_task, list_tasks
+    from vslsp.tasks import get_task, list_tasks, load_task_files
 
+    load_task_files(task_files)  # the user's tasks join the registry (and reach the workers)
     if list_them:
         entries = [cls().describe() for cls in list_tasks()]
         if as_json:
@@ -161,6 +171,10 @@ def experiment(
         views=views,
         predicates=str(Path(predicates_file).resolve()) if predicates_file else None,
     )
+    if backend == "local" and trials > 1:
+        from vslsp.tasks.task_files import check_main_guard
+
+        check_main_guard(workers)  # a runner script without a main guard: refused before the folder
     prepare_output_folder(folder)
     for report_file in REPORT_FILES:
         refuse_link(folder / report_file, "--out")

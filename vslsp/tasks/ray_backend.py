@@ -42,6 +42,7 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.task_files import by_value_for_ray
 from vslsp.tasks.trial import run_one
 
 RETRIES = 1  # Ray re-runs a trial whose worker died once (the local backend's rule), then it is failed
@@ -136,6 +137,7 @@ def _run(
 ) -> None:
     """Submit the trials (at most ``workers`` in flight) and hand back their results."""
     pending: dict[Any, int] = {}
+    by_value_for_ray(task)  # a task of a user's tasks file: its module travels with it
     try:
         task_ref = ray.put(task)  # once: the workers fetch it from the object store
         trial = ray.remote(_trial).options(

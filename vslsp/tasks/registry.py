@@ -77,6 +77,18 @@ def get_task(name: str, **options: object) -> Task:
     return task
 
 
+def registered_names() -> frozenset[str]:
+    """The names of every registered task (the built-ins loaded first)."""
+    _load()
+    return frozenset(_TASKS)
+
+
+def task_classes() -> list[type[Task]]:
+    """Every registered task class, in the order registered."""
+    _load()
+    return list(_TASKS.values())
+
+
 def list_tasks() -> list[type[Task]]:
     """Every registered task class, by system (VSL, VSL-3D, VSL-SP) in the order registered."""
     _load()

@@ -25,6 +25,7 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.task_files import check_main_guard
 from vslsp.tasks.trial import Interrupted, run_one
 
 __all__ = ["BACKENDS", "Interrupted", "Run", "check_counts", "run_one", "run_trials"]
@@ -74,6 +75,8 @@ def run_trials(
     check_counts(len(seeds), workers)
     if backend not in BACKENDS:
         raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+    if backend == "local" and len(seeds) > 1:
+        check_main_guard(workers)  # before any work: workers would run an unguarded script again
     keep = {seeds[0]} if task.keep_first else set()
     done: dict[int, TrialResult] = {}
 
