@@ -442,3 +442,14 @@ def test_why_names_the_conflict_and_dropping_one_constraint_makes_it_solvable(tm
     # the wrong order breaks two constraints: both are listed
     assert "(vslsp) invalid: constraint (sometime-before (not (far green)) (not (far orange))) is broken" in out
     assert "  also: constraint (sometime-before (not (far orange)) (not (far yellow))) is broken" in out
+
+
+def test_a_piped_session_with_refused_commands_exits_1_unless_keep_going(tmp_path):
+    session = "type block\npredicate (on ?a - block)\nbogus\nobjects a b - nope\naction\nquit\n"
+    done = vslsp_process("shell", input=session, timeout=120)
+    assert done.returncode == 1 and "Traceback" not in done.stderr
+    assert "3 commands were refused (errors above); --keep-going exits 0 regardless" in done.stderr
+    assert "(vslsp) type block\n" in done.stdout and "error: unknown command 'bogus'" in done.stdout
+    assert vslsp_process("shell", "--keep-going", input=session, timeout=120).returncode == 0
+    clean = vslsp_process("shell", input="type block\npredicate (on ?a - block)\nquit\n", timeout=120)
+    assert clean.returncode == 0 and clean.stderr == ""

@@ -112,6 +112,7 @@ class Shell(cmd.Cmd):
         self.problem = problem or Problem("task", self.domain)
         self.last_plan: list[tuple[str, tuple[str, ...]]] = []
         self.changes: list[tuple[str, Domain, Problem]] = []  # (command, domain and problem before it), for undo
+        self.errors = 0  # commands refused (an error or their usage shown): a piped session's exit code
 
     # --- plumbing ---
     def say(self, text: str) -> None:
@@ -123,19 +124,27 @@ class Shell(cmd.Cmd):
             _balanced(line.partition(" ")[2])
             return super().onecmd(line)
         except VslspError as error:
+            self.errors += 1
             self.say("error: " + in_shell_terms(str(error)))
         except ValueError as error:  # shlex on unbalanced quotes
+            self.errors += 1
             self.say(f"error: {str(error).lower()} in what you typed")
         finally:
             if (self.domain, self.problem) != before and line.split()[:1] != ["undo"]:
                 self.changes.append((" ".join(line.split()), *before))
         return False
 
+    def _usage(self, name: str) -> None:
+        """A command typed without what it needs: its usage, counted as an error."""
+        self.errors += 1
+        self.say(usage(name))
+
     def emptyline(self) -> bool:
         return False
 
     def default(self, line: str) -> None:
         word = line.split()[0]
+        self.errors += 1
         self.say(f"error: unknown command {word!r}{did_you_mean(word, NAMES)}; type help for the commands")
 
     def _checker(self, problem: bool = True) -> Checker:
@@ -174,7 +183,7 @@ class Shell(cmd.Cmd):
         words = arg.split()
         names, parents = (words[: words.index("-")], words[words.index("-") + 1 :]) if "-" in words else (words, [])
         if not names or ("-" in words and len(parents) != 1):
-            self.say(usage("type"))
+            self._usage("type")
             return
         parent = parents[0] if parents else None
         if parent:
@@ -210,7 +219,7 @@ class Shell(cmd.Cmd):
 
     def do_action(self, arg: str) -> None:
         if not arg.strip():
-            self.say(usage("action"))
+            self._usage("action")
             return
         name = self._checker(problem=False).action(arg)
         domain, _ = _read(_domain_text(self.domain.without_action(name), f"(:action {arg})"))
@@ -246,7 +255,7 @@ class Shell(cmd.Cmd):
             self._set(problem=self.problem.without_init(*atoms))
             self.say("no longer true initially: " + " ".join(a.to_pddl() for a in atoms))
         else:
-            self.say(usage("drop"))
+            self._usage("drop")
 
     def _drop_constraint(self, number: str) -> None:
         count = len(self.problem.constraints)
@@ -278,7 +287,7 @@ class Shell(cmd.Cmd):
     def do_objects(self, arg: str) -> None:
         words = arg.split()
         if "-" not in words or not words[: words.index("-")] or len(words[words.index("-") :]) != 2:
-            self.say(usage("objects"))
+            self._usage("objects")
             return
         names, type_ = words[: words.index("-")], words[-1]
         for name in names:
@@ -289,7 +298,7 @@ class Shell(cmd.Cmd):
 
     def do_init(self, arg: str) -> None:
         if not arg.strip():
-            self.say(usage("init"))
+            self._usage("init")
             return
         atoms = self._atoms(arg)
         self._set(problem=self.problem.with_init(*atoms))
@@ -297,7 +306,7 @@ class Shell(cmd.Cmd):
 
     def do_goal(self, arg: str) -> None:
         if not arg.strip():
-            self.say(usage("goal"))
+            self._usage("goal")
             return
         trees = self._checker().formulas(arg)
         text = arg.strip() if len(trees) == 1 else f"(and {arg.strip()})"
@@ -306,6 +315,7 @@ class Shell(cmd.Cmd):
 
     def do_constraint(self, arg: str) -> None:
         if len(parse(arg)) != 1:
+            self.errors += 1
             self.say(usage("constraint") + " (one at a time)")
             return
         self._checker().formulas(arg, "constraint")
@@ -330,7 +340,7 @@ class Shell(cmd.Cmd):
     def do_show(self, arg: str) -> None:
         what = arg.strip()
         if what not in ("", "domain", "problem", "constraints"):
-            self.say(usage("show"))
+            self._usage("show")
         if what in ("", "domain"):
             self.say(self.domain.to_pddl())
         if what in ("", "problem"):
@@ -366,7 +376,7 @@ class Shell(cmd.Cmd):
 
     def do_why(self, arg: str) -> None:
         if arg.strip():
-            self.say(usage("why"))
+            self._usage("why")
             return
         conflict = explain(self.domain, self.problem)
         if conflict is None:
@@ -383,7 +393,7 @@ class Shell(cmd.Cmd):
     def do_load(self, arg: str) -> None:
         paths = shlex.split(arg)
         if not paths or len(paths) > 2:
-            self.say(usage("load"))
+            self._usage("load")
             return
         domain, problem = read_pddl(*paths)
         self.domain, self.problem = domain, problem or Problem("task", domain)
@@ -393,7 +403,7 @@ class Shell(cmd.Cmd):
     def do_save(self, arg: str) -> None:
         paths = shlex.split(arg)
         if not paths or len(paths) > 2:
-            self.say(usage("save"))
+            self._usage("save")
             return
         save(self.domain.to_pddl(), paths[0])
         if len(paths) > 1:
