@@ -148,5 +148,7 @@ def _explained(
         return [f"why: not found ({error})"]
     assert conflict is not None
     items = conflict.located(read_text(path), path)
-    failure["conflict"], failure["conflict_minimal"] = items, conflict.minimal
-    return [f"why: {conflict.summary()}", *(f"  {where(i)}: {i['kind']} {i['text']}" for i in items)]
+    reasons = conflict.reasons(domain, problem)
+    failure["conflict"], failure["conflict_minimal"], failure["reasons"] = items, conflict.minimal, reasons
+    lines = [f"why: {conflict.summary()}", *(f"  {where(i)}: {i['kind']} {i['text']}" for i in items)]
+    return lines + [f"  because: {reason}" for reason in reasons]

@@ -203,7 +203,7 @@ def _solve_directly(domain: Domain, problem: Problem, planner: str, limits: Limi
             )
         if run.outcome is PlanStatus.UNSOLVABLE_PROVEN:
             raise Unsolvable(
-                "the goal cannot be reached from the initial state under the constraints (proved by Fast Downward)"
+                f"the goal cannot be reached from the initial state{_under(problem)} (proved by Fast Downward)"
             )
         raise NoPlan("Fast Downward's search gave up without a plan (it is incomplete)", run.outcome)
     used = Compilation.LIFTED if problem.constraints else Compilation.NONE
@@ -262,7 +262,7 @@ def _solve_up(
         if not engine.supports(kind):
             raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); try {DEFAULT_PLANNER}")
         if _false_goal(up_problem):
-            raise Unsolvable(f"the goal {problem.goal.to_pddl()} can never hold under the constraints")
+            raise Unsolvable(f"the goal {problem.goal.to_pddl()} can never hold{_under(problem)}")
         engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
         compiled_at = time.perf_counter()
         _bound(engine, limits.memory_mb)
@@ -280,9 +280,9 @@ def _solve_up(
     if status.limit_reached:
         raise limits.reached(status)
     if status is PlanStatus.UNSOLVABLE_PROVEN:
-        raise Unsolvable(_reason(result))
+        raise Unsolvable(_reason(result, problem))
     if status is not PlanStatus.SOLVED:
-        raise NoPlan(_reason(result), status)
+        raise NoPlan(_reason(result, problem), status)
     steps = []
     for instance in result.plan.actions:
         for map_back in reversed(map_backs):
@@ -350,14 +350,19 @@ def plan_status(status: Any) -> PlanStatus:
     return PlanStatus.__members__.get(status.name, PlanStatus.INTERNAL_ERROR)
 
 
-def _reason(result: Any) -> str:
+def _under(problem: Problem) -> str:
+    """The words ' under the constraints' when the problem has any (for a message about its goal)."""
+    return " under the constraints" if problem.constraints else ""
+
+
+def _reason(result: Any, problem: Problem) -> str:
     from unified_planning.engines import PlanGenerationResultStatus as Status
 
     reasons = {
-        Status.UNSOLVABLE_PROVEN: "the goal cannot be reached from the initial state under the constraints "
+        Status.UNSOLVABLE_PROVEN: f"the goal cannot be reached from the initial state{_under(problem)} "
         f"(proved by {result.engine_name})",
         Status.UNSOLVABLE_INCOMPLETELY: f"{result.engine_name} explored every reachable state and found none "
-        "that reaches the goal under the constraints",
+        f"that reaches the goal{_under(problem)}",
         Status.UNSUPPORTED_PROBLEM: "the planner does not support this problem",
     }
     return reasons.get(result.status, f"the planner stopped with status {result.status.name}")

@@ -386,6 +386,8 @@ class Shell(cmd.Cmd):
         for part in conflict.parts:
             label = "goal" if part.kind == "goal" else f"constraint {part.index + 1}"
             self.say(f"  {label}: {part.to_pddl()}")
+        for reason in conflict.reasons(self.domain, self.problem):
+            self.say(f"  because: {reason}")
         numbers = [part.index + 1 for part in conflict.parts if part.kind == "constraint"]
         if numbers:
             self.say(f"to take one out: drop constraint N (e.g. drop constraint {numbers[0]}), or change the goal")
