@@ -31,6 +31,7 @@ class Wire:
             [sys.executable, "-m", "vslsp", "lsp"], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._log_file
         )
         self.received: list[dict[str, Any]] = []
+        self._answers: dict[Any, list[dict[str, Any]]] = {}  # id -> the responses with it
         self._lock = threading.Lock()
         self._next_id = 0
         self._reader = threading.Thread(target=self._read, daemon=True)
@@ -73,7 +74,7 @@ class Wire:
 
     def responses(self, msg_id: Any) -> list[dict[str, Any]]:
         with self._lock:
-            return [m for m in self.received if "method" not in m and m.get("id") == msg_id]
+            return list(self._answers.get(msg_id, []))
 
     def answer(self, msg_id: Any) -> dict[str, Any]:
         """The one response to the request ``msg_id`` (waits for it)."""
@@ -91,8 +92,12 @@ class Wire:
         return answer["error"]
 
     def null_id_errors(self) -> list[dict[str, Any]]:
+        return [m["error"] for m in self.responses(None)]
+
+    def answered(self) -> set[Any]:
+        """The ids of every response so far."""
         with self._lock:
-            return [m["error"] for m in self.received if "error" in m and m.get("id") is None]
+            return set(self._answers)
 
     def published(self, uri: str) -> list[list[dict[str, Any]]]:
         """The diagnostics published for ``uri``, in order."""
@@ -147,3 +152,5 @@ class Wire:
             message = json.loads(stream.read(length))
             with self._lock:
                 self.received.append(message)
+                if "method" not in message:
+                    self._answers.setdefault(message.get("id"), []).append(message)
