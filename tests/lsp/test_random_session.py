@@ -162,8 +162,8 @@ def _run(tmp_path: Path, seed: int, count: int) -> None:
         for index in range(count):
             wire.send(session.message())
             if index == warm:
-                answered = list(session.expected)
-                wait_until(lambda: all(wire.responses(i) for i in answered), "the warm-up's answers")
+                asked = list(session.expected)
+                wait_until(lambda: all(wire.responses(i) for i in asked), "the warm-up's answers")  # noqa: B023
                 warm_kib = wire.rss_kib()
         wait_until(lambda: all(wire.responses(i) for i in session.expected), lambda: _missing(wire, session))
         grown_kib = wire.rss_kib() - warm_kib
