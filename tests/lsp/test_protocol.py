@@ -239,24 +239,27 @@ def _message(method: str, params: Any, msg_id: int | None = None) -> dict[str, A
     return message if msg_id is None else {**message, "id": msg_id}
 
 
+def _opened(uri: str, text: str) -> dict[str, Any]:
+    document = {"uri": uri, "languageId": "pddl", "version": 1, "text": text}
+    return _message("textDocument/didOpen", {"textDocument": document})
+
+
+def _changed(uri: str, version: int, change: dict[str, Any]) -> dict[str, Any]:
+    params = {"textDocument": {"uri": uri, "version": version}, "contentChanges": [change]}
+    return _message("textDocument/didChange", params)
+
+
 def test_no_future_is_kept_per_notification_or_request(kitchen: Path):
     domain = uri_of(kitchen / "domain.pddl")
     text = (kitchen / "domain.pddl").read_text()
     messages = [
         _message("initialize", {"capabilities": {}, "rootUri": uri_of(kitchen)}, 1),
         _message("initialized", {}),
-        _message(
-            "textDocument/didOpen", {"textDocument": {"uri": domain, "languageId": "pddl", "version": 1, "text": text}}
-        ),
+        _opened(domain, text),
     ]
     for version in range(2, 302):
         change = {"range": {"start": {"line": 0, "character": 0}, "end": {"line": 0, "character": 0}}, "text": " "}
-        messages.append(
-            _message(
-                "textDocument/didChange",
-                {"textDocument": {"uri": domain, "version": version}, "contentChanges": [change]},
-            )
-        )
+        messages.append(_changed(domain, version, change))
         messages.append(
             _message(HOVER, {"textDocument": {"uri": domain}, "position": {"line": 7, "character": 6}}, version)
         )
@@ -281,3 +284,23 @@ def test_a_bug_of_the_server_s_is_one_line_without_its_traceback(kitchen: Path, 
         "code": INTERNAL_ERROR,
         "message": "Internal error: RuntimeError: the outline broke at line 3",
     }
+
+
+def test_an_edit_past_the_end_is_made_at_the_end_and_one_of_a_closed_document_dropped(kitchen: Path):
+    uri = uri_of(kitchen / "new.pddl")
+    text = "(define (domain d)\n  (:predicates (p)))"
+
+    def edit(version: int, start: tuple[int, int], end: tuple[int, int], inserted: str, to: str = uri) -> Any:
+        span = {"start": dict(zip(("line", "character"), start)), "end": dict(zip(("line", "character"), end))}
+        return _changed(to, version, {"range": span, "text": inserted})
+
+    messages = [
+        _message("initialize", {"capabilities": {}}, 1),
+        _opened(uri, text),
+        edit(2, (10**6, 0), (10**6, 5), "\n; the end"),  # past the last line: at the end
+        edit(3, (0, 10**6), (0, 10**6), " ; one"),  # past the line's end: at its end
+        edit(4, (1, 15), (1, 2), ""),  # end first: the text between goes
+        edit(5, (0, 0), (0, 0), "x", to=uri_of(kitchen / "closed.pddl")),
+    ]
+    server, _ = asyncio.run(_session(messages))
+    assert server.workspace.get_text_document(uri).source == "(define (domain d) ; one\n  (p)))\n; the end"

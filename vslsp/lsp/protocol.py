@@ -28,6 +28,7 @@ import json
 import logging
 from collections.abc import Callable
 from typing import Any
+from urllib.parse import unquote
 
 import cattrs
 from cattrs.v import format_exception
@@ -39,8 +40,10 @@ from pygls.protocol import (
     JsonRPCResponseMessage,
     LanguageServerProtocol,
     default_converter,
+    lsp_method,
 )
 
+from vslsp.lsp.positions import UTF16, clamped
 from vslsp.lsp.rpc import Invalid, Message
 
 logger = logging.getLogger("vslsp.lsp")
@@ -233,6 +236,24 @@ class PddlProtocol(LanguageServerProtocol):
             self.handle_message(self.structure_message(data))
         except Exception:
             logger.warning("a response from the client that cannot be read: %s", one_line(json.dumps(data), 200))
+
+    @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
+    def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams) -> Any:
+        """pygls' edit, each range clamped to the document first (an edit past the end is made at the
+        end); an edit of a document not open is dropped."""
+        document = self.workspace.text_documents.get(unquote(params.text_document.uri))  # pygls' keys
+        if document is None:
+            logger.warning("an edit of %s, which is not open: dropped", params.text_document.uri)
+            return
+        encoding = str(self.workspace.position_encoding or UTF16)
+        for change in params.content_changes:
+            if isinstance(change, types.TextDocumentContentChangePartial):
+                source = document.source
+                start, end = (clamped(source, p, encoding) for p in (change.range.start, change.range.end))
+                change.range = types.Range(start, end)
+            self.workspace.update_text_document(params.text_document, change)
+        if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_CHANGE)) is not None:
+            yield handler, (params,), None
 
     # pygls' own paths, each sending one response without a traceback:
 
