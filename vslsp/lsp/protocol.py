@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import json
 import logging
+import re
 from collections.abc import Callable
 from typing import Any
 from urllib.parse import unquote
@@ -310,7 +311,15 @@ def _problems(error: BaseException) -> list[str]:
         found = cattrs.transform_error(error, path="$", format_exception=_described)
     else:
         found = [f"{error}"]
-    return [one_line(line, 120) for line in found[:3]] or ["invalid"]
+    return [one_line(_json_names(line), 120) for line in found[:3]] or ["invalid"]
+
+
+def _json_names(line: str) -> str:
+    """``... @ $.params.text_document`` as the client wrote it: ``$.params.textDocument``."""
+    said, at, place = line.rpartition(" @ ")
+    if not at:
+        return line
+    return f"{said} @ " + re.sub(r"_([a-z])", lambda m: m.group(1).upper(), place)
 
 
 def _described(error: BaseException, wanted: Any) -> str:

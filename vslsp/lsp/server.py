@@ -4,7 +4,9 @@ Every open domain and problem is checked by the language engine (:mod:`vslsp.sym
 open and on every change, and its diagnostics published; a changed domain re-checks the open
 problems for it. The requests (completion, hover, definition, references, rename, outline, quick
 fixes) read the same analysis; ``vslsp.plan`` and ``vslsp.validate`` run ``vslsp plan/validate --json``
-as a child process (the editor keeps its diagnostics while Fast Downward searches).
+as a child process (the editor keeps its diagnostics while Fast Downward searches). The frames are
+read by :mod:`vslsp.lsp.rpc` and each message checked by :mod:`vslsp.lsp.protocol` before pygls
+takes it (docs/bad-input.md, "The language server").
 """
 
 from __future__ import annotations
