@@ -115,7 +115,7 @@ WRONG = {
     '"line": "5"': (at(Path("/k/domain.pddl"), "5", 0), "'line' must be an integer, got a string"),
     '"character": true': (at(Path("/k/domain.pddl"), 0, True), "'character' must be an integer, got a boolean"),
     '"line": 1.5': (at(Path("/k/domain.pddl"), 1.5, 0), "'line' must be an integer, got a number"),
-    '"uri": 5': ({"textDocument": {"uri": 5}, "position": {"line": 0, "character": 0}}, "expected a string"),
+    '"uri": 5': ({**at(Path("/k"), 0, 0), "textDocument": {"uri": 5}}, "got an integer @ $.params.textDocument.uri"),
     "no position": ({"textDocument": {"uri": "file:///k/domain.pddl"}}, "$.params.position"),
     "params an array": ([1, 2], "$.params"),
 }

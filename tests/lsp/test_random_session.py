@@ -151,7 +151,8 @@ class Session:
 
 def _run(tmp_path: Path, seed: int, count: int) -> None:
     shutil.copytree(DATA / "kitchen", tmp_path / "kitchen")
-    files = {uri_of(p): p.read_text() for p in sorted((tmp_path / "kitchen").glob("*.pddl"))}
+    (tmp_path / "kitchen" / "tidy.plan").write_text("0: (pick saucer)\n1: (wash saucer)\n2: (put-down saucer)\n")
+    files = {uri_of(p): p.read_text() for p in sorted((tmp_path / "kitchen").glob("*.*"))}
     wire = Wire(tmp_path / "server.log")
     try:
         wire.initialize(tmp_path)
