@@ -173,6 +173,11 @@ def _run(tmp_path: Path, seed: int, count: int) -> None:
         unasked = wire.answered() - {*session.expected, None, 1}  # 1: initialize
         assert not unasked, f"answers to requests never sent: {unasked}"
         allowed_kib = FLAT_KIB + FLAT_BYTES_PER_MESSAGE * (count - warm) // 1024
+        print(  # shown with pytest -s: the figures of docs/bad-input.md
+            f"{count} messages, {len(session.expected)} requests each answered once, "
+            f"{len(wire.null_id_errors())} answered with id null; the server's memory {warm_kib} KiB warm, "
+            f"+{grown_kib} KiB at the end (allowed +{allowed_kib})"
+        )
         assert grown_kib < allowed_kib, f"the server grew by {grown_kib} KiB after warming up"
         assert wire.exit_code() == 0
     finally:
