@@ -124,7 +124,11 @@ class Session:
 
     def _notifications(self) -> list[dict[str, Any]]:
         uri = self.random.choice(list(self.uris))
+        scratch = uri.rsplit("/", 1)[0] + f"/scratch-{self.random.randrange(3)}.pddl"  # opened and closed
+        document = {"uri": scratch, "languageId": "pddl", "version": 1, "text": self.uris[uri]}
         return [
+            {"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": document}},
+            {"jsonrpc": "2.0", "method": "textDocument/didClose", "params": {"textDocument": {"uri": scratch}}},
             {"jsonrpc": "2.0", "method": "$/cancelRequest", "params": {"id": self.next_id}},
             {"jsonrpc": "2.0", "method": "textDocument/didSave", "params": {"textDocument": {"uri": uri}}},
             {"jsonrpc": "2.0", "method": "$/setTrace", "params": {"value": "off"}},
