@@ -14,13 +14,29 @@ from pathlib import Path
 
 from vslsp.lsp.positions import UTF16, Lines
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of
-from vslsp.symbolic.language import WARNING, Analysis, Declaration, Diagnostic, Fix, Reference, Span, analyse, closest
+from vslsp.symbolic.language import (
+    ERROR,
+    WARNING,
+    Analysis,
+    Declaration,
+    Diagnostic,
+    Fix,
+    Index,
+    Reference,
+    Span,
+    analyse,
+    closest,
+)
 from vslsp.symbolic.language.plans import analyse_plan
 
 _WORD = re.compile(r"[^\s();]+")
 _COMMENT = re.compile(r";[^\n]*")
 #: How many analyses are kept (the open documents one is working on, and their domains).
 _KEPT = 32
+#: The deepest nesting of parentheses analysed. Real domains nest a dozen deep; the engine reads
+#: formulas recursively, so a deeper document gets this one error instead of an analysis.
+NESTING_LIMIT = 256
+_PARENTHESIS = re.compile(r"[()]|;[^\n]*")
 
 
 @dataclass
@@ -148,6 +164,13 @@ class Analyses:
 
     def _check(self, uri: str, kind: str, domain_uri: str | None, texts: dict[str, str], wanted: str) -> Checked:
         uris = {path_of(u): u for u in texts}
+        too_deep = nested_too_deeply(texts[uri], path_of(uri))
+        if too_deep is not None:
+            analysis = Analysis([], Index())
+            return Checked(uri, kind, domain_uri, analysis, texts, [too_deep], uris, self.encoding)
+        if domain_uri is not None and domain_uri != uri and nested_too_deeply(texts[domain_uri], "") is not None:
+            domain_uri = None  # the domain shows its own error; the problem is read alone
+            texts = {uri: texts[uri]}
         if kind == PROBLEM and domain_uri is not None:
             analysis = analyse(texts[domain_uri], path_of(domain_uri), texts[uri], path_of(uri))
         else:
@@ -171,3 +194,27 @@ class Analyses:
         )
         fixes = (Fix(f"change to '{suggestion}'", at, suggestion),) if suggestion else ()
         return Diagnostic(at, WARNING, message, "domain-not-found", suggestion, fixes)
+
+
+def nested_too_deeply(text: str, file: str) -> Diagnostic | None:
+    """An error at the first parenthesis nested deeper than :data:`NESTING_LIMIT` (comments skipped),
+    None when ``text`` nests no deeper. Counted in one pass, without recursion."""
+    if text.count("(") <= NESTING_LIMIT:
+        return None
+    depth = 0
+    for found in _PARENTHESIS.finditer(text):
+        mark = found.group()
+        if mark == "(":
+            depth += 1
+            if depth > NESTING_LIMIT:
+                offset = found.start()
+                line = text.count("\n", 0, offset) + 1
+                column = offset - (text.rfind("\n", 0, offset) + 1) + 1
+                message = (
+                    f"nested too deeply (limit {NESTING_LIMIT}): this parenthesis opens level {depth}; "
+                    "the document is not analysed until it nests less"
+                )
+                return Diagnostic(Span(file, line, column, line, column + 1), ERROR, message, "nested-too-deeply")
+        elif mark == ")":
+            depth = max(0, depth - 1)
+    return None

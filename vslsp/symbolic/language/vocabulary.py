@@ -94,3 +94,25 @@ NOT_PDDL = {
     "somewhere-before": "PDDL 3.0 has no 'somewhere-before'; for \"p only after q\" write (sometime-before p q)",
 }
 BUILT_IN_TYPES = ("object",)
+
+#: Words PDDL reads as syntax wherever a name may stand: the operators of formulas and effects, the
+#: PDDL 3.0 constraints, ``either`` and ``define``, and the built-in types. ``at`` is no reserved word:
+#: it is the usual predicate ``(at ?x ?place)``; ``(at end φ)`` is read by its second word.
+RESERVED_NAMES = frozenset(
+    name
+    for name in (
+        *GOAL_OPERATORS,
+        *EFFECT_OPERATORS,
+        *PDDL3_OPERATORS,
+        "either",
+        "define",
+        *BUILT_IN_TYPES,
+    )
+    if name not in ("at", "=")
+)
+
+
+def is_reserved_name(name: str) -> bool:
+    """Whether ``name`` is a word of PDDL's syntax that no predicate, type, object or action may take
+    (PDDL is case-insensitive: ``AND`` is ``and``; a variable's ``?`` is not part of the word)."""
+    return name.removeprefix("?").lower() in RESERVED_NAMES
