@@ -453,3 +453,17 @@ def test_a_piped_session_with_refused_commands_exits_1_unless_keep_going(tmp_pat
     assert vslsp_process("shell", "--keep-going", input=session, timeout=120).returncode == 0
     clean = vslsp_process("shell", input="type block\npredicate (on ?a - block)\nquit\n", timeout=120)
     assert clean.returncode == 0 and clean.stderr == ""
+
+
+def test_at_is_a_predicate_name_and_pddl_words_name_nothing():
+    # one vocabulary (the language engine's is_reserved_name): `at` is a keyword only in (at end ...)
+    out = run(
+        "type dish place\npredicate (at ?d - dish ?p - place)\nobjects d1 - dish\nobjects sink - place\n"
+        "init (at d1 sink)\ngoal (not (at d1 sink))\nconstraint (at end (not (at d1 sink)))\n"
+        "predicate (and ?d - dish)\nobjects or - dish\ntype not\nshow problem\n"
+    )
+    assert "(vslsp) predicate (at ?d - dish ?p - place)\n" in out and "true initially: (at d1 sink)" in out
+    assert "constraint (at end (not (at d1 sink))); 1 constraint" in out
+    assert "error: 'and' is a word of PDDL itself and cannot name a predicate; choose another" in out
+    assert "error: 'or' is a word of PDDL itself and cannot name an object" in out
+    assert "error: 'not' is a word of PDDL itself and cannot name a type" in out

@@ -17,6 +17,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from vslsp.errors import InputError
+from vslsp.symbolic.language.vocabulary import is_reserved_name
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl_errors import PDDL3_OPERATORS, check_text
 
@@ -93,11 +94,13 @@ class Checker:
     @staticmethod
     def name(name: str, what: str) -> str:
         """``name`` when it is a PDDL name (a letter, then letters, digits, '-' or '_')."""
+        article = "an" if what[0] in "aeiou" else "a"
         if not _NAME.fullmatch(name):
-            article = "an" if what[0] in "aeiou" else "a"
             raise InputError(
                 f"{name!r} cannot name {article} {what}: a PDDL name is a letter, then letters, digits, - or _"
             )
+        if is_reserved_name(name):  # the one vocabulary of the language engine (`at` is a name)
+            raise InputError(f"'{name}' is a word of PDDL itself and cannot name {article} {what}; choose another")
         return name
 
     def type_(self, name: str) -> None:
@@ -145,7 +148,10 @@ class Checker:
             for part in rest[1:]:
                 self.formula(part, bound, where)
             return
-        if head == "at" and rest[:1] == ["end"]:
+        if head == "at" and rest[:1] != ["end"]:  # `at` is a keyword only in (at end ...): (at d1 p1) is an atom
+            self.atom(tree, variables, where)
+            return
+        if head == "at":
             rest = rest[1:]
         if where == "constraint" and head in _FORMULAS and len(rest) != _FORMULAS[head]:
             shown = "at end" if head == "at" else head
@@ -211,8 +217,6 @@ class Checker:
         if len(trees) != 1 or isinstance(trees[0], str) or not trees[0] or not isinstance(trees[0][0], str):
             raise InputError("write one predicate, e.g. predicate (on-counter ?d - dish)")
         name = self.name(trees[0][0], "predicate")
-        if name in _NOT_A_PREDICATE:
-            raise InputError(f"'{name}' is a PDDL operator; name the predicate otherwise")
         return name, self.parameters(trees[0][1:])
 
     def action(self, text: str) -> str:
