@@ -8,12 +8,13 @@ gets its syntax checked and a warning at ``(:domain NAME)``. Files are named by 
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from vslsp.lsp.positions import UTF16, Lines
-from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of
+from vslsp.lsp.workspace import CHOSEN, DOMAIN, PLAN, PROBLEM, Files, path_of
 from vslsp.symbolic.language import (
     ERROR,
     WARNING,
@@ -176,16 +177,50 @@ class Analyses:
         else:
             analysis = analyse(texts[uri], path_of(uri))
         checked = Checked(uri, kind, domain_uri, analysis, texts, _uris=uris, encoding=self.encoding)
+        if kind == PROBLEM:
+            checked.extra.extend(self._which_domain(checked))
         if kind == PROBLEM and domain_uri is None and wanted:
             checked.extra.append(self._no_domain(checked, wanted))
         return checked
 
-    def _no_domain(self, checked: Checked, wanted: str) -> Diagnostic:
-        """A warning at the problem's ``(:domain NAME)``: no open document or file of its folder defines it."""
-        at = next(
+    def _which_domain(self, checked: Checked) -> list[Diagnostic]:
+        """A warning at ``(:domain NAME)`` when several files define that domain and the problem has not
+        chosen (naming them, with a quick fix per file that writes the ``;; !domain: FILE`` comment);
+        one at the comment when the file it chooses is not there."""
+        at = self._domain_reference(checked)
+        chosen = self.files.chosen_domain(checked.uri)
+        folder = Path(checked.file).parent
+        if chosen is not None:
+            if self.files.text(chosen) is not None:
+                return []
+            line = next(i for i, text in enumerate(checked.texts[checked.uri].splitlines(), 1) if CHOSEN.match(text))
+            span = Span(checked.file, line, 1, line, len(checked.texts[checked.uri].splitlines()[line - 1]) + 1)
+            message = f"the ;; !domain: comment chooses {os.path.relpath(path_of(chosen), folder)}, which is not there"
+            return [Diagnostic(span, WARNING, message, "chosen-domain-missing")]
+        candidates = self.files.domain_candidates(checked.uri)
+        if len(candidates) < 2:
+            return []
+        names = [os.path.relpath(path_of(c), folder) for c in candidates]
+        name = self.files.header(checked.uri).domain
+        message = (
+            f"{len(names)} files define domain '{name}': {', '.join(names)}; this problem is checked against "
+            f"{names[0]}: choose one with a ';; !domain: FILE' comment at the top (quick fix)"
+        )
+        top = Span(checked.file, 1, 1, 1, 1)
+        fixes = tuple(Fix(f"check against {n} (;; !domain: {n})", top, f";; !domain: {n}\n") for n in names)
+        return [Diagnostic(at, WARNING, message, "several-domains", None, fixes)]
+
+    @staticmethod
+    def _domain_reference(checked: Checked) -> Span:
+        """Where the problem's ``(:domain NAME)`` names its domain (its first line when it does not)."""
+        return next(
             (r.span for r in checked.analysis.index.references if r.kind == "domain" and r.span.file == checked.file),
             Span(checked.file, 1, 1, 1, 1),
         )
+
+    def _no_domain(self, checked: Checked, wanted: str) -> Diagnostic:
+        """A warning at the problem's ``(:domain NAME)``: no open document or file of its folder defines it."""
+        at = self._domain_reference(checked)
         names = [self.files.header(u).name for u in self.files.domains_near(checked.uri)]
         suggestion = closest(wanted, names)
         message = (
