@@ -6,8 +6,9 @@ it), and the comment decides the domain for diagnostics and for ``vslsp.plan``."
 from pathlib import Path
 
 import pytest
+from helpers.lsp import apply_edits as _apply
+from helpers.lsp import code_actions as _actions
 from lsprotocol import types
-from test_fixes import _actions, _apply
 
 from vslsp.lsp.workspace import uri_of
 
