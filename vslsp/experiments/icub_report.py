@@ -253,18 +253,27 @@ def trial_rows(results: list[dict]) -> list[str]:
     ]
     for r in results:
         faults = ", ".join(f"{e['step']}: {e['kind']}" for e in r.get("fault_log", [])) or "-"
-        sp = _outcome(r.get("vsl_sp_success"), r.get("vsl_sp_order"))
-        vsl = _outcome(r.get("vsl_success"), r.get("vsl_order"))
-        if r["experiment"] == "keep-all-near":
-            sp = _outcome(r["success"], None)
-        elif r["experiment"] == "simple-vsl-task":
-            vsl = _outcome(r["success"], r.get("acted"))
+        sp, vsl = system_outcomes(r)
         lines.append(
             f"| {r['seed']} | {len(r.get('operations') or [])} | {faults} | {r.get('replans', 0)} | "
             f"{r.get('plan_length', '-')} | {r.get('planning_s', '-')} | {sp} | {vsl} | "
             f"{'ok' if r['success'] else 'FAILED'} |"
         )
     return lines + [""]
+
+
+def system_outcomes(record: dict) -> tuple[str, str]:
+    """The VSL-SP and VSL columns of a trial's row, from the documented fields of its record
+    (docs/tasks.md): ``vsl_sp_success`` (and ``vsl_sp_order``), else the trial's success when it
+    planned (``plan_length`` or ``planning_status``); ``vsl_success`` (and ``vsl_order``), else the
+    trial's success when it reproduced with VSL (``acted``: the objects it acted on); "-" otherwise."""
+    sp_ok = record.get("vsl_sp_success")
+    if sp_ok is None and ("plan_length" in record or "planning_status" in record):
+        sp_ok = record["success"]
+    vsl_ok, order = record.get("vsl_success"), record.get("vsl_order")
+    if vsl_ok is None and "acted" in record:
+        vsl_ok, order = record["success"], record["acted"]
+    return _outcome(sp_ok, record.get("vsl_sp_order")), _outcome(vsl_ok, order)
 
 
 def _outcome(ok: bool | None, order: list | None) -> str:
