@@ -36,6 +36,14 @@ from vslsp.errors import InputError
     help="Runs and picture jobs that run at once; the others wait in a queue.",
 )
 @click.option("--edit-code", is_flag=True, help="Let the predicates editor save .py files under the root.")
+@click.option(
+    "--tasks",
+    "task_files",
+    type=click.Path(dir_okay=False),
+    multiple=True,
+    help="A Python file of your own tasks (as vslsp experiment --tasks): offered in the run form and run by "
+    "its jobs; chosen here, never by a request. Repeatable.",
+)
 def studio(
     root: str,
     host: str,
@@ -45,6 +53,7 @@ def studio(
     allow_hosts: tuple[str, ...],
     max_runs: int,
     edit_code: bool,
+    task_files: tuple[str, ...],
 ) -> None:
     """Serve the studio over the files under --root: author PDDL, ground images, run experiments,
     read reports. Everything stays under the root; runs go on when the page is closed. Every request
@@ -65,6 +74,9 @@ def studio(
     except ImportError:
         raise InputError("the studio needs its extra: pip install 'vslsp[studio]'") from None
     _check_port(host, port)
+    from vslsp.tasks import load_task_files
+
+    load_task_files(task_files)  # the registry of the studio and (by VSLSP_TASK_FILES) of its jobs
     from vslsp.studio.app import serve
     from vslsp.studio.guard import Access
     from vslsp.studio.settings import Settings
