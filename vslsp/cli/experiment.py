@@ -19,6 +19,7 @@ import click
 
 from vslsp.cli.params import PROBABILITY, count, prepare_output_folder, seed_option
 from vslsp.errors import Interrupted
+from vslsp.interrupts import SIGNALS
 from vslsp.outputs import OutputFailed, refuse_link
 
 REPORT_FILES = ("report.json", "report.md")
@@ -243,8 +244,8 @@ def _kept(folder: Path, run) -> str:
 
 @contextmanager
 def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM held back (delivered when the block ends, and ignored by then)."""
-    held = {signal.SIGINT, signal.SIGTERM}
+    """SIGINT, SIGTERM, SIGHUP and SIGQUIT held back (delivered when the block ends, and ignored by then)."""
+    held = set(SIGNALS)
     signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
         yield

@@ -20,6 +20,7 @@ import sys
 import threading
 from dataclasses import replace
 
+from vslsp import interrupts
 from vslsp.errors import InputError, VslspError
 from vslsp.symbolic.conflict import explain
 from vslsp.symbolic.formula import Atom, atoms_of
@@ -438,6 +439,7 @@ class Shell(cmd.Cmd):
                     super().cmdloop(intro)
                     return
                 except KeyboardInterrupt:
+                    interrupts.resume()  # handled: the next Ctrl-C is a first one again
                     self.say("^C (quit or Ctrl-D to leave)")
                     intro = ""
         finally:
