@@ -49,12 +49,13 @@ def _ground(
     from vslsp.grounding import draw_grounding, with_builtins
     from vslsp.grounding import ground as ground_pair
     from vslsp.grounding.contained import UserPredicates
-    from vslsp.outputs import refuse_input, refuse_link
+    from vslsp.outputs import refuse_input, refuse_link, refuse_special
     from vslsp.vision.image import check_image_output, read_image, write_image
 
-    if overlay:
+    if overlay is not None:
         check_image_output(overlay)
         refuse_link(overlay, "--overlay")
+        refuse_special(overlay, "--overlay")
         refuse_input(
             overlay,
             {"pre-action image": pre, "post-action image": post, "predicates file": predicates_file},

@@ -197,4 +197,9 @@ def shell(domain: str | None, problem: str | None) -> None:
 
     with pddl_edge(False, False):
         parsed_domain, parsed_problem = read_pddl(domain, problem) if domain else (None, None)
-    Shell(parsed_domain, parsed_problem).cmdloop()
+    session = Shell(parsed_domain, parsed_problem)
+    session.cmdloop()
+    if session.unsaved:  # a script's output was lost: its exit code says so (the error was shown in the session)
+        first = session.unsaved[0]
+        more = f" (and {len(session.unsaved) - 1} more)" if len(session.unsaved) > 1 else ""
+        raise type(first)(f"a save failed{more}: {first}")

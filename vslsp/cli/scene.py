@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import OUTPUT_FOLDER, check_display, count, seed_option
+from vslsp.cli.params import OUTPUT_FOLDER, check_display, count, int_range, seed_option
 
 MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
 
@@ -21,7 +21,7 @@ MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
     default=None,
     help="A scene JSON file (cubes and landmark) instead of a random scene.",
 )
-@click.option("--cubes", type=click.IntRange(1, 3), default=3, show_default=True, help="Number of cubes.")
+@click.option("--cubes", type=int_range(1, 3), default=3, show_default=True, help="Number of cubes.")
 @click.option(
     "--out",
     type=OUTPUT_FOLDER,

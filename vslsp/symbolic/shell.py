@@ -113,6 +113,7 @@ class Shell(cmd.Cmd):
         self.problem = problem or Problem("task", self.domain)
         self.last_plan: list[tuple[str, tuple[str, ...]]] = []
         self.changes: list[tuple[str, Domain, Problem]] = []  # (command, domain and problem before it), for undo
+        self.unsaved: list[VslspError] = []  # the saves that failed (a script's exit code tells of them)
 
     # --- plumbing ---
     def say(self, text: str) -> None:
@@ -396,9 +397,13 @@ class Shell(cmd.Cmd):
         if not paths or len(paths) > 2:
             self.say(usage("save"))
             return
-        save(self.domain.to_pddl(), paths[0])
-        if len(paths) > 1:
-            save(self.problem.to_pddl(), paths[1])
+        try:
+            save(self.domain.to_pddl(), paths[0])
+            if len(paths) > 1:
+                save(self.problem.to_pddl(), paths[1])
+        except VslspError as error:
+            self.unsaved.append(error)
+            raise
         self.say(f"saved {' and '.join(paths)}")
 
     def do_help(self, arg: str) -> None:
