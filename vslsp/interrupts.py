@@ -179,6 +179,8 @@ def end(number, frame):
     if folder:
         shutil.rmtree(folder, ignore_errors=True)
     os._exit(128 + number)
+shell_signals = (signal.SIGTERM, signal.SIGHUP, signal.SIGINT, signal.SIGQUIT)
+inherited = {number: signal.getsignal(number) for number in shell_signals}
 for number in (signal.SIGTERM, signal.SIGHUP):
     signal.signal(number, end)
 for number in (signal.SIGINT, signal.SIGQUIT):
@@ -189,8 +191,8 @@ if os.getppid() != parent:
     end(signal.SIGTERM, None)
 child = os.fork()
 if child == 0:
-    for number in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT, signal.SIGQUIT):
-        signal.signal(number, signal.SIG_DFL)
+    for number in shell_signals:  # as the guard got them (a worker's planner keeps ignoring Ctrl-C)
+        signal.signal(number, signal.SIG_IGN if inherited[number] is signal.SIG_IGN else signal.SIG_DFL)
     try:
         if limit:
             resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
