@@ -21,6 +21,7 @@ The rules (docs/bad-input.md, "Signals and crashes"):
 from __future__ import annotations
 
 import ctypes
+import errno
 import os
 import resource
 import signal
@@ -58,6 +59,8 @@ def _once(number: int, frame: Any) -> None:
     _received.append(signal.Signals(number).name)
     if len(_received) > 1:  # the run is already stopping: let its cleanup finish
         return
+    if number == signal.SIGHUP:
+        _leave_a_closed_terminal()
     if number == signal.SIGINT:
         raise KeyboardInterrupt
     raise Interrupted(_received[0])
@@ -96,6 +99,23 @@ def handled() -> Iterator[list[str]]:
         for number, handler in previous.items():
             if handler is not signal.SIG_IGN:
                 signal.signal(number, signal.SIG_IGN if stopping else handler)
+
+
+def _leave_a_closed_terminal() -> None:
+    """After a hang-up, standard output and error that were the terminal go to /dev/null: the
+    terminal is gone, and a write to it (EIO) must not turn the cleanup into a traceback."""
+    for fd in (1, 2):
+        try:
+            os.tcgetpgrp(fd)  # a hung-up terminal answers EIO (a file or a pipe: ENOTTY, left alone)
+        except OSError as error:
+            if error.errno != errno.EIO:
+                continue
+            try:
+                null = os.open(os.devnull, os.O_WRONLY)
+                os.dup2(null, fd)
+                os.close(null)
+            except OSError:
+                pass
 
 
 def die_with_parent(number: int = signal.SIGKILL, parent: int | None = None) -> None:

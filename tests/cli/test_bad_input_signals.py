@@ -8,17 +8,19 @@ The runs of whole programs are ``slow``; the rules of :mod:`vslsp.interrupts` ru
 
 from __future__ import annotations
 
+import fcntl
 import os
 import resource
 import signal
 import subprocess
 import sys
+import termios
 from pathlib import Path
 
 import pytest
 from helpers.cli import REPO
 from helpers.events import became_true, process_gone, wait_until
-from helpers.processes import planner_processes, start
+from helpers.processes import command, planner_processes, start
 
 from vslsp import interrupts
 from vslsp.errors import Interrupted
@@ -237,3 +239,35 @@ def test_ctrl_c_twice_then_sigterm_at_once_is_still_the_first_signals_exit(tmp_p
     assert "Traceback" not in stderr
     wait_until(lambda: _tree_gone(children), f"the workers {children} to end")
     assert not (out / LOCK_NAME).exists() and (out / "report.json").exists()
+
+
+@pytest.mark.slow
+def test_closing_the_terminal_ends_an_experiment_as_sighup_does(tmp_path):
+    """The terminal itself goes (its master side closed): the kernel hangs up the session, writes
+    to the terminal fail with EIO, and the run still ends with 129, its report written and no
+    process left."""
+    out = tmp_path / "report"
+    line, env = command(
+        ["experiment", "test-waits-after-the-first", "--trials", "4", "--workers", "2", "--out", out], tmp_path
+    )
+    master, terminal = os.openpty()
+
+    def on_the_terminal() -> None:  # the terminal becomes the program's controlling terminal
+        os.setsid()
+        fcntl.ioctl(0, termios.TIOCSCTTY, 0)
+
+    process = subprocess.Popen(
+        line, env=env, stdin=terminal, stdout=terminal, stderr=terminal, preexec_fn=on_the_terminal, cwd=tmp_path
+    )
+    os.close(terminal)
+    try:
+        assert became_true(lambda: (tmp_path / "markers" / "waiting-1").exists(), process)
+        children = descendants(process.pid)
+        os.close(master)
+        process.wait(timeout=120)
+    finally:
+        process.kill()
+    assert process.returncode == 129
+    wait_until(lambda: _tree_gone(children), f"the workers and the resource tracker {children} to end")
+    assert '"interrupted": "SIGHUP"' in (out / "report.json").read_text()
+    assert not (out / LOCK_NAME).exists() and _leftovers(tmp_path) == []
