@@ -195,6 +195,8 @@ def kill_all():
         except OSError:
             pass
 def end(number, frame):
+    for other in (signal.SIGTERM, signal.SIGHUP):
+        signal.signal(other, signal.SIG_IGN)
     kill_all()
     if folder:
         shutil.rmtree(folder, ignore_errors=True)
