@@ -271,3 +271,12 @@ def test_closing_the_terminal_ends_an_experiment_as_sighup_does(tmp_path):
     wait_until(lambda: _tree_gone(children), f"the workers and the resource tracker {children} to end")
     assert '"interrupted": "SIGHUP"' in (out / "report.json").read_text()
     assert not (out / LOCK_NAME).exists() and _leftovers(tmp_path) == []
+
+
+@pytest.mark.slow
+def test_teach_leaves_nothing_in_the_temporary_folder(tmp_path):
+    """The simulator's reusable files go to the cache folder ($XDG_CACHE_HOME/vslsp), not TMPDIR."""
+    process = start(["teach", "push", "--demos", "1", "--out", tmp_path / "skills"], tmp_path)
+    _, stderr = process.communicate(timeout=600)
+    assert process.returncode == 0, stderr
+    assert _leftovers(tmp_path) == []
