@@ -100,6 +100,25 @@ def test_the_memory_limit_is_lowered_to_the_users_own(tmp_path):
         assert interrupts.memory_limit_mb(4096) == 4096
 
 
+def test_plan_under_the_users_own_ulimit_v_plans_within_it(tmp_path):
+    """``ulimit -v 3G`` and the default --memory 4096: a notice and a plan (it was exit 3,
+    'Exception occurred in preexec_fn')."""
+    limit = 3 * 1024**3
+    done = subprocess.run(
+        [sys.executable, "-m", "vslsp", "plan", REPO / "pddl" / "domain.pddl", REPO / "pddl" / "pull-in-order.pddl"],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(REPO), "TMPDIR": str(tmp_path)},
+        preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_AS, (limit, limit)),
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "1. pull orange" in done.stdout and "Traceback" not in done.stderr
+    notes = [line for line in done.stderr.splitlines() if line.startswith("note:")]
+    assert len(notes) == 1 and notes[0].startswith("note: the planner's memory limit is 3072 MB, your own")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_the_cache_is_never_in_the_temporary_folder(tmp_path, monkeypatch):
     monkeypatch.setenv("TMPDIR", str(tmp_path / "tmp"))
     monkeypatch.delenv("VSLSP_CACHE", raising=False)
