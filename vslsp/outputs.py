@@ -121,7 +121,8 @@ def refuse_places(
 ) -> None:
     """Check, before any work, the places a command will write in its output ``folder``: each of
     ``files`` must be a regular file or missing, each of ``folders`` (``images``, ``images/raw``)
-    a real folder or missing (never a link, never a file); InputError (exit 2) naming the place."""
+    a real folder or missing (never a link, never a file) holding no link and no node among its
+    files; InputError (exit 2) naming the place."""
     for name in files:
         refuse_link(Path(folder) / name, option)
         refuse_special(Path(folder) / name, option)
@@ -135,6 +136,12 @@ def refuse_places(
         for part in Path(name).parts:
             place = place / part
             _refuse_non_folder(place, option)
+        if place.is_dir():  # the files vslsp writes there (pictures, videos): none a link or a node
+            with os.scandir(place) as entries:
+                for entry in entries:
+                    if not entry.is_dir(follow_symlinks=False):
+                        refuse_link(entry.path, option)
+                        refuse_special(entry.path, option)
 
 
 def _refuse_non_folder(place: Path, option: str | None) -> None:

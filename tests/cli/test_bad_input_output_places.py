@@ -87,6 +87,28 @@ def test_a_link_among_the_report_folders_is_refused_before_the_trials(tmp_path, 
     assert list(elsewhere.iterdir()) == [] and not (out / "report.json").exists()
 
 
+@pytest.mark.parametrize("inside", ["images/noise.png", "images/raw/01_pre.png", "videos/trial-0.mp4"])
+def test_a_link_among_the_pictures_is_refused_before_the_trials(tmp_path, capsys, inside):
+    out, elsewhere = tmp_path / "report", tmp_path / "elsewhere.png"
+    elsewhere.write_bytes(b"mine")
+    (out / inside).parent.mkdir(parents=True)
+    (out / inside).symlink_to(elsewhere)
+    code, _, err = vslsp(capsys, "experiment", "test-quick", "--out", out)
+    assert code == 2
+    assert "is a symbolic link" in one_line_error(err)
+    assert elsewhere.read_bytes() == b"mine" and not (out / "report.json").exists()
+
+
+def test_a_report_file_that_is_a_fifo_is_refused_before_the_trials(tmp_path, capsys):
+    out = tmp_path / "report"
+    out.mkdir()
+    os.mkfifo(out / "report.md")
+    code, _, err = vslsp(capsys, "experiment", "test-quick", "--out", out)
+    assert code == 2
+    assert "is a FIFO (named pipe), not a regular file" in one_line_error(err)
+    assert unchanged(out / "report.md", "fifo") and not (out / "report.json").exists()
+
+
 def test_a_file_where_the_pictures_go_is_refused_before_the_trials(tmp_path, capsys):
     out = tmp_path / "report"
     out.mkdir()
