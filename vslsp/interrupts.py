@@ -67,12 +67,13 @@ def _once(number: int, frame: Any) -> None:
 
 
 @contextmanager
-def handled() -> Iterator[list[str]]:
+def handled(final: bool = False) -> Iterator[list[str]]:
     """Handle each of :data:`SIGNALS` once inside the block (see the module's rules); yields the
     live list of the signals received. Nested blocks share the outermost one's handlers. On
-    leaving, the previous handlers come back, unless a signal arrived: the process is then
-    stopping, and later signals stay ignored until it has exited. Outside the main thread
-    (an embedding program) signals are left alone."""
+    leaving, the previous handlers come back, unless the block is the program's ``final`` one
+    (the CLI's ``main``) and a signal arrived: the process is then stopping, and later signals
+    stay ignored until it has exited. Outside the main thread (an embedding program) signals
+    are left alone."""
     global _depth
     if _depth:
         _depth += 1
@@ -95,7 +96,7 @@ def handled() -> Iterator[list[str]]:
         yield _received
     finally:
         _depth = 0
-        stopping = bool(_received)
+        stopping = final and bool(_received)
         for number, handler in previous.items():
             if handler is not signal.SIG_IGN:
                 signal.signal(number, signal.SIG_IGN if stopping else handler)

@@ -42,7 +42,7 @@ def test_the_exit_code_is_128_plus_the_signal(name, code):
 
 def test_the_first_signal_raises_and_the_later_ones_are_only_noted():
     cleaned = []
-    with pytest.raises(Interrupted) as stopped, interrupts.handled() as received:
+    with pytest.raises(Interrupted) as stopped, interrupts.handled(final=True) as received:
         try:
             os.kill(os.getpid(), signal.SIGTERM)
             signal.sigtimedwait([], 0)  # a point where the handler runs, in case it has not yet
@@ -52,10 +52,19 @@ def test_the_first_signal_raises_and_the_later_ones_are_only_noted():
             cleaned.append(True)
     assert stopped.value.signal_name == "SIGTERM" and cleaned == [True]
     assert received == ["SIGTERM", "SIGINT", "SIGHUP"]
-    # Stopping: later signals stay ignored until the process has exited.
+    # The program's final block, stopping: later signals stay ignored until the process has exited.
     assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
     for number in interrupts.SIGNALS:
         signal.signal(number, signal.default_int_handler if number == signal.SIGINT else signal.SIG_DFL)
+
+
+def test_a_library_call_gives_the_handlers_back_even_after_a_signal():
+    """run_trials outside the CLI: the caller goes on after the interrupt, with its own handlers."""
+    previous = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(Interrupted), interrupts.handled():
+        os.kill(os.getpid(), signal.SIGTERM)
+        signal.sigtimedwait([], 0)
+    assert signal.getsignal(signal.SIGTERM) is previous
 
 
 def test_a_handled_ctrl_c_is_forgotten_so_the_next_one_raises_again():

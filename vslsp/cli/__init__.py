@@ -70,7 +70,7 @@ def main(argv: list[str] | None = None) -> None:
     args = list(sys.argv[1:] if argv is None else argv)
     wants_json = "--json" in args
     _bytes_safe_output()
-    with interrupts.handled():
+    with interrupts.handled(final=True):
         try:
             _run(args, wants_json)
         except (Interrupted, KeyboardInterrupt) as stop:  # the first signal came while the command was ending

@@ -111,7 +111,8 @@ def _worker_init(parent: int) -> None:
     for number in (signal.SIGINT, signal.SIGHUP, signal.SIGQUIT):
         signal.signal(number, signal.SIG_IGN)
     # A worker ends with its driver however the driver ends (SIGKILL too): the kernel sends it
-    # SIGTERM, which ends the trial's planner (whose guard removes its folder) on the way out.
+    # SIGTERM, which ends the trial's planner and removes its folder on the way out (then the
+    # worker exits at once: nobody is left to report to).
     _parent = parent
     interrupts.die_with_parent(signal.SIGTERM, parent)
     # The parent ends a worker with SIGTERM: raised, so that the planner it may be running is
@@ -136,7 +137,7 @@ def _trial_in_worker(task: Task, seed: int, keep: bool) -> TrialResult:
 
 
 def _raise_interrupted(number: int, frame: Any) -> None:
-    if not _in_trial or interrupts.orphaned(_parent):
+    if not _in_trial:
         # A worker starting or waiting for its next trial has nothing to clean up; raising there
         # would print the pool loop's traceback on the user's terminal.
         os._exit(128 + number)
