@@ -17,11 +17,13 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import PROBABILITY, count, prepare_output_folder, seed_option
+from vslsp.cli.params import PROBABILITY, count, int_range, prepare_output_folder, seed_option
 from vslsp.errors import Interrupted
-from vslsp.outputs import OutputFailed, refuse_link
+from vslsp.interrupts import SIGNALS
+from vslsp.outputs import OutputFailed, refuse_places
 
 REPORT_FILES = ("report.json", "report.md")
+OUTPUT_FOLDERS = ("images", "images/raw", "videos")  # what a report folder may hold besides its files
 
 MAX_TRIALS = 10_000  # docs/bad-input.md states these limits
 MAX_WORKERS = 64
@@ -85,7 +87,7 @@ MAX_WORKERS = 64
 )
 @click.option(
     "--views",
-    type=click.IntRange(1, 2),
+    type=int_range(1, 2),
     default=None,
     help="VSL-3D: depth cameras, 1 (the paper's single view) or 2 (a second one across the table, "
     "clouds fused) [default: 1].",
@@ -158,7 +160,9 @@ def experiment(
         from vslsp.tasks.ray_backend import check_ray
 
         check_ray(address)
-    folder = Path(out) if out else Path("out") / "experiments" / name
+    if out == "":
+        raise InputError("--out: an empty path is not a folder; give a folder name")
+    folder = Path(out) if out is not None else Path("out") / "experiments" / name
     task = get_task(
         name,
         faults=faults,
@@ -176,8 +180,7 @@ def experiment(
 
         check_main_guard(workers)  # a runner script without a main guard: refused before the folder
     prepare_output_folder(folder)
-    for report_file in REPORT_FILES:
-        refuse_link(folder / report_file, "--out")
+    refuse_places(folder, REPORT_FILES, OUTPUT_FOLDERS)
     data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend, address=address)
     if as_json:
         click.echo(json.dumps(data))
@@ -257,8 +260,8 @@ def _kept(folder: Path, run) -> str:
 
 @contextmanager
 def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM held back (delivered when the block ends, and ignored by then)."""
-    held = {signal.SIGINT, signal.SIGTERM}
+    """SIGINT, SIGTERM, SIGHUP and SIGQUIT held back (delivered when the block ends, and ignored by then)."""
+    held = set(SIGNALS)
     signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
         yield

@@ -75,11 +75,12 @@ def ground(
 
 
 def _check_overlay(overlay: str, pre: str, post: str, predicates_file: str | None) -> None:
-    from vslsp.outputs import refuse_input, refuse_link
+    from vslsp.outputs import refuse_input, refuse_link, refuse_special
     from vslsp.vision.image import check_image_output
 
     check_image_output(overlay)
     refuse_link(overlay, "--overlay")
+    refuse_special(overlay, "--overlay")
     refuse_input(
         overlay,
         {"pre-action image": pre, "post-action image": post, "predicates file": predicates_file},
@@ -102,7 +103,7 @@ def _ground(
     from vslsp.vision.change import default_min_move
     from vslsp.vision.image import read_image, write_image
 
-    if overlay:
+    if overlay is not None:
         _check_overlay(overlay, pre, post, predicates_file)
     with contextlib.ExitStack() as stack:
         predicates = None
@@ -137,7 +138,7 @@ def _ground_moves(pre: str, post: str, robot_side: str, as_json: bool, overlay: 
     from vslsp.grounding.moves import draw_moves, ground_moves
     from vslsp.vision.image import read_image, write_image
 
-    if overlay:
+    if overlay is not None:
         _check_overlay(overlay, pre, post, None)
     pre_image, post_image = read_image(pre, "pre-action image"), read_image(post, "post-action image")
     moves = ground_moves(pre_image, post_image, robot_side=robot_side)

@@ -205,6 +205,10 @@ def shell(domain: str | None, problem: str | None, keep_going: bool) -> None:
         parsed_domain, parsed_problem = read_pddl(domain, problem) if domain else (None, None)
     session = Shell(parsed_domain, parsed_problem)
     session.cmdloop()
+    if session.unsaved:  # a script's output was lost: its exit code says so (the error was shown in the session)
+        first = session.unsaved[0]
+        more = f" (and {len(session.unsaved) - 1} more)" if len(session.unsaved) > 1 else ""
+        raise type(first)(f"a save failed{more}: {first}")
     if session.errors and not keep_going and not session._interactive():
         noun = "command was" if session.errors == 1 else "commands were"
         click.echo(f"{session.errors} {noun} refused (errors above); --keep-going exits 0 regardless", err=True)

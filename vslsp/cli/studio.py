@@ -9,13 +9,14 @@ from pathlib import Path
 
 import click
 
+from vslsp.cli.params import int_range
 from vslsp.errors import InputError
 
 
 @click.command()
 @click.option("--root", type=click.Path(file_okay=False), default=".", show_default=True, help="The folder served.")
 @click.option("--host", default="127.0.0.1", show_default=True, help="Address to bind (beyond loopback: a token).")
-@click.option("--port", type=click.IntRange(1, 65535), default=8765, show_default=True)
+@click.option("--port", type=int_range(1, 65535), default=8765, show_default=True)
 @click.option("--no-browser", is_flag=True, help="Do not open a browser.")
 @click.option(
     "--token",
@@ -30,7 +31,7 @@ from vslsp.errors import InputError
 )
 @click.option(
     "--max-runs",
-    type=click.IntRange(1, 64),
+    type=int_range(1, 64),
     default=2,
     show_default=True,
     help="Runs and picture jobs that run at once; the others wait in a queue.",

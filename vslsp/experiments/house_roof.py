@@ -21,7 +21,7 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.experiments.seeds import reproduction_seed
 from vslsp.outcomes import Diagnosis
-from vslsp.outputs import atomic_file
+from vslsp.outputs import atomic_file, output_subfolder
 from vslsp.tasks.base import Option, System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square, with_legend
 from vslsp.tasks.registry import register
@@ -180,7 +180,7 @@ def _failure(adaptive: dict) -> tuple[str, str]:
 def _figures(folder: Path, demonstration, reproductions: dict) -> dict:
     from vslsp.vision.image import write_image
 
-    (folder / "images").mkdir(parents=True, exist_ok=True)
+    output_subfolder(folder, "images")
     files = {
         "demonstration": "images/demonstration.png",
         "final_worlds": "images/final_worlds.png",

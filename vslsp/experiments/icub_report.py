@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from vslsp.grounding.operation import Grounding
-from vslsp.outputs import atomic_file, write_text
+from vslsp.outputs import atomic_file, output_subfolder, write_text
 
 # The paper's Table 3: the preconditions and effects VSL extracts for push and pull.
 TABLE_3 = {
@@ -60,8 +60,7 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
     from vslsp.vision.image import write_image
 
     files: dict = {"images": []}
-    images = folder / "images"
-    images.mkdir(exist_ok=True)
+    images = output_subfolder(folder, "images")
     number = {id(step): k for k, step in enumerate(trial.steps, start=1)}
     faults = {entry["step"]: entry for entry in fault_log}
     for i, (title, pre, post, grounding, step) in enumerate(trial.observations, start=1):
@@ -83,7 +82,7 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
         name = f"{i:02d}_{re.sub(r'[^a-z0-9]+', '_', title.lower()).strip('_')}.png"
         write_image(images / name, caption(picture, lines))
         stem = name[:-4]
-        (raw := images / "raw").mkdir(exist_ok=True)
+        raw = output_subfolder(images, "raw")
         write_image(raw / f"{stem}_pre.png", pre)  # the camera's own images, for `vslsp ground PRE POST`
         write_image(raw / f"{stem}_post.png", post)
         files["images"].append(

@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from vslsp.errors import InputError, VslspError
+from vslsp.interrupts import memory_limit_mb, user_limited
 from vslsp.stages import in_stage
 from vslsp.symbolic.fast_downward import bounded_command, kill_tree
 from vslsp.symbolic.fast_downward import failure as fast_downward_failure
@@ -150,6 +151,8 @@ def solve_timed(
     if broken:
         raise Unsolvable(broken)
     try:
+        # Never more than the user's own address-space limit (ulimit -v): a child cannot be given it.
+        memory_mb = memory_limit_mb(memory_mb) if memory_mb else memory_mb
         return _solve(domain, problem, planner, compilation, Limits(timeout, memory_mb))
     except VslspError:
         raise
@@ -174,6 +177,8 @@ class Limits:
             limit = f"time limit of {self.timeout:g} s" if self.timeout else "time limit"
             return NoPlan(f"the planner's {limit} reached (raise it with --timeout)", status)
         limit = f"memory limit of {self.memory_mb} MB" if self.memory_mb else "memory"
+        if self.memory_mb and user_limited(self.memory_mb):
+            return NoPlan(f"the planner's {limit} reached (your own limit, ulimit -v: raise it there)", status)
         return NoPlan(f"the planner's {limit} reached (raise it with --memory)", status)
 
 
@@ -314,6 +319,7 @@ def _ground_compilation(up_problem: Any, problem: Problem) -> tuple[Any, Any]:
     return compiled.problem, compiled.map_back_action_instance
 
 
+_PRIVATE_PREFIX = "vslsp-plan-"
 _CWD_LOCK = threading.Lock()  # the working directory is the process's: one planner at a time per process
 
 
@@ -322,7 +328,7 @@ def _private_directory():
     """Run in a fresh working directory: Fast Downward's driver writes ``output.sas`` into the
     current one, so two planners started from the same folder (test workers, experiment
     workers) would read and delete each other's file. Threads of one process take turns."""
-    with _CWD_LOCK, tempfile.TemporaryDirectory(prefix="vslsp-plan-") as folder:
+    with _CWD_LOCK, tempfile.TemporaryDirectory(prefix=_PRIVATE_PREFIX) as folder:
         previous = os.getcwd()
         os.chdir(folder)
         try:
@@ -333,13 +339,24 @@ def _private_directory():
 
 def _bound(engine: Any, memory_mb: int | None) -> None:
     """Run a unified-planning engine's planner command under ``memory_mb`` (engines that plan
-    through a command line, as Fast Downward's do; others run in this process)."""
+    through a command line, as Fast Downward's do; others run in this process), guarded: killed,
+    and its private folder (the working directory then) removed, when this process ends."""
     if memory_mb is None:
         return
     for name in ("_get_cmd", "_get_anytime_cmd"):
         command = getattr(engine, name, None)
         if command is not None:
-            setattr(engine, name, lambda *args, _command=command: bounded_command(_command(*args), memory_mb))
+            setattr(
+                engine,
+                name,
+                lambda *args, _command=command: bounded_command(_command(*args), memory_mb, _private_folder()),
+            )
+
+
+def _private_folder() -> str | None:
+    """The private working directory of :func:`_private_directory` when in it (never another folder)."""
+    here = os.getcwd()
+    return here if os.path.basename(here).startswith(_PRIVATE_PREFIX) else None
 
 
 def plan_status(status: Any) -> PlanStatus:

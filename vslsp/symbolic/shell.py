@@ -20,6 +20,7 @@ import sys
 import threading
 from dataclasses import replace
 
+from vslsp import interrupts
 from vslsp.errors import InputError, VslspError
 from vslsp.symbolic.conflict import explain
 from vslsp.symbolic.formula import Atom, atoms_of
@@ -113,6 +114,7 @@ class Shell(cmd.Cmd):
         self.last_plan: list[tuple[str, tuple[str, ...]]] = []
         self.changes: list[tuple[str, Domain, Problem]] = []  # (command, domain and problem before it), for undo
         self.errors = 0  # commands refused (an error or their usage shown): a piped session's exit code
+        self.unsaved: list[VslspError] = []  # the saves that failed (a script's exit code tells of them)
 
     # --- plumbing ---
     def say(self, text: str) -> None:
@@ -407,9 +409,13 @@ class Shell(cmd.Cmd):
         if not paths or len(paths) > 2:
             self._usage("save")
             return
-        save(self.domain.to_pddl(), paths[0])
-        if len(paths) > 1:
-            save(self.problem.to_pddl(), paths[1])
+        try:
+            save(self.domain.to_pddl(), paths[0])
+            if len(paths) > 1:
+                save(self.problem.to_pddl(), paths[1])
+        except VslspError as error:
+            self.unsaved.append(error)
+            raise
         self.say(f"saved {' and '.join(paths)}")
 
     def do_help(self, arg: str) -> None:
@@ -450,6 +456,7 @@ class Shell(cmd.Cmd):
                     super().cmdloop(intro)
                     return
                 except KeyboardInterrupt:
+                    interrupts.resume()  # handled: the next Ctrl-C is a first one again
                     self.say("^C (quit or Ctrl-D to leave)")
                     intro = ""
         finally:
