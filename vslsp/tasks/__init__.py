@@ -8,10 +8,10 @@ Public API: :class:`Task` (subclass it), :func:`register` (class decorator), :cl
 """
 
 from vslsp.tasks.base import Option, System, Task, TrialResult
-from vslsp.tasks.registry import get_task, list_tasks, register, task_class
+from vslsp.tasks.registry import get_task, list_tasks, load_task_files, register, task_class
 from vslsp.tasks.report import summary, write_report
 from vslsp.tasks.runner import Run, run_trials
-from vslsp.tasks.task_files import install_finder, load_task_files
+from vslsp.tasks.task_files import install_finder
 from vslsp.tasks.trial import run_one
 
 install_finder()  # a worker process imports the tasks of a user's file by name (task_files)

@@ -12,11 +12,15 @@ from __future__ import annotations
 
 import importlib
 import os
+from collections.abc import Sequence
 from importlib.metadata import entry_points
+from pathlib import Path
+from types import ModuleType
 from typing import TypeVar
 
 from vslsp.errors import InputError
 from vslsp.tasks.base import Option, Task
+from vslsp.tasks.task_files import ENV, load_files
 
 BUILTIN = "vslsp.experiments"  # the package of the paper's experiments (above this layer: loaded by name)
 
@@ -47,8 +51,6 @@ def _load() -> None:
         importlib.import_module(module)
     for entry in entry_points(group="vslsp.tasks"):
         entry.load()
-    from vslsp.tasks.task_files import ENV, load_task_files
-
     given = [path for path in os.environ.get(ENV, "").split(os.pathsep) if path]
     if given:  # a process started for a run given --tasks (a worker, a studio job): the same tasks
         load_task_files(given)
@@ -93,6 +95,12 @@ def task_classes() -> list[type[Task]]:
     """Every registered task class, in the order registered."""
     _load()
     return list(_TASKS.values())
+
+
+def load_task_files(paths: Sequence[str | Path]) -> list[ModuleType]:
+    """The tasks files of ``--tasks FILE.py`` imported, their tasks registered here and in every worker
+    (:mod:`vslsp.tasks.task_files`)."""
+    return load_files(paths, registered_names, lambda module: any(c.__module__ == module for c in _TASKS.values()))
 
 
 def list_tasks() -> list[type[Task]]:

@@ -26,7 +26,7 @@ import importlib.util
 import os
 import sys
 import traceback
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType, ModuleType
 
@@ -43,19 +43,21 @@ def module_name(path: Path) -> str:
     return PREFIX + hashlib.sha1(os.fsencode(path.resolve())).hexdigest()[:12]
 
 
-def load_task_files(paths: Sequence[str | Path]) -> list[ModuleType]:
+def load_files(
+    paths: Sequence[str | Path], registered_names: Callable[[], frozenset[str]], known_module: Callable[[str], bool]
+) -> list[ModuleType]:
     """Import each tasks file (its ``@register``\\ ed tasks join the registry) and name them in
     :data:`ENV` for the worker processes. A file that is missing, not a ``.py`` file, raises
-    while loading or registers nothing is an InputError naming it (and its line)."""
-    from vslsp.tasks.registry import registered_names
-
+    while loading or registers nothing is an InputError naming it (and its line).
+    ``registered_names()``: the registry's task names; ``known_module(name)``: whether a registered
+    task comes from module ``name`` (the registry's, given by :func:`vslsp.tasks.registry.load_task_files`)."""
     modules = []
     for given in paths:
         path = Path(given).resolve()
         check_tasks_file(Path(given))
         before = registered_names()
         modules.append(_import(path, shown(given)))
-        if registered_names() == before and not _registers_known(modules[-1]):
+        if registered_names() == before and not known_module(modules[-1].__name__):
             raise InputError(
                 f"tasks file {shown(given)} registers no task; decorate a Task subclass with @register "
                 "from vslsp.tasks (docs/tasks.md)"
@@ -72,13 +74,6 @@ def check_tasks_file(path: Path) -> None:
         raise InputError(f"tasks file {shown(path)} must be a Python file ending in .py")
     if regular_file(path, "tasks file").st_size > MAX_FILE_BYTES:
         raise InputError(f"tasks file {shown(path)} is over {MAX_FILE_BYTES // 1000} kB")
-
-
-def _registers_known(module: ModuleType) -> bool:
-    """Whether ``module`` defines a registered task (one loaded before, e.g. by a worker's finder)."""
-    from vslsp.tasks.registry import task_classes
-
-    return any(cls.__module__ == module.__name__ for cls in task_classes())
 
 
 def _import(path: Path, name: str) -> ModuleType:
