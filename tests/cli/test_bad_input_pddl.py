@@ -32,11 +32,11 @@ def _problem(body: str) -> str:
         ),
         (
             _problem("  (:goal (far a))\n  (:constraints (always))"),
-            "undef_type.pddl:5:18: 'always' is missing an argument",
+            "undef_type.pddl:5:17: (always ...) takes 1 formula, 0 given",  # as pddl check says it
         ),
         (
             _problem("  (:goal (far a))\n  (:constraints (sometime-before (far a)))"),
-            "'sometime-before' is missing an argument",
+            "(sometime-before ...) takes 2 formulas, 1 given",
         ),
     ],
     ids=["undefined-type", "used-name", "always", "sometime-before"],

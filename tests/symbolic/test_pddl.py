@@ -77,9 +77,10 @@ def test_missing_parenthesis_names_the_place(tmp_path):
 
 def test_unknown_predicate_names_it_and_its_place(tmp_path):
     message = _broken(tmp_path, "domain.pddl", ":effect (far ?b))", ":effect (fary ?b))")
-    assert _place(message) == (13, 13) and "unknown predicate or operator 'fary'" in message
+    # placed and worded as `vslsp pddl check` says it (the name, not its parenthesis), with did-you-mean
+    assert _place(message) == (13, 14) and "unknown predicate 'fary' (did you mean 'far'?)" in message
     message = _broken(tmp_path, "keep-all-near.pddl", "(far purple)", "(near purple)")
-    assert _place(message) == (9, 5) and "'near'" in message
+    assert _place(message) == (9, 6) and "'near'" in message
 
 
 def test_type_errors_and_unknown_names(tmp_path):
@@ -89,7 +90,7 @@ def test_type_errors_and_unknown_names(tmp_path):
     assert "unknown object or constant 'purple'" in _broken(
         tmp_path, "pull-in-order.pddl", "(far orange)\n", "(far purple)\n"
     )
-    assert "'far' takes 1 argument(s), 2 given" in _broken(
+    assert "'far' takes 1 argument, 2 given" in _broken(
         tmp_path, "pull-in-order.pddl", "(far orange)\n", "(far orange green)\n"
     )
 

@@ -10,7 +10,7 @@ takes longer than the search. Part of the planning adapter with :mod:`vslsp.symb
 
 from __future__ import annotations
 
-import importlib.resources
+import importlib.util
 import math
 import os
 import re
@@ -57,11 +57,12 @@ class Run:
 
 
 def driver() -> Path:
-    """The ``fast-downward.py`` driver installed with up-fast-downward."""
-    try:
-        path = Path(str(importlib.resources.files("up_fast_downward").joinpath("downward/fast-downward.py")))
-    except ModuleNotFoundError:
-        raise InputError("Fast Downward is not installed: pip install up-fast-downward") from None
+    """The ``fast-downward.py`` driver installed with up-fast-downward, found without importing the
+    package (its ``__init__`` imports unified-planning's engines: about a second)."""
+    spec = importlib.util.find_spec("up_fast_downward")
+    if spec is None or not spec.submodule_search_locations:
+        raise InputError("Fast Downward is not installed: pip install up-fast-downward")
+    path = Path(list(spec.submodule_search_locations)[0]) / "downward" / "fast-downward.py"
     if not path.exists():
         raise InputError(f"Fast Downward's driver is missing ({path}); reinstall up-fast-downward")
     return path

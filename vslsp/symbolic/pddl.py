@@ -23,6 +23,7 @@ from typing import Any
 from vslsp.errors import InputError
 from vslsp.files import shown
 from vslsp.outputs import write_text
+from vslsp.symbolic.engine_reader import read_with_engine
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl_errors import (
@@ -100,12 +101,22 @@ def _read(
         sections_in_order(preferences_removed(domain_text, domain_name), domain_name), domain_name
     )
     domain_text = types_declared_once(domain_text)
+    if problem_text is not None and problem_name is not None:
+        check_text(problem_text, problem_name)
+        check_constraints_form(problem_text, problem_name)
+        text = at_end_as_sometime_after(preferences_removed(problem_text, problem_name))
+    else:
+        text = None
+    # Files that check clean and use what vslsp plans with are read from the language engine's tree (no
+    # unified-planning import, no second parse: vslsp.symbolic.engine_reader); any other by the reader.
+    read = read_with_engine(domain_text, text, domain_name, problem_name or "<problem>")
+    if read is not None:
+        if read[1] is not None:
+            _check_requirements(domain_text, read[0], read[1], domain_name)
+        return read
     domain = domain_from_up(_parse(domain_text, None, domain_name, None))
-    if problem_text is None or problem_name is None:
+    if text is None or problem_name is None:
         return domain, None
-    check_text(problem_text, problem_name)
-    check_constraints_form(problem_text, problem_name)
-    text = at_end_as_sometime_after(preferences_removed(problem_text, problem_name))
     check_domain_name(text, domain.name, problem_name)
     text = re.sub(r"(\(\s*:domain\s+)[^\s()]+", lambda m: m.group(1) + domain.name, text, count=1, flags=re.I)
     up_problem = _parse(domain_text, text, domain_name, problem_name)

@@ -235,6 +235,7 @@ def _solve_up(
     from unified_planning.exceptions import UPException
     from unified_planning.shortcuts import OneshotPlanner
 
+    environment()  # the global environment, its credits banner silenced (reading no longer touches it)
     engine_name, params = PLANNERS.get(planner, (planner, {}))
     start = time.perf_counter()
     with OneshotPlanner(name=engine_name, params=params) as engine:
