@@ -7,6 +7,7 @@ import shutil
 import socket
 import subprocess
 import sys
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -122,10 +123,14 @@ def studio(studio_root: Path, request: pytest.FixtureRequest) -> Iterator[str]:
         env={k: v for k, v in os.environ.items() if not k.startswith("PYTEST")},  # NiceGUI reads them as its own tests
     )
     address = f"http://127.0.0.1:{port}"
+    said: list[bytes] = []  # its stderr, read as it comes (a full pipe would stall the studio)
+    reader = threading.Thread(target=lambda: said.extend(iter(process.stderr.readline, b"")), daemon=True)
+    reader.start()
     try:
         if not became_true(lambda: _serves(port), process):
             process.kill()
-            raise AssertionError(f"the studio never served on port {port}:\n{process.communicate()[1].decode()}")
+            reader.join(timeout=20)
+            raise AssertionError(f"the studio never served on port {port}:\n{b''.join(said).decode()}")
         yield address
     finally:
         process.terminate()

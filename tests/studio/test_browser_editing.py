@@ -90,7 +90,7 @@ def test_save_asks_before_writing_over_a_file_changed_on_disk(page, studio, stud
     page.locator("#overwrite").click()
     page.locator(".unsaved-domain").wait_for(state="hidden")
     assert "; mine" in domain.read_text()
-    assert page.evaluate("window.vslspUnsaved") is False
+    page.wait_for_function("window.vslspUnsaved === false")  # set by the page once the save is answered
 
 
 def test_a_ground_address_naming_no_image_says_so(page, studio):
