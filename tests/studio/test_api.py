@@ -241,3 +241,11 @@ def test_completion_items_carry_their_kind_and_declaration(studio_root):
     [far] = [e for e in answer["entries"] if e["label"] == "far"]
     assert far == {"label": "far", "kind": "predicate", "type": "function", "detail": "(far ?b - block)"}
     assert {e["kind"] for e in answer["entries"]} <= {"predicate", "keyword"}
+
+
+def test_a_goal_that_can_never_hold_comes_with_its_reason(studio_root):
+    sorting = Path(__file__).resolve().parents[1] / "data" / "sorting"
+    sent = {"domain": (sorting / "domain.pddl").read_text(), "problem": (sorting / "wrong-bin.pddl").read_text()}
+    answer = client(studio_root).post("/api/plan", json=sent).json()  # through the studio's worker pool
+    assert [item["text"] for item in answer["conflict"]] == ["(in r1 green-bin)"]
+    assert answer["reasons"][0].startswith("(in r1 green-bin) can never hold: the 2 actions that would make it true")

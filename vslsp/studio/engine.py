@@ -39,7 +39,7 @@ def _work(name: str, args: tuple) -> tuple[str, Any]:
     try:
         return "ok", getattr(navigation if name == "navigate" else pddl, name)(*args)
     except VslspError as error:
-        return "error", (error.exit_code, str(error), getattr(error, "conflict", None))
+        return "error", (error.exit_code, str(error), getattr(error, "conflict", None), getattr(error, "reasons", []))
 
 
 def _warm() -> None:
@@ -49,8 +49,15 @@ def _warm() -> None:
 
 
 def pool() -> ProcessPoolExecutor:
-    """The pool (started when first needed), spawned: its workers share nothing with the server's threads."""
+    """The pool (started when first needed), spawned: its workers share nothing with the server's threads.
+
+    A spawned worker starts with the server's ``sys.path`` as it is at that moment, and OpenCV's loader
+    puts its own folder on it while ``cv2`` imports (in any thread of the server): a worker spawned then
+    finds ``cv2/typing`` as the standard ``typing`` and dies before its first call. So OpenCV is imported
+    whole before any worker is spawned (once imported, it never touches the path again)."""
     global _pool
+    import cv2  # noqa: F401  (see above)
+
     with _lock:
         if _pool is None:
             _pool = ProcessPoolExecutor(WORKERS, mp_context=multiprocessing.get_context("spawn"))
@@ -83,11 +90,12 @@ async def call(name: str, *args: Any) -> Any:
         raise InputError("the studio's language worker ended unexpectedly; try again") from None
     if kind == "ok":
         return answer
-    exit_code, message, conflict = answer
+    exit_code, message, conflict, reasons = answer
     error: VslspError = TaskFailed(message) if exit_code == 1 else InputError(message)
     error.exit_code = exit_code
     if conflict is not None:
         error.conflict = conflict  # type: ignore[attr-defined]
+        error.reasons = reasons  # type: ignore[attr-defined]
     raise error
 
 
