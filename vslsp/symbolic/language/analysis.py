@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from vslsp.symbolic.budget import recursion_room
 from vslsp.symbolic.language.context import Context
 from vslsp.symbolic.language.declarations import (
     Body,
@@ -76,7 +77,7 @@ def analyse(
     token written, and the index of declarations and references. Either text may hold a domain or a
     problem (the ``(define (domain|problem ...))`` header decides); a problem without its domain is
     checked for its syntax and sections only."""
-    with gc_paused():
+    with gc_paused(), recursion_room():  # the checks recurse once or twice per level (at most MAX_NESTING)
         return _analyse(domain_text, domain_file, problem_text, problem_file)
 
 
