@@ -32,6 +32,7 @@ from vslsp.symbolic.formula import (
     Sometime,
     SometimeAfter,
     SometimeBefore,
+    Universe,
     bindings,
     conjunction,
     constraint_formulas,
@@ -249,7 +250,7 @@ def _short(text: str, length: int = 80) -> str:
     return text if len(text) <= length else text[: length - 3] + "..."
 
 
-def _constraint_instances(node: Any, universe: dict) -> tuple[int, str]:
+def _constraint_instances(node: Any, universe: Universe) -> tuple[int, str]:
     """How many constraints a UP trajectory-constraint node stands for once its ``forall`` are written out
     (counted without writing them, without recursion), and the variables of the largest (``?a - t ...``)."""
     total, most, variables_of_most = 0, 0, ""
@@ -326,7 +327,7 @@ _UP_CONSTRAINTS = (
 )
 
 
-def _constraints_from_up(node: Any, binding: dict, universe: dict) -> list[Constraint]:
+def _constraints_from_up(node: Any, binding: dict, universe: Universe) -> list[Constraint]:
     """Trajectory constraints from a UP node; a ``forall`` around constraints is expanded over the objects.
 
     ``(sometime-after true φ)`` is how the reader is handed ``(at end φ)`` (the same meaning).
