@@ -22,6 +22,7 @@ from vslsp.files import shown
 from vslsp.outputs import write_text
 from vslsp.symbolic.budget import OverBudget, phase
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
+from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl_errors import (
     at_end_as_sometime_after,
@@ -96,6 +97,13 @@ def _read(
     )
     domain_text = types_declared_once(domain_text)
     domain = domain_from_up(_parse(domain_text, None, domain_name, None))
+    for what, names in (
+        ("type", [t for t, _ in domain.types]),
+        ("constant", [c for c, _ in domain.constants]),
+        ("predicate", [p.name for p in domain.predicates]),
+        ("action", [a.name for a in domain.actions]),
+    ):
+        _refuse_reserved(names, what, domain_text, domain_name, ":types" if what == "type" else "")
     if problem_text is None or problem_name is None:
         return domain, None
     check_text(problem_text, problem_name)
@@ -108,8 +116,25 @@ def _read(
         problem = problem_from_up(up_problem, domain)
     except InputError as error:  # a limit of the problem as a whole (its ground instances): no place in it
         raise InputError(f"{problem_name}: {error}") from None
+    _refuse_reserved([o for o, _ in problem.objects], "object", text, problem_name, ":objects")
     _check_requirements(domain_text, domain, problem, domain_name)
     return domain, problem
+
+
+def _refuse_reserved(names: list[str], what: str, text: str, name: str, section: str) -> None:
+    """InputError at the first of ``names`` that is a word of PDDL (``and``, ``or``, ``not`` ...), placed
+    where it is written (after ``section``, when given)."""
+    reserved = next((n for n in names if is_reserved_name(n)), None)
+    if reserved is None:
+        return
+    start = re.search(rf"\(\s*{re.escape(section)}\b", text, re.IGNORECASE) if section else None
+    found = re.compile(rf"(?<![\w?-]){re.escape(reserved)}(?![\w-])", re.IGNORECASE).search(
+        text, start.end() if start else 0
+    )
+    line = text.count("\n", 0, found.start()) + 1 if found else 0
+    column = found.start() - text.rfind("\n", 0, found.start()) if found else 0
+    where = f"{name}:{line}:{column}" if found else name
+    raise InputError(f"{where}: {reserved_name_message(reserved, what)}")
 
 
 def _check_requirements(domain_text: str, domain: Domain, problem: Problem, name: str) -> None:

@@ -140,14 +140,20 @@ def _section_spans(code: str, section: str) -> list[tuple[int, int]]:
 
 
 def check_domain_name(problem_text: str, domain_name: str, name: str) -> None:
-    """Warn when the problem's ``(:domain NAME)`` is not the domain read with it (VAL and Fast Downward accept it)."""
+    """Raise InputError when the problem's ``(:domain NAME)`` is not the domain read with it: the files do
+    not belong together (a plan for one would be checked against the other)."""
     match = re.search(r"\(\s*:domain\s+([^\s()]+)", _code(problem_text), re.IGNORECASE)
     if match and match.group(1).lower() != domain_name.lower():
         line, column = _position(problem_text, match.start(1))
-        warn(
-            f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
-            f"defines {domain_name!r}; read with it all the same"
-        )
+        raise InputError(f"{name}:{line}:{column}: {other_domain(match.group(1), domain_name)}")
+
+
+def other_domain(problem_domain: str, domain_name: str) -> str:
+    """The message for a problem whose ``(:domain NAME)`` names another domain than the one given."""
+    return (
+        f"the problem is for domain {problem_domain!r}, but the domain file defines {domain_name!r}; "
+        f"give the domain file of {problem_domain!r}, or write (:domain {domain_name}) in the problem"
+    )
 
 
 def either_widened(text: str, name: str) -> str:

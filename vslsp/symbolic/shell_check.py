@@ -17,6 +17,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from vslsp.errors import InputError
+from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl_errors import PDDL3_OPERATORS, check_text
 
@@ -98,6 +99,8 @@ class Checker:
             raise InputError(
                 f"{name!r} cannot name {article} {what}: a PDDL name is a letter, then letters, digits, - or _"
             )
+        if what != "domain" and what != "problem" and is_reserved_name(name):
+            raise InputError(reserved_name_message(name, what))
         return name
 
     def type_(self, name: str) -> None:

@@ -120,10 +120,11 @@ def _analyse(domain_text: str | None, domain_file: str, problem_text: str | None
             if analysis.problem_domain and analysis.problem_domain.lower() != domain[2].lower():
                 section = analysis.sections(problem[0].file).get(":domain")
                 at = section.items[1].span if section is not None and len(section.items) > 1 else problem[1].open.span
-                ctx.warning(
+                ctx.error(
                     at,
                     f"the problem is for domain '{analysis.problem_domain}', but the domain file defines "
-                    f"'{domain[2]}'; read with it all the same",
+                    f"'{domain[2]}'; give the domain file of '{analysis.problem_domain}', or write "
+                    f"(:domain {domain[2]}) in the problem",
                     "other-domain",
                 )
     for body in bodies:

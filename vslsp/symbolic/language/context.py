@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from vslsp.symbolic.language.diagnostics import ERROR, WARNING, Diagnostic, Fix, Span, closest
 from vslsp.symbolic.language.index import Declaration, Index
 from vslsp.symbolic.language.syntax import Group, Token
+from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
 
 
 @dataclass
@@ -136,7 +137,9 @@ class Context:
     # --- declarations ------------------------------------------------------------------------------
 
     def declare(self, declaration: Declaration, what: str) -> None:
-        """Add ``declaration`` to the index; a second one of the same name is an error at its name."""
+        """Add ``declaration`` to the index; a second one of the same name is an error at its name, and so
+        is a name that is a word of PDDL (``and``, ``forall`` ...)."""
+        self.reserved(declaration, what)
         earlier = self.index.declare(declaration)
         if earlier is not None:
             where = f"line {earlier.span.line}" + (
@@ -145,3 +148,8 @@ class Context:
             self.error(
                 declaration.span, f"{what} '{declaration.name}' is declared twice (first at {where})", "duplicate"
             )
+
+    def reserved(self, declaration: Declaration, what: str) -> None:
+        """An error at ``declaration`` when its name is a word of PDDL (:data:`RESERVED_NAMES`)."""
+        if is_reserved_name(declaration.name):
+            self.error(declaration.span, reserved_name_message(declaration.name, what), "reserved-name")

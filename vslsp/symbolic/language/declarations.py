@@ -222,6 +222,7 @@ def types(ctx: Context, section: Group, document: Document) -> None:
         declaration = Declaration(
             "type", name.text, name.span, name.span, comment, types=tuple(t.key for t in entry.types)
         )
+        ctx.reserved(declaration, "type")
         earlier = ctx.index.declare(declaration)
         if earlier is not None:
             ctx.warning(

@@ -94,3 +94,32 @@ NOT_PDDL = {
     "somewhere-before": "PDDL 3.0 has no 'somewhere-before'; for \"p only after q\" write (sometime-before p q)",
 }
 BUILT_IN_TYPES = ("object",)
+
+#: The words of PDDL that name no object, constant, type, predicate, function or action: the readers take
+#: them for the operators (``(and)`` is the empty conjunction, not the atom of a predicate ``and``).
+#: ``at`` is not among them: it is an operator only as ``(at end φ)`` (and ``(at start φ)``), and ``(at ?x ?y)``
+#: is a common predicate.
+RESERVED_NAMES = frozenset(
+    (
+        *GOAL_OPERATORS[:-2],  # and or not imply exists forall (= is no name)
+        "preference",
+        *EFFECT_OPERATORS,
+        *(name for name in PDDL3_OPERATORS if name != "at"),
+        "either",
+        "define",
+    )
+)
+
+
+def is_reserved_name(name: str) -> bool:
+    """Whether ``name`` (any case) is one of :data:`RESERVED_NAMES`."""
+    return name.lower() in RESERVED_NAMES
+
+
+def reserved_name_message(name: str, what: str) -> str:
+    """Why ``name`` cannot name a ``what`` (object, predicate ...), and what to do."""
+    article = "an" if what[:1] in "aeiou" else "a"
+    return (
+        f"'{name}' is a word of PDDL ({name.lower()} ...), so it cannot name {article} {what}; "
+        f"choose another name (e.g. '{name}-1')"
+    )
