@@ -21,6 +21,7 @@ import threading
 from dataclasses import replace
 
 from vslsp.errors import InputError, VslspError
+from vslsp.symbolic.budget import MAX_READER_TYPE_DEPTH
 from vslsp.symbolic.conflict import explain
 from vslsp.symbolic.formula import Atom, atoms_of
 from vslsp.symbolic.model import Domain, Predicate, Problem, When
@@ -177,15 +178,19 @@ class Shell(cmd.Cmd):
             self.say(usage("type"))
             return
         parent = parents[0] if parents else None
+        above = _ancestors(self.domain, parent) if parent else set()
         if parent:
             self._checker().type_(parent)
-        domain = self.domain
+            if len(above) + 1 > MAX_READER_TYPE_DEPTH:
+                raise InputError(
+                    f"type {names[0]} under {parent} would be {len(above) + 1} types deep: nested too deeply "
+                    f"(limit {MAX_READER_TYPE_DEPTH}); put it under a type nearer to object"
+                )
         for name in names:
             self._checker().name(name, "type")
-            if parent and name in _ancestors(domain, parent):
+            if name in above:
                 raise InputError(f"type {name} cannot be under {parent}: the types would form a cycle")
-            domain = domain.with_type(name, parent)
-        self._set(domain=domain)
+        self._set(domain=self.domain.with_types(parent, *names))
         self.say(f"type {' '.join(names)}" + (f" - {parent}" if parent else ""))
 
     def do_predicate(self, arg: str) -> None:
