@@ -21,6 +21,7 @@ from pathlib import Path
 
 from vslsp.errors import InputError
 from vslsp.files import read_text, shown
+from vslsp.symbolic.budget import phase
 from vslsp.symbolic.formula import (
     Always,
     And,
@@ -109,8 +110,14 @@ def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validati
     Every violation is listed. At a step that cannot be applied the simulation stops: the goal
     and the constraints that only the rest of a trajectory could keep (sometime, at end,
     sometime-after) are then not judged; always, at-most-once and sometime-before are, on the
-    states reached.
+    states reached. The whole run is within the validating phase's budget
+    (:func:`vslsp.symbolic.budget.phase`).
     """
+    with phase("validating", f"the plan for problem {problem.name}"):
+        return _validate(domain, problem, plan_steps)
+
+
+def _validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validation:
     steps = [_as_step(step) for step in getattr(plan_steps, "steps", plan_steps)]
     universe = problem.universe()
     state = frozenset(problem.init)
