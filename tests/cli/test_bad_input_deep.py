@@ -220,6 +220,19 @@ def test_a_quantified_goal_past_the_limit_is_refused_before_it_is_written_out():
     assert len(expand_quantifiers(Forall((("?a", "block"),), Atom("far", ("?a",))), universe).args) == 100
 
 
+def test_a_flat_goal_of_twenty_thousand_atoms_is_read_and_its_plan_validated(capsys, tmp_path):
+    path = tmp_path / "flat.pddl"
+    objects = " ".join(f"o{i}" for i in range(20_000)) + " - block"
+    path.write_text(problem_with("(and " + " ".join(f"(far o{i})" for i in range(20_000)) + ")", objects))
+    plan = tmp_path / "plan.txt"
+    plan.write_text("".join(f"(push o{i})\n" for i in range(20_000)))
+    code, out, err = vslsp(capsys, "validate", DOMAIN, path, plan)
+    assert code == 0 and out == "valid: the plan reaches the goal in 20000 steps\n", err
+    plan.write_text("".join(f"(push o{i})\n" for i in range(19_999)))
+    code, out, _ = vslsp(capsys, "validate", DOMAIN, path, plan)
+    assert code == 1 and out.startswith("invalid: the goal (far o19999) does not hold after the last step")
+
+
 # --- the phases' budgets -----------------------------------------------------------------------------
 
 

@@ -21,6 +21,7 @@ from vslsp.errors import InputError
 from vslsp.files import shown
 from vslsp.outputs import write_text
 from vslsp.symbolic.budget import OverBudget, phase
+from vslsp.symbolic.flat_problem import flat_problem
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
 from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
 from vslsp.symbolic.model import Domain, Problem
@@ -111,11 +112,15 @@ def _read(
     text = at_end_as_sometime_after(preferences_removed(problem_text, problem_name))
     check_domain_name(text, domain.name, problem_name)
     text = re.sub(r"(\(\s*:domain\s+)[^\s()]+", lambda m: m.group(1) + domain.name, text, count=1, flags=re.I)
-    up_problem = _parse(domain_text, text, domain_name, problem_name)
-    try:
-        problem = problem_from_up(up_problem, domain)
-    except InputError as error:  # a limit of the problem as a whole (its ground instances): no place in it
-        raise InputError(f"{problem_name}: {error}") from None
+    # A flat problem (ground goal, no constraints) that checks clean is read from the language engine's
+    # tree in linear time; any other goes through unified-planning's reader, which words the errors too.
+    problem = flat_problem(domain, domain_text, text)
+    if problem is None:
+        up_problem = _parse(domain_text, text, domain_name, problem_name)
+        try:
+            problem = problem_from_up(up_problem, domain)
+        except InputError as error:  # a limit of the problem as a whole (its ground instances): no place in it
+            raise InputError(f"{problem_name}: {error}") from None
     _refuse_reserved([o for o, _ in problem.objects], "object", text, problem_name, ":objects")
     _check_requirements(domain_text, domain, problem, domain_name)
     return domain, problem
