@@ -46,9 +46,11 @@ __all__ = ["MAX_PDDL_BYTES", "parse_pddl", "read_domain", "read_pddl", "read_pro
 def read_pddl(domain_path: str | Path, problem_path: str | Path | None = None) -> tuple[Domain, Problem | None]:
     """Read a domain (and a problem) file through unified-planning's PDDLReader.
 
-    Malformed input raises InputError ``FILE:LINE:COL: what is wrong``; what vslsp reads
-    leniently (preferences, a mismatched ``(:domain ...)``) is a :class:`PddlWarning`. The
-    parse budget covers the whole read: the files, the checks and the reader.
+    Malformed input raises InputError ``FILE:LINE:COL: what is wrong`` (a problem for another domain,
+    a name that is a word of PDDL too); what vslsp reads leniently (preferences) is a
+    :class:`PddlWarning`. The reading phase's budget covers the whole read: the files, the checks and
+    the reader. A flat problem that checks clean is read from the language engine's tree
+    (:mod:`vslsp.symbolic.flat_problem`), any other through unified-planning's reader.
     """
     with phase("reading", shown(problem_path if problem_path is not None else domain_path)):
         domain_text = read_text(domain_path)
