@@ -174,6 +174,15 @@ def test_the_shell_takes_a_hundred_thousand_objects_on_one_line():
     assert "- block; 100000 in all" in out and out.count("error") == 0
 
 
+def test_the_shell_takes_long_initial_states_and_goals_among_many_objects():
+    names = " ".join(f"o{i}" for i in range(50_000))
+    init = " ".join(f"(far o{i})" for i in range(0, 50_000, 2))
+    goal = " ".join(f"(far o{i})" for i in range(0, 20_000, 2))
+    out = shell_output(f"load {DOMAIN}\nobjects {names} - block\ninit {init}\ngoal (and {goal})\nvalidate (push o1)\n")
+    assert "true initially: (far o0) (far o2)" in out and "goal (and (far o0) (far o2)" in out, out[-500:]
+    assert "valid: the plan reaches the goal in 1 step" in out and "error" not in out
+
+
 def test_the_shell_takes_twenty_thousand_types_on_one_line():
     names = " ".join(f"t{i}" for i in range(20_000))
     out = shell_output(f"type block\ntype {names} - block\ntype x - t7\nobjects y - nothing\n")

@@ -299,7 +299,8 @@ class Problem:
         return replace(self, objects=tuple(objects.items()))
 
     def with_init(self, *atoms: Atom) -> Problem:
-        return replace(self, init=self.init | frozenset(self._checked(a) for a in atoms))
+        self._checked(*atoms)
+        return replace(self, init=self.init | frozenset(atoms))
 
     def without_init(self, *atoms: Atom) -> Problem:
         return replace(self, init=self.init - frozenset(atoms))
@@ -363,11 +364,12 @@ class Problem:
             constraints=tuple(formula_from_list(c) for c in data["constraints"]),  # type: ignore[misc]
         )
 
-    def _checked(self, formula):
-        """Raise InputError when ``formula`` names an undeclared predicate or object."""
+    def _checked(self, *formulas):
+        """Raise InputError when one of ``formulas`` names an undeclared predicate or object (the names
+        gathered once for all of them)."""
         arity = {p.name: len(p.parameters) for p in self.domain.predicates}
         objects = {o for o, _ in self.all_objects()}
-        for atom in atoms_of(formula):
+        for atom in (atom for formula in formulas for atom in atoms_of(formula)):
             if arity.get(atom.predicate) != len(atom.args):
                 raise InputError(
                     f"{atom.to_pddl()} does not match a predicate of domain {self.domain.name} "
@@ -379,7 +381,6 @@ class Problem:
                         f"{atom.to_pddl()} names {arg!r}, which is not an object of problem "
                         f"{self.name}; add it with with_objects"
                     )
-        return formula
 
 
 def _put(items: tuple, item, key) -> tuple:
