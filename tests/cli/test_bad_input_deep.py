@@ -242,6 +242,19 @@ def test_a_flat_goal_of_twenty_thousand_atoms_is_read_and_its_plan_validated(cap
     assert code == 1 and out.startswith("invalid: the goal (far o19999) does not hold after the last step")
 
 
+def test_twenty_thousand_unknown_names_among_twenty_thousand_objects_are_each_reported(capsys, tmp_path):
+    # did-you-mean compares at most MAX_SUGGESTION_COMPARISONS names in all: the first errors get one
+    path = tmp_path / "unknown.pddl"
+    objects = " ".join(f"o{i}" for i in range(20_000)) + " - block"
+    path.write_text(problem_with("(and " + " ".join(f"(far x{i})" for i in range(20_000)) + ")", objects))
+    code, out, err = vslsp(capsys, "pddl", "check", DOMAIN, path)
+    lines = out.splitlines()
+    assert code == 2 and len(lines) == 20_000 and err == "20000 errors, 0 warnings\n"
+    assert lines[10].endswith("error: unknown object or constant 'x10' (did you mean 'o10'?)"), lines[10]
+    assert lines[-1].endswith("error: unknown object or constant 'x19999'"), lines[-1]
+    assert sum("did you mean" in line for line in lines) == budget.MAX_SUGGESTION_COMPARISONS // 20_000
+
+
 # --- the phases' budgets -----------------------------------------------------------------------------
 
 

@@ -36,6 +36,9 @@ MAX_TYPE_DEPTH = 1000
 MAX_READER_TYPE_DEPTH = 500
 #: The most ground instances of one quantified formula or constraint that vslsp writes out.
 MAX_GROUND_INSTANCES = 200_000
+#: The most names one check compares for its did-you-mean suggestions (past it, errors come without one:
+#: 20 000 unknown names among 20 000 objects would be 4*10^8 comparisons).
+MAX_SUGGESTION_COMPARISONS = 2_000_000
 
 #: What to do when a phase runs out of time, by phase.
 _ADVICE = {

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from vslsp.symbolic.language.diagnostics import ERROR, WARNING, Diagnostic, Fix, Span, closest
+from vslsp.symbolic.language.diagnostics import ERROR, WARNING, Diagnostic, Fix, Span, SuggestionBudget, closest
 from vslsp.symbolic.language.index import Declaration, Index
 from vslsp.symbolic.language.syntax import Group, Token
 from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
@@ -32,6 +32,9 @@ class Context:
     in_problem: bool = False
     #: the type hierarchy is deeper than its limit (reported): argument types are then not compared
     types_too_deep: bool = False
+    #: what the did-you-mean suggestions of this analysis may still compare
+    suggestions: SuggestionBudget = field(default_factory=SuggestionBudget)
+    _term_names: tuple[tuple[bool, int], list[str]] | None = None
     _ancestors: dict[str, list[str]] = field(default_factory=dict)
     _subtype: dict[tuple[tuple[str, ...], tuple[str, ...]], bool] = field(default_factory=dict)
 
@@ -45,6 +48,19 @@ class Context:
     ) -> None:
         self.diagnostics.append(Diagnostic(span, WARNING, message, code, suggestion, tuple(fixes)))
 
+    def term_names(self) -> list[str]:
+        """The constants, and in a problem the objects too: what a name in a formula may be (one list per
+        state of the index, not to be changed)."""
+        key = (self.in_problem, len(self.index.declarations))
+        if self._term_names is None or self._term_names[0] != key:
+            names = self.index.names("constant") + (self.index.names("object") if self.in_problem else [])
+            self._term_names = (key, names)
+        return self._term_names[1]
+
+    def closest(self, name: str, candidates: Iterable[str]) -> str | None:
+        """:func:`~vslsp.symbolic.language.diagnostics.closest` within this analysis's budget of comparisons."""
+        return closest(name, candidates, self.suggestions)
+
     def use(self, requirement: str, span: Span) -> None:
         """Note that the files need ``requirement`` (first at ``span``)."""
         self.used.setdefault(requirement, span)
@@ -53,7 +69,7 @@ class Context:
         self, token: Token, message: str, candidates: Iterable[str], code: str, fixes: Iterable[Fix] = ()
     ) -> None:
         """An error ``message`` at ``token`` with the closest candidate as suggestion and first fix."""
-        suggestion = closest(token.text, candidates)
+        suggestion = self.closest(token.text, candidates)
         all_fixes = [Fix(f"change to '{suggestion}'", token.span, suggestion)] if suggestion else []
         all_fixes.extend(fixes)
         self.error(token.span, message, code, suggestion, all_fixes)

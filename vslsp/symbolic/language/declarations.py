@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from vslsp.symbolic.budget import MAX_TYPE_DEPTH, type_depths
 from vslsp.symbolic.language.context import Context
-from vslsp.symbolic.language.diagnostics import Fix, Span, closest
+from vslsp.symbolic.language.diagnostics import Fix, Span
 from vslsp.symbolic.language.index import Declaration, Parameter
 from vslsp.symbolic.language.syntax import Document, Group, Token
 from vslsp.symbolic.language.vocabulary import (
@@ -245,7 +245,7 @@ def types(ctx: Context, section: Group, document: Document) -> None:
                     Span(at.file, at.line, at.column, at.line, at.column),
                     f" {parent.text}",
                 )
-                suggestion = closest(parent.text, ctx.index.names("type"))
+                suggestion = ctx.closest(parent.text, ctx.index.names("type"))
                 ctx.warning(parent.span, message, "undeclared-parent", suggestion, [fix])
                 found = Declaration("type", parent.text, parent.span, parent.span)
                 ctx.index.declare(found)
