@@ -88,6 +88,24 @@ def test_the_shell_load_command_says_the_file_nests_too_deeply(tmp_path):
     assert "error: " in out and "parentheses nest 41 deep here" in out and "loaded" not in out
 
 
+@pytest.mark.parametrize(
+    "command",
+    [
+        "goal {}",
+        "constraint {}",
+        "init {}",
+        "drop init {}",
+        "validate (push {})",
+        "predicate {}",
+        "action a :effect {} ",
+    ],
+)
+def test_every_shell_command_refuses_what_is_typed_too_deeply_nested(command):
+    typed = command.format(nested("far", "a", 100_000))
+    out = shell_output(f"load {DOMAIN}\nobjects a - block\n{typed}\n")
+    assert "error: parentheses nest 41 deep at column" in out and "nested too deeply (limit 40)" in out, out[-300:]
+
+
 SHAPES = {
     "and": lambda n: problem_with(nested("and", "(far a)", n)),
     "not": lambda n: problem_with(nested("not", "(far a)", n)),

@@ -21,7 +21,7 @@ import threading
 from dataclasses import replace
 
 from vslsp.errors import InputError, VslspError
-from vslsp.symbolic.budget import MAX_READER_TYPE_DEPTH
+from vslsp.symbolic.budget import MAX_READER_NESTING, MAX_READER_TYPE_DEPTH
 from vslsp.symbolic.conflict import explain
 from vslsp.symbolic.formula import Atom, atoms_of
 from vslsp.symbolic.model import Domain, Predicate, Problem, When
@@ -69,11 +69,18 @@ def _problem_text(problem: Problem, goal: str | None = None, constraints: list[s
 
 
 def _balanced(typed: str) -> None:
-    """Raise InputError, placed in what the user typed, when its parentheses do not balance."""
+    """Raise InputError, placed in what the user typed, when its parentheses do not balance or nest deeper
+    than the reader takes (:data:`~vslsp.symbolic.budget.MAX_READER_NESTING`: every command's checks and
+    the reader recurse per level)."""
     opened: list[int] = []
     for index, char in enumerate(typed):
         if char == "(":
             opened.append(index)
+            if len(opened) > MAX_READER_NESTING:
+                raise InputError(
+                    f"parentheses nest {len(opened)} deep at column {index + 1} of what you typed: nested too "
+                    f"deeply (limit {MAX_READER_NESTING}); flatten the formula: (and a (and b c)) is (and a b c)"
+                )
         elif char == ")":
             if not opened:
                 raise InputError(
@@ -127,6 +134,8 @@ class Shell(cmd.Cmd):
             self.say("error: " + in_shell_terms(str(error)))
         except ValueError as error:  # shlex on unbalanced quotes
             self.say(f"error: {str(error).lower()} in what you typed")
+        except RecursionError:  # a check that recursed past Python's limit: the shell goes on
+            self.say("error: what you typed nests too deeply for vslsp; flatten it: (and a (and b c)) is (and a b c)")
         finally:
             if (self.domain, self.problem) != before and line.split()[:1] != ["undo"]:
                 self.changes.append((" ".join(line.split()), *before))
