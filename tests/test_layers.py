@@ -24,6 +24,7 @@ LAYERS = {
             "vslsp.stages",
             "vslsp.data",
             "vslsp.provenance",
+            "vslsp.interrupts",
         ),
         0,
     ),
@@ -47,6 +48,7 @@ MAY_IMPORT: dict[str, set[int | str]] = {
     "vslsp.outcomes": {"vslsp.errors"},
     "vslsp.outputs": {"vslsp.errors"},
     "vslsp.files": {"vslsp.errors"},
+    "vslsp.interrupts": {"vslsp.errors"},
     "vslsp.vision": {0, 1},  # perception: no simulator, no world
     "vslsp.vsl3d": {0, 1},  # an algorithm: no simulator, no world
     "vslsp.grounding": {0, 1, 2, 4},  # the simulator only for its test kit's rendered scenes

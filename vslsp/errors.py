@@ -62,11 +62,11 @@ class UnreachableError(VslspError):
 
 
 class Interrupted(BaseException):
-    """SIGINT (Ctrl-C) or SIGTERM arrived: the run stops, keeping what finished.
+    """SIGINT (Ctrl-C), SIGTERM, SIGHUP or SIGQUIT arrived: the run stops, keeping what finished.
 
     A BaseException, like KeyboardInterrupt, so that ``except Exception`` (a trial recorded as
     failed) never swallows it; ``finally`` blocks still end child processes and remove
-    temporary folders on the way out. ``exit_code``: 128 + the signal's number (130, 143).
+    temporary folders on the way out. ``exit_code``: 128 + the signal's number (130, 143, 129, 131).
     """
 
     def __init__(self, signal_name: str = "SIGTERM") -> None:
@@ -75,4 +75,9 @@ class Interrupted(BaseException):
 
     @property
     def exit_code(self) -> int:
-        return 130 if self.signal_name == "SIGINT" else 143
+        import signal
+
+        try:
+            return 128 + int(signal.Signals[self.signal_name])
+        except KeyError:
+            return 143

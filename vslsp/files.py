@@ -23,10 +23,13 @@ Every refusal is an :class:`~vslsp.errors.InputError` (exit 2) that names the fi
 
 from __future__ import annotations
 
+import atexit
 import io
 import json
 import os
+import shutil
 import stat
+import tempfile
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -227,3 +230,31 @@ def load_npz(path: PathLike, what: str, limit: int, file_limit: int | None = Non
         raise
     except (ValueError, OSError, EOFError, KeyError, zipfile.BadZipFile, RuntimeError) as error:
         raise InputError(f"{name} is not a readable .npz file of the {what} ({error})") from None
+
+
+_private_cache: list[str] = []
+
+
+def cache_folder() -> Path:
+    """Where vslsp keeps files it makes once and reuses (the simulator's textures, reduced robot
+    models): ``$VSLSP_CACHE``, else ``$XDG_CACHE_HOME/vslsp``, else ``~/.cache/vslsp``; never the
+    temporary folder, which must hold nothing of a run once it ends. When none of them can be
+    made, a private temporary folder, removed when this process exits."""
+    xdg = os.environ.get("XDG_CACHE_HOME", "")
+    for place in (
+        os.environ.get("VSLSP_CACHE", ""),
+        os.path.join(xdg, "vslsp") if os.path.isabs(xdg) else "",  # the spec: a relative one is ignored
+        os.path.join(os.path.expanduser("~"), ".cache", "vslsp"),
+    ):
+        if not place:
+            continue
+        try:
+            os.makedirs(place, exist_ok=True)
+        except OSError:
+            continue
+        if os.access(place, os.W_OK | os.X_OK):
+            return Path(place)
+    if not _private_cache:
+        _private_cache.append(tempfile.mkdtemp(prefix="vslsp-cache-"))
+        atexit.register(shutil.rmtree, _private_cache[0], True)
+    return Path(_private_cache[0])

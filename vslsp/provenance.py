@@ -25,7 +25,9 @@ def _commit() -> dict[str, Any] | None:
             ["git", "-C", str(checkout), "rev-parse", "HEAD"], capture_output=True, text=True, timeout=10
         )
         changed = subprocess.run(
-            ["git", "-C", str(checkout), "status", "--porcelain", "--untracked-files=no"],
+            # --no-optional-locks: a status that is read only; a run killed meanwhile (or this timeout)
+            # must not leave the checkout's index.lock behind, which blocks the user's next commit.
+            ["git", "--no-optional-locks", "-C", str(checkout), "status", "--porcelain", "--untracked-files=no"],
             capture_output=True,
             text=True,
             timeout=10,

@@ -1,13 +1,18 @@
 """The iCub report's pieces: Table 3 compared, what was learned grouped, step labels apart."""
 
+from pathlib import Path
+
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from vslsp.experiments.icub_report import _label_ends, learned_lines, matches_table_3
+from vslsp.experiments.icub_report import _label_ends, learned_lines, matches_table_3, observed_grounding
 from vslsp.tasks.drawing import caption
+from vslsp.vision.image import read_image
+
+ICUB = Path(__file__).resolve().parents[1] / "data" / "icub"
 
 PAPER = [
     {"action": "push", "parameters": "?x - block", "precondition": "(not (far ?x))", "effects": ["(far ?x)"]},
@@ -54,3 +59,14 @@ def test_a_caption_wraps_to_the_picture_and_covers_none_of_it():
     captioned = caption(picture, ["a long line of words " * 4, "short"])
     assert captioned.shape[1] == 300 and captioned.shape[0] > 100 + 3 * 16
     assert (captioned[-100:] == picture).all()
+
+
+def test_an_executed_step_is_pictured_as_vslsp_ground_grounds_its_raw_images():
+    # the robot pulled orange and its hand moved yellow 2.9 px: the picture shows orange's
+    # grounding (it once said "no object changed side" beside the caption "observed ... ok")
+    pre, post = read_image(ICUB / "nudged_pre.png"), read_image(ICUB / "nudged_post.png")
+    grounding, why = observed_grounding(pre, post)
+    assert grounding is not None and grounding.name == "orange" and grounding.action == "pull" and not why
+    assert grounding.to_dict()["nudged"] == [{"name": "yellow", "moved_px": 2.9}]
+    nothing, why = observed_grounding(pre, pre)
+    assert nothing is None and why.startswith("nothing moved between the pre- and the post-action image")

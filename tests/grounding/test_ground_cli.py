@@ -3,6 +3,7 @@ bad input (with an {"error": ...} object under --json), checked before any work.
 
 import json
 import textwrap
+from pathlib import Path
 
 import cv2
 import numpy as np
@@ -158,3 +159,51 @@ def test_experiment_predicates_are_checked_before_any_work(images):
     assert result.returncode == 2 and "syntax.py, line 3: SyntaxError" in result.stderr
     result = _vslsp("experiment", "house-roof", "--predicates", images / "preds.py")
     assert result.returncode == 2 and "--predicates applies to the VSL-SP experiments" in result.stderr
+
+
+ICUB = Path(__file__).resolve().parents[1] / "data" / "icub"  # a rendered step: orange pulled, yellow nudged 2.9 px
+
+
+def test_a_neighbour_nudged_by_a_few_pixels_is_left_out_by_default():
+    result = _vslsp("ground", ICUB / "nudged_pre.png", ICUB / "nudged_post.png", "--json")
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert data["object"]["name"] == "orange" and data["action"] == "pull"
+    assert data["nudged"] == [{"name": "yellow", "moved_px": 2.9}]
+    text = _vslsp("ground", ICUB / "nudged_pre.png", ICUB / "nudged_post.png")
+    assert "left out: yellow moved 2.9 px (less than --min-move 8)" in text.stdout
+
+
+def test_min_move_0_counts_every_change_and_a_larger_one_leaves_out_more():
+    strict = _vslsp("ground", ICUB / "nudged_pre.png", ICUB / "nudged_post.png", "--min-move", "0", "--json")
+    assert strict.returncode == 1 and "more than one object moved (yellow left" in json.loads(strict.stdout)["error"]
+    # orange moved about 110 px: with a tolerance above every move nothing is left out (both are named)
+    all_nudged = _vslsp("ground", ICUB / "nudged_pre.png", ICUB / "nudged_post.png", "--min-move", "500", "--json")
+    assert all_nudged.returncode == 1 and "more than one object moved" in json.loads(all_nudged.stdout)["error"]
+
+
+def test_slip_detection_tells_the_operated_object_from_the_disturbed(tmp_path):
+    args = ("ground", ICUB / "nudged_pre.png", ICUB / "nudged_post.png", "--slip-detection", "on")
+    result = _vslsp(*args, "--json", "--overlay", tmp_path / "moves.png")
+    assert result.returncode == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert data["object"]["name"] == "orange"
+    assert data["moves"]["operated"] == "orange" and data["moves"]["disturbed"] == ["yellow"]
+    assert data["moves"]["far"]["yellow"] == {"pre": True, "post": True}
+    assert read_image(tmp_path / "moves.png").shape == (480, 1280, 3)
+    assert "yellow (disturbed)" in _vslsp(*args).stdout
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (("--min-move", "nan"), "nan is not a number of pixels from 0 up"),
+        (("--min-move", "-1"), "-1 is not a number of pixels from 0 up"),
+        (("--min-move", "eight"), "'eight' is not a number of pixels"),
+        (("--slip-detection", "on", "--predicates", "x.py"), "leave out one of them"),
+    ],
+)
+def test_bad_tolerances_exit_2_before_any_work(images, args, message):
+    result = _vslsp("ground", images / "pre.png", images / "post.png", *args, "--json")
+    assert result.returncode == 2 and message in json.loads(result.stdout)["error"]
+    assert "Traceback" not in result.stderr

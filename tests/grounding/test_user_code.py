@@ -5,11 +5,15 @@ or its environment, vslsp answers with one error naming the file, and nothing of
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 import textwrap
 from pathlib import Path
 
 import pytest
-from helpers.events import wait_until
+from helpers.cli import REPO
+from helpers.events import process_gone, wait_until
 
 import vslsp
 from vslsp.errors import InputError
@@ -119,9 +123,39 @@ def test_processes_the_file_starts_end_with_it(tmp_path):
     user = UserPredicates.start(path)
     pgid = user._process.pid
     assert int((tmp_path / "group").read_text()) == pgid
-    assert len(_group(pgid)) == 3  # the child and two sleeps
+    assert len(_group(pgid)) == 4  # the guard (vslsp.interrupts), the child and two sleeps
     user.close()
     _gone(pgid)
+
+
+def test_a_killed_vslsp_leaves_neither_the_files_processes_nor_its_folder(tmp_path):
+    """SIGKILL of the process that started the child: the guard kills the child and what it
+    started, and removes the child's temporary folder."""
+    pids = tmp_path / "pids"
+    prelude = (
+        "sleeper = subprocess.Popen(['sleep', '303'])\n"
+        f"open({str(pids)!r}, 'w').write(f'{{os.getpid()}} {{sleeper.pid}}')\n"
+    )
+    path = _file(tmp_path, "return True", prelude)
+    program = (
+        "import sys; from vslsp.grounding.contained import UserPredicates; "
+        "user = UserPredicates.start(sys.argv[1]); print(user._folder, flush=True); sys.stdin.read()"
+    )
+    holder = subprocess.Popen(
+        [sys.executable, "-c", program, str(path)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(REPO)},
+    )
+    assert holder.stdout is not None
+    folder = Path(holder.stdout.readline().strip())
+    assert folder.is_dir()
+    started = [int(pid) for pid in pids.read_text().split()]
+    holder.kill()
+    holder.wait()
+    wait_until(lambda: all(process_gone(pid) for pid in started), f"the child and its sleep {started} to end")
+    wait_until(lambda: not folder.exists(), f"the child's folder {folder} to be removed")
 
 
 def test_a_predicate_that_forks_and_hangs_leaves_no_orphan(tmp_path):

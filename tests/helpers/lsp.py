@@ -136,3 +136,27 @@ class Editor:
 
 def ident(path: Path) -> types.TextDocumentIdentifier:
     return types.TextDocumentIdentifier(uri_of(path))
+
+
+def apply_edits(text: str, edits: list[types.TextEdit]) -> str:
+    """``text`` with ``edits`` applied (as an editor applies a workspace edit to one document)."""
+    lines = text.split("\n")
+    for edit in sorted(edits, key=lambda e: (e.range.start.line, e.range.start.character), reverse=True):
+        start, end = edit.range.start, edit.range.end
+        head = "\n".join(lines[: start.line] + [lines[start.line][: start.character]])
+        tail = "\n".join([lines[end.line][end.character :]] + lines[end.line + 1 :])
+        lines = (head + edit.new_text + tail).split("\n")
+    return "\n".join(lines)
+
+
+async def code_actions(editor, path: Path, diagnostic: types.Diagnostic) -> list[types.CodeAction]:
+    """The quick fixes the server offers for ``diagnostic`` of the document at ``path``."""
+    found = await editor.client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=ident(path),
+            range=diagnostic.range,
+            context=types.CodeActionContext(diagnostics=[diagnostic], only=[types.CodeActionKind.QuickFix]),
+        )
+    )
+    assert all(isinstance(action, types.CodeAction) for action in found)
+    return list(found)

@@ -34,6 +34,12 @@ class RayHead:
     gcs_address: str  # HOST:PORT of the head's GCS: --address HOST:PORT
     client_address: str  # ray://HOST:PORT of its Ray client server
 
+    def logs(self, prefix: str, tail: int = 2000) -> str:
+        """The last ``tail`` characters of each of the head's log files named ``prefix*``
+        (e.g. "ray_client_server"), for a failed test's message."""
+        found = sorted(self.folder.glob(f"ray/session_latest/logs/{prefix}*"))
+        return "\n".join(f"== {p.name}\n{p.read_text(errors='replace')[-tail:]}" for p in found) or "(no logs)"
+
 
 def free_port() -> int:
     """A TCP port that nothing listens on at the moment."""

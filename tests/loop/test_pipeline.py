@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from vslsp.experiments.icub_run import IcubRun
-from vslsp.experiments.icub_scripts import _record
+from vslsp.experiments.icub_scripts import record
 from vslsp.loop.pipeline import execute_task, explore_skill, learn_models
 from vslsp.sim import SceneSpec, World
 from vslsp.symbolic import Atom, Not, PlanStatus, SometimeBefore, Step, Task, learn_task, read_domain
@@ -107,7 +107,7 @@ def test_a_planner_timeout_ends_the_run_as_a_timeout_and_keeps_the_order(library
     assert run.notes == []  # not replanned without the demonstrated order
     assert run.to_dict()["planning_status"] == "timeout"
     trial = IcubRun(7)  # the trial's record and the report's failure cause say so too
-    _record(trial, run)
+    record(trial, run)
     assert trial.details["planning_status"] == "timeout" and trial.error == run.error
     assert trial.cause == "planner time limit" and not trial.success
 

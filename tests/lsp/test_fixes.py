@@ -4,34 +4,13 @@ document or, from a problem, in its domain; applied, they leave the files withou
 from pathlib import Path
 
 import pytest
-from helpers.lsp import ident
+from helpers.lsp import apply_edits as _apply
+from helpers.lsp import code_actions as _actions
 from lsprotocol import types
 
 from vslsp.lsp.workspace import uri_of
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
-
-
-def _apply(text: str, edits: list[types.TextEdit]) -> str:
-    lines = text.split("\n")
-    for edit in sorted(edits, key=lambda e: (e.range.start.line, e.range.start.character), reverse=True):
-        start, end = edit.range.start, edit.range.end
-        head = "\n".join(lines[: start.line] + [lines[start.line][: start.character]])
-        tail = "\n".join([lines[end.line][end.character :]] + lines[end.line + 1 :])
-        lines = (head + edit.new_text + tail).split("\n")
-    return "\n".join(lines)
-
-
-async def _actions(editor, path: Path, diagnostic: types.Diagnostic) -> list[types.CodeAction]:
-    found = await editor.client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=ident(path),
-            range=diagnostic.range,
-            context=types.CodeActionContext(diagnostics=[diagnostic], only=[types.CodeActionKind.QuickFix]),
-        )
-    )
-    assert all(isinstance(action, types.CodeAction) for action in found)
-    return list(found)
 
 
 async def test_did_you_mean_and_declare_a_predicate_in_the_domain(editor, workspace: Path):

@@ -8,6 +8,7 @@ from lsprotocol import types
 from pygls.exceptions import JsonRpcException
 
 from vslsp.lsp.workspace import uri_of
+from vslsp.symbolic.language.vocabulary import is_reserved_name
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
@@ -160,11 +161,29 @@ async def test_rename_refuses_what_is_no_pddl_name_or_no_declared_name(editor, k
     at = editor.position_of(domain, "(and (on-counter", offset=1)  # the keyword 'and'
     assert await editor.client.text_document_prepare_rename_async(types.PrepareRenameParams(ident(domain), at)) is None
     at = editor.position_of(domain, "(on-counter ?d - dish)", offset=1)
-    with pytest.raises(JsonRpcException, match="is not a PDDL name"):
+    with pytest.raises(JsonRpcException, match="is not a PDDL name") as refused:
         await editor.client.text_document_rename_async(
             types.RenameParams(text_document=ident(domain), position=at, new_name="2 words")
         )
+    assert refused.value.code == -32803  # RequestFailed: understood, refused
+    assert refused.value.data is None and "\n" not in refused.value.message  # one line, no traceback
+    for reserved in ("and", "AND", "forall", "either", "when", "sometime-before", "object"):
+        with pytest.raises(JsonRpcException, match="is a word of PDDL's syntax") as refused:
+            await editor.client.text_document_rename_async(
+                types.RenameParams(text_document=ident(domain), position=at, new_name=reserved)
+            )
+        assert refused.value.code == -32803
+    edit = await editor.client.text_document_rename_async(  # `at` is an ordinary predicate name
+        types.RenameParams(text_document=ident(domain), position=at, new_name="at")
+    )
+    assert edit is not None and edit.changes
     await editor.close(domain)
+
+
+async def test_reserved_names_are_the_words_of_pddl_s_syntax():
+    assert all(is_reserved_name(word) for word in ("and", "Or", "not", "imply", "exists", "forall", "when", "?and"))
+    assert all(is_reserved_name(word) for word in ("increase", "always", "at-most-once", "either", "define", "object"))
+    assert not any(is_reserved_name(word) for word in ("at", "end", "on-counter", "clean", "anded", "pick"))
 
 
 async def test_the_outline_lists_types_predicates_and_actions_with_parameters(editor, kitchen: Path):

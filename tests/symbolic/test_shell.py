@@ -442,3 +442,28 @@ def test_why_names_the_conflict_and_dropping_one_constraint_makes_it_solvable(tm
     # the wrong order breaks two constraints: both are listed
     assert "(vslsp) invalid: constraint (sometime-before (not (far green)) (not (far orange))) is broken" in out
     assert "  also: constraint (sometime-before (not (far orange)) (not (far yellow))) is broken" in out
+
+
+def test_a_piped_session_with_refused_commands_exits_1_unless_keep_going(tmp_path):
+    session = "type block\npredicate (on ?a - block)\nbogus\nobjects a b - nope\naction\nquit\n"
+    done = vslsp_process("shell", input=session, timeout=120)
+    assert done.returncode == 1 and "Traceback" not in done.stderr
+    assert "3 commands were refused (errors above); --keep-going exits 0 regardless" in done.stderr
+    assert "(vslsp) type block\n" in done.stdout and "error: unknown command 'bogus'" in done.stdout
+    assert vslsp_process("shell", "--keep-going", input=session, timeout=120).returncode == 0
+    clean = vslsp_process("shell", input="type block\npredicate (on ?a - block)\nquit\n", timeout=120)
+    assert clean.returncode == 0 and clean.stderr == ""
+
+
+def test_at_is_a_predicate_name_and_pddl_words_name_nothing():
+    # one vocabulary (the language engine's is_reserved_name): `at` is a keyword only in (at end ...)
+    out = run(
+        "type dish place\npredicate (at ?d - dish ?p - place)\nobjects d1 - dish\nobjects sink - place\n"
+        "init (at d1 sink)\ngoal (not (at d1 sink))\nconstraint (at end (not (at d1 sink)))\n"
+        "predicate (and ?d - dish)\nobjects or - dish\ntype not\nshow problem\n"
+    )
+    assert "(vslsp) predicate (at ?d - dish ?p - place)\n" in out and "true initially: (at d1 sink)" in out
+    assert "constraint (at end (not (at d1 sink))); 1 constraint" in out
+    assert "error: 'and' is a word of PDDL (and ...), so it cannot name a predicate; choose another name" in out
+    assert "error: 'or' is a word of PDDL (or ...), so it cannot name an object" in out
+    assert "error: 'not' is a word of PDDL (not ...), so it cannot name a type" in out

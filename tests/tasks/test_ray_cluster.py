@@ -24,6 +24,7 @@ from helpers.cli import REPO, vslsp
 from helpers.ray_head import RayHead, free_port, ray_head
 from helpers.records import without_times
 
+from vslsp.errors import InputError
 from vslsp.tasks import TrialResult, run_trials
 
 ray = pytest.importorskip("ray")
@@ -66,7 +67,10 @@ def test_a_run_on_a_cluster_gives_the_local_results_then_disconnects(head, how, 
     os.environ["RAY_TMPDIR"] = str(head.folder)  # where `auto` finds the address `ray start` wrote
     os.environ.pop("RAY_ADDRESS", None)
     address = {"HOST:PORT": head.gcs_address, "auto": "auto", "ray://": head.client_address}[how]
-    on_cluster = run_trials(DiceBelowFive(), SEEDS, workers=2, backend="ray", address=address)
+    try:
+        on_cluster = run_trials(DiceBelowFive(), SEEDS, workers=2, backend="ray", address=address)
+    except InputError as refused:  # say why from the head's side too (its logs go with the cluster)
+        pytest.fail(f"{refused}\n{head.logs('ray_client_server')}")
     assert not ray.is_initialized()  # disconnected at the end of the run ...
     assert records(on_cluster.results) == records(run_trials(DiceBelowFive(), SEEDS).results)
     assert {r.success for r in on_cluster.results} == {True, False} and not on_cluster.partial
@@ -225,3 +229,47 @@ def test_a_token_counts_as_given_as_ray_would_send_it(monkeypatch, tmp_path):
     assert not _token_configured()
     monkeypatch.setenv("RAY_AUTH_TOKEN", TOKEN)
     assert _token_configured()
+
+
+class FailingStarts:
+    """Stands in for the ``ray`` module in :func:`vslsp.tasks.ray_backend._init`: its ``init``
+    fails as Ray's client does when the head's proxy could not start a client server, ``failures``
+    times, then connects."""
+
+    def __init__(self, failures: int, message: str) -> None:
+        self.failures, self.message, self.inits, self.shutdowns = failures, message, 0, 0
+
+    def init(self, **_: object) -> None:
+        self.inits += 1
+        if self.inits <= self.failures:
+            raise ConnectionAbortedError(self.message)
+
+    def shutdown(self) -> None:
+        self.shutdowns += 1
+
+
+SERVER_FAILED = (
+    'Initialization failure from server:\nTraceback (most recent call last):\n  File "proxier.py", line 772, '
+    "in Datapath\nRuntimeError: Starting Ray client server failed. See ray_client_server_23000.err for detailed logs."
+)
+
+
+def test_a_client_server_that_failed_to_start_is_retried_and_said_in_one_line():
+    from vslsp.tasks.ray_backend import CLIENT_SERVER_STARTS, _init, _reason
+
+    busy_head = FailingStarts(CLIENT_SERVER_STARTS - 1, SERVER_FAILED)
+    _init(busy_head, "ray://127.0.0.1:10001", {})  # connects on the last try
+    assert busy_head.inits == CLIENT_SERVER_STARTS and busy_head.shutdowns == CLIENT_SERVER_STARTS - 1
+    broken_head = FailingStarts(CLIENT_SERVER_STARTS, SERVER_FAILED)
+    with pytest.raises(ConnectionAbortedError) as refused:
+        _init(broken_head, "ray://127.0.0.1:10001", {})
+    assert broken_head.inits == CLIENT_SERVER_STARTS
+    reason = _reason(refused.value)
+    assert reason == (
+        f"the head could not start a Ray client server for this connection in {CLIENT_SERVER_STARTS} tries "
+        "(the head's log: ray_client_server_23000.err in its session's logs folder)"
+    )
+    other = FailingStarts(1, "Initialization failure from server: version mismatch")
+    with pytest.raises(ConnectionAbortedError):
+        _init(other, "ray://127.0.0.1:10001", {})  # any other refusal is final
+    assert other.inits == 1 and _reason(ConnectionAbortedError("a\n  b")) == "a b"

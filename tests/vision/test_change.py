@@ -4,9 +4,9 @@ for image pairs that cannot be grounded."""
 import numpy as np
 import pytest
 
-from vslsp.errors import InputError
+from vslsp.errors import GroundingFailed, InputError
 from vslsp.grounding.synthetic import Square, tabletop_image
-from vslsp.vision.change import detect_change
+from vslsp.vision.change import default_min_move, detect_change
 
 STILL = Square("blue", (480, 400), angle=20)
 
@@ -72,3 +72,22 @@ def test_images_of_different_sizes_are_an_input_error():
     post = tabletop_image([STILL], size=(320, 240))
     with pytest.raises(InputError, match="differ in size.*640x480.*320x240"):
         detect_change(pre, post)
+
+
+def test_an_object_moved_less_than_min_move_is_left_out_as_nudged():
+    # blue is pulled across the table; red beside it is nudged 6 px by the hand
+    pre = tabletop_image([Square("blue", (200, 150)), Square("red", (450, 200))])
+    post = tabletop_image([Square("blue", (220, 400)), Square("red", (456, 200))])
+    with pytest.raises(GroundingFailed, match="more than one object moved"):
+        detect_change(pre, post)  # min_move 0: every change counts, as the paper's VSL
+    change = detect_change(pre, post, min_move=default_min_move(pre.shape))
+    assert change.before.name == "blue" and [name for name, _ in change.nudged] == ["red"]
+    assert 5.0 < change.nudged[0][1] < 7.0
+    assert default_min_move((480, 640, 3)) == 8.0 and default_min_move((960, 1280)) == 16.0
+
+
+def test_min_move_never_leaves_out_every_moved_object():
+    pre = tabletop_image([Square("blue", (200, 150)), Square("red", (450, 200))])
+    post = tabletop_image([Square("blue", (206, 150)), Square("red", (456, 200))])
+    with pytest.raises(GroundingFailed, match="more than one object moved"):
+        detect_change(pre, post, min_move=8.0)

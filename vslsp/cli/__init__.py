@@ -10,15 +10,11 @@ from __future__ import annotations
 import importlib
 import json
 import os
-import signal
 import sys
-from collections.abc import Iterator
-from contextlib import contextmanager
-from typing import Any
 
 import click
 
-from vslsp import __version__
+from vslsp import __version__, interrupts
 from vslsp.errors import Interrupted, VslspError
 from vslsp.outputs import NO_SPACE
 
@@ -65,53 +61,48 @@ def main(argv: list[str] | None = None) -> None:
     """Entry point: runs the CLI, turning user errors into a message and an exit code.
 
     Under ``--json`` a failure also prints its JSON on stdout, ``{"error": ..., "exit_code": ...}``,
-    so that a script reading stdout always gets one object. SIGTERM raises
-    :class:`~vslsp.errors.Interrupted` (as Ctrl-C raises KeyboardInterrupt), so that every command
-    ends its child processes, removes its temporary folders and keeps its finished work on the
-    way out; the exit code is then 143 (130 for Ctrl-C).
+    so that a script reading stdout always gets one object. SIGTERM, SIGHUP and SIGQUIT raise
+    :class:`~vslsp.errors.Interrupted` (as Ctrl-C raises KeyboardInterrupt), once: a second signal
+    never cuts the cleanup short (:func:`vslsp.interrupts.handled`), so that every command ends
+    its child processes, removes its temporary folders and keeps its finished work on the way
+    out; the exit code is then 128 + the first signal's number (143, 129, 131; 130 for Ctrl-C).
     """
     args = list(sys.argv[1:] if argv is None else argv)
     wants_json = "--json" in args
     _bytes_safe_output()
-    with _sigterm_raises():
+    with interrupts.handled(final=True):
         try:
-            app.main(args=args, prog_name="vslsp", standalone_mode=False)
-            sys.stdout.flush()  # here, so that a full disk behind stdout is a message, not a traceback at exit
-        except VslspError as error:
-            _fail(str(error), error.exit_code, wants_json and not getattr(error, "json_printed", False))
-        except Interrupted as stop:
-            _fail(f"interrupted ({stop.signal_name})", stop.exit_code, wants_json)
-        except click.exceptions.Abort:
-            _fail("aborted", 130, wants_json)
-        except click.exceptions.Exit as done:
-            _flush_or_fail()
-            sys.exit(done.exit_code)
-        except click.ClickException as error:
-            if wants_json:
-                click.echo(json.dumps({"error": error.format_message(), "exit_code": 2}))
-            error.show()
-            sys.exit(2)
-        except OSError as error:
-            if error.errno not in NO_SPACE:
-                raise
-            _no_space(error)
+            _run(args, wants_json)
+        except (Interrupted, KeyboardInterrupt) as stop:  # the first signal came while the command was ending
+            name = getattr(stop, "signal_name", "SIGINT")
+            click.echo(f"error: interrupted ({name})", err=True)
+            sys.exit(interrupts.exit_code(name))
     sys.exit(0)
 
 
-@contextmanager
-def _sigterm_raises() -> Iterator[None]:
-    def handler(number: int, frame: Any) -> None:
-        raise Interrupted(signal.Signals(number).name)
-
+def _run(args: list[str], wants_json: bool) -> None:
+    """The command, its errors turned into a message and an exit code (see :func:`main`)."""
     try:
-        previous = signal.signal(signal.SIGTERM, handler)
-    except ValueError:  # not the main thread (an embedding program): leave signals alone
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+        app.main(args=args, prog_name="vslsp", standalone_mode=False)
+        sys.stdout.flush()  # here, so that a full disk behind stdout is a message, not a traceback at exit
+    except VslspError as error:
+        _fail(str(error), error.exit_code, wants_json and not getattr(error, "json_printed", False))
+    except Interrupted as stop:
+        _fail(f"interrupted ({stop.signal_name})", stop.exit_code, wants_json)
+    except (click.exceptions.Abort, KeyboardInterrupt):
+        _fail("aborted", 130, wants_json)
+    except click.exceptions.Exit as done:
+        _flush_or_fail()
+        sys.exit(done.exit_code)
+    except click.ClickException as error:
+        if wants_json:
+            click.echo(json.dumps({"error": error.format_message(), "exit_code": 2}))
+        error.show()
+        sys.exit(2)
+    except OSError as error:
+        if error.errno not in NO_SPACE:
+            raise
+        _no_space(error)
 
 
 def _flush_or_fail() -> None:

@@ -15,8 +15,9 @@ from pathlib import Path
 
 import click
 
+from vslsp.cli.experiment import OUTPUT_FOLDERS, REPORT_FILES
 from vslsp.cli.params import OUTPUT_FOLDER, check_display, seed_option
-from vslsp.outputs import refuse_link
+from vslsp.outputs import refuse_places
 
 
 @click.command()
@@ -47,8 +48,7 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool) -
     from vslsp.tasks import Run, write_report
     from vslsp.tasks.base import cpu_seconds
 
-    for report_file in ("report.json", "report.md"):
-        refuse_link(out / report_file, "--out")
+    refuse_places(out, REPORT_FILES, OUTPUT_FOLDERS)
     console = Console(stderr=True)
     start, cpu = time.perf_counter(), cpu_seconds()
     stages.reset()

@@ -17,11 +17,13 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import PROBABILITY, count, prepare_output_folder, seed_option
+from vslsp.cli.params import PROBABILITY, count, int_range, prepare_output_folder, seed_option
 from vslsp.errors import Interrupted
-from vslsp.outputs import OutputFailed, refuse_link
+from vslsp.interrupts import SIGNALS
+from vslsp.outputs import OutputFailed, refuse_places
 
 REPORT_FILES = ("report.json", "report.md")
+OUTPUT_FOLDERS = ("images", "images/raw", "videos")  # what a report folder may hold besides its files
 
 MAX_TRIALS = 10_000  # docs/bad-input.md states these limits
 MAX_WORKERS = 64
@@ -85,7 +87,7 @@ MAX_WORKERS = 64
 )
 @click.option(
     "--views",
-    type=click.IntRange(1, 2),
+    type=int_range(1, 2),
     default=None,
     help="VSL-3D: depth cameras, 1 (the paper's single view) or 2 (a second one across the table, "
     "clouds fused) [default: 1].",
@@ -101,6 +103,14 @@ MAX_WORKERS = 64
     help="VSL-SP: a Python file of your predicates (@predicate from vslsp.grounding), grounded with far at "
     "every observed step and learned into the action models, rules and goals. It runs as Python with "
     "your rights, like a pytest conftest.py.",
+)
+@click.option(
+    "--tasks",
+    "task_files",
+    type=click.Path(dir_okay=False),
+    multiple=True,
+    help="A Python file of your own tasks (@register from vslsp.tasks, docs/tasks.md), loaded before NAME "
+    "is looked up and in every worker; repeatable. It runs as Python with your rights: use only files you trust.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as one JSON object on stdout.")
 def experiment(
@@ -121,6 +131,7 @@ def experiment(
     views: int | None,
     predicates_file: str | None,
     out: str | None,
+    task_files: tuple[str, ...],
     as_json: bool,
 ) -> None:
     """Run experiment NAME (see --list) and write a report folder.
@@ -130,8 +141,9 @@ def experiment(
     written first).
     """
     from vslsp.errors import InputError
-    from vslsp.tasks import get_task, list_tasks
+    from vslsp.tasks import get_task, list_tasks, load_task_files
 
+    load_task_files(task_files)  # the user's tasks join the registry (and reach the workers)
     if list_them:
         entries = [cls().describe() for cls in list_tasks()]
         if as_json:
@@ -148,7 +160,9 @@ def experiment(
         from vslsp.tasks.ray_backend import check_ray
 
         check_ray(address)
-    folder = Path(out) if out else Path("out") / "experiments" / name
+    if out == "":
+        raise InputError("--out: an empty path is not a folder; give a folder name")
+    folder = Path(out) if out is not None else Path("out") / "experiments" / name
     task = get_task(
         name,
         faults=faults,
@@ -161,9 +175,12 @@ def experiment(
         views=views,
         predicates=str(Path(predicates_file).resolve()) if predicates_file else None,
     )
+    if backend == "local" and trials > 1:
+        from vslsp.tasks.task_files import check_main_guard
+
+        check_main_guard(workers)  # a runner script without a main guard: refused before the folder
     prepare_output_folder(folder)
-    for report_file in REPORT_FILES:
-        refuse_link(folder / report_file, "--out")
+    refuse_places(folder, REPORT_FILES, OUTPUT_FOLDERS)
     data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend, address=address)
     if as_json:
         click.echo(json.dumps(data))
@@ -243,8 +260,8 @@ def _kept(folder: Path, run) -> str:
 
 @contextmanager
 def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM held back (delivered when the block ends, and ignored by then)."""
-    held = {signal.SIGINT, signal.SIGTERM}
+    """SIGINT, SIGTERM, SIGHUP and SIGQUIT held back (delivered when the block ends, and ignored by then)."""
+    held = set(SIGNALS)
     signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
         yield

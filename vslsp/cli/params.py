@@ -49,9 +49,15 @@ from typing import Any, TypeVar
 import click
 
 from vslsp.errors import InputError
-from vslsp.outputs import lock_folder, refuse_link
+from vslsp.outputs import lock_folder, refuse_link, refuse_special
 
 MAX_SEED = 2**32 - 1
+#: A number on the command line is written in the ASCII digits: Python's int() and float() also
+#: read other scripts' digits ('٣', '１') and underscores ('1_000'), which a user never means.
+_ASCII_INTEGER = re.compile(r"[+-]?[0-9]+")
+_ASCII_FLOAT = re.compile(
+    r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|[+-]?(?:nan|inf|infinity)", re.IGNORECASE
+)
 F = TypeVar("F", bound=Callable[..., Any])
 
 
@@ -66,10 +72,14 @@ class Seed(click.ParamType):
         if isinstance(value, int):
             seed = value
         else:
-            try:
-                seed = int(str(value).strip(), 10)
-            except ValueError:
-                self.fail(f"{value!r} is not an integer; a seed is an integer from 0 to {MAX_SEED}", param, ctx)
+            text = str(value).strip()
+            if not _ASCII_INTEGER.fullmatch(text):  # int() also takes '٣', '１' and '1_0'
+                self.fail(
+                    f"{value!r} is not an integer in the digits 0-9; a seed is an integer from 0 to {MAX_SEED}",
+                    param,
+                    ctx,
+                )
+            seed = int(text, 10)
         if seed < 0:
             self.fail(f"{seed} is negative; a seed is an integer from 0 to {MAX_SEED}", param, ctx)
         if seed > MAX_SEED:
@@ -137,14 +147,45 @@ def _folder_problem(path: Path) -> str | None:
     return None
 
 
-def prepare_output_folder(path: str | os.PathLike[str], option: str = "--out") -> Path:
+def protected_folder(folder: Path) -> str | None:
+    """Why ``folder`` belongs to vslsp itself (the shipped data, the package or the source tree), or None."""
+    import vslsp
+    from vslsp.data import shipped_folder
+
+    package = Path(vslsp.__file__).resolve().parent
+    places = {"the installed package vslsp": package}
+    for kind in ("skills", "pddl"):
+        try:
+            places[f"the shipped {kind} folder"] = shipped_folder(kind).resolve()
+        except FileNotFoundError:
+            pass
+    if (package.parent / "pyproject.toml").is_file():  # a source checkout
+        places["the vslsp source tree"] = package.parent
+    target = folder.resolve()
+    for what, place in places.items():
+        inside = target == place or place in target.parents
+        if what == "the vslsp source tree":  # its top level only: out/ and the like are the user's
+            inside = target == place
+        if inside:
+            return f"{folder} is {what} ({place})" if target == place else f"{folder} is inside {what} ({place})"
+    return None
+
+
+def prepare_output_folder(path: str | os.PathLike[str], option: str = "--out", vslsp_own: bool = False) -> Path:
     """Create the output folder ``path`` and check that it is writable; return it.
 
-    Raises :class:`InputError` (exit 2) naming ``option`` and the path otherwise, and when
-    another vslsp run is writing into the folder (:func:`vslsp.outputs.lock_folder`: the folder
-    is this process's until it exits).
+    Raises :class:`InputError` (exit 2) naming ``option`` and the path otherwise: an empty path,
+    one of vslsp's own folders (the shipped ``skills/`` and ``pddl/``, the package, the source
+    tree's top; allowed with ``vslsp_own``: ``teach --force``), and when another vslsp run is
+    writing into the folder (:func:`vslsp.outputs.lock_folder`: the folder is this process's
+    until it exits).
     """
+    if str(path) == "":
+        raise InputError(f"{option}: an empty path is not a folder; give a folder name")
     folder = Path(path)
+    protected = None if vslsp_own else protected_folder(folder)
+    if protected is not None:
+        raise InputError(f"{option}: {protected}; vslsp writes its outputs elsewhere: choose another output folder")
     problem = _folder_problem(folder)
     if problem is not None:
         raise InputError(f"{option}: {problem}")
@@ -157,6 +198,8 @@ def prepare_output_file(path: str | os.PathLike[str], option: str = "--out") -> 
 
     Raises :class:`InputError` (exit 2) naming ``option`` and the path otherwise.
     """
+    if str(path) == "":
+        raise InputError(f"{option}: an empty path is not a file name; give a file name")
     target = Path(path)
     too_long = name_problem(target)
     if too_long is not None:
@@ -164,6 +207,7 @@ def prepare_output_file(path: str | os.PathLike[str], option: str = "--out") -> 
     if target.is_dir():
         raise InputError(f"{option}: {target} is a folder; give a file name")
     refuse_link(target, option)
+    refuse_special(target, option)
     problem = _folder_problem(target.parent)
     if problem is None and target.exists() and not os.access(target, os.W_OK):
         problem = f"the file {target} is read-only; choose another file"
@@ -204,9 +248,37 @@ OUTPUT_FOLDER = OutputFolder()
 OUTPUT_FILE = OutputFile()
 
 
+class AsciiIntRange(click.IntRange):
+    """click's IntRange, written in the digits 0-9 only."""
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, str) and not _ASCII_INTEGER.fullmatch(value.strip()):
+            self.fail(f"{value!r} is not an integer in the digits 0-9", param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class AsciiFloatRange(click.FloatRange):
+    """click's FloatRange, written in ASCII only (digits 0-9, a point, an exponent)."""
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, str) and not _ASCII_FLOAT.fullmatch(value.strip()):
+            self.fail(f"{value!r} is not a number in the digits 0-9", param, ctx)
+        return super().convert(value, param, ctx)
+
+
+def int_range(minimum: int, maximum: int) -> AsciiIntRange:
+    """An integer ``minimum .. maximum`` in the digits 0-9 (``--port``, ``--memory``, ``--views``)."""
+    return AsciiIntRange(minimum, maximum)
+
+
+def float_range(minimum: float) -> AsciiFloatRange:
+    """A float of at least ``minimum``, in ASCII (``--conflict-budget``)."""
+    return AsciiFloatRange(min=minimum)
+
+
 def count(maximum: int) -> click.IntRange:
     """A positive integer ``1 .. maximum`` (sizes, numbers of trials, workers, demonstrations)."""
-    return click.IntRange(1, maximum)
+    return AsciiIntRange(1, maximum)
 
 
 class PositiveFloat(click.ParamType):
@@ -219,6 +291,8 @@ class PositiveFloat(click.ParamType):
         self.zero = zero
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> float:
+        if isinstance(value, str) and not _ASCII_FLOAT.fullmatch(value.strip()):
+            self.fail(f"{value!r} is not a number in the digits 0-9", param, ctx)
         try:
             number = float(value)
         except (TypeError, ValueError):
@@ -244,12 +318,32 @@ def non_negative_float(maximum: float | None = None) -> PositiveFloat:
     return PositiveFloat(maximum, zero=True)
 
 
+class Pixels(click.ParamType):
+    """A finite number of pixels >= 0 (``--min-move 8``)."""
+
+    name = "px"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> float:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is not a number of pixels; give e.g. 8", param, ctx)
+        if not math.isfinite(number) or number < 0:
+            self.fail(f"{value} is not a number of pixels from 0 up; give e.g. 8", param, ctx)
+        return number
+
+
+PIXELS = Pixels()
+
+
 class Probability(click.ParamType):
     """A finite float from 0 to 1."""
 
     name = "probability"
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> float:
+        if isinstance(value, str) and not _ASCII_FLOAT.fullmatch(value.strip()):
+            self.fail(f"{value!r} is not a number in the digits 0-9; give a probability from 0 to 1", param, ctx)
         try:
             number = float(value)
         except (TypeError, ValueError):

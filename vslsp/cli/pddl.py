@@ -187,14 +187,29 @@ class ShellCommand(click.Command):
 @pddl.command(cls=ShellCommand)
 @click.argument("domain", type=click.Path(dir_okay=False), required=False)
 @click.argument("problem", type=click.Path(dir_okay=False), required=False)
-def shell(domain: str | None, problem: str | None) -> None:
+@click.option(
+    "--keep-going",
+    is_flag=True,
+    help="Commands read from a pipe or file: exit 0 even when some were refused (default: exit 1).",
+)
+def shell(domain: str | None, problem: str | None, keep_going: bool) -> None:
     """Author a domain and a problem interactively, starting from DOMAIN (and PROBLEM) if given:
     every command is checked as it is typed; tab completion of commands and of the names that
     fit where the cursor is; undo; history in ~/.vslsp_history. Reads commands from standard
-    input when it is not a terminal (no history then)."""
+    input when it is not a terminal (no history then); such a session exits 1 when a command
+    was refused (an error, or its usage shown), unless --keep-going."""
     from vslsp.symbolic import read_pddl
     from vslsp.symbolic.shell import Shell
 
     with pddl_edge(False, False):
         parsed_domain, parsed_problem = read_pddl(domain, problem) if domain else (None, None)
-    Shell(parsed_domain, parsed_problem).cmdloop()
+    session = Shell(parsed_domain, parsed_problem)
+    session.cmdloop()
+    if session.unsaved:  # a script's output was lost: its exit code says so (the error was shown in the session)
+        first = session.unsaved[0]
+        more = f" (and {len(session.unsaved) - 1} more)" if len(session.unsaved) > 1 else ""
+        raise type(first)(f"a save failed{more}: {first}")
+    if session.errors and not keep_going and not session._interactive():
+        noun = "command was" if session.errors == 1 else "commands were"
+        click.echo(f"{session.errors} {noun} refused (errors above); --keep-going exits 0 regardless", err=True)
+        sys.exit(1)

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from vslsp.cli.params import non_negative_float, positive_float, prepare_output_file
+from vslsp.cli.params import int_range, non_negative_float, positive_float, prepare_output_file
 from vslsp.cli.pddl import debug_option, pddl_edge
 from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
 
@@ -44,7 +44,7 @@ if TYPE_CHECKING:
 )
 @click.option(
     "--memory",
-    type=click.IntRange(64, MAX_MEMORY_MB),
+    type=int_range(64, MAX_MEMORY_MB),
     default=DEFAULT_MEMORY_MB,
     show_default=True,
     help="The planner's memory limit in MB (address space of each of its processes); reaching it is exit 1.",
@@ -97,7 +97,7 @@ def plan(
     failure: dict = {"plan": None, "planner": planner, "conflict": None, "conflict_minimal": None}
     with pddl_edge(as_json, debug, failure) as warned:
         check_planner(planner)
-        target = prepare_output_file(out) if out else None
+        target = prepare_output_file(out) if out is not None else None
         if target is not None:
             refuse_input(target, {"domain": domain, "problem": problem}, "--out")
         parsed_domain, parsed_problem = read_pddl(domain, problem)
@@ -148,5 +148,7 @@ def _explained(
         return [f"why: not found ({error})"]
     assert conflict is not None
     items = conflict.located(read_text(path), path)
-    failure["conflict"], failure["conflict_minimal"] = items, conflict.minimal
-    return [f"why: {conflict.summary()}", *(f"  {where(i)}: {i['kind']} {i['text']}" for i in items)]
+    reasons = conflict.reasons(domain, problem)
+    failure["conflict"], failure["conflict_minimal"], failure["reasons"] = items, conflict.minimal, reasons
+    lines = [f"why: {conflict.summary()}", *(f"  {where(i)}: {i['kind']} {i['text']}" for i in items)]
+    return lines + [f"  because: {reason}" for reason in reasons]

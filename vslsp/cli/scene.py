@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import OUTPUT_FOLDER, check_display, count, seed_option
+from vslsp.cli.params import OUTPUT_FOLDER, check_display, count, int_range, seed_option
 
 MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
 
@@ -21,7 +21,7 @@ MAX_IMAGE_SIDE = 4096  # pixels, each side of a rendered view
     default=None,
     help="A scene JSON file (cubes and landmark) instead of a random scene.",
 )
-@click.option("--cubes", type=click.IntRange(1, 3), default=3, show_default=True, help="Number of cubes.")
+@click.option("--cubes", type=int_range(1, 3), default=3, show_default=True, help="Number of cubes.")
 @click.option(
     "--out",
     type=OUTPUT_FOLDER,
@@ -37,13 +37,12 @@ def scene(seed: int, scene_file: str | None, cubes: int, out: Path, width: int, 
     check_display(gui)
     import numpy as np
 
-    from vslsp.outputs import atomic_file, refuse_link, write_text
+    from vslsp.outputs import atomic_file, refuse_places, write_text
     from vslsp.sim import CAMERA_NAMES, SceneSpec, World
     from vslsp.vision.image import write_image
 
     names = [f"{n}{suffix}" for n in CAMERA_NAMES for suffix in (".png", "_depth.npy")]
-    for name in [*names, "scene.json", "ground_truth.json"]:  # before the simulator starts
-        refuse_link(out / name, "--out")
+    refuse_places(out, (*names, "scene.json", "ground_truth.json"))  # before the simulator starts
     spec = SceneSpec.load(scene_file) if scene_file else SceneSpec.random(seed, n_cubes=cubes)
     folder = out
     with World(spec, gui=gui) as world:

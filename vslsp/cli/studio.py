@@ -9,13 +9,14 @@ from pathlib import Path
 
 import click
 
+from vslsp.cli.params import int_range
 from vslsp.errors import InputError
 
 
 @click.command()
 @click.option("--root", type=click.Path(file_okay=False), default=".", show_default=True, help="The folder served.")
 @click.option("--host", default="127.0.0.1", show_default=True, help="Address to bind (beyond loopback: a token).")
-@click.option("--port", type=click.IntRange(1, 65535), default=8765, show_default=True)
+@click.option("--port", type=int_range(1, 65535), default=8765, show_default=True)
 @click.option("--no-browser", is_flag=True, help="Do not open a browser.")
 @click.option(
     "--token",
@@ -30,12 +31,20 @@ from vslsp.errors import InputError
 )
 @click.option(
     "--max-runs",
-    type=click.IntRange(1, 64),
+    type=int_range(1, 64),
     default=2,
     show_default=True,
     help="Runs and picture jobs that run at once; the others wait in a queue.",
 )
 @click.option("--edit-code", is_flag=True, help="Let the predicates editor save .py files under the root.")
+@click.option(
+    "--tasks",
+    "task_files",
+    type=click.Path(dir_okay=False),
+    multiple=True,
+    help="A Python file of your own tasks (as vslsp experiment --tasks): offered in the run form and run by "
+    "its jobs; chosen here, never by a request. Repeatable.",
+)
 def studio(
     root: str,
     host: str,
@@ -45,6 +54,7 @@ def studio(
     allow_hosts: tuple[str, ...],
     max_runs: int,
     edit_code: bool,
+    task_files: tuple[str, ...],
 ) -> None:
     """Serve the studio over the files under --root: author PDDL, ground images, run experiments,
     read reports. Everything stays under the root; runs go on when the page is closed. Every request
@@ -65,6 +75,9 @@ def studio(
     except ImportError:
         raise InputError("the studio needs its extra: pip install 'vslsp[studio]'") from None
     _check_port(host, port)
+    from vslsp.tasks import load_task_files
+
+    load_task_files(task_files)  # the registry of the studio and (by VSLSP_TASK_FILES) of its jobs
     from vslsp.studio.app import serve
     from vslsp.studio.guard import Access
     from vslsp.studio.settings import Settings

@@ -12,34 +12,10 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import count, prepare_output_folder, seed_option
+from vslsp.cli.params import count, prepare_output_folder, protected_folder, seed_option
 from vslsp.errors import InputError
 
 DEFAULT_OUT = Path("out") / "skills"
-
-
-def protected_folder(folder: Path) -> str | None:
-    """Why ``folder`` belongs to vslsp itself (the shipped data, the package or the source tree), or None."""
-    import vslsp
-    from vslsp.data import shipped_folder
-
-    package = Path(vslsp.__file__).resolve().parent
-    places = {"the installed package vslsp": package}
-    for kind in ("skills", "pddl"):
-        try:
-            places[f"the shipped {kind} folder"] = shipped_folder(kind).resolve()
-        except FileNotFoundError:
-            pass
-    if (package.parent / "pyproject.toml").is_file():  # a source checkout
-        places["the vslsp source tree"] = package.parent
-    target = folder.resolve()
-    for what, place in places.items():
-        inside = target == place or place in target.parents
-        if what == "the vslsp source tree":  # its top level only: out/ and the like are the user's
-            inside = target == place
-        if inside:
-            return f"{folder} is {what} ({place})" if target == place else f"{folder} is inside {what} ({place})"
-    return None
 
 
 @click.command()
@@ -54,8 +30,8 @@ def protected_folder(folder: Path) -> str | None:
 @seed_option()
 @click.option(
     "--out",
-    type=click.Path(file_okay=False, path_type=Path),
-    default=DEFAULT_OUT,
+    type=click.Path(file_okay=False),
+    default=str(DEFAULT_OUT),
     show_default=True,
     help="Skill library folder to write into (the skill is added to a library already there).",
 )
@@ -65,15 +41,17 @@ def protected_folder(folder: Path) -> str | None:
     help="Allow writing into the shipped skills/ (or the package, the source tree) and replace a "
     "damaged library's unreadable parts.",
 )
-def teach(skill: str, demos: int, seed: int, out: Path, force: bool) -> None:
+def teach(skill: str, demos: int, seed: int, out: str, force: bool) -> None:
     """Record kinesthetic-style demonstrations of SKILL and learn it; write the library and a figure."""
-    protected = protected_folder(out)
+    if out == "":
+        raise InputError("--out: an empty path is not a folder; give a folder name")
+    protected = protected_folder(Path(out))
     if protected and not force:
         raise InputError(
             f"--out: {protected}; vslsp teach writes there only with --force "
             f"(or give another folder, default {DEFAULT_OUT})"
         )
-    folder = prepare_output_folder(out)
+    folder = prepare_output_folder(out, vslsp_own=force)
 
     from rich.progress import Progress
 

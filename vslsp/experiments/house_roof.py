@@ -21,9 +21,9 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.experiments.seeds import reproduction_seed
 from vslsp.outcomes import Diagnosis
-from vslsp.outputs import atomic_file
+from vslsp.outputs import atomic_file, output_subfolder
 from vslsp.tasks.base import Option, System, Task, TrialResult
-from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square
+from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square, with_legend
 from vslsp.tasks.registry import register
 
 FRAMES = ("fixed", "adaptive")  # the values of vslsp.vision.matching.FrameMode, as the report orders them
@@ -180,7 +180,7 @@ def _failure(adaptive: dict) -> tuple[str, str]:
 def _figures(folder: Path, demonstration, reproductions: dict) -> dict:
     from vslsp.vision.image import write_image
 
-    (folder / "images").mkdir(parents=True, exist_ok=True)
+    output_subfolder(folder, "images")
     files = {
         "demonstration": "images/demonstration.png",
         "final_worlds": "images/final_worlds.png",
@@ -228,12 +228,19 @@ def _demonstration_picture(demo) -> np.ndarray:
             label(small(post), title),
         ]
         rows.append(np.hstack(panels))
-    return np.vstack(rows)
+    return with_legend(
+        np.vstack(rows),
+        [
+            ("square", PICK, "pick frame: the object before, 1.5 object sizes"),
+            ("square", PLACE, "place frame: where it goes, 2 object sizes"),
+            ("arrow", PICK, "the tutor's move"),
+        ],
+    )
 
 
 def _matches_picture(demo, reproduction, frame: str) -> np.ndarray:
     """For each operation, the world the place was searched in: the pick frame (magenta) and
-    the place frame that decided (orange) mapped into it by their transforms."""
+    the place frame that decided (azure) mapped into it by their transforms."""
     import cv2
 
     from vslsp.experiments.house_roof_trial import pick_frame
@@ -258,7 +265,12 @@ def _matches_picture(demo, reproduction, frame: str) -> np.ndarray:
                 f"{' (ambiguous)' if result.place.ambiguous else ''}"
             )
         panels.append(label(small(image), text))
-    return label(np.hstack(panels), f"{frame} frame", (8, 58))
+    marks = [
+        ("square", PICK, "pick frame, mapped into this world by its match"),
+        ("square", PLACE, "the place frame that decided, mapped likewise"),
+        ("cross", PLACE, "where the object goes"),
+    ]
+    return with_legend(label(np.hstack(panels), f"{frame} frame", (8, 58)), marks)
 
 
 def _final_worlds_picture(demo, reproductions: dict) -> np.ndarray:

@@ -56,12 +56,20 @@ class IcubExperiment(Task):
         }
     )
     keep_first = True  # a trial takes tens of seconds: the first one's artefacts travel back instead of a re-run
+    # The sides of the cubes (True: beyond the line) of each scene the experiment lays out with
+    # fixed sides (vslsp.worlds.icub.line_layout): checked before the first trial.
+    layouts: tuple[tuple[bool, ...], ...] = ()
 
     def check(self) -> None:
         """The skill library loads and has push and pull (a missing or corrupt one, or a missing
-        skill, is reported before any work); the planner exists."""
+        skill, is reported before any work); the planner exists; every declared layout can be laid
+        out (:func:`vslsp.worlds.icub.check_layout`)."""
         from vslsp.skills.library import SKILL_NAMES, SkillLibrary
         from vslsp.symbolic import check_planner
+        from vslsp.worlds.icub import check_layout
+
+        for far in self.layouts:
+            check_layout(tuple(bool(side) for side in far))
 
         check_planner(self.option(Option.PLANNER, DEFAULT_PLANNER))
         SkillLibrary.load(self.library_path).require(SKILL_NAMES, self.library_path)

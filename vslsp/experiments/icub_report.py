@@ -12,7 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from vslsp.outputs import atomic_file, write_text
+from vslsp.grounding.operation import Grounding
+from vslsp.outputs import atomic_file, output_subfolder, write_text
 
 # The paper's Table 3: the preconditions and effects VSL extracts for push and pull.
 TABLE_3 = {
@@ -35,27 +36,37 @@ def step_caption(title: str, grounding, step, fault: dict | None) -> list[str]:
     return lines
 
 
+def observed_grounding(pre: np.ndarray, post: np.ndarray) -> tuple[Grounding | None, str]:
+    """The grounding of an executed step's pre/post observation for its picture and record, as
+    ``vslsp ground PRE POST`` gives it on the raw images written beside it (the same
+    ``--min-move`` default: a neighbour the robot's hand nudged by a few pixels is left out),
+    or None and why not (nothing moved: a skipped step; the images are still shown)."""
+    from vslsp.errors import VslspError
+    from vslsp.grounding.operation import ground
+    from vslsp.vision.change import default_min_move
+
+    try:
+        return ground(pre, post, min_move=default_min_move(pre.shape)), ""
+    except VslspError as error:
+        return None, str(error).split(";")[0].split(" (")[0]  # e.g. "nothing moved between ... image"
+
+
 def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
     """Every observed pre/post pair drawn and captioned (with the camera's raw images), the
     learned PDDL, the first problem and plan, the executions, and the trajectory figure."""
-    from vslsp.errors import VslspError
     from vslsp.grounding import draw_grounding
     from vslsp.grounding.moves import draw_moves
-    from vslsp.grounding.operation import ground
     from vslsp.tasks.drawing import caption, label
     from vslsp.vision.image import write_image
 
     files: dict = {"images": []}
-    images = folder / "images"
-    images.mkdir(exist_ok=True)
+    images = output_subfolder(folder, "images")
     number = {id(step): k for k, step in enumerate(trial.steps, start=1)}
     faults = {entry["step"]: entry for entry in fault_log}
     for i, (title, pre, post, grounding, step) in enumerate(trial.observations, start=1):
+        why = "no object changed side"
         if grounding is None and step is not None:
-            try:
-                grounding = ground(pre, post)
-            except VslspError:
-                grounding = None  # nothing moved (a skipped step): the images are still shown
+            grounding, why = observed_grounding(pre, post)
         # With the slip detection: every cube that moved, the operated one and the disturbed.
         moves = trial.watcher.pictures.get(i - 1) if getattr(trial, "watcher", None) is not None else None
         if moves is not None:
@@ -63,7 +74,7 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
         elif grounding is not None:
             picture = draw_grounding(pre, post, grounding)
         else:  # nothing moved, so nothing to ground: the two images, named
-            picture = np.hstack([label(pre, "pre"), label(post, "post: no object changed side")])
+            picture = np.hstack([label(pre, "pre"), label(post, f"post: {why}")])
         fault = faults.get(number.get(id(step), -1)) if step is not None else None
         lines = step_caption(title, grounding, step, fault)
         if moves is not None:
@@ -71,7 +82,7 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
         name = f"{i:02d}_{re.sub(r'[^a-z0-9]+', '_', title.lower()).strip('_')}.png"
         write_image(images / name, caption(picture, lines))
         stem = name[:-4]
-        (raw := images / "raw").mkdir(exist_ok=True)
+        raw = output_subfolder(images, "raw")
         write_image(raw / f"{stem}_pre.png", pre)  # the camera's own images, for `vslsp ground PRE POST`
         write_image(raw / f"{stem}_post.png", post)
         files["images"].append(
@@ -241,18 +252,27 @@ def trial_rows(results: list[dict]) -> list[str]:
     ]
     for r in results:
         faults = ", ".join(f"{e['step']}: {e['kind']}" for e in r.get("fault_log", [])) or "-"
-        sp = _outcome(r.get("vsl_sp_success"), r.get("vsl_sp_order"))
-        vsl = _outcome(r.get("vsl_success"), r.get("vsl_order"))
-        if r["experiment"] == "keep-all-near":
-            sp = _outcome(r["success"], None)
-        elif r["experiment"] == "simple-vsl-task":
-            vsl = _outcome(r["success"], r.get("acted"))
+        sp, vsl = system_outcomes(r)
         lines.append(
             f"| {r['seed']} | {len(r.get('operations') or [])} | {faults} | {r.get('replans', 0)} | "
             f"{r.get('plan_length', '-')} | {r.get('planning_s', '-')} | {sp} | {vsl} | "
             f"{'ok' if r['success'] else 'FAILED'} |"
         )
     return lines + [""]
+
+
+def system_outcomes(record: dict) -> tuple[str, str]:
+    """The VSL-SP and VSL columns of a trial's row, from the documented fields of its record
+    (docs/tasks.md): ``vsl_sp_success`` (and ``vsl_sp_order``), else the trial's success when it
+    planned (``plan_length`` or ``planning_status``); ``vsl_success`` (and ``vsl_order``), else the
+    trial's success when it reproduced with VSL (``acted``: the objects it acted on); "-" otherwise."""
+    sp_ok = record.get("vsl_sp_success")
+    if sp_ok is None and ("plan_length" in record or "planning_status" in record):
+        sp_ok = record["success"]
+    vsl_ok, order = record.get("vsl_success"), record.get("vsl_order")
+    if vsl_ok is None and "acted" in record:
+        vsl_ok, order = record["success"], record["acted"]
+    return _outcome(sp_ok, record.get("vsl_sp_order")), _outcome(vsl_ok, order)
 
 
 def _outcome(ok: bool | None, order: list | None) -> str:

@@ -13,6 +13,12 @@ Paper section "Results" of VSL-SP:
 Every trial builds its scenes from its seed; success is judged on the simulator's ground
 truth (which perception never reads). A trial keeps its artefacts (images, groundings, PDDL,
 plans, hand trajectories) for the report when asked to.
+
+The steps the three are made of are public hooks for an iCub task of one's own (docs/tasks.md,
+"A task on the iCub"): :func:`explore` (the robot tries push and pull and learns their models),
+:func:`watch` (the tutor operates; each pre/post pair grounded into a step), :func:`execute`
+(plan the learned task and run it with the skills, observing and replanning), :func:`narration`
+(its captions) and :func:`record` (the execution into the trial's record and report).
 """
 
 from __future__ import annotations
@@ -21,7 +27,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from vslsp.errors import TaskFailed, VslspError
+from vslsp.errors import TaskFailed
+from vslsp.experiments.icub_report import observed_grounding
 from vslsp.experiments.icub_run import IcubRun
 from vslsp.experiments.icub_slips import OperatedPlane
 from vslsp.experiments.icub_vsl import reproduce_vsl
@@ -47,7 +54,7 @@ EXPLORATIONS_WITH_PREDICATES = 3
 # --- watching the tutor ----------------------------------------------------------------------
 
 
-def _watch(
+def watch(
     world: World,
     trial: IcubRun,
     operations: list[tuple[str, str]],
@@ -95,7 +102,7 @@ def _watch(
     return steps
 
 
-def _plane(trial: IcubRun, world: World) -> ImagePlane:
+def observation_plane(trial: IcubRun, world: World) -> ImagePlane:
     """VSL's observation model of the demonstration: the paper's, or with the slip detection on,
     the one that records the operated cube when several moved."""
     first = world.observe("head").rgb
@@ -104,13 +111,13 @@ def _plane(trial: IcubRun, world: World) -> ImagePlane:
     return ImagePlane(first)
 
 
-def _tutor_task(spec: SceneSpec, rng: np.random.Generator, world: World) -> list[tuple[str, str]]:
+def tutor_task(spec: SceneSpec, rng: np.random.Generator, world: World) -> list[tuple[str, str]]:
     """The tutor's sequence in a scene: every cube across the line, in a random order."""
     order = rng.permutation(len(spec.cubes))
     return [(spec.cubes[i].colour, "pull" if world.is_far(spec.cubes[i].name) else "push") for i in order]
 
 
-def _explore(trial: IcubRun, rng: np.random.Generator, library: SkillLibrary) -> Domain:
+def explore(trial: IcubRun, rng: np.random.Generator, library: SkillLibrary) -> Domain:
     """The robot tries push and pull, each on a cube alone on the table, and learns their models."""
     explorations = []
     trial.stage("the robot tries push and pull and watches what they do")
@@ -145,9 +152,9 @@ def simple_vsl_task(trial: IcubRun, rng, library, faults, planner) -> None:
     with trial.world(line_layout(trial.seed, colours)) as world:
         start_far = tuple(world.is_far(c.name) for c in world.spec.cubes)
         colours = tuple(c.colour for c in world.spec.cubes)
-        recorder = Recorder(_plane(trial, world))
-        operations = _tutor_task(world.spec, rng, world)
-        watched = _watch(world, trial, operations, "demonstration", recorder)
+        recorder = Recorder(observation_plane(trial, world))
+        operations = tutor_task(world.spec, rng, world)
+        watched = watch(world, trial, operations, "demonstration", recorder)
         demonstration = recorder.demonstration()
     if trial.predicates:  # VSL reproduces without symbols; the grounded changes are reported
         trial.details["demonstrated_changes"] = [f"{s.action} {s.obj}: {s.changed()}" for s in watched]
@@ -172,7 +179,7 @@ def simple_vsl_task(trial: IcubRun, rng, library, faults, planner) -> None:
 
 
 def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
-    _explore(trial, rng, library)
+    explore(trial, rng, library)
     demonstrations: list = []
     pulled: set[str] = set()
     for i in range(3):
@@ -186,9 +193,9 @@ def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
             other = next(k for k, c in enumerate(colours) if c not in pulled)
             far = far[:other] + (True,) + far[other + 1 :]
         with trial.world(line_layout(demonstration_seed(trial.seed, i), colours, far)) as world:
-            pulls = [(c, a) for c, a in _tutor_task(world.spec, rng, world) if a == "pull"]
+            pulls = [(c, a) for c, a in tutor_task(world.spec, rng, world) if a == "pull"]
             pulled |= {c for c, _ in pulls}
-            demonstrations.append(_watch(world, trial, pulls, f"demonstration {i + 1}"))
+            demonstrations.append(watch(world, trial, pulls, f"demonstration {i + 1}"))
     trial.task = learn_task(demonstrations, ordered=False, models=trial.domain if trial.predicates else None)
     n = int(rng.integers(1, 4))
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=n, replace=False))
@@ -197,10 +204,10 @@ def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
         far = (True,) + far[1:]
     with trial.world(line_layout(reproduction_seed(trial.seed), colours, far)) as world:
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-        before, after = _narration(trial, world)
-        run = _execute(trial, world, library, faults, planner, before, after)
+        before, after = narration(trial, world)
+        run = execute(trial, world, library, faults, planner, before, after)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-    _record(trial, run)
+    record(trial, run)
     trial.success = run.success and not any(final.values())
     trial.details.update(
         {"goal": "no block is far", "test_objects": list(colours), "initial_far": initial, "final_far": final}
@@ -212,7 +219,7 @@ def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
         )
 
 
-def _execute(trial: IcubRun, world, library, faults, planner, before, after):
+def execute(trial: IcubRun, world, library, faults, planner, before, after):
     """Plan the learned task and execute it in ``world`` with the skills, narrated step by step."""
     assert trial.domain is not None and trial.task is not None  # learned before the test scene
     return execute_task(
@@ -230,11 +237,11 @@ def _execute(trial: IcubRun, world, library, faults, planner, before, after):
 
 def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
     all_far = (True,) * len(ORDERED_COLOURS)
-    _explore(trial, rng, library)
+    explore(trial, rng, library)
     with trial.world(line_layout(trial.seed, ORDERED_COLOURS, all_far)) as world:
         trial.stage("watching the tutor's demonstration")
-        recorder = Recorder(_plane(trial, world))
-        steps = _watch(world, trial, [(c, "pull") for c in ORDERED_COLOURS], "demonstration", recorder)
+        recorder = Recorder(observation_plane(trial, world))
+        steps = watch(world, trial, [(c, "pull") for c in ORDERED_COLOURS], "demonstration", recorder)
         demonstration = recorder.demonstration()
     trial.stage("learning the task and its order; planning and executing (VSL-SP)")
     trial.task = learn_task([steps], ordered=True, models=trial.domain if trial.predicates else None)
@@ -248,10 +255,10 @@ def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
                 if not world.is_far(cube.name) and cube.colour not in became_near:
                     became_near.append(cube.colour)
 
-        before, after = _narration(trial, world, watch_truth)
-        run = _execute(trial, world, library, faults, planner, before, after)
+        before, after = narration(trial, world, watch_truth)
+        run = execute(trial, world, library, faults, planner, before, after)
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-    _record(trial, run)
+    record(trial, run)
     # VSL: the same test scene, reproduced from the single demonstration by match finding.
     trial.stage("reproducing the demonstration with VSL's match finding")
     with trial.world(test_scene) as world:
@@ -278,7 +285,7 @@ def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
         )
 
 
-def _narration(trial: IcubRun, world: World, on_step: Callable | None = None) -> tuple[Callable, Callable]:
+def narration(trial: IcubRun, world: World, on_step: Callable | None = None) -> tuple[Callable, Callable]:
     """The callbacks that caption VSL-SP's steps in the video (before: the step and its fault;
     after: expected and observed), then call ``on_step``."""
     label = [""]
@@ -295,15 +302,14 @@ def _narration(trial: IcubRun, world: World, on_step: Callable | None = None) ->
     return before, after
 
 
-def _record(trial: IcubRun, run: Execution) -> None:
+def record(trial: IcubRun, run: Execution) -> None:
+    """Put an execution into the trial: its steps and replans, each step's observation (grounded as
+    ``vslsp ground`` grounds its raw images) for the report, the planning status, and its failure."""
     trial.executions.append(run)
     trial.steps.extend(run.steps)
     trial.replans += run.replans
     for i, (step, (before, after)) in enumerate(zip(run.steps, zip(run.states, run.states[1:])), start=1):
-        try:
-            grounding = ground(before.image, after.image)
-        except VslspError:
-            grounding = None  # nothing moved (a skipped step): the images still go in the report
+        grounding = observed_grounding(before.image, after.image)[0]
         trial.observations.append(
             (f"VSL-SP execution step {i}: {step.action} {step.obj}", before.image, after.image, grounding, step)
         )

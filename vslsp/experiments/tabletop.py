@@ -25,7 +25,7 @@ import numpy as np
 from vslsp.errors import InputError
 from vslsp.experiments.seeds import reproduction_seed
 from vslsp.outcomes import Diagnosis
-from vslsp.outputs import atomic_file
+from vslsp.outputs import atomic_file, output_subfolder
 from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.drawing import PICK, PLACE, grid, label, small, square
 
@@ -257,7 +257,7 @@ def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:
 
     from vslsp.vision.image import write_image
 
-    (folder / "images").mkdir(parents=True, exist_ok=True)
+    output_subfolder(folder, "images")
     files = {
         "demonstration": "images/demonstration.png",
         "matches": "images/matches.png",

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.errors import InputError
+from vslsp.outputs import output_subfolder
 from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.registry import register
 
@@ -54,7 +55,7 @@ def vsl3d_figures(folder: Path, pictures: dict) -> dict[str, Any]:
     from vslsp.vision.image import write_image
     from vslsp.vsl3d.pictures import write_clouds
 
-    (folder / "images").mkdir(parents=True, exist_ok=True)
+    output_subfolder(folder, "images")
     files: dict[str, Any] = {}
 
     def write(key: str, image: Any, caption: str) -> None:

@@ -10,6 +10,8 @@ file's predicates. The child (:mod:`vslsp.grounding.contained_child`) is
   directory and ``HOME``, with an environment of ``PATH``, ``LANG``, ``HOME`` and ``TMPDIR`` only;
 - its own process group (``start_new_session``): a terminal's Ctrl-C does not reach it, and at
   the end the whole group is killed (``SIGKILL``), with any process the user's code started;
+  when vslsp itself is killed (SIGKILL), the guard it runs under
+  (:func:`vslsp.interrupts.guarded_command`) kills them and removes the child's folder;
 - limited: address space (``RLIMIT_AS``), CPU time (``RLIMIT_CPU``), processes
   (``RLIMIT_NPROC``, counted over the user's processes; no effect for root), each clamped to the
   hard limit vslsp has; a wall-clock deadline per call and for the whole session;
@@ -46,6 +48,7 @@ from vslsp.errors import InputError
 from vslsp.files import shown
 from vslsp.grounding.predicates import Atom, Predicate, Scene, atoms_of
 from vslsp.grounding.user_code import LOAD_TIME_LIMIT_S, PREDICATE_TIME_LIMIT_S
+from vslsp.interrupts import guarded_command
 
 if TYPE_CHECKING:
     import numpy as np
@@ -58,6 +61,7 @@ _BOOTSTRAP = (
     "serve(*map(int, sys.argv[2:6]))"
 )
 _MAX_REPLY_BYTES = 64_000_000
+_GUARDED = sys.platform.startswith("linux")  # where guarded_command puts a guard between vslsp and the child
 
 
 @dataclass(frozen=True)
@@ -113,9 +117,16 @@ class UserPredicates:
         lifeline_r, self._lifeline = os.pipe()
         location = str(Path(vslsp.__file__).resolve().parent.parent)
         ours = (requests_r, replies_w, lifeline_r)
+        watched = "0" if _GUARDED else str(os.getpid())
         try:
             self._process = subprocess.Popen(
-                [sys.executable, "-I", "-c", _BOOTSTRAP, location, *map(str, ours), str(os.getpid())],
+                # Under a guard (vslsp.interrupts, Linux): when vslsp is killed, the guard kills this
+                # process with every process the file started and removes the folder; the child then
+                # has no pid of vslsp to watch ("0"): its parent is the guard.
+                guarded_command(
+                    [sys.executable, "-I", "-c", _BOOTSTRAP, location, *map(str, ours), watched],
+                    self._folder if _GUARDED else None,
+                ),
                 stdin=subprocess.DEVNULL,
                 stdout=subprocess.PIPE,
                 stderr=subprocess.STDOUT,

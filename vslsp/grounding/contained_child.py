@@ -112,6 +112,9 @@ def _die_with(parent: int, lifeline_fd: int) -> None:
         ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
     except (OSError, AttributeError):  # not Linux: the lifeline alone
         pass
+    if not parent:  # under a guard (the parent): it ends this group and removes the folder when vslsp ends
+        _guard.append(os.getppid())
+        return
     if os.getppid() != parent:  # vslsp ended before the signal was set
         _end_group()
 
@@ -123,5 +126,13 @@ def _die_with(parent: int, lifeline_fd: int) -> None:
     threading.Thread(target=watch, name="vslsp-lifeline", daemon=True).start()
 
 
+_guard: list[int] = []  # the guard's pid, when this process runs under one (vslsp.interrupts)
+
+
 def _end_group() -> None:
+    """Kill this process group; under a guard, the guard does it (it is in the group, and it must
+    live on to remove this process's folder)."""
+    if _guard and os.getppid() == _guard[0]:
+        os.kill(_guard[0], signal.SIGTERM)
+        threading.Event().wait(10)  # the guard kills this process meanwhile
     os.killpg(os.getpgid(0), signal.SIGKILL)

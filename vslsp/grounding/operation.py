@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -50,11 +51,13 @@ class Grounding:
     atoms_post: dict[Atom, bool] | None = field(default=None, compare=False, repr=False)
     scene_pre: Scene | None = field(default=None, compare=False, repr=False)
     scene_post: Scene | None = field(default=None, compare=False, repr=False)
+    # Objects left out as nudged (``min_move``): (symbol, px its centroid moved).
+    nudged: tuple[tuple[str, float], ...] = ()
 
     def to_dict(self) -> dict:
         """The ``vslsp ground --json`` object; ``atoms`` (true atoms, PDDL syntax, sorted) when
         predicates were grounded."""
-        data = {
+        data: dict[str, Any] = {
             "object": {"name": self.name, "pre": _point(self.pre), "post": _point(self.post)},
             "landmark": self.landmark.to_dict(),
             "far": {"pre": self.far_pre, "post": self.far_post},
@@ -62,6 +65,8 @@ class Grounding:
         }
         if self.atoms_pre is not None and self.atoms_post is not None:
             data["atoms"] = {"pre": true_atoms(self.atoms_pre), "post": true_atoms(self.atoms_post)}
+        if self.nudged:
+            data["nudged"] = [{"name": name, "moved_px": moved} for name, moved in self.nudged]
         return data
 
     @classmethod
@@ -81,18 +86,24 @@ class Grounding:
 
 @in_stage("perception")
 def ground(
-    pre: np.ndarray, post: np.ndarray, robot_side: str = "bottom", predicates: Sequence[Predicate] | None = None
+    pre: np.ndarray,
+    post: np.ndarray,
+    robot_side: str = "bottom",
+    predicates: Sequence[Predicate] | None = None,
+    min_move: float = 0.0,
 ) -> Grounding:
     """Ground one operation from RGB images ``pre`` and ``post`` (H, W, 3) uint8.
 
     ``robot_side``: the image edge the robot is beyond (bottom, top, left, right); bottom is
     the robot's own view. With ``predicates`` every ground atom of every object seen is
-    decided before and after (``atoms_pre``, ``atoms_post``). Raises InputError for unusable
+    decided before and after (``atoms_pre``, ``atoms_post``). ``min_move`` (px): objects that
+    moved less are left out as nudged when more than one moved
+    (:func:`vslsp.vision.change.detect_change`; 0: none). Raises InputError for unusable
     images (see ``detect_change``), when no landmark line is in view, and for a predicate
     that raises or returns a non-bool.
     """
     check_robot_side(robot_side)
-    change = detect_change(pre, post)
+    change = detect_change(pre, post, min_move)
     line_pre = fit_line(change.pre.dark, change.pre.scale, "pre-action image")
     line_post = fit_line(change.post.dark, change.post.scale, "post-action image")
     scenes: tuple[Scene | None, Scene | None] = (None, None)
@@ -110,6 +121,7 @@ def ground(
         atoms_post=atoms[1],
         scene_pre=scenes[0],
         scene_post=scenes[1],
+        nudged=change.nudged,
     )
 
 

@@ -7,6 +7,8 @@ Modules: :mod:`~vslsp.lsp.workspace` (open documents and the files beside them),
 :mod:`~vslsp.lsp.analysis` (the engine's analysis per document), :mod:`~vslsp.lsp.context` (where the
 cursor is), :mod:`~vslsp.lsp.completion`, :mod:`~vslsp.lsp.navigation`, :mod:`~vslsp.lsp.fixes`,
 :mod:`~vslsp.lsp.operators` (the PDDL 3.0 operators' meanings), :mod:`~vslsp.lsp.commands` (plan and
-validate: the CLI itself), :mod:`~vslsp.lsp.server` (pygls wiring).
+validate: the CLI itself), :mod:`~vslsp.lsp.rpc` (the base protocol's frames on stdin),
+:mod:`~vslsp.lsp.protocol` (JSON-RPC 2.0 and the LSP lifecycle: error codes, exit code),
+:mod:`~vslsp.lsp.server` (pygls wiring).
 Nothing is imported here: ``vslsp lsp`` loads the server only when it starts.
 """

@@ -8,19 +8,36 @@ gets its syntax checked and a warning at ``(:domain NAME)``. Files are named by 
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from vslsp.lsp.positions import UTF16, Lines
-from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files, path_of
-from vslsp.symbolic.language import WARNING, Analysis, Declaration, Diagnostic, Fix, Reference, Span, analyse, closest
+from vslsp.lsp.workspace import CHOSEN, DOMAIN, PLAN, PROBLEM, Files, path_of
+from vslsp.symbolic.language import (
+    ERROR,
+    WARNING,
+    Analysis,
+    Declaration,
+    Diagnostic,
+    Fix,
+    Index,
+    Reference,
+    Span,
+    analyse,
+    closest,
+)
 from vslsp.symbolic.language.plans import analyse_plan
 
 _WORD = re.compile(r"[^\s();]+")
 _COMMENT = re.compile(r";[^\n]*")
 #: How many analyses are kept (the open documents one is working on, and their domains).
 _KEPT = 32
+#: The deepest nesting of parentheses analysed. Real domains nest a dozen deep; the engine reads
+#: formulas recursively, so a deeper document gets this one error instead of an analysis.
+NESTING_LIMIT = 256
+_PARENTHESIS = re.compile(r"[()]|;[^\n]*")
 
 
 @dataclass
@@ -148,21 +165,62 @@ class Analyses:
 
     def _check(self, uri: str, kind: str, domain_uri: str | None, texts: dict[str, str], wanted: str) -> Checked:
         uris = {path_of(u): u for u in texts}
+        too_deep = nested_too_deeply(texts[uri], path_of(uri))
+        if too_deep is not None:
+            analysis = Analysis([], Index())
+            return Checked(uri, kind, domain_uri, analysis, texts, [too_deep], uris, self.encoding)
+        if domain_uri is not None and domain_uri != uri and nested_too_deeply(texts[domain_uri], "") is not None:
+            domain_uri = None  # the domain shows its own error; the problem is read alone
+            texts = {uri: texts[uri]}
         if kind == PROBLEM and domain_uri is not None:
             analysis = analyse(texts[domain_uri], path_of(domain_uri), texts[uri], path_of(uri))
         else:
             analysis = analyse(texts[uri], path_of(uri))
         checked = Checked(uri, kind, domain_uri, analysis, texts, _uris=uris, encoding=self.encoding)
+        if kind == PROBLEM:
+            checked.extra.extend(self._which_domain(checked))
         if kind == PROBLEM and domain_uri is None and wanted:
             checked.extra.append(self._no_domain(checked, wanted))
         return checked
 
-    def _no_domain(self, checked: Checked, wanted: str) -> Diagnostic:
-        """A warning at the problem's ``(:domain NAME)``: no open document or file of its folder defines it."""
-        at = next(
+    def _which_domain(self, checked: Checked) -> list[Diagnostic]:
+        """A warning at ``(:domain NAME)`` when several files define that domain and the problem has not
+        chosen (naming them, with a quick fix per file that writes the ``;; !domain: FILE`` comment);
+        one at the comment when the file it chooses is not there."""
+        at = self._domain_reference(checked)
+        chosen = self.files.chosen_domain(checked.uri)
+        folder = Path(checked.file).parent
+        if chosen is not None:
+            if self.files.text(chosen) is not None:
+                return []
+            line = next(i for i, text in enumerate(checked.texts[checked.uri].splitlines(), 1) if CHOSEN.match(text))
+            span = Span(checked.file, line, 1, line, len(checked.texts[checked.uri].splitlines()[line - 1]) + 1)
+            message = f"the ;; !domain: comment chooses {os.path.relpath(path_of(chosen), folder)}, which is not there"
+            return [Diagnostic(span, WARNING, message, "chosen-domain-missing")]
+        candidates = self.files.domain_candidates(checked.uri)
+        if len(candidates) < 2:
+            return []
+        names = [os.path.relpath(path_of(c), folder) for c in candidates]
+        name = self.files.header(checked.uri).domain
+        message = (
+            f"{len(names)} files define domain '{name}': {', '.join(names)}; this problem is checked against "
+            f"{names[0]}: choose one with a ';; !domain: FILE' comment at the top (quick fix)"
+        )
+        top = Span(checked.file, 1, 1, 1, 1)
+        fixes = tuple(Fix(f"check against {n} (;; !domain: {n})", top, f";; !domain: {n}\n") for n in names)
+        return [Diagnostic(at, WARNING, message, "several-domains", None, fixes)]
+
+    @staticmethod
+    def _domain_reference(checked: Checked) -> Span:
+        """Where the problem's ``(:domain NAME)`` names its domain (its first line when it does not)."""
+        return next(
             (r.span for r in checked.analysis.index.references if r.kind == "domain" and r.span.file == checked.file),
             Span(checked.file, 1, 1, 1, 1),
         )
+
+    def _no_domain(self, checked: Checked, wanted: str) -> Diagnostic:
+        """A warning at the problem's ``(:domain NAME)``: no open document or file of its folder defines it."""
+        at = self._domain_reference(checked)
         names = [self.files.header(u).name for u in self.files.domains_near(checked.uri)]
         suggestion = closest(wanted, names)
         message = (
@@ -171,3 +229,27 @@ class Analyses:
         )
         fixes = (Fix(f"change to '{suggestion}'", at, suggestion),) if suggestion else ()
         return Diagnostic(at, WARNING, message, "domain-not-found", suggestion, fixes)
+
+
+def nested_too_deeply(text: str, file: str) -> Diagnostic | None:
+    """An error at the first parenthesis nested deeper than :data:`NESTING_LIMIT` (comments skipped),
+    None when ``text`` nests no deeper. Counted in one pass, without recursion."""
+    if text.count("(") <= NESTING_LIMIT:
+        return None
+    depth = 0
+    for found in _PARENTHESIS.finditer(text):
+        mark = found.group()
+        if mark == "(":
+            depth += 1
+            if depth > NESTING_LIMIT:
+                offset = found.start()
+                line = text.count("\n", 0, offset) + 1
+                column = offset - (text.rfind("\n", 0, offset) + 1) + 1
+                message = (
+                    f"nested too deeply (limit {NESTING_LIMIT}): this parenthesis opens level {depth}; "
+                    "the document is not analysed until it nests less"
+                )
+                return Diagnostic(Span(file, line, column, line, column + 1), ERROR, message, "nested-too-deeply")
+        elif mark == ")":
+            depth = max(0, depth - 1)
+    return None

@@ -191,8 +191,9 @@ def told(command: str, result: dict[str, Any]) -> types.ShowMessageParams:
         kind = types.MessageType.Error if result.get("exit_code") != 1 else types.MessageType.Warning
         conflict = result.get("conflict") or []
         why = "; ".join(f"{c['text']} (line {c['line']})" for c in conflict)
+        because = "".join(f"; because: {reason}" for reason in result.get("reasons") or [])
         return types.ShowMessageParams(
-            kind, f"{command}: {result['error']}" + (f"; these cannot all hold: {why}" if why else "")
+            kind, f"{command}: {result['error']}" + (f"; these cannot all hold: {why}" if why else "") + because
         )
     if command.endswith("plan"):
         steps = result["plan"]
@@ -217,6 +218,7 @@ def findings(result: dict[str, Any], texts: Callable[[str], str | None]) -> dict
     for item in conflict:
         others = [c["text"] for c in conflict if c is not item]
         message = f"no plan: this {item['kind']} cannot hold together with {', '.join(others) or 'the rest'}"
+        message += "".join(f"; {reason}" for reason in result.get("reasons") or [] if reason.startswith(item["text"]))
         _found_at(found, item, message, "conflict", texts)
     for item in result.get("violations") or []:
         _found_at(found, item, item["message"], "violation", texts)

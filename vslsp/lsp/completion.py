@@ -43,7 +43,7 @@ def complete(analyses: Analyses, uri: str, text: str, position: types.Position) 
         items = _items(checked, cursor, header.kind, position) if checked is not None else []
         if not header.kind and len(cursor.heads) <= 1 and not _DEFINE.search(text):
             items = _skeletons(analyses, uri)  # a new file: a domain or a problem to start from
-            if cursor.heads:  # the '(' typed is the skeleton's own
+            if cursor.heads and text[cursor.start - 1 : cursor.start] == "(":  # the '(' typed is the skeleton's own
                 cursor = context.Cursor(cursor.want, "(" + cursor.prefix, cursor.start - 1)
     start = types.Position(position.line, position.character - units(cursor.prefix, encoding))
     edit_range = types.Range(start, position)

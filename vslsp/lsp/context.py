@@ -24,7 +24,7 @@ ACTION_KEYWORD = "action-keyword"  # :parameters :precondition :effect
 ACTION = "action"  # a plan step's action
 NOTHING = "nothing"  # a new name (a declaration), a comment, outside any list
 
-_NAME_CHARS = re.compile(r"[^\s();]*$")
+_NAME_CHARS = re.compile(r"[^\s();]*\Z")  # \Z: "$" would match before a final line break
 _FORMULA_SLOTS = {":precondition": "goal", ":goal": "goal", ":effect": "effect", ":init": "init", ":condition": "goal"}
 #: Lists whose items are typed names, where ``-`` is followed by a type.
 _TYPED_LISTS = (":types", ":constants", ":objects", ":parameters", ":predicates", "forall", "exists", ":vars")

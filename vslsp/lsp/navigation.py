@@ -16,6 +16,7 @@ from lsprotocol import types
 from vslsp.lsp.analysis import Analyses, Checked
 from vslsp.lsp.positions import Lines, characters, units
 from vslsp.symbolic.language import Declaration, Span
+from vslsp.symbolic.language.vocabulary import is_reserved_name
 
 #: Declarations visible in a domain and all its problems.
 _DOMAIN_WIDE = ("domain", "type", "constant", "predicate", "function", "action")
@@ -128,6 +129,8 @@ def rename(analyses: Analyses, checked: Checked, line: int, column: int, new_nam
             f"'{new_name}' is not a PDDL name: start with a letter, then letters, digits, '-' or '_'"
             + (" (after the '?')" if variable else "")
         )
+    if is_reserved_name(bare):
+        raise ValueError(f"'{bare}' is a word of PDDL's syntax, which no name may take; choose another name")
     new_text = f"?{bare}" if variable else bare
     changes: dict[str, list[types.TextEdit]] = {}
     for uri, span in occurrences(analyses, checked, line, column) or []:

@@ -64,3 +64,19 @@ class Lines:
         """0-based character offset of an LSP position in the text."""
         line, column = self.place(position)
         return sum(len(text) + 1 for text in self._lines[: line - 1]) + column - 1
+
+
+def clamped(text: str, position: types.Position, encoding: str = UTF16) -> types.Position:
+    """``position`` inside ``text``: a character past its line's end is that end, a line past the last
+    the end of the text (LSP 3.17, "Position")."""
+    lines = text.count("\n")
+    if position.line > lines:
+        last = text[text.rfind("\n") + 1 :]
+        return types.Position(lines, units(last, encoding))
+    start = 0
+    for _ in range(position.line):
+        start = text.index("\n", start) + 1
+    end = text.find("\n", start)
+    line = text[start : end if end >= 0 else len(text)]
+    length = len(line) if line.isascii() else units(line, encoding)
+    return position if position.character <= length else types.Position(position.line, length)

@@ -4,7 +4,9 @@ Every open domain and problem is checked by the language engine (:mod:`vslsp.sym
 open and on every change, and its diagnostics published; a changed domain re-checks the open
 problems for it. The requests (completion, hover, definition, references, rename, outline, quick
 fixes) read the same analysis; ``vslsp.plan`` and ``vslsp.validate`` run ``vslsp plan/validate --json``
-as a child process (the editor keeps its diagnostics while Fast Downward searches).
+as a child process (the editor keeps its diagnostics while Fast Downward searches). The frames are
+read by :mod:`vslsp.lsp.rpc` and each message checked by :mod:`vslsp.lsp.protocol` before pygls
+takes it (docs/bad-input.md, "The language server").
 """
 
 from __future__ import annotations
@@ -13,9 +15,10 @@ import asyncio
 import logging
 import os
 import sys
-from typing import Any
+from typing import Any, BinaryIO
 
 from lsprotocol import types
+from pygls.io_ import StdoutWriter
 from pygls.lsp.server import LanguageServer
 
 from vslsp import __version__
@@ -23,7 +26,9 @@ from vslsp.lsp import completion, fixes, navigation
 from vslsp.lsp.analysis import Analyses, Checked
 from vslsp.lsp.commands import PLAN_OPTIONS, findings, named, plan_arguments, run_cli, sources, told, validate_arguments
 from vslsp.lsp.operators import operator_hover
-from vslsp.lsp.positions import UTF16
+from vslsp.lsp.positions import UTF16, clamped
+from vslsp.lsp.protocol import PddlProtocol, RequestFailed, strict_converter
+from vslsp.lsp.rpc import Framer, read_stream
 from vslsp.lsp.workspace import DOMAIN, PLAN, PROBLEM, Files
 from vslsp.symbolic.language import Diagnostic
 
@@ -40,7 +45,14 @@ class PddlServer(LanguageServer):
     """The server's state: the open documents (as the client names them) and their analyses."""
 
     def __init__(self) -> None:
-        super().__init__("vslsp", __version__, text_document_sync_kind=types.TextDocumentSyncKind.Incremental)
+        super().__init__(
+            "vslsp",
+            __version__,
+            text_document_sync_kind=types.TextDocumentSyncKind.Incremental,
+            protocol_cls=PddlProtocol,
+            converter_factory=strict_converter,
+        )
+        self.protocol: PddlProtocol
         self.opened: dict[str, None] = {}  # in the order opened
         #: the problem and the plan last opened or edited: what vslsp.plan and vslsp.validate take by default
         self.last: dict[str, str] = {}
@@ -56,6 +68,14 @@ class PddlServer(LanguageServer):
 
     def analysis(self, uri: str) -> Checked | None:
         return self.analyses.of(uri)
+
+    def clamped(self, uri: str, position: types.Position) -> types.Position:
+        """``position`` moved inside the document ``uri`` (a place past its end is its end: LSP 3.17)."""
+        text = self.files.text(uri)
+        return position if text is None else clamped(text, position, self.analyses.encoding)
+
+    def clamped_range(self, uri: str, given: types.Range) -> types.Range:
+        return types.Range(self.clamped(uri, given.start), self.clamped(uri, given.end))
 
     def found(self, by_uri: dict[str, list[Diagnostic]]) -> None:
         """Show a command's findings (a conflict, violations) among the documents' diagnostics until the
@@ -124,7 +144,7 @@ def build_server() -> PddlServer:
         ls.publish(params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
-    async def did_change(ls: PddlServer, params: types.DidChangeTextDocumentParams) -> None:
+    def did_change(ls: PddlServer, params: types.DidChangeTextDocumentParams) -> None:
         ls.changed(params.text_document.uri)
 
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
@@ -147,27 +167,29 @@ def build_server() -> PddlServer:
     @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["(", ":", "?", "-"]))
     def complete(ls: PddlServer, params: types.CompletionParams) -> types.CompletionList:
         uri = params.text_document.uri
-        return completion.complete(ls.analyses, uri, ls.files.text(uri) or "", params.position)
+        return completion.complete(ls.analyses, uri, ls.files.text(uri) or "", ls.clamped(uri, params.position))
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     def hover(ls: PddlServer, params: types.HoverParams) -> types.Hover | None:
         uri = params.text_document.uri
+        position = ls.clamped(uri, params.position)
         if ls.files.header(uri).kind == PLAN:
-            step = navigation.in_plan(ls.analyses, uri, ls.files.text(uri) or "", params.position)
+            step = navigation.in_plan(ls.analyses, uri, ls.files.text(uri) or "", position)
             return navigation.described(*step) if step else None
-        found = _at(ls, uri, params.position)
+        found = _at(ls, uri, position)
         shown = navigation.hover(*found) if found else None
         if shown is None and found is not None:  # a PDDL 3.0 operator: its meaning
-            shown = operator_hover(ls.files.text(uri) or "", params.position, found[2] - 1)
+            shown = operator_hover(ls.files.text(uri) or "", position, found[2] - 1)
         return shown
 
     @server.feature(types.TEXT_DOCUMENT_DEFINITION)
     def definition(ls: PddlServer, params: types.DefinitionParams) -> types.Location | None:
         uri = params.text_document.uri
+        position = ls.clamped(uri, params.position)
         if ls.files.header(uri).kind == PLAN:
-            step = navigation.in_plan(ls.analyses, uri, ls.files.text(uri) or "", params.position)
+            step = navigation.in_plan(ls.analyses, uri, ls.files.text(uri) or "", position)
             return navigation.location(step[0], step[1].span) if step else None
-        found = _at(ls, uri, params.position)
+        found = _at(ls, uri, position)
         return navigation.definition(*found) if found else None
 
     @server.feature(types.TEXT_DOCUMENT_REFERENCES)
@@ -185,7 +207,10 @@ def build_server() -> PddlServer:
     @server.feature(types.TEXT_DOCUMENT_RENAME)
     def rename(ls: PddlServer, params: types.RenameParams) -> types.WorkspaceEdit | None:
         found = _at(ls, params.text_document.uri, params.position)
-        return navigation.rename(ls.analyses, *found, params.new_name) if found else None
+        try:
+            return navigation.rename(ls.analyses, *found, params.new_name) if found else None
+        except ValueError as refused:  # a name PDDL does not allow: the editor shows the message
+            raise RequestFailed(str(refused)) from None
 
     @server.feature(types.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
     def symbols(ls: PddlServer, params: types.DocumentSymbolParams) -> list[types.DocumentSymbol]:
@@ -196,8 +221,9 @@ def build_server() -> PddlServer:
         types.TEXT_DOCUMENT_CODE_ACTION, types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix])
     )
     def code_action(ls: PddlServer, params: types.CodeActionParams) -> list[types.CodeAction]:
-        checked = ls.analysis(params.text_document.uri)
-        return fixes.code_actions(checked, params.range) if checked is not None else []
+        uri = params.text_document.uri
+        checked = ls.analysis(uri)
+        return fixes.code_actions(checked, ls.clamped_range(uri, params.range)) if checked is not None else []
 
     @server.command(PLAN_COMMAND)
     async def plan(ls: PddlServer, *arguments: Any) -> dict[str, Any]:
@@ -235,16 +261,32 @@ def _at(ls: PddlServer, uri: str, position: types.Position) -> tuple[Checked, in
     checked = ls.analysis(uri)
     if checked is None:
         return None
-    line, column = checked.lines(uri).place(position)
+    line, column = checked.lines(uri).place(ls.clamped(uri, position))
     return checked, line, column
 
 
 def serve() -> None:
-    """Run the server on this process's stdin/stdout until the client ends it."""
+    """Run the server on this process's stdin/stdout until the client ends it; the exit code is 1 when
+    ``exit`` came without ``shutdown`` (LSP 3.17), else 0."""
     logging.basicConfig(level=logging.WARNING, stream=sys.stderr, format="vslsp lsp: %(levelname)s: %(message)s")
     # stdout carries only the protocol: whatever else writes there (a print, a planner's child
     # process) goes to stderr, the editor's log.
     protocol_out = os.fdopen(os.dup(sys.stdout.fileno()), "wb")
     os.dup2(sys.stderr.fileno(), sys.stdout.fileno())
     sys.stdout = sys.stderr
-    build_server().start_io(sys.stdin.buffer, protocol_out)
+    code = run(build_server(), sys.stdin.fileno(), protocol_out)
+    if code:
+        sys.exit(code)
+
+
+def run(server: PddlServer, stdin: int, stdout: BinaryIO) -> int:
+    """Serve the client on the file descriptor ``stdin`` and the stream ``stdout`` until ``exit`` or
+    the end of stdin; the exit code."""
+    server.protocol.set_writer(StdoutWriter(stdout))
+    try:
+        asyncio.run(read_stream(stdin, Framer(), server.protocol.receive))
+    except (BrokenPipeError, ConnectionResetError):
+        logger.error("the client closed the connection")
+    finally:
+        server.shutdown()
+    return server.protocol.exit_code or 0

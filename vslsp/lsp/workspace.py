@@ -21,6 +21,9 @@ PLAN_SUFFIXES = (".plan", ".soln", ".sol")
 _COMMENT = re.compile(r";[^\n]*")
 _DEFINE = re.compile(r"\(\s*define\s*\(\s*(domain|problem)\s+([^\s()]+)", re.IGNORECASE)
 _DOMAIN_OF = re.compile(r"\(\s*:domain\s+([^\s()]+)", re.IGNORECASE)
+#: A problem's own choice of its domain file, as the VS Code PDDL extension reads it: ``;; !domain: FILE``
+#: (FILE relative to the problem's folder).
+CHOSEN = re.compile(r"^[ \t]*;+[ \t]*!domain:[ \t]*(\S+)", re.IGNORECASE | re.MULTILINE)
 #: Files larger than this on disk are not read to find a domain (vslsp reads at most 1 MB of PDDL).
 _LARGEST = 1_000_000
 
@@ -99,17 +102,37 @@ class Files:
         return found
 
     def domain_for(self, uri: str) -> str | None:
-        """The domain a problem names by ``(:domain NAME)``: an open document first, then a file of its
-        folder; None when there is none (or ``uri`` is no problem)."""
+        """The domain of a problem: the file its ``;; !domain: FILE`` comment chooses when it is there;
+        else the one domain named by ``(:domain NAME)``, an open document first, then the files of its
+        folder by name (:meth:`domain_candidates` lists them all: a diagnostic says when there are
+        several); None when there is none (or ``uri`` is no problem)."""
+        if self.header(uri).kind != PROBLEM:
+            return None
+        chosen = self.chosen_domain(uri)
+        if chosen is not None and self.text(chosen) is not None:
+            return chosen
+        candidates = self.domain_candidates(uri)
+        return candidates[0] if candidates else None
+
+    def chosen_domain(self, uri: str) -> str | None:
+        """The URI of the file a problem's ``;; !domain: FILE`` comment names (whether or not it exists)."""
+        found = CHOSEN.search(self.text(uri) or "")
+        if found is None:
+            return None
+        return uri_of(os.path.normpath(Path(path_of(uri)).parent / found.group(1)))
+
+    def domain_candidates(self, uri: str) -> list[str]:
+        """Every domain, open or in the problem's folder, that its ``(:domain NAME)`` names: open ones
+        first (the most recently opened last), then the folder's files by name."""
         header = self.header(uri)
         if header.kind != PROBLEM or not header.domain:
-            return None
+            return []
         wanted = header.domain.lower()
-        for other in self.neighbours(uri):
-            other_header = self.header(other)
-            if other_header.kind == DOMAIN and other_header.name.lower() == wanted:
-                return other
-        return None
+        return [
+            other
+            for other in self.neighbours(uri)
+            if (h := self.header(other)).kind == DOMAIN and h.name.lower() == wanted
+        ]
 
     def domains_near(self, uri: str) -> list[str]:
         """Every domain among the open documents and ``uri``'s folder."""

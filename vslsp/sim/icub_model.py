@@ -18,7 +18,6 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
-import tempfile
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Mapping
 from pathlib import Path
@@ -26,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from vslsp.errors import VslspError
+from vslsp.files import cache_folder
 
 MODEL_NAME = "iCubGazeboV2_5"
 HAND_FRAMES = ("r_hand_dh_frame", "l_hand_dh_frame")
@@ -155,8 +155,7 @@ def simulated_urdf_text(
 def _cached(text: str) -> Path:
     """``text`` written once into a cache folder, keyed by its content."""
     digest = hashlib.sha256(text.encode()).hexdigest()[:16]
-    cache = Path(os.environ.get("VSLSP_CACHE", Path(tempfile.gettempdir()) / "vslsp-cache"))
-    cache.mkdir(parents=True, exist_ok=True)
+    cache = cache_folder()
     path = cache / f"icub-reduced-{digest}.urdf"
     if not path.exists():
         partial = path.with_suffix(f".{os.getpid()}.tmp")

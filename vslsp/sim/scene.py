@@ -11,6 +11,7 @@ the x axis; ``far`` is the side the normal points to, away from the robot.
 from __future__ import annotations
 
 import functools
+import itertools
 import json
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -160,6 +161,10 @@ class SceneSpec:
         """
         rng = np.random.default_rng(seed)
         fixed_landmark = landmark
+        if far is not None:  # a layout no seed can give is said at once, with why
+            check_layout(tuple(bool(f) for f in far), fixed_landmark)
+        elif 2 <= len(colours or ()) <= 8 or (colours is None and 2 <= n_cubes <= 8):
+            check_some_layout(len(colours) if colours is not None else n_cubes, fixed_landmark)
         if colours is None:
             if n_cubes > len(COLOURS):
                 raise InputError(f"at most {len(COLOURS)} cubes of distinct colours, asked {n_cubes}")
@@ -195,6 +200,83 @@ class SceneSpec:
             f"cannot place {n_cubes} cubes without overlap where the robot can push and pull them; "
             "use at most 3 cubes (or another seed)"
         )
+
+
+class LayoutImpossible(InputError):
+    """Cubes on these sides of the line cannot be laid out with any seed (:func:`check_layout`)."""
+
+
+# The upper bound of :func:`check_layout` is taken over the sampler's line poses on this grid (m,
+# rad); a layout is refused only when it needs more than the bound plus this margin (the bound
+# between grid poses is larger by less than it).
+_POSES = [(float(x), float(a)) for x in np.linspace(0.21, 0.24, 4) for a in np.linspace(-0.3, 0.3, 13)]
+_ACROSS = np.linspace(0.04, 0.08, 9)
+_FIT_MARGIN = 0.005
+
+
+@functools.lru_cache(maxsize=256)
+def check_layout(far: tuple[bool, ...], landmark: LandmarkSpec | None = None) -> None:
+    """A :class:`LayoutImpossible` when cubes on the sides ``far`` (True: beyond the line) cannot
+    be placed by :meth:`SceneSpec.random` with any seed.
+
+    The rule: the cubes stand in a row along the line, each gap as wide as the sweep bands of the
+    hand pushing (near cubes) or pulling (far cubes) its neighbour need; so the row needs at least
+    the least sum of gaps over the cubes' orders. The stretch of the line where every cube can
+    stand (in view, in reach, out of the forearm's way: :func:`_along_span`, the sampler's own
+    test) is at most the intersection of each cube's best stretch over its distances from the
+    line, for the best line pose. A row longer than that stretch cannot be laid out."""
+    if len(far) < 2:
+        return
+    sides = np.array(far)
+    need = min(_gaps(sides[list(order)]).sum() for order in itertools.permutations(range(len(far))))
+    poses = [landmark] if landmark is not None else [LandmarkSpec(x=x, angle=a) for x, a in _POSES]
+    room = max(_best_stretch(pose, sides) for pose in poses)
+    if need > room + _FIT_MARGIN:
+        near, beyond = int((~sides).sum()), int(sides.sum())
+        raise LayoutImpossible(
+            f"{len(far)} cubes, {near} on the robot's side of the line and {beyond} beyond it, do not fit where the "
+            f"robot can push and pull them: in a row along the line, out of the hand's sweep, they need "
+            f"{100 * need:.1f} cm, and at most {100 * room:.1f} cm of the line is in reach and in view; "
+            "put fewer cubes on one side (or use fewer cubes)"
+        )
+
+
+@functools.lru_cache(maxsize=16)
+def check_some_layout(n_cubes: int, landmark: LandmarkSpec | None = None) -> None:
+    """A :class:`LayoutImpossible` (the message of the least crowded sides) when ``n_cubes`` cubes
+    fit on no choice of sides (:func:`check_layout`)."""
+    refusals = []
+    for far in itertools.product((False, True), repeat=n_cubes):
+        try:
+            check_layout(far, landmark)
+            return
+        except LayoutImpossible as refused:
+            refusals.append((abs(sum(far) - n_cubes / 2), str(refused)))
+    raise LayoutImpossible(min(refusals)[1])
+
+
+def _gaps(far: np.ndarray) -> np.ndarray:
+    """The least gaps (m) between neighbours in this order along the line (:func:`_along_positions`)."""
+    low = np.array([SWEEP_BANDS["pull" if f else "push"][0] for f in far])
+    high = np.array([SWEEP_BANDS["pull" if f else "push"][1] for f in far])
+    return np.maximum(-low[1:], high[:-1]) + 0.005
+
+
+def _best_stretch(landmark: LandmarkSpec, far: np.ndarray) -> float:
+    """An upper bound (m) of the stretch of the line where every cube could stand with this line."""
+    stretches = [_side_stretch(landmark, bool(side)) for side in far]
+    if any(stretch is None for stretch in stretches):
+        return 0.0
+    return max(0.0, min(hi for _, hi in stretches) - max(lo for lo, _ in stretches))  # type: ignore[misc]
+
+
+@functools.lru_cache(maxsize=512)
+def _side_stretch(landmark: LandmarkSpec, far: bool) -> tuple[float, float] | None:
+    """The widest stretch (m along the line) where a cube on side ``far`` could stand, over its
+    distances from the line; None when it can stand nowhere."""
+    spans = [_along_span(landmark, np.array([far]), np.array([a if far else -a])) for a in _ACROSS]
+    found = [span for span in spans if span is not None]
+    return (min(lo for lo, _ in found), max(hi for _, hi in found)) if found else None
 
 
 # The table top of vslsp.sim.world (TABLE_CENTRE ± TABLE_HALF): scene files must keep cubes on it.

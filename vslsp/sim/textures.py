@@ -14,12 +14,13 @@ from __future__ import annotations
 
 import hashlib
 import os
-import tempfile
 import zlib
 from pathlib import Path
 
 import cv2
 import numpy as np
+
+from vslsp.files import cache_folder
 
 FACE_PX = 48  # texture pixels along a face's side: about what the head camera sees (TinyRenderer samples
 # textures without filtering, so a finer texture only aliases)
@@ -113,8 +114,7 @@ def texture_file(image: np.ndarray) -> Path:
     the cache folder, named by its content."""
     image = np.ascontiguousarray(image)
     digest = hashlib.sha256(image.tobytes() + str(image.shape).encode()).hexdigest()[:16]
-    cache = Path(os.environ.get("VSLSP_CACHE", Path(tempfile.gettempdir()) / "vslsp-cache"))
-    cache.mkdir(parents=True, exist_ok=True)
+    cache = cache_folder()
     path = cache / f"texture-{digest}.png"
     if not path.exists():
         partial = cache / f"texture-{digest}.{os.getpid()}.tmp.png"

@@ -188,7 +188,8 @@ def install(app: FastAPI, root: Path, access: Access | None = None, settings: Se
             if error.exit_code != 1:
                 raise
             answer = {"plan": None, "planner": "fast-downward", "error": str(error), "exit_code": 1}
-            return JSONResponse({**answer, "conflict": getattr(error, "conflict", None)})
+            said = {"conflict": getattr(error, "conflict", None), "reasons": getattr(error, "reasons", [])}
+            return JSONResponse({**answer, **said})
 
     @api.post("/validate")
     async def validate(request: Request) -> dict:

@@ -339,7 +339,12 @@ class Author(Navigation):
         try:
             answer = await engine.call("plan", domain, problem, domain_file, problem_file)
         except VslspError as error:
-            answer = {"plan": None, "error": str(error), "conflict": getattr(error, "conflict", None)}
+            answer = {
+                "plan": None,
+                "error": str(error),
+                "conflict": getattr(error, "conflict", None),
+                "reasons": getattr(error, "reasons", []),
+            }
         self.results.clear()
         self.mark("problem", [])
         with self.results:
@@ -347,7 +352,7 @@ class Author(Navigation):
                 message = str(answer["error"])
                 said = message if message.startswith("no plan") else f"no plan: {message}"
                 ui.label(said).classes("text-negative plan-error")
-                self.show_conflict(answer.get("conflict") or [])
+                self.show_conflict(answer.get("conflict") or [], answer.get("reasons") or [])
                 return
             ui.label(f"plan: {len(answer['plan'])} steps ({answer['planner']}, {answer['time_s']:.2f} s)")
             with ui.element("ol").classes("plan-steps"):
@@ -357,12 +362,14 @@ class Author(Navigation):
             self.plan_editor.value = "".join(f"({step})\n" for step in answer["plan"])
             self.timeline(answer["timeline"], set())
 
-    def show_conflict(self, conflict: list[dict]) -> None:
+    def show_conflict(self, conflict: list[dict], reasons: tuple[str, ...] | list[str] = ()) -> None:
         if not conflict:
             return
         ui.label("these cannot all hold (a minimal conflict):").classes("text-bold")
         for item in conflict:
             ui.label(f"line {item.get('line')}: {item.get('kind')} {item.get('text')}").classes("conflict-item")
+        for reason in reasons:
+            ui.label(f"because: {reason}").classes("conflict-reason")
         self.mark("problem", [(i["line"], "conflict", str(i.get("text"))) for i in conflict if i.get("line")])
 
     async def validate(self) -> None:

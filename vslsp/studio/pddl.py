@@ -125,7 +125,8 @@ def plan(domain: str, problem: str, domain_file: str = "<domain>", problem_file:
         result = solve(parsed_domain, parsed_problem, timeout=PLAN_TIMEOUT_S)
     except TaskFailed as error:
         if type(error).__name__ == "Unsolvable":  # proved unsolvable (not a timeout): explain it
-            error.conflict = _conflict(parsed_domain, parsed_problem, problem, problem_file)  # type: ignore[attr-defined]
+            located = _conflict(parsed_domain, parsed_problem, problem, problem_file)
+            error.conflict, error.reasons = located or (None, [])  # type: ignore[attr-defined]
         raise
     return {
         **result.to_dict(),
@@ -134,9 +135,10 @@ def plan(domain: str, problem: str, domain_file: str = "<domain>", problem_file:
     }
 
 
-def _conflict(domain: Any, problem: Any, text: str, problem_file: str) -> list[dict] | None:
-    """A minimal conflict of goal conjuncts and constraints, located in the problem's text, where the
-    symbolic layer explains unsolvable problems (``vslsp.symbolic.conflict``); else None."""
+def _conflict(domain: Any, problem: Any, text: str, problem_file: str) -> tuple[list[dict], list[str]] | None:
+    """A minimal conflict of goal conjuncts and constraints, located in the problem's text, and why
+    its goal atoms can never hold, where the symbolic layer explains unsolvable problems
+    (``vslsp.symbolic.conflict``); else None."""
     if importlib.util.find_spec("vslsp.symbolic.conflict") is None:
         return None
     explainer = importlib.import_module("vslsp.symbolic.conflict")
@@ -144,7 +146,7 @@ def _conflict(domain: Any, problem: Any, text: str, problem_file: str) -> list[d
         found = explainer.explain(domain, problem, budget_s=PLAN_TIMEOUT_S, known_unsolvable=True)
     except VslspError:
         return None
-    return None if found is None else list(found.located(text, problem_file))
+    return None if found is None else (list(found.located(text, problem_file)), found.reasons(domain, problem))
 
 
 def validate(

@@ -87,6 +87,27 @@ class Conflict:
         makes = "makes" if self.minimal else "may make"
         return f"{proven}: these cannot all hold together; removing any one {makes} the rest solvable"
 
+    def reasons(self, domain: Domain, problem: Problem) -> list[str]:
+        """Why the goal conjuncts of a conflict without constraints cannot be reached, one line per
+        goal atom that not even the delete relaxation reaches (the actions that would add it and the
+        precondition that never holds: :mod:`vslsp.symbolic.reachability`); a line saying that the
+        actions' deletes are the cause when the relaxation reaches them all; [] with constraints
+        involved, or when the problem is too large to ground."""
+        from vslsp.symbolic.reachability import relaxed_reach, why_never
+
+        if not self.parts or not self.without_constraints:
+            return []
+        reach = relaxed_reach(domain, problem)
+        if reach is None:
+            return []
+        lines = [line for part in self.parts for line in why_never(part.formula, domain, problem, reach)]  # type: ignore[arg-type]
+        if lines:
+            return lines
+        return [
+            "each of these goal atoms can be made true on its own, but no sequence of actions makes them hold together "
+            "(an action needed for one undoes another)"
+        ]
+
     def located(self, problem_text: str, problem_name: str) -> list[dict]:
         """The parts as ``vslsp plan --json`` lists them under ``"conflict"``: ``{"kind", "text",
         "instance", "file", "line", "column"}``, found in the problem file's text (``text`` as written

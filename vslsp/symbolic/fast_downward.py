@@ -14,7 +14,6 @@ import importlib.resources
 import math
 import os
 import re
-import resource
 import signal
 import subprocess
 import sys
@@ -24,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vslsp.errors import InputError
+from vslsp.interrupts import guarded_command
 from vslsp.outputs import NO_SPACE, write_error
 from vslsp.symbolic.outcomes import PlanStatus
 
@@ -88,7 +88,9 @@ def run(
 
     Fast Downward runs in this process's group (no session of its own), so a signal to the
     group (Ctrl-C, ``timeout``) reaches it too; when this process stops otherwise (its own
-    limit, an interrupt, an exception) every process of the run is killed and the folder removed.
+    limit, an interrupt, an exception) every process of the run is killed and the folder removed;
+    when this process is killed (SIGKILL), the run's guard does both
+    (:func:`vslsp.interrupts.guarded_command`).
     """
     limit = ["--overall-time-limit", f"{max(1, math.ceil(timeout))}s"] if timeout else []
     if memory_mb:
@@ -119,13 +121,12 @@ def run(
         ]
         start = time.perf_counter()
         process = subprocess.Popen(
-            command,
+            guarded_command(command, folder, memory_mb),
             cwd=folder,
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             text=True,
             errors="replace",
-            preexec_fn=_address_space_limit(memory_mb) if memory_mb else None,
         )
         try:
             log, _ = process.communicate(timeout=timeout)  # wall-clock (the driver limits CPU time)
@@ -181,25 +182,11 @@ def failure(run: Run) -> str:
     return f"Fast Downward's {component} stopped{code}: {last[:300]}"
 
 
-def _address_space_limit(memory_mb: int):
-    limit = memory_mb * 1024 * 1024
-
-    def apply() -> None:  # runs in the child between fork and exec
-        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-
-    return apply
-
-
-_LIMITED_EXEC = (
-    "import os, resource, sys; n = int(sys.argv[1]); resource.setrlimit(resource.RLIMIT_AS, (n, n)); "
-    "os.execvp(sys.argv[2], sys.argv[2:])"
-)
-
-
-def bounded_command(command: list[str], memory_mb: int) -> list[str]:
-    """``command`` run with an address-space limit of ``memory_mb`` per process (for planners
-    started by another library, where no ``preexec_fn`` can be given)."""
-    return [sys.executable, "-c", _LIMITED_EXEC, str(memory_mb * 1024 * 1024), *command]
+def bounded_command(command: list[str], memory_mb: int, folder: str | None = None) -> list[str]:
+    """``command`` run with an address-space limit of ``memory_mb`` per process, under a guard
+    that ends it (and removes ``folder``) when this process ends (for planners started by another
+    library, where no ``preexec_fn`` can be given)."""
+    return guarded_command(command, folder, memory_mb)
 
 
 def descendants(pid: int) -> list[int]:

@@ -101,7 +101,7 @@ def _read(
     domain_text = types_declared_once(domain_text)
     domain = domain_from_up(_parse(domain_text, None, domain_name, None))
     for what, names in (
-        ("type", [t for t, _ in domain.types]),
+        ("type", [t for t, _ in domain.types if t != "object"]),  # (:types object) names the built-in type
         ("constant", [c for c, _ in domain.constants]),
         ("predicate", [p.name for p in domain.predicates]),
         ("action", [a.name for a in domain.actions]),

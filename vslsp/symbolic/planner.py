@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from vslsp.errors import InputError, VslspError
+from vslsp.interrupts import memory_limit_mb, user_limited
 from vslsp.stages import in_stage
 from vslsp.symbolic.budget import phase
 from vslsp.symbolic.fast_downward import bounded_command, kill_tree
@@ -151,6 +152,8 @@ def solve_timed(
     if broken:
         raise Unsolvable(broken)
     try:
+        # Never more than the user's own address-space limit (ulimit -v): a child cannot be given it.
+        memory_mb = memory_limit_mb(memory_mb) if memory_mb else memory_mb
         return _solve(domain, problem, planner, compilation, Limits(timeout, memory_mb))
     except VslspError:
         raise
@@ -175,6 +178,8 @@ class Limits:
             limit = f"time limit of {self.timeout:g} s" if self.timeout else "time limit"
             return NoPlan(f"the planner's {limit} reached (raise it with --timeout)", status)
         limit = f"memory limit of {self.memory_mb} MB" if self.memory_mb else "memory"
+        if self.memory_mb and user_limited(self.memory_mb):
+            return NoPlan(f"the planner's {limit} reached (your own limit, ulimit -v: raise it there)", status)
         return NoPlan(f"the planner's {limit} reached (raise it with --memory)", status)
 
 
@@ -205,7 +210,7 @@ def _solve_directly(domain: Domain, problem: Problem, planner: str, limits: Limi
             )
         if run.outcome is PlanStatus.UNSOLVABLE_PROVEN:
             raise Unsolvable(
-                "the goal cannot be reached from the initial state under the constraints (proved by Fast Downward)"
+                f"the goal cannot be reached from the initial state{_under(problem)} (proved by Fast Downward)"
             )
         raise NoPlan("Fast Downward's search gave up without a plan (it is incomplete)", run.outcome)
     used = Compilation.LIFTED if problem.constraints else Compilation.NONE
@@ -264,7 +269,7 @@ def _solve_up(
         if not engine.supports(kind):
             raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); try {DEFAULT_PLANNER}")
         if _false_goal(up_problem):
-            raise Unsolvable(f"the goal {problem.goal.to_pddl()} can never hold under the constraints")
+            raise Unsolvable(f"the goal {problem.goal.to_pddl()} can never hold{_under(problem)}")
         engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
         compiled_at = time.perf_counter()
         _bound(engine, limits.memory_mb)
@@ -282,9 +287,9 @@ def _solve_up(
     if status.limit_reached:
         raise limits.reached(status)
     if status is PlanStatus.UNSOLVABLE_PROVEN:
-        raise Unsolvable(_reason(result))
+        raise Unsolvable(_reason(result, problem))
     if status is not PlanStatus.SOLVED:
-        raise NoPlan(_reason(result), status)
+        raise NoPlan(_reason(result, problem), status)
     steps = []
     for instance in result.plan.actions:
         for map_back in reversed(map_backs):
@@ -316,6 +321,7 @@ def _ground_compilation(up_problem: Any, problem: Problem) -> tuple[Any, Any]:
     return compiled.problem, compiled.map_back_action_instance
 
 
+_PRIVATE_PREFIX = "vslsp-plan-"
 _CWD_LOCK = threading.Lock()  # the working directory is the process's: one planner at a time per process
 
 
@@ -324,7 +330,7 @@ def _private_directory():
     """Run in a fresh working directory: Fast Downward's driver writes ``output.sas`` into the
     current one, so two planners started from the same folder (test workers, experiment
     workers) would read and delete each other's file. Threads of one process take turns."""
-    with _CWD_LOCK, tempfile.TemporaryDirectory(prefix="vslsp-plan-") as folder:
+    with _CWD_LOCK, tempfile.TemporaryDirectory(prefix=_PRIVATE_PREFIX) as folder:
         previous = os.getcwd()
         os.chdir(folder)
         try:
@@ -335,13 +341,24 @@ def _private_directory():
 
 def _bound(engine: Any, memory_mb: int | None) -> None:
     """Run a unified-planning engine's planner command under ``memory_mb`` (engines that plan
-    through a command line, as Fast Downward's do; others run in this process)."""
+    through a command line, as Fast Downward's do; others run in this process), guarded: killed,
+    and its private folder (the working directory then) removed, when this process ends."""
     if memory_mb is None:
         return
     for name in ("_get_cmd", "_get_anytime_cmd"):
         command = getattr(engine, name, None)
         if command is not None:
-            setattr(engine, name, lambda *args, _command=command: bounded_command(_command(*args), memory_mb))
+            setattr(
+                engine,
+                name,
+                lambda *args, _command=command: bounded_command(_command(*args), memory_mb, _private_folder()),
+            )
+
+
+def _private_folder() -> str | None:
+    """The private working directory of :func:`_private_directory` when in it (never another folder)."""
+    here = os.getcwd()
+    return here if os.path.basename(here).startswith(_PRIVATE_PREFIX) else None
 
 
 def plan_status(status: Any) -> PlanStatus:
@@ -352,14 +369,19 @@ def plan_status(status: Any) -> PlanStatus:
     return PlanStatus.__members__.get(status.name, PlanStatus.INTERNAL_ERROR)
 
 
-def _reason(result: Any) -> str:
+def _under(problem: Problem) -> str:
+    """The words ' under the constraints' when the problem has any (for a message about its goal)."""
+    return " under the constraints" if problem.constraints else ""
+
+
+def _reason(result: Any, problem: Problem) -> str:
     from unified_planning.engines import PlanGenerationResultStatus as Status
 
     reasons = {
-        Status.UNSOLVABLE_PROVEN: "the goal cannot be reached from the initial state under the constraints "
+        Status.UNSOLVABLE_PROVEN: f"the goal cannot be reached from the initial state{_under(problem)} "
         f"(proved by {result.engine_name})",
         Status.UNSOLVABLE_INCOMPLETELY: f"{result.engine_name} explored every reachable state and found none "
-        "that reaches the goal under the constraints",
+        f"that reaches the goal{_under(problem)}",
         Status.UNSUPPORTED_PROBLEM: "the planner does not support this problem",
     }
     return reasons.get(result.status, f"the planner stopped with status {result.status.name}")

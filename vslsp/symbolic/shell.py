@@ -20,6 +20,7 @@ import sys
 import threading
 from dataclasses import replace
 
+from vslsp import interrupts
 from vslsp.errors import InputError, VslspError
 from vslsp.symbolic.budget import MAX_READER_NESTING, MAX_READER_TYPE_DEPTH
 from vslsp.symbolic.conflict import explain
@@ -120,6 +121,8 @@ class Shell(cmd.Cmd):
         self.problem = problem or Problem("task", self.domain)
         self.last_plan: list[tuple[str, tuple[str, ...]]] = []
         self.changes: list[tuple[str, Domain, Problem]] = []  # (command, domain and problem before it), for undo
+        self.errors = 0  # commands refused (an error or their usage shown): a piped session's exit code
+        self.unsaved: list[VslspError] = []  # the saves that failed (a script's exit code tells of them)
 
     # --- plumbing ---
     def say(self, text: str) -> None:
@@ -131,8 +134,10 @@ class Shell(cmd.Cmd):
             _balanced(line.partition(" ")[2])
             return super().onecmd(line)
         except VslspError as error:
+            self.errors += 1
             self.say("error: " + in_shell_terms(str(error)))
         except ValueError as error:  # shlex on unbalanced quotes
+            self.errors += 1
             self.say(f"error: {str(error).lower()} in what you typed")
         except RecursionError:  # a check that recursed past Python's limit: the shell goes on
             self.say("error: what you typed nests too deeply for vslsp; flatten it: (and a (and b c)) is (and a b c)")
@@ -141,11 +146,17 @@ class Shell(cmd.Cmd):
                 self.changes.append((" ".join(line.split()), *before))
         return False
 
+    def _usage(self, name: str) -> None:
+        """A command typed without what it needs: its usage, counted as an error."""
+        self.errors += 1
+        self.say(usage(name))
+
     def emptyline(self) -> bool:
         return False
 
     def default(self, line: str) -> None:
         word = line.split()[0]
+        self.errors += 1
         self.say(f"error: unknown command {word!r}{did_you_mean(word, NAMES)}; type help for the commands")
 
     def _checker(self, problem: bool = True) -> Checker:
@@ -184,7 +195,7 @@ class Shell(cmd.Cmd):
         words = arg.split()
         names, parents = (words[: words.index("-")], words[words.index("-") + 1 :]) if "-" in words else (words, [])
         if not names or ("-" in words and len(parents) != 1):
-            self.say(usage("type"))
+            self._usage("type")
             return
         parent = parents[0] if parents else None
         above = _ancestors(self.domain, parent) if parent else set()
@@ -224,7 +235,7 @@ class Shell(cmd.Cmd):
 
     def do_action(self, arg: str) -> None:
         if not arg.strip():
-            self.say(usage("action"))
+            self._usage("action")
             return
         name = self._checker(problem=False).action(arg)
         domain, _ = _read(_domain_text(self.domain.without_action(name), f"(:action {arg})"))
@@ -260,7 +271,7 @@ class Shell(cmd.Cmd):
             self._set(problem=self.problem.without_init(*atoms))
             self.say("no longer true initially: " + " ".join(a.to_pddl() for a in atoms))
         else:
-            self.say(usage("drop"))
+            self._usage("drop")
 
     def _drop_constraint(self, number: str) -> None:
         count = len(self.problem.constraints)
@@ -292,7 +303,7 @@ class Shell(cmd.Cmd):
     def do_objects(self, arg: str) -> None:
         words = arg.split()
         if "-" not in words or not words[: words.index("-")] or len(words[words.index("-") :]) != 2:
-            self.say(usage("objects"))
+            self._usage("objects")
             return
         names, type_ = words[: words.index("-")], words[-1]
         for name in names:
@@ -303,7 +314,7 @@ class Shell(cmd.Cmd):
 
     def do_init(self, arg: str) -> None:
         if not arg.strip():
-            self.say(usage("init"))
+            self._usage("init")
             return
         atoms = self._atoms(arg)
         self._set(problem=self.problem.with_init(*atoms))
@@ -311,7 +322,7 @@ class Shell(cmd.Cmd):
 
     def do_goal(self, arg: str) -> None:
         if not arg.strip():
-            self.say(usage("goal"))
+            self._usage("goal")
             return
         trees = self._checker().formulas(arg)
         text = arg.strip() if len(trees) == 1 else f"(and {arg.strip()})"
@@ -320,6 +331,7 @@ class Shell(cmd.Cmd):
 
     def do_constraint(self, arg: str) -> None:
         if len(parse(arg)) != 1:
+            self.errors += 1
             self.say(usage("constraint") + " (one at a time)")
             return
         self._checker().formulas(arg, "constraint")
@@ -344,7 +356,7 @@ class Shell(cmd.Cmd):
     def do_show(self, arg: str) -> None:
         what = arg.strip()
         if what not in ("", "domain", "problem", "constraints"):
-            self.say(usage("show"))
+            self._usage("show")
         if what in ("", "domain"):
             self.say(self.domain.to_pddl())
         if what in ("", "problem"):
@@ -380,7 +392,7 @@ class Shell(cmd.Cmd):
 
     def do_why(self, arg: str) -> None:
         if arg.strip():
-            self.say(usage("why"))
+            self._usage("why")
             return
         conflict = explain(self.domain, self.problem)
         if conflict is None:
@@ -390,6 +402,8 @@ class Shell(cmd.Cmd):
         for part in conflict.parts:
             label = "goal" if part.kind == "goal" else f"constraint {part.index + 1}"
             self.say(f"  {label}: {part.to_pddl()}")
+        for reason in conflict.reasons(self.domain, self.problem):
+            self.say(f"  because: {reason}")
         numbers = [part.index + 1 for part in conflict.parts if part.kind == "constraint"]
         if numbers:
             self.say(f"to take one out: drop constraint N (e.g. drop constraint {numbers[0]}), or change the goal")
@@ -397,7 +411,7 @@ class Shell(cmd.Cmd):
     def do_load(self, arg: str) -> None:
         paths = shlex.split(arg)
         if not paths or len(paths) > 2:
-            self.say(usage("load"))
+            self._usage("load")
             return
         domain, problem = read_pddl(*paths)
         self.domain, self.problem = domain, problem or Problem("task", domain)
@@ -407,11 +421,15 @@ class Shell(cmd.Cmd):
     def do_save(self, arg: str) -> None:
         paths = shlex.split(arg)
         if not paths or len(paths) > 2:
-            self.say(usage("save"))
+            self._usage("save")
             return
-        save(self.domain.to_pddl(), paths[0])
-        if len(paths) > 1:
-            save(self.problem.to_pddl(), paths[1])
+        try:
+            save(self.domain.to_pddl(), paths[0])
+            if len(paths) > 1:
+                save(self.problem.to_pddl(), paths[1])
+        except VslspError as error:
+            self.unsaved.append(error)
+            raise
         self.say(f"saved {' and '.join(paths)}")
 
     def do_help(self, arg: str) -> None:
@@ -452,6 +470,7 @@ class Shell(cmd.Cmd):
                     super().cmdloop(intro)
                     return
                 except KeyboardInterrupt:
+                    interrupts.resume()  # handled: the next Ctrl-C is a first one again
                     self.say("^C (quit or Ctrl-D to leave)")
                     intro = ""
         finally:

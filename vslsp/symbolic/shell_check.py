@@ -101,12 +101,12 @@ class Checker:
     @staticmethod
     def name(name: str, what: str) -> str:
         """``name`` when it is a PDDL name (a letter, then letters, digits, '-' or '_')."""
+        article = "an" if what[0] in "aeiou" else "a"
         if not _NAME.fullmatch(name):
-            article = "an" if what[0] in "aeiou" else "a"
             raise InputError(
                 f"{name!r} cannot name {article} {what}: a PDDL name is a letter, then letters, digits, - or _"
             )
-        if what != "domain" and what != "problem" and is_reserved_name(name):
+        if what != "domain" and what != "problem" and is_reserved_name(name):  # the one vocabulary (`at` is a name)
             raise InputError(reserved_name_message(name, what))
         return name
 
@@ -158,7 +158,10 @@ class Checker:
             for part in rest[1:]:
                 self.formula(part, bound, where)
             return
-        if head == "at" and rest[:1] == ["end"]:
+        if head == "at" and rest[:1] != ["end"]:  # `at` is a keyword only in (at end ...): (at d1 p1) is an atom
+            self.atom(tree, variables, where)
+            return
+        if head == "at":
             rest = rest[1:]
         if where == "constraint" and head in _FORMULAS and len(rest) != _FORMULAS[head]:
             shown = "at end" if head == "at" else head
@@ -224,8 +227,6 @@ class Checker:
         if len(trees) != 1 or isinstance(trees[0], str) or not trees[0] or not isinstance(trees[0][0], str):
             raise InputError("write one predicate, e.g. predicate (on-counter ?d - dish)")
         name = self.name(trees[0][0], "predicate")
-        if name in _NOT_A_PREDICATE:
-            raise InputError(f"'{name}' is a PDDL operator; name the predicate otherwise")
         return name, self.parameters(trees[0][1:])
 
     def action(self, text: str) -> str:

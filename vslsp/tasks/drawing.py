@@ -5,7 +5,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-PICK, PLACE = (255, 0, 255), (0, 170, 255)  # RGB: the pick frame (magenta), the place frame (orange)
+PICK, PLACE = (255, 0, 255), (0, 170, 255)  # RGB: the pick frame (magenta), the place frame (azure)
 SCALE = 0.5  # pictures at half the camera's resolution
 
 
@@ -40,6 +40,39 @@ def _lines(text: str, width: int) -> list[str]:
         else:
             lines.append(word)
     return lines or [""]
+
+
+def legend(width: int, entries: list[tuple[str, tuple[int, int, int], str]]) -> np.ndarray:
+    """A strip ``width`` px wide (H, width, 3) that explains a picture's marks: per entry its mark
+    (``"square"``, ``"arrow"`` or ``"cross"``) in its colour, then its words; entries go on as many
+    rows as they need."""
+    rows: list[list[tuple[str, tuple[int, int, int], str]]] = [[]]
+    used = 8
+    for entry in entries:
+        needed = 36 + cv2.getTextSize(entry[2], cv2.FONT_HERSHEY_SIMPLEX, 0.5, 1)[0][0] + 20
+        if rows[-1] and used + needed > width:
+            rows.append([])
+            used = 8
+        rows[-1].append(entry)
+        used += needed
+    strip = np.full((10 + 26 * len(rows), width, 3), 250, np.uint8)
+    for r, row in enumerate(rows):
+        x, y = 8, 22 + 26 * r
+        for mark, colour, words in row:
+            if mark == "square":
+                cv2.rectangle(strip, (x, y - 12), (x + 18, y + 4), colour, 2)
+            elif mark == "arrow":
+                cv2.arrowedLine(strip, (x, y - 4), (x + 24, y - 4), colour, 2, cv2.LINE_AA, tipLength=0.35)
+            else:
+                cv2.drawMarker(strip, (x + 9, y - 4), colour, cv2.MARKER_CROSS, 16, 2)
+            cv2.putText(strip, words, (x + 32, y), cv2.FONT_HERSHEY_SIMPLEX, 0.5, (20, 20, 20), 1, cv2.LINE_AA)
+            x += 36 + cv2.getTextSize(words, cv2.FONT_HERSHEY_SIMPLEX, 0.5, 1)[0][0] + 20
+    return strip
+
+
+def with_legend(picture: np.ndarray, entries: list[tuple[str, tuple[int, int, int], str]]) -> np.ndarray:
+    """``picture`` with its :func:`legend` below it."""
+    return np.vstack([picture, legend(picture.shape[1], entries)])
 
 
 def square(image: np.ndarray, centre: tuple[float, float], size: float, colour: tuple[int, int, int]) -> None:

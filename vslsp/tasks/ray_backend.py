@@ -42,6 +42,7 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.task_files import by_value_for_ray
 from vslsp.tasks.trial import run_one
 
 RETRIES = 1  # Ray re-runs a trial whose worker died once (the local backend's rule), then it is failed
@@ -136,6 +137,7 @@ def _run(
 ) -> None:
     """Submit the trials (at most ``workers`` in flight) and hand back their results."""
     pending: dict[Any, int] = {}
+    by_value_for_ray(task)  # a task of a user's tasks file: its module travels with it
     try:
         task_ref = ray.put(task)  # once: the workers fetch it from the object store
         trial = ray.remote(_trial).options(
@@ -202,9 +204,9 @@ def _connect(ray: ModuleType, address: str | None, workers: int) -> bool:
             "named by RAY_AUTH_TOKEN_PATH, or ~/.ray/auth_token)"
         )
     try:
-        ray.init(address=address, **quiet)
+        _init(ray, address, quiet)
     except (ConnectionError, TimeoutError, RuntimeError, ValueError, ray.exceptions.RayError) as error:
-        reason = " ".join(str(error).split())[:400] or type(error).__name__
+        reason = _reason(error)
         if needs_token:
             raise InputError(
                 f"the Ray cluster at --address {address} requires token authentication and refused "
@@ -217,6 +219,39 @@ def _connect(ray: ModuleType, address: str | None, workers: int) -> bool:
             "or leave --address out for a local Ray instance"
         ) from None
     return True  # a cluster's connection made here: closed at the end of the run
+
+
+# A ray:// connection gets a Ray client server of its own, started by the head's proxy for it; on
+# a busy head that start can fail ("Starting Ray client server failed"), and the next connection
+# gets a new one: such a failure is retried, every other refusal is final.
+CLIENT_SERVER_STARTS = 3
+_CLIENT_SERVER_FAILED = ("Starting Ray client server failed", "Proxy failed to Connect to backend")
+
+
+def _init(ray: ModuleType, address: str, quiet: dict) -> None:
+    """``ray.init(address)``, retried (``CLIENT_SERVER_STARTS`` tries in all) while the head fails
+    to start this connection's Ray client server."""
+    for attempt in range(1, CLIENT_SERVER_STARTS + 1):
+        try:
+            ray.init(address=address, **quiet)
+            return
+        except ConnectionError as error:
+            if attempt == CLIENT_SERVER_STARTS or not any(words in str(error) for words in _CLIENT_SERVER_FAILED):
+                raise
+            ray.shutdown()  # nothing half-connected goes into the next try
+
+
+def _reason(error: BaseException) -> str:
+    """Why Ray refused, in one line: a Ray client server's failed start without the server's
+    traceback (it names the head's log file), any other error's text, at most 400 characters."""
+    text = " ".join(str(error).split())
+    for words in _CLIENT_SERVER_FAILED:
+        if words in text:
+            logs = re.search(r"ray_client_server_\d+\.err", text)
+            where = f" (the head's log: {logs.group(0)} in its session's logs folder)" if logs else ""
+            tries = f"in {CLIENT_SERVER_STARTS} tries"
+            return f"the head could not start a Ray client server for this connection {tries}{where}"
+    return text[:400] or type(error).__name__
 
 
 def _probe(ray: ModuleType, address: str) -> bool:

@@ -11,6 +11,7 @@ names a module that registers its tasks when imported).
 from __future__ import annotations
 
 import importlib
+import os
 from importlib.metadata import entry_points
 from typing import TypeVar
 
@@ -46,6 +47,11 @@ def _load() -> None:
         importlib.import_module(module)
     for entry in entry_points(group="vslsp.tasks"):
         entry.load()
+    from vslsp.tasks.task_files import ENV, load_task_files
+
+    given = [path for path in os.environ.get(ENV, "").split(os.pathsep) if path]
+    if given:  # a process started for a run given --tasks (a worker, a studio job): the same tasks
+        load_task_files(given)
 
 
 def task_class(name: str) -> type[Task]:
@@ -75,6 +81,18 @@ def get_task(name: str, **options: object) -> Task:
     task = cls(**options)
     task.check()
     return task
+
+
+def registered_names() -> frozenset[str]:
+    """The names of every registered task (the built-ins loaded first)."""
+    _load()
+    return frozenset(_TASKS)
+
+
+def task_classes() -> list[type[Task]]:
+    """Every registered task class, in the order registered."""
+    _load()
+    return list(_TASKS.values())
 
 
 def list_tasks() -> list[type[Task]]:

@@ -16,15 +16,16 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
-from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
+from vslsp import interrupts
 from vslsp.errors import InputError
 from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.task_files import check_main_guard
 from vslsp.tasks.trial import Interrupted, run_one
 
 __all__ = ["BACKENDS", "Interrupted", "Run", "check_counts", "run_one", "run_trials"]
@@ -74,6 +75,8 @@ def run_trials(
     check_counts(len(seeds), workers)
     if backend not in BACKENDS:
         raise InputError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+    if backend == "local" and len(seeds) > 1:
+        check_main_guard(workers)  # before any work: workers would run an unguarded script again
     keep = {seeds[0]} if task.keep_first else set()
     done: dict[int, TrialResult] = {}
 
@@ -83,7 +86,7 @@ def run_trials(
             on_done(result)
 
     interrupted = None
-    with _signals_raise() as received:
+    with interrupts.handled() as received:
         try:
             if backend == "ray":
                 from vslsp.tasks.ray_backend import run_on_ray
@@ -101,30 +104,20 @@ def run_trials(
     return Run([done[s] for s in seeds if s in done], seeds, interrupted)
 
 
-@contextmanager
-def _signals_raise() -> Iterator[list[str]]:
-    """SIGTERM raises :class:`Interrupted` in the main thread (SIGINT already raises
-    KeyboardInterrupt); the list holds the name of the signal received."""
-    received: list[str] = []
-
-    def handler(number: int, frame: Any) -> None:
-        received.append(signal.Signals(number).name)
-        raise Interrupted(received[-1])
-
-    try:
-        previous = signal.signal(signal.SIGTERM, handler)
-    except ValueError:  # not the main thread: leave signals alone
-        yield received
-        return
-    try:
-        yield received
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+_parent = 0  # in a pool worker: the driver's pid
 
 
-def _worker_init() -> None:
-    # The parent handles Ctrl-C for all (and ends the workers); a worker must not die of it half-way.
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+def _worker_init(parent: int) -> None:
+    global _parent
+    # The parent handles Ctrl-C, SIGHUP and SIGQUIT for all (and ends the workers); a worker must
+    # not die of them half-way.
+    for number in (signal.SIGINT, signal.SIGHUP, signal.SIGQUIT):
+        signal.signal(number, signal.SIG_IGN)
+    # A worker ends with its driver however the driver ends (SIGKILL too): the kernel sends it
+    # SIGTERM, which ends the trial's planner and removes its folder on the way out (then the
+    # worker exits at once: nobody is left to report to).
+    _parent = parent
+    interrupts.die_with_parent(signal.SIGTERM, parent)
     # The parent ends a worker with SIGTERM: raised, so that the planner it may be running is
     # killed and its temporary folders removed on the way out.
     signal.signal(signal.SIGTERM, _raise_interrupted)
@@ -142,6 +135,8 @@ def _trial_in_worker(task: Task, seed: int, keep: bool) -> TrialResult:
         return run_one(task, seed, keep)
     finally:
         _in_trial = False
+        if interrupts.orphaned(_parent):  # the driver is gone: nobody to report to, nothing to print
+            os._exit(128 + signal.SIGTERM)
 
 
 def _raise_interrupted(number: int, frame: Any) -> None:
@@ -157,7 +152,10 @@ def _new_pool(workers: int) -> ProcessPoolExecutor:
     # children take the environment as it is when they start).
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     return ProcessPoolExecutor(
-        max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_worker_init
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_worker_init,
+        initargs=(os.getpid(),),
     )
 
 

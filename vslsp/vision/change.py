@@ -10,6 +10,11 @@ whose region has largely changed has left; an object of the post image whose reg
 changed has arrived; one that changed in one image only while an object of its colour stays in
 place in the other was merely hidden or revealed by the moved one. Exactly one object must
 leave and the same one arrive; anything else is an input error that says what was seen where.
+
+A tolerance for the tutor's hand (``min_move``): **an object whose centroid moved less than
+``min_move`` pixels between the images was nudged, not operated**; when more than one object
+moved, the nudged ones are left out (and listed in :attr:`Change.nudged`). At 0 (the default)
+every change counts.
 """
 
 from __future__ import annotations
@@ -37,6 +42,15 @@ class Change:
     after: DetectedObject
     pre: Segmentation
     post: Segmentation
+    nudged: tuple[tuple[str, float], ...] = ()  # (symbol, px its centroid moved) of those left out
+
+
+def default_min_move(shape: tuple[int, ...]) -> float:
+    """The default ``min_move`` of ``vslsp ground`` for an image of ``shape`` (H, W, ...): 1 % of
+    its diagonal (8 px at 640x480). An operation carries its object across the landmark line,
+    tens of pixels at any resolution the camera resolves the objects at; a slip of the hand or a
+    settling object moves a neighbour a few pixels."""
+    return round(0.01 * float(np.hypot(shape[0], shape[1])), 1)
 
 
 def change_mask(pre: Segmentation, post: Segmentation) -> np.ndarray:
@@ -59,16 +73,21 @@ def moved_labels(seg: Segmentation, changed: np.ndarray) -> list[int]:
     return moved
 
 
-def detect_change(pre: np.ndarray, post: np.ndarray) -> Change:
-    """The one object moved between RGB images ``pre`` and ``post`` (H, W, 3) uint8.
+def detect_change(pre: np.ndarray, post: np.ndarray, min_move: float = 0.0) -> Change:
+    """The one object moved between RGB images ``pre`` and ``post`` (H, W, 3) uint8; with
+    ``min_move`` > 0, objects that moved less than that many pixels are left out when more than
+    one moved (the module's rule).
 
     Raises InputError when the images differ in size; GroundingFailed (a failed task, exit 1)
     when nothing moved, when several objects moved (naming them and where), or when the object
     left the view.
     """
     left, arrived, seg_pre, seg_post = moved_regions(pre, post, "the tutor moved one object")
+    nudged: list[tuple[str, float]] = []
+    if min_move > 0 and len(left) + len(arrived) > 2:
+        left, arrived, nudged = without_nudged(left, arrived, min_move)
     if len(left) == 1 and len(arrived) == 1 and left[0].name == arrived[0].name:
-        return Change(left[0], arrived[0], seg_pre, seg_post)
+        return Change(left[0], arrived[0], seg_pre, seg_post, tuple(nudged))
     if len(left) == 1 and not arrived:
         raise GroundingFailed(
             f"the {left[0].name} object at {_at(left[0])} in the pre-action image is not wholly in "
@@ -84,6 +103,28 @@ def detect_change(pre: np.ndarray, post: np.ndarray) -> Change:
         f"more than one object moved ({'; '.join(seen)}); give one image pair per moved "
         "object (one operation of the demonstration at a time)"
     )
+
+
+def without_nudged(
+    left: list[DetectedObject], arrived: list[DetectedObject], min_move: float
+) -> tuple[list[DetectedObject], list[DetectedObject], list[tuple[str, float]]]:
+    """``left`` and ``arrived`` without the objects that left and arrived (one of a colour each)
+    less than ``min_move`` px apart, and those (symbol, px moved); nothing is left out when
+    every moved object was nudged (then the message names them all)."""
+    nudged: list[tuple[str, float]] = []
+    for name in {o.name for o in left}:
+        went = [o for o in left if o.name == name]
+        came = [o for o in arrived if o.name == name]
+        if len(went) == 1 and len(came) == 1:
+            moved = float(np.hypot(*np.subtract(came[0].centroid, went[0].centroid)))
+            if moved < min_move:
+                nudged.append((name, round(moved, 1)))
+    names = {name for name, _ in nudged}
+    kept_left = [o for o in left if o.name not in names]
+    kept_arrived = [o for o in arrived if o.name not in names]
+    if not kept_left and not kept_arrived:
+        return left, arrived, []
+    return kept_left, kept_arrived, sorted(nudged)
 
 
 def moved_regions(

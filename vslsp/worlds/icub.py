@@ -13,7 +13,8 @@ import numpy as np
 from vslsp.errors import InputError, TaskFailed
 from vslsp.sim import SceneSpec
 from vslsp.sim import World as SimWorld
-from vslsp.sim.scene import seen_whole
+from vslsp.sim.scene import LayoutImpossible, seen_whole
+from vslsp.sim.scene import check_layout as check_layout  # re-exported: a task checks its layouts
 from vslsp.worlds.slips import Slip
 
 TUTOR_BEYOND = 0.055  # the tutor puts a cube this far (m) on the other side of the line
@@ -41,13 +42,18 @@ class IcubLineWorld(SimWorld):
 
 def line_layout(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | None = None) -> SceneSpec:
     """A random scene with these colours (the same seed, the same scene): the first of
-    ``seed * 101 + k`` that places them."""
+    ``seed * 101 + k`` that places them. Sides ``far`` that no seed can lay out raise
+    :class:`~vslsp.sim.scene.LayoutImpossible` at once (a task checks its layouts before the first
+    trial with :func:`check_layout`)."""
+    reason = ""
     for k in range(50):
         try:
             return SceneSpec.random(seed * 101 + k, colours=colours, far=far)
-        except InputError:
-            continue
-    raise InputError(f"no scene found for {len(colours)} cubes with seed {seed}")
+        except LayoutImpossible:
+            raise  # no seed can give it: said at once
+        except InputError as error:
+            reason = str(error)
+    raise InputError(f"no scene found for {len(colours)} cubes with seed {seed}: {reason}")
 
 
 def tutor_operation(world: SimWorld, colour: str, action: str) -> None:

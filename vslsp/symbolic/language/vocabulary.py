@@ -95,25 +95,27 @@ NOT_PDDL = {
 }
 BUILT_IN_TYPES = ("object",)
 
-#: The words of PDDL that name no object, constant, type, predicate, function or action: the readers take
-#: them for the operators (``(and)`` is the empty conjunction, not the atom of a predicate ``and``).
-#: ``at`` is not among them: it is an operator only as ``(at end φ)`` (and ``(at start φ)``), and ``(at ?x ?y)``
-#: is a common predicate.
+#: Words PDDL reads as syntax wherever a name may stand: the operators of formulas and effects, the
+#: PDDL 3.0 constraints, ``either`` and ``define``, and the built-in types. ``at`` is no reserved word:
+#: it is the usual predicate ``(at ?x ?place)``; ``(at end φ)`` is read by its second word.
 RESERVED_NAMES = frozenset(
-    (
-        *GOAL_OPERATORS[:-2],  # and or not imply exists forall (= is no name)
-        "preference",
+    name
+    for name in (
+        *GOAL_OPERATORS,
         *EFFECT_OPERATORS,
-        *(name for name in PDDL3_OPERATORS if name != "at"),
+        *PDDL3_OPERATORS,
         "either",
         "define",
+        *BUILT_IN_TYPES,
     )
+    if name not in ("at", "=")
 )
 
 
 def is_reserved_name(name: str) -> bool:
-    """Whether ``name`` (any case) is one of :data:`RESERVED_NAMES`."""
-    return name.lower() in RESERVED_NAMES
+    """Whether ``name`` is a word of PDDL's syntax that no predicate, type, object or action may take
+    (PDDL is case-insensitive: ``AND`` is ``and``; a variable's ``?`` is not part of the word)."""
+    return name.removeprefix("?").lower() in RESERVED_NAMES
 
 
 def reserved_name_message(name: str, what: str) -> str:

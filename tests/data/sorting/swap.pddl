@@ -1,0 +1,5 @@
+(define (problem swap)
+  (:domain sorting)
+  (:objects r1 - item red-bin green-bin - bin red - colour)
+  (:init (on-table r1) (colour-of r1 red) (bin-colour red-bin red) (bin-colour green-bin red))
+  (:goal (and (in r1 red-bin) (in r1 green-bin) (on-table r1))))

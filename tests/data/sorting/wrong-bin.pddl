@@ -1,0 +1,5 @@
+(define (problem sort-two)
+  (:domain sorting)
+  (:objects r1 g1 - item red-bin green-bin - bin red green - colour)
+  (:init (on-table r1) (on-table g1) (colour-of r1 red) (colour-of g1 green) (bin-colour red-bin red) (bin-colour green-bin green))
+  (:goal (and (in g1 green-bin) (in r1 green-bin))))
