@@ -15,7 +15,9 @@ Measured on the shared 2-core machine (2026-12-03, one run each, load about 4), 
   459 MB and rising -> exit 2, 1.3 s, 129 MB; over 58 objects (195 112, under the limit): valid, 4.0 s,
   206 MB;
 - a flat goal of 20 000 atoms over 20 000 objects: "reading took more than 60 s" -> pddl check 0.4 s,
-  65 MB; validate of a 20 000-step plan 2.1 s, 179 MB (the planner itself then runs to its --timeout).
+  65 MB; validate of a 20 000-step plan 2.1 s, 179 MB (the planner itself then runs to its --timeout);
+- 20 000 unknown names among 20 000 objects: stopped by the checking budget after 60 s -> 1.0 s;
+- the shell's ``validate (push (push ...`` 10^5 deep: a RecursionError traceback -> an error line.
 
     .venv/bin/python benchmarks/bench_deep_inputs.py [--only NAME]
 """
@@ -121,6 +123,16 @@ def cases() -> dict[str, tuple[dict[str, str], list[str], str | None]]:
             {"p.pddl": flat(20_000), "plan.txt": "".join(f"(push o{i})\n" for i in range(20_000))},
             ["validate", "d.pddl", "p.pddl", "plan.txt"],
             None,
+        ),
+        "check: 20000 unknown names among 20000": (
+            {"p.pddl": flat(20_000).replace("(far o", "(far x")},
+            check,
+            None,
+        ),
+        "shell: validate (push (push ... 10^5 deep": (
+            {},
+            ["shell", "d.pddl"],
+            "objects a - block\nvalidate " + "(push " * 100_000 + "a" + ")" * 100_000 + "\nquit\n",
         ),
         "check: objects and, or, not": (
             {"p.pddl": problem("(far a)", "a and or not - block")},
