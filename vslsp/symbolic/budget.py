@@ -6,10 +6,11 @@ instances). Every phase (reading, checking, grounding, validating) therefore run
 :data:`PHASE_BUDGET_S` seconds of its own (:func:`phase`), and what grows with the input is bounded
 before the work that it would take starts: nesting (:data:`MAX_NESTING` in the language engine,
 :data:`MAX_READER_NESTING` on the path through unified-planning's reader, which recurses per level),
-the depth of the type hierarchy (:data:`MAX_TYPE_DEPTH`, :data:`MAX_READER_TYPE_DEPTH` on the reader's path;
-computed without recursion, :func:`type_depths`)
-and the number of ground instances (:data:`MAX_GROUND_INSTANCES`, counted before any is built,
-:func:`check_instances`). Each limit is said in its own message, with what to do.
+the depth of the type hierarchy (:data:`MAX_TYPE_DEPTH`; :data:`MAX_READER_TYPE_DEPTH` on the
+reader's path; computed without recursion, :func:`type_depths`), the number of ground instances
+(:data:`MAX_GROUND_INSTANCES`, counted before any is built, :func:`check_instances`) and the
+did-you-mean's comparisons (:data:`MAX_SUGGESTION_COMPARISONS`). Each limit is said in its own
+message, with what to do (docs/bad-input.md, "Deep and huge PDDL").
 """
 
 from __future__ import annotations
