@@ -258,6 +258,11 @@ def test_a_flat_goal_of_twenty_thousand_atoms_is_read_and_its_plan_validated(cap
     plan.write_text("".join(f"(push o{i})\n" for i in range(19_999)))
     code, out, _ = vslsp(capsys, "validate", DOMAIN, path, plan)
     assert code == 1 and out.startswith("invalid: the goal (far o19999) does not hold after the last step")
+    plan.write_text("(push o0)\n")  # 19,999 goal conjuncts false, each found where it is written
+    code, out, _ = vslsp(capsys, "validate", DOMAIN, path, plan)
+    lines = out.splitlines()
+    assert code == 1 and len(lines) == 20_000 and lines[-1].startswith(f"  {path}:1:")
+    assert lines[-1].endswith(": the goal (far o19999) does not hold after the last step")
 
 
 def test_twenty_thousand_unknown_names_among_twenty_thousand_objects_are_each_reported(capsys, tmp_path):
