@@ -16,6 +16,7 @@ Measured on the shared 2-core machine (2026-12-03, one run each, load about 4), 
   206 MB;
 - a flat goal of 20 000 atoms over 20 000 objects: "reading took more than 60 s" -> pddl check 0.4 s,
   65 MB; validate of a 20 000-step plan 2.1 s, 179 MB (the planner itself then runs to its --timeout);
+- the same goal against a 1-step plan (19 999 violations, each placed): past 120 s -> 2.2 s;
 - 20 000 unknown names among 20 000 objects: stopped by the checking budget after 60 s -> 1.0 s;
 - the shell's ``validate (push (push ...`` 10^5 deep: a RecursionError traceback -> an error line.
 
@@ -121,6 +122,11 @@ def cases() -> dict[str, tuple[dict[str, str], list[str], str | None]]:
         "check: flat goal 20000": ({"p.pddl": flat(20_000)}, check, None),
         "validate: flat goal 20000, 20000 steps": (
             {"p.pddl": flat(20_000), "plan.txt": "".join(f"(push o{i})\n" for i in range(20_000))},
+            ["validate", "d.pddl", "p.pddl", "plan.txt"],
+            None,
+        ),
+        "validate: flat goal 20000, 1 step": (
+            {"p.pddl": flat(20_000), "plan.txt": "(push o0)\n"},
             ["validate", "d.pddl", "p.pddl", "plan.txt"],
             None,
         ),
