@@ -9,7 +9,7 @@ import pytest
 from helpers.cli import REPO, vslsp
 
 from vslsp.errors import InputError
-from vslsp.symbolic import pddl
+from vslsp.symbolic import budget, pddl
 from vslsp.symbolic.pddl_errors import PddlWarning
 
 DOMAIN, PROBLEM = REPO / "pddl" / "domain.pddl", REPO / "pddl" / "pull-in-order.pddl"
@@ -78,24 +78,24 @@ def test_the_parse_budget_covers_the_whole_read(monkeypatch, tmp_path):
         "(define (domain d) (:requirements :strips :typing) (:types t0 - object t1 t2 - t0) "
         f"(:predicates {predicates}) (:action a :parameters (?x - t1) :precondition (p0 ?x) :effect (not (p0 ?x))))\n"
     )
-    monkeypatch.setattr(pddl, "PARSE_BUDGET_S", 0.5)
+    monkeypatch.setattr(budget, "PHASE_BUDGET_S", 0.5)
     with pytest.raises(InputError, match=r"either.pddl: reading took more than 0.5 s"):
         pddl.read_pddl(path)
 
 
 def test_a_lost_alarm_still_stops_the_read():
     # An exception raised in a finalizer is only printed: the budget's first alarm can be lost there.
-    with pytest.raises(pddl._OverBudget):
-        with pddl._time_budget(0.01):
+    with pytest.raises(budget.OverBudget):
+        with budget.time_budget(0.01):
             try:
                 signal.pause()
-            except pddl._OverBudget:
+            except budget.OverBudget:
                 pass  # lost; the block then ends as if nothing happened
-    with pytest.raises(pddl._OverBudget):
-        with pddl._time_budget(0.01):
+    with pytest.raises(budget.OverBudget):
+        with budget.time_budget(0.01):
             try:
                 signal.pause()
-            except pddl._OverBudget:
+            except budget.OverBudget:
                 pass  # lost; the read goes on
             signal.pause()  # the alarm repeats
 

@@ -9,7 +9,6 @@ from helpers.symbolic import PDDL
 from vslsp.errors import InputError
 from vslsp.symbolic import (
     Forall,
-    PddlWarning,
     SometimeBefore,
     learn_domain,
     learn_task,
@@ -118,13 +117,13 @@ def test_unsupported_pddl3_operators_are_named(tmp_path):
     assert "(within ...) is not supported" in message and "sometime-before" in message
 
 
-def test_problem_for_another_domain_is_read_with_a_warning(tmp_path):
+def test_problem_for_another_domain_is_refused_with_its_place(tmp_path):
     path = save(
         (PDDL / "keep-all-near.pddl").read_text().replace("(:domain vsl-sp)", "(:domain blocks-world)"),
         tmp_path / "other.pddl",
     )
-    with pytest.warns(PddlWarning) as warned:
-        _, problem = read_pddl(PDDL / "domain.pddl", path)
-    message = str(warned[0].message)
+    with pytest.raises(InputError) as raised:
+        read_pddl(PDDL / "domain.pddl", path)
+    message = str(raised.value)
     assert message.startswith(f"{path}:5:12: the problem is for domain 'blocks-world'"), message
-    assert problem is not None and len(problem.objects) == 4
+    assert "(:domain vsl-sp)" in message

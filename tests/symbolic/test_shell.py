@@ -464,6 +464,6 @@ def test_at_is_a_predicate_name_and_pddl_words_name_nothing():
     )
     assert "(vslsp) predicate (at ?d - dish ?p - place)\n" in out and "true initially: (at d1 sink)" in out
     assert "constraint (at end (not (at d1 sink))); 1 constraint" in out
-    assert "error: 'and' is a word of PDDL itself and cannot name a predicate; choose another" in out
-    assert "error: 'or' is a word of PDDL itself and cannot name an object" in out
-    assert "error: 'not' is a word of PDDL itself and cannot name a type" in out
+    assert "error: 'and' is a word of PDDL (and ...), so it cannot name a predicate; choose another name" in out
+    assert "error: 'or' is a word of PDDL (or ...), so it cannot name an object" in out
+    assert "error: 'not' is a word of PDDL (not ...), so it cannot name a type" in out

@@ -21,7 +21,7 @@ A bad value is a usage error (exit 2, one line naming the option, no traceback).
     for ``--trials``. ``0`` and negatives -> ``0 is not in the range 1<=x<=4096``.
 :func:`positive_float` (type factory)
     A finite float > 0 (optionally <= a bound): NaN, inf, 0 and negatives are refused
-    (click's own ``FloatRange`` lets NaN through).
+    (click's own ``FloatRange`` lets NaN through). :func:`non_negative_float`: the same with 0 allowed.
 ``PROBABILITY`` (type)
     A finite float from 0 to 1 (``--tutor-slips 0.5``); ``1.5`` -> ``1.5 is not a probability
     from 0 to 1``.
@@ -282,12 +282,13 @@ def count(maximum: int) -> click.IntRange:
 
 
 class PositiveFloat(click.ParamType):
-    """A finite float > 0, at most ``maximum`` when given."""
+    """A finite float > 0 (>= 0 with ``zero``), at most ``maximum`` when given."""
 
     name = "float"
 
-    def __init__(self, maximum: float | None = None) -> None:
+    def __init__(self, maximum: float | None = None, zero: bool = False) -> None:
         self.maximum = maximum
+        self.zero = zero
 
     def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> float:
         if isinstance(value, str) and not _ASCII_FLOAT.fullmatch(value.strip()):
@@ -298,7 +299,9 @@ class PositiveFloat(click.ParamType):
             self.fail(f"{value!r} is not a number", param, ctx)
         if not math.isfinite(number):
             self.fail(f"{value} is not a finite number", param, ctx)
-        if number <= 0:
+        if number < 0 and self.zero:
+            self.fail(f"{value} is negative; give a number >= 0", param, ctx)
+        if number <= 0 and not self.zero:
             self.fail(f"{value} is not positive; give a number > 0", param, ctx)
         if self.maximum is not None and number > self.maximum:
             self.fail(f"{value} is larger than {self.maximum}", param, ctx)
@@ -308,6 +311,11 @@ class PositiveFloat(click.ParamType):
 def positive_float(maximum: float | None = None) -> PositiveFloat:
     """A finite float > 0 (and <= ``maximum`` when given)."""
     return PositiveFloat(maximum)
+
+
+def non_negative_float(maximum: float | None = None) -> PositiveFloat:
+    """A finite float >= 0 (and <= ``maximum`` when given): a budget where 0 means "none"."""
+    return PositiveFloat(maximum, zero=True)
 
 
 class Pixels(click.ParamType):

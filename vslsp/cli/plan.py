@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from vslsp.cli.params import float_range, int_range, positive_float, prepare_output_file
+from vslsp.cli.params import int_range, non_negative_float, positive_float, prepare_output_file
 from vslsp.cli.pddl import debug_option, pddl_edge
 from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
 
@@ -57,7 +57,7 @@ if TYPE_CHECKING:
 )
 @click.option(
     "--conflict-budget",
-    type=float_range(0),
+    type=non_negative_float(MAX_TIMEOUT_S),
     default=30.0,
     show_default=True,
     help="When the problem is proved unsolvable, spend at most this many seconds finding a minimal set of "

@@ -101,7 +101,7 @@ def navigate(
 def renamed(old: str, new_name: object) -> str:
     """The text a rename of ``old`` to ``new_name`` writes (``?x`` for a variable), or InputError for a name
     PDDL does not allow (a keyword of PDDL is none: ``and``, ``either``, ``forall``...)."""
-    from vslsp.symbolic.language.vocabulary import is_reserved_name as reserved
+    from vslsp.symbolic.language import is_reserved_name
 
     if not isinstance(new_name, str) or not new_name:
         raise InputError("give the new name")
@@ -112,7 +112,7 @@ def renamed(old: str, new_name: object) -> str:
             f"'{new_name}' is not a PDDL name: start with a letter, then letters, digits, '-' or '_'"
             + (" (after the '?')" if variable else "")
         )
-    if not variable and reserved(bare):
+    if not variable and is_reserved_name(bare):
         raise InputError(f"'{bare}' is a word of PDDL itself; choose another name")
     return f"?{bare}" if variable else bare
 

@@ -5,8 +5,9 @@ iCub experiments. Learning (:func:`learn_domain`, :func:`learn_task`) works on g
 :class:`Step` records; :func:`make_problem` states a task in an observed scene; :func:`solve`
 plans with unified-planning + Fast Downward (trajectory constraints compiled into the lifted
 domain, :mod:`vslsp.symbolic.lifted`); :func:`validate` checks a plan against preconditions,
-goal and every PDDL 3.0 constraint. Layers: formula < model < lifted, validate < up_model <
-pddl (reader), planner (engines) < shell. unified-planning is imported only when called.
+goal and every PDDL 3.0 constraint. Layers: budget (the limits of PDDL input) < formula < model <
+lifted, monitors < validate < up_model, flat_problem < pddl (reader), planner (engines) < shell.
+unified-planning is imported only when called.
 """
 
 import importlib

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from vslsp.errors import InputError
+from vslsp.symbolic.budget import check_instances, instance_count
 
 State = frozenset  # frozenset[Atom]: the atoms that hold
 #: Objects of each type, subtypes included: ``{"block": ("red", "green")}``.
@@ -261,20 +262,39 @@ def holds(formula: Formula, state: State, universe: Universe) -> bool:
     )
 
 
-def expand_quantifiers(formula: Formula, universe: Universe) -> Formula:
+def expand_quantifiers(formula: Formula, universe: Universe, what: str = "the formula") -> Formula:
     """``formula`` with ``forall`` as a conjunction and ``exists`` as a disjunction over the objects.
 
     Planners get a plain goal this way: Fast Downward turns a quantified goal into one derived
-    atom, which leaves its heuristics blind on long plans.
+    atom, which leaves its heuristics blind on long plans. The atoms it would write are counted
+    first (:func:`ground_size`): more than :data:`~vslsp.symbolic.budget.MAX_GROUND_INSTANCES` is an
+    InputError naming ``what`` (the goal, a constraint), before anything is built.
     """
+    check_instances(ground_size(formula, universe), what)
+    return _expanded(formula, universe)
+
+
+def _expanded(formula: Formula, universe: Universe) -> Formula:
     if isinstance(formula, (Atom, Equals)):
         return formula
     if isinstance(formula, (Forall, Exists)):
-        parts = tuple(
-            expand_quantifiers(substitute(formula.body, b), universe) for b in bindings(formula.variables, universe)
-        )
+        parts = tuple(_expanded(substitute(formula.body, b), universe) for b in bindings(formula.variables, universe))
         return And(parts) if isinstance(formula, Forall) else Or(parts)
-    return _map_connective(formula, lambda part: expand_quantifiers(part, universe))
+    return _map_connective(formula, lambda part: _expanded(part, universe))
+
+
+def ground_size(formula: Formula, universe: Universe) -> int:
+    """How many atoms ``formula`` has once its quantifiers are written out over ``universe`` (counted
+    without writing them: a quantifier multiplies its body's count by its bindings)."""
+    if isinstance(formula, (Atom, Equals)):
+        return 1
+    if isinstance(formula, Not):
+        return ground_size(formula.arg, universe)
+    if isinstance(formula, (And, Or)):
+        return sum(ground_size(arg, universe) for arg in formula.args)
+    if isinstance(formula, Imply):
+        return ground_size(formula.condition, universe) + ground_size(formula.consequence, universe)
+    return instance_count(formula.variables, universe) * ground_size(formula.body, universe)
 
 
 def bindings(variables: tuple[tuple[str, str], ...], universe: Universe) -> Iterable[dict[str, str]]:

@@ -11,6 +11,7 @@ ground instance is found at the quantified constraint it came from.
 from __future__ import annotations
 
 import re
+from bisect import bisect_right
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
@@ -30,6 +31,25 @@ class Written:
     column: int
     tree: Tree
     variables: frozenset[str] = frozenset()  # bound by a (forall ...) around constraints
+    canonical: Tree = ""  # the tree in lower case, variable lists written one way (what find compares)
+
+
+class Parts(tuple):
+    """The parts of a section (a tuple of :class:`Written`), those without variables indexed by their
+    canonical tree: a problem's thousands of goal conjuncts are each found in constant time."""
+
+    exact: dict[object, tuple[int, Written]]
+    quantified: list[tuple[int, Written]]
+
+    def __new__(cls, parts: Sequence[Written]) -> Parts:
+        made = super().__new__(cls, parts)
+        made.exact, made.quantified = {}, []
+        for index, part in enumerate(parts):
+            if part.variables:
+                made.quantified.append((index, part))
+            else:
+                made.exact.setdefault(_words(part.canonical), (index, part))  # the first that writes it
+        return made
 
 
 def as_written(kind: str, formula: str, text: str, name: str) -> dict:
@@ -54,13 +74,14 @@ def where(item: dict) -> str:
 
 
 @lru_cache(maxsize=8)
-def written_parts(text: str, section: str) -> tuple[Written, ...]:
+def written_parts(text: str, section: str) -> Parts:
     """The conjuncts of the problem's ``(:goal ...)`` or the constraints of its ``(:constraints ...)``
     (``section``: ``":goal"`` or ``":constraints"``), ``(and ...)`` opened, preferences left out."""
     body = _section(_parse(text), section)
     if body is None:
-        return ()
-    return tuple(p for tree in body for p in _parts(text, tree, frozenset(), None, section == ":constraints"))
+        return Parts(())
+    lines = [0, *(match.end() for match in re.finditer("\n", text))]
+    return Parts([p for tree in body for p in _parts(text, lines, tree, frozenset(), None, section == ":constraints")])
 
 
 def find(formula: str, parts: Sequence[Written]) -> Written | None:
@@ -72,10 +93,15 @@ def find(formula: str, parts: Sequence[Written]) -> Written | None:
     if not trees:
         return None
     target = _canonical(_lower(trees[0]))
-    for part in parts:
-        if _match(_canonical(_lower(part.tree)), target, part.variables, {}):
+    if not isinstance(parts, Parts):
+        parts = Parts(parts)
+    hit = parts.exact.get(_words(target))
+    for index, part in parts.quantified:  # the first part in the file that writes it wins
+        if hit is not None and index > hit[0]:
+            break
+        if _match(part.canonical, target, part.variables, {}):
             return part
-    return None
+    return hit[1] if hit is not None else None
 
 
 def normalised(text: str) -> str:
@@ -130,7 +156,7 @@ def _section(trees: list[Tree], keyword: str) -> tuple[Tree, ...] | None:
 
 
 def _parts(
-    text: str, tree: Tree, variables: frozenset[str], quantified: Tree | None, constraints: bool
+    text: str, lines: list[int], tree: Tree, variables: frozenset[str], quantified: Tree | None, constraints: bool
 ) -> list[Written]:
     """``tree`` as parts: ``and`` opened; among ``constraints``, ``forall`` opened with its variables
     bound (a part inside it is written as the whole quantified constraint when that holds just one)."""
@@ -140,15 +166,17 @@ def _parts(
     if head == "and":
         children = tree[1][1:]
         alone = quantified if len(children) == 1 else None
-        return [p for child in children for p in _parts(text, child, variables, alone, constraints)]
+        return [p for child in children for p in _parts(text, lines, child, variables, alone, constraints)]
     if constraints and head == "forall" and len(tree[1]) == 3:
         bound = _variables(tree[1][1])
-        return _parts(text, tree[1][2], variables | bound, quantified or tree, constraints)
+        return _parts(text, lines, tree[1][2], variables | bound, quantified or tree, constraints)
     shown = quantified if quantified is not None else tree
     assert not isinstance(shown, str)
     start = shown[0]
-    line, column = position(text, start)
-    return [Written(normalised(text[start : _end(text, start)]), line, column, tree, variables)]
+    line = bisect_right(lines, start)  # the lines' starts, found once per section: no count from the top
+    column = start - lines[line - 1] + 1
+    written = normalised(text[start : _end(text, start)])
+    return [Written(written, line, column, tree, variables, _canonical(_lower(tree)))]
 
 
 def _variables(tree: Tree) -> frozenset[str]:
@@ -168,6 +196,11 @@ def _end(text: str, start: int) -> int:
             if depth == 0:
                 return match.end()
     return len(text)
+
+
+def _words(tree: Tree) -> object:
+    """``tree`` without its offsets: what two trees written at different places share when they match."""
+    return tree if isinstance(tree, str) else tuple(_words(child) for child in tree[1])
 
 
 def _lower(tree: Tree) -> Tree:

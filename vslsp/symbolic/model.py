@@ -149,7 +149,13 @@ class Domain:
 
     # --- authoring ---
     def with_type(self, name: str, parent: str | None = None) -> Domain:
-        return replace(self, types=_put(self.types, (name, parent), key=lambda t: t[0]))
+        return self.with_types(parent, name)
+
+    def with_types(self, parent: str | None, *names: str) -> Domain:
+        """The domain with the types ``names`` under ``parent`` (a type declared again keeps its place)."""
+        types = dict(self.types)
+        types.update(dict.fromkeys(names, parent))
+        return replace(self, types=tuple(types.items()))
 
     def with_predicate(self, predicate: Predicate) -> Domain:
         self._check_types(p for _, p in predicate.parameters)
@@ -192,13 +198,18 @@ class Domain:
         )
 
     def subtypes(self, type_: str) -> set[str]:
-        """``type_`` and every type below it."""
+        """``type_`` and every type below it (time linear in the types, whatever the depth)."""
+        children: dict[str | None, list[str]] = {}
+        for name, parent in self.types:
+            children.setdefault(parent, []).append(name)
         found = {type_}
-        while True:
-            more = {name for name, parent in self.types if parent in found} - found
-            if not more:
-                return found
-            found |= more
+        pending = [type_]
+        while pending:
+            for child in children.get(pending.pop(), ()):
+                if child not in found:
+                    found.add(child)
+                    pending.append(child)
+        return found
 
     def requirements(self) -> tuple[str, ...]:
         """The PDDL requirements the domain needs (``:constraints`` always: problems may order it)."""
@@ -283,13 +294,13 @@ class Problem:
     # --- authoring ---
     def with_objects(self, type_: str, *names: str) -> Problem:
         self.domain._check_types([type_])
-        objects = self.objects
-        for name in names:
-            objects = _put(objects, (name, type_), key=lambda o: o[0])
-        return replace(self, objects=objects)
+        objects = dict(self.objects)  # an object named again keeps its place and takes the new type
+        objects.update(dict.fromkeys(names, type_))
+        return replace(self, objects=tuple(objects.items()))
 
     def with_init(self, *atoms: Atom) -> Problem:
-        return replace(self, init=self.init | frozenset(self._checked(a) for a in atoms))
+        self._checked(*atoms)
+        return replace(self, init=self.init | frozenset(atoms))
 
     def without_init(self, *atoms: Atom) -> Problem:
         return replace(self, init=self.init - frozenset(atoms))
@@ -309,7 +320,8 @@ class Problem:
     # --- queries ---
     def all_objects(self) -> tuple[tuple[str, str], ...]:
         """The domain's constants and the problem's objects, ``((name, type), ...)``."""
-        return (*self.domain.constants, *(o for o in self.objects if o not in self.domain.constants))
+        constants = set(self.domain.constants)
+        return (*self.domain.constants, *(o for o in self.objects if o not in constants))
 
     def universe(self) -> Universe:
         """The objects of each type (constants and subtypes included)."""
@@ -352,11 +364,12 @@ class Problem:
             constraints=tuple(formula_from_list(c) for c in data["constraints"]),  # type: ignore[misc]
         )
 
-    def _checked(self, formula):
-        """Raise InputError when ``formula`` names an undeclared predicate or object."""
+    def _checked(self, *formulas):
+        """Raise InputError when one of ``formulas`` names an undeclared predicate or object (the names
+        gathered once for all of them)."""
         arity = {p.name: len(p.parameters) for p in self.domain.predicates}
         objects = {o for o, _ in self.all_objects()}
-        for atom in atoms_of(formula):
+        for atom in (atom for formula in formulas for atom in atoms_of(formula)):
             if arity.get(atom.predicate) != len(atom.args):
                 raise InputError(
                     f"{atom.to_pddl()} does not match a predicate of domain {self.domain.name} "
@@ -368,7 +381,6 @@ class Problem:
                         f"{atom.to_pddl()} names {arg!r}, which is not an object of problem "
                         f"{self.name}; add it with with_objects"
                     )
-        return formula
 
 
 def _put(items: tuple, item, key) -> tuple:

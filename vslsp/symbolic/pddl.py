@@ -6,25 +6,25 @@ own ``to_pddl``; reading is unified-planning's reader, converted by
 :mod:`vslsp.symbolic.up_model`, with what the reader cannot explain checked first and its
 errors turned into :class:`~vslsp.errors.InputError` with FILE:LINE:COL
 (:mod:`vslsp.symbolic.pddl_errors`). Files are read within a budget: at most
-:data:`MAX_PDDL_BYTES` bytes, UTF-8, and :data:`PARSE_BUDGET_S` seconds of parsing.
+:data:`MAX_PDDL_BYTES` bytes, UTF-8, and the reading phase's budget
+(:data:`vslsp.symbolic.budget.PHASE_BUDGET_S` seconds).
 """
 
 from __future__ import annotations
 
 import re
-import signal
-import threading
 import warnings
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.files import shown
 from vslsp.outputs import write_text
+from vslsp.symbolic.budget import OverBudget, phase
 from vslsp.symbolic.engine_reader import read_with_engine
+from vslsp.symbolic.flat_problem import flat_problem
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
+from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl_errors import (
     at_end_as_sometime_after,
@@ -43,18 +43,17 @@ from vslsp.symbolic.up_model import domain_from_up, environment, problem_from_up
 
 __all__ = ["MAX_PDDL_BYTES", "parse_pddl", "read_domain", "read_pddl", "read_problem", "read_text", "save"]
 
-#: The longest a domain + problem may take to parse (seconds; enforced in the main thread).
-PARSE_BUDGET_S = 60.0
-
 
 def read_pddl(domain_path: str | Path, problem_path: str | Path | None = None) -> tuple[Domain, Problem | None]:
     """Read a domain (and a problem) file through unified-planning's PDDLReader.
 
-    Malformed input raises InputError ``FILE:LINE:COL: what is wrong``; what vslsp reads
-    leniently (preferences, a mismatched ``(:domain ...)``) is a :class:`PddlWarning`. The
-    parse budget covers the whole read: the files, the checks and the reader.
+    Malformed input raises InputError ``FILE:LINE:COL: what is wrong`` (a problem for another domain,
+    a name that is a word of PDDL too); what vslsp reads leniently (preferences) is a
+    :class:`PddlWarning`. The reading phase's budget covers the whole read: the files, the checks and
+    the reader. A flat problem that checks clean is read from the language engine's tree
+    (:mod:`vslsp.symbolic.flat_problem`), any other through unified-planning's reader.
     """
-    with _parse_budget(shown(problem_path if problem_path is not None else domain_path)):
+    with phase("reading", shown(problem_path if problem_path is not None else domain_path)):
         domain_text = read_text(domain_path)
         problem_text = read_text(problem_path) if problem_path is not None else None
         return _read(
@@ -74,7 +73,7 @@ def read_problem(domain_path: str | Path, problem_path: str | Path) -> Problem:
 
 def parse_pddl(domain_text: str, problem_text: str | None = None) -> tuple[Domain, Problem | None]:
     """:func:`read_pddl` on strings (errors name ``<domain>`` / ``<problem>``)."""
-    with _parse_budget("<problem>" if problem_text is not None else "<domain>"):
+    with phase("reading", "<problem>" if problem_text is not None else "<domain>"):
         return _read(domain_text, problem_text, "<domain>", "<problem>" if problem_text is not None else None)
 
 
@@ -115,14 +114,45 @@ def _read(
             _check_requirements(domain_text, read[0], read[1], domain_name)
         return read
     domain = domain_from_up(_parse(domain_text, None, domain_name, None))
+    for what, names in (
+        ("type", [t for t, _ in domain.types if t != "object"]),  # (:types object) names the built-in type
+        ("constant", [c for c, _ in domain.constants]),
+        ("predicate", [p.name for p in domain.predicates]),
+        ("action", [a.name for a in domain.actions]),
+    ):
+        _refuse_reserved(names, what, domain_text, domain_name, ":types" if what == "type" else "")
     if text is None or problem_name is None:
         return domain, None
     check_domain_name(text, domain.name, problem_name)
     text = re.sub(r"(\(\s*:domain\s+)[^\s()]+", lambda m: m.group(1) + domain.name, text, count=1, flags=re.I)
-    up_problem = _parse(domain_text, text, domain_name, problem_name)
-    problem = problem_from_up(up_problem, domain)
+    # A flat problem (ground goal, no constraints) that checks clean is read from the language engine's
+    # tree in linear time; any other goes through unified-planning's reader, which words the errors too.
+    problem = flat_problem(domain, domain_text, text)
+    if problem is None:
+        up_problem = _parse(domain_text, text, domain_name, problem_name)
+        try:
+            problem = problem_from_up(up_problem, domain)
+        except InputError as error:  # a limit of the problem as a whole (its ground instances): no place in it
+            raise InputError(f"{problem_name}: {error}") from None
+    _refuse_reserved([o for o, _ in problem.objects], "object", text, problem_name, ":objects")
     _check_requirements(domain_text, domain, problem, domain_name)
     return domain, problem
+
+
+def _refuse_reserved(names: list[str], what: str, text: str, name: str, section: str) -> None:
+    """InputError at the first of ``names`` that is a word of PDDL (``and``, ``or``, ``not`` ...), placed
+    where it is written (after ``section``, when given)."""
+    reserved = next((n for n in names if is_reserved_name(n)), None)
+    if reserved is None:
+        return
+    start = re.search(rf"\(\s*{re.escape(section)}\b", text, re.IGNORECASE) if section else None
+    found = re.compile(rf"(?<![\w?-]){re.escape(reserved)}(?![\w-])", re.IGNORECASE).search(
+        text, start.end() if start else 0
+    )
+    line = text.count("\n", 0, found.start()) + 1 if found else 0
+    column = found.start() - text.rfind("\n", 0, found.start()) if found else 0
+    where = f"{name}:{line}:{column}" if found else name
+    raise InputError(f"{where}: {reserved_name_message(reserved, what)}")
 
 
 def _check_requirements(domain_text: str, domain: Domain, problem: Problem, name: str) -> None:
@@ -154,53 +184,6 @@ def _check_requirements(domain_text: str, domain: Domain, problem: Problem, name
         )
 
 
-class _OverBudget(BaseException):
-    """The parse budget is spent (a BaseException: an ``except Exception`` in the reader's
-    libraries, pyparsing's included, cannot keep it)."""
-
-
-@contextmanager
-def _time_budget(seconds: float) -> Iterator[None]:
-    """Raise :class:`_OverBudget` in the main thread after ``seconds`` (elsewhere: no limit)."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
-        yield
-        return
-
-    expired = False
-
-    def alarm(signum: int, frame: Any) -> None:
-        nonlocal expired
-        expired = True
-        raise _OverBudget()
-
-    # Rule: the alarm repeats every 50 ms once the budget is spent, and a block that ends after it
-    # fired is over budget even if no raise got out. A signal handler runs wherever the main thread
-    # is, a finalizer that the garbage collector runs included, and an exception raised there is
-    # only printed ("Exception ignored in ...") and lost: one single alarm can be swallowed.
-    previous = signal.signal(signal.SIGALRM, alarm)
-    signal.setitimer(signal.ITIMER_REAL, seconds, 0.05)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
-    if expired:
-        raise _OverBudget()
-
-
-@contextmanager
-def _parse_budget(name: str) -> Iterator[None]:
-    """At most :data:`PARSE_BUDGET_S` seconds for everything inside, else an InputError naming ``name``."""
-    try:
-        with _time_budget(PARSE_BUDGET_S):
-            yield
-    except _OverBudget:
-        raise InputError(
-            f"{name}: reading took more than {PARSE_BUDGET_S:g} s and was stopped; the file is too "
-            "large for vslsp's reader (plan with Fast Downward directly)"
-        ) from None
-
-
 def _parse(domain_text: str, problem_text: str | None, domain_name: str, problem_name: str | None) -> Any:
     from unified_planning.io import PDDLReader
 
@@ -209,7 +192,7 @@ def _parse(domain_text: str, problem_text: str | None, domain_name: str, problem
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)  # pyparsing's notes about the reader's own calls
             return PDDLReader(environment()).parse_problem_string(domain_text, problem_text)
-    except _OverBudget:  # the budget of the whole read (_parse_budget)
+    except OverBudget:  # the budget of the whole read (the reading phase)
         raise
     except RecursionError:
         raise InputError(

@@ -13,6 +13,7 @@ import re
 import warnings
 
 from vslsp.errors import InputError
+from vslsp.symbolic.budget import MAX_READER_NESTING, MAX_READER_TYPE_DEPTH, type_depths
 
 
 class PddlWarning(UserWarning):
@@ -37,7 +38,7 @@ PDDL3_OPERATORS = (
     "at end",
 )
 #: The deepest parenthesis nesting read (unified-planning's reader recurses per level; ~50 overflow it).
-MAX_NESTING = 40
+MAX_NESTING = MAX_READER_NESTING
 _NOT_PDDL = {
     "somewhere-after": "PDDL 3.0 has no 'somewhere-after'; for \"p only after q\" (the demonstrated order) "
     "write (sometime-before p q)",
@@ -139,14 +140,20 @@ def _section_spans(code: str, section: str) -> list[tuple[int, int]]:
 
 
 def check_domain_name(problem_text: str, domain_name: str, name: str) -> None:
-    """Warn when the problem's ``(:domain NAME)`` is not the domain read with it (VAL and Fast Downward accept it)."""
+    """Raise InputError when the problem's ``(:domain NAME)`` is not the domain read with it: the files do
+    not belong together (a plan for one would be checked against the other)."""
     match = re.search(r"\(\s*:domain\s+([^\s()]+)", _code(problem_text), re.IGNORECASE)
     if match and match.group(1).lower() != domain_name.lower():
         line, column = _position(problem_text, match.start(1))
-        warn(
-            f"{name}:{line}:{column}: the problem is for domain {match.group(1)!r}, but the domain file "
-            f"defines {domain_name!r}; read with it all the same"
-        )
+        raise InputError(f"{name}:{line}:{column}: {other_domain(match.group(1), domain_name)}")
+
+
+def other_domain(problem_domain: str, domain_name: str) -> str:
+    """The message for a problem whose ``(:domain NAME)`` names another domain than the one given."""
+    return (
+        f"the problem is for domain {problem_domain!r}, but the domain file defines {domain_name!r}; "
+        f"give the domain file of {problem_domain!r}, or write (:domain {domain_name}) in the problem"
+    )
 
 
 def either_widened(text: str, name: str) -> str:
@@ -157,15 +164,17 @@ def either_widened(text: str, name: str) -> str:
     parents = {child: parent for child, (parent, _) in _type_parents(code).items()}
 
     def ancestors(type_: str) -> list[str]:
-        chain = [type_]
-        while chain[-1] in parents and parents[chain[-1]] not in chain:
+        chain, seen = [type_], {type_}
+        while chain[-1] in parents and parents[chain[-1]] not in seen:
             chain.append(parents[chain[-1]])
+            seen.add(chain[-1])
         return [*chain, "object"]
 
     found = list(re.finditer(r"\(\s*either\s+([^()]*)\)", code, re.IGNORECASE))
     for match in reversed(found):
         chains = [ancestors(t.lower()) for t in match.group(1).split()]
-        common = next((t for t in chains[0] if all(t in c for c in chains[1:])), "object")
+        others = [set(c) for c in chains[1:]]
+        common = next((t for t in chains[0] if all(t in c for c in others)), "object")
         text = text[: match.start()] + common.ljust(match.end() - match.start()) + text[match.end() :]
     if found:
         line, column = _position(text, found[0].start())
@@ -254,23 +263,35 @@ def types_declared_once(text: str) -> str:
 
 
 def check_types(text: str, name: str) -> None:
-    """Raise InputError, with the place, when the ``(:types ...)`` of a domain form a cycle."""
+    """Raise InputError, with the place, when the ``(:types ...)`` of a domain form a cycle or a chain
+    deeper than :data:`~vslsp.symbolic.budget.MAX_READER_TYPE_DEPTH` (both found in time linear in the types)."""
     parents = _type_parents(_code(text))
     if not parents:
         return
-    for start in parents:
-        seen, current = [start], start
-        while current in parents:
-            current = parents[current][0]
-            if current == start:
-                line, column = _position(text, parents[start][1])
-                raise InputError(
-                    f"{name}:{line}:{column}: the types form a cycle ({' - '.join([*seen, start])}); "
-                    "a type cannot be its own ancestor"
-                )
-            if current in seen:
-                break
-            seen.append(current)
+    walk_of: dict[str, int] = {}
+    for walk, start in enumerate(parents):
+        current: str | None = start
+        path: list[str] = []
+        while current is not None and current not in walk_of:
+            walk_of[current] = walk
+            path.append(current)
+            current = parents[current][0] if current in parents else None
+        if current is not None and walk_of[current] == walk:
+            cycle = path[path.index(current) :]
+            line, column = _position(text, parents[cycle[0]][1])
+            raise InputError(
+                f"{name}:{line}:{column}: the types form a cycle ({' - '.join([*cycle, cycle[0]])}); "
+                "a type cannot be its own ancestor"
+            )
+    depths = type_depths({child: (parent,) for child, (parent, _) in parents.items()})
+    deepest = max(depths.values(), default=0)
+    if deepest > MAX_READER_TYPE_DEPTH:
+        over = next(child for child in parents if depths[child] > MAX_READER_TYPE_DEPTH)
+        line, column = _position(text, parents[over][1])
+        raise InputError(
+            f"{name}:{line}:{column}: the type hierarchy is {deepest} types deep: nested too deeply "
+            f"(limit {MAX_READER_TYPE_DEPTH} on the planner's path); give the types fewer levels of parents"
+        )
 
 
 def preferences_removed(text: str, name: str) -> str:

@@ -23,6 +23,7 @@ from typing import Any
 from vslsp.errors import InputError, VslspError
 from vslsp.interrupts import memory_limit_mb, user_limited
 from vslsp.stages import in_stage
+from vslsp.symbolic.budget import phase
 from vslsp.symbolic.fast_downward import bounded_command, kill_tree
 from vslsp.symbolic.fast_downward import failure as fast_downward_failure
 from vslsp.symbolic.fast_downward import run as run_fast_downward
@@ -193,10 +194,11 @@ def _solve(
 def _solve_directly(domain: Domain, problem: Problem, planner: str, limits: Limits) -> tuple[PlanResult, PlanningTimes]:
     """Lifted compilation, our PDDL text, Fast Downward's driver: nothing grounded in Python."""
     start = time.perf_counter()
-    compiled_domain, compiled_problem = compile_lifted(domain, problem)
-    compiled = time.perf_counter()
-    domain_text, problem_text = planner_texts(compiled_domain, compiled_problem)
-    built = time.perf_counter()
+    with phase("grounding", f"problem {problem.name}"):
+        compiled_domain, compiled_problem = compile_lifted(domain, problem)
+        compiled = time.perf_counter()
+        domain_text, problem_text = planner_texts(compiled_domain, compiled_problem)
+        built = time.perf_counter()
     run = run_fast_downward(domain_text, problem_text, DIRECT[planner], limits.timeout, memory_mb=limits.memory_mb)
     solved = time.perf_counter()
     if run.outcome is not PlanStatus.SOLVED:
@@ -219,7 +221,7 @@ def _solve_directly(domain: Domain, problem: Problem, planner: str, limits: Limi
 def planner_texts(domain: Domain, problem: Problem) -> tuple[str, str]:
     """The domain and problem text for a planner without PDDL 3.0 (quantified goals written out, no
     ``:constraints`` requirement)."""
-    goal = expand_quantifiers(problem.goal, problem.universe())
+    goal = expand_quantifiers(problem.goal, problem.universe(), "the goal")
     named = objects_named(domain)  # the compiled schemas name objects: Fast Downward wants them as constants
     domain = replace(domain, constants=(*domain.constants, *(o for o in problem.objects if o[0] in named)))
     problem = replace(problem, domain=domain, goal=goal, objects=tuple(o for o in problem.objects if o[0] not in named))
@@ -246,16 +248,16 @@ def _solve_up(
             else compilation or (Compilation.LIFTED if conditional else Compilation.GROUND)
         )
         map_backs = []
-        if used is Compilation.LIFTED:
-            compiled_domain, compiled_problem = compile_lifted(domain, problem)
-            up_problem = to_up(compiled_domain, compiled_problem, expand=True)
-            built = time.perf_counter()
-        else:
-            up_problem = to_up(domain, problem, expand=True)
-            built = time.perf_counter()
-            if used is Compilation.GROUND:
-                up_problem, back = _ground_compilation(up_problem, problem)
-                map_backs.append(back)
+        with phase("grounding", f"problem {problem.name}"):
+            if used is Compilation.LIFTED:
+                compiled_domain, compiled_problem = compile_lifted(domain, problem)
+                up_problem = to_up(compiled_domain, compiled_problem, expand=True)
+            else:
+                up_problem = to_up(domain, problem, expand=True)
+        built = time.perf_counter()
+        if used is Compilation.GROUND:
+            up_problem, back = _ground_compilation(up_problem, problem)
+            map_backs.append(back)
         kind = up_problem.kind  # computed afresh on each access: once is enough
         if not engine.supports(kind) and kind.has_conditional_effects():
             from unified_planning.shortcuts import Compiler

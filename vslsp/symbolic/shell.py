@@ -22,6 +22,7 @@ from dataclasses import replace
 
 from vslsp import interrupts
 from vslsp.errors import InputError, VslspError
+from vslsp.symbolic.budget import MAX_READER_NESTING, MAX_READER_TYPE_DEPTH
 from vslsp.symbolic.conflict import explain
 from vslsp.symbolic.formula import Atom, atoms_of
 from vslsp.symbolic.model import Domain, Predicate, Problem, When
@@ -69,11 +70,18 @@ def _problem_text(problem: Problem, goal: str | None = None, constraints: list[s
 
 
 def _balanced(typed: str) -> None:
-    """Raise InputError, placed in what the user typed, when its parentheses do not balance."""
+    """Raise InputError, placed in what the user typed, when its parentheses do not balance or nest deeper
+    than the reader takes (:data:`~vslsp.symbolic.budget.MAX_READER_NESTING`: every command's checks and
+    the reader recurse per level)."""
     opened: list[int] = []
     for index, char in enumerate(typed):
         if char == "(":
             opened.append(index)
+            if len(opened) > MAX_READER_NESTING:
+                raise InputError(
+                    f"parentheses nest {len(opened)} deep at column {index + 1} of what you typed: nested too "
+                    f"deeply (limit {MAX_READER_NESTING}); flatten the formula: (and a (and b c)) is (and a b c)"
+                )
         elif char == ")":
             if not opened:
                 raise InputError(
@@ -131,6 +139,8 @@ class Shell(cmd.Cmd):
         except ValueError as error:  # shlex on unbalanced quotes
             self.errors += 1
             self.say(f"error: {str(error).lower()} in what you typed")
+        except RecursionError:  # a check that recursed past Python's limit: the shell goes on
+            self.say("error: what you typed nests too deeply for vslsp; flatten it: (and a (and b c)) is (and a b c)")
         finally:
             if (self.domain, self.problem) != before and line.split()[:1] != ["undo"]:
                 self.changes.append((" ".join(line.split()), *before))
@@ -188,15 +198,19 @@ class Shell(cmd.Cmd):
             self._usage("type")
             return
         parent = parents[0] if parents else None
+        above = _ancestors(self.domain, parent) if parent else set()
         if parent:
             self._checker().type_(parent)
-        domain = self.domain
+            if len(above) + 1 > MAX_READER_TYPE_DEPTH:
+                raise InputError(
+                    f"type {names[0]} under {parent} would be {len(above) + 1} types deep: nested too deeply "
+                    f"(limit {MAX_READER_TYPE_DEPTH}); put it under a type nearer to object"
+                )
         for name in names:
             self._checker().name(name, "type")
-            if parent and name in _ancestors(domain, parent):
+            if name in above:
                 raise InputError(f"type {name} cannot be under {parent}: the types would form a cycle")
-            domain = domain.with_type(name, parent)
-        self._set(domain=domain)
+        self._set(domain=self.domain.with_types(parent, *names))
         self.say(f"type {' '.join(names)}" + (f" - {parent}" if parent else ""))
 
     def do_predicate(self, arg: str) -> None:

@@ -14,10 +14,10 @@ from __future__ import annotations
 import difflib
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from vslsp.errors import InputError
-from vslsp.symbolic.language.vocabulary import is_reserved_name
+from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl_errors import PDDL3_OPERATORS, check_text
 
@@ -62,6 +62,12 @@ def did_you_mean(name: str, known: Iterable[str]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
+def _listed(names: list[str], most: int = 20) -> str:
+    """``a, b, c`` (the first ``most`` names, then how many more: a message stays one short line)."""
+    shown = ", ".join(names[:most])
+    return shown if len(names) <= most else f"{shown} and {len(names) - most} more"
+
+
 def _text(tree: Tree) -> str:
     return tree if isinstance(tree, str) else "(" + " ".join(_text(t) for t in tree) + ")"
 
@@ -89,6 +95,7 @@ class Checker:
 
     domain: Domain
     problem: Problem | None = None
+    _objects: dict[str, str] | None = field(default=None, init=False, repr=False)
 
     # --- names ---
     @staticmethod
@@ -99,8 +106,8 @@ class Checker:
             raise InputError(
                 f"{name!r} cannot name {article} {what}: a PDDL name is a letter, then letters, digits, - or _"
             )
-        if is_reserved_name(name):  # the one vocabulary of the language engine (`at` is a name)
-            raise InputError(f"'{name}' is a word of PDDL itself and cannot name {article} {what}; choose another")
+        if what != "domain" and what != "problem" and is_reserved_name(name):  # the one vocabulary (`at` is a name)
+            raise InputError(reserved_name_message(name, what))
         return name
 
     def type_(self, name: str) -> None:
@@ -108,13 +115,16 @@ class Checker:
         if name not in declared:
             raise InputError(
                 f"unknown type {name!r}{did_you_mean(name, declared)}: declare it with `type {name}`"
-                + (f" (types so far: {', '.join(declared[:-1])})" if len(declared) > 1 else "")
+                + (f" (types so far: {_listed(declared[:-1])})" if len(declared) > 1 else "")
             )
 
     def objects(self) -> dict[str, str]:
-        """Object -> type (the domain's constants, and the problem's objects when checking a problem)."""
-        everything = self.problem.all_objects() if self.problem is not None else self.domain.constants
-        return dict(everything)
+        """Object -> type (the domain's constants, and the problem's objects when checking a problem);
+        made once per checker (a fragment may name many objects)."""
+        if self._objects is None:
+            everything = self.problem.all_objects() if self.problem is not None else self.domain.constants
+            self._objects = dict(everything)
+        return self._objects
 
     def parameters(self, items: list[Tree]) -> list[tuple[str, str]]:
         """A typed variable list, its types checked."""

@@ -14,6 +14,7 @@ from functools import lru_cache
 from typing import Any
 
 from vslsp.errors import InputError
+from vslsp.symbolic.budget import check_instances, instance_count
 from vslsp.symbolic.formula import (
     Always,
     And,
@@ -31,6 +32,7 @@ from vslsp.symbolic.formula import (
     Sometime,
     SometimeAfter,
     SometimeBefore,
+    Universe,
     bindings,
     conjunction,
     constraint_formulas,
@@ -145,9 +147,15 @@ def to_up(domain: Domain, problem: Problem | None = None, expand: bool = False) 
         universe = problem.universe()
         problem = replace(
             problem,
-            goal=expand_quantifiers(problem.goal, universe),
+            goal=expand_quantifiers(problem.goal, universe, "the goal"),
             constraints=tuple(
-                type(c)(*(expand_quantifiers(f, universe) for f in constraint_formulas(c))) for c in problem.constraints
+                type(c)(
+                    *(
+                        expand_quantifiers(f, universe, f"the constraint {_short(c.to_pddl())}")
+                        for f in constraint_formulas(c)
+                    )
+                )
+                for c in problem.constraints
             ),
         )
     for atom in sorted(problem.init, key=lambda a: (a.predicate, a.args)):
@@ -228,10 +236,38 @@ def problem_from_up(up_problem: Any, domain: Domain) -> Problem:
     )
     goal = conjunction([formula_from_up(g) for g in up_problem.goals]) if up_problem.goals else And(())
     problem = Problem(up_problem.name, domain, objects, init, goal)
+    universe = problem.universe()
     constraints: list[Constraint] = []
     for node in up_problem.trajectory_constraints:
-        constraints.extend(_constraints_from_up(node, {}, problem))
+        count, variables = _constraint_instances(node, universe)
+        check_instances(count, f"the constraint (forall ({variables}) ...)" if variables else "a constraint")
+        constraints.extend(_constraints_from_up(node, {}, universe))
     return Problem(up_problem.name, domain, objects, init, goal, tuple(constraints))
+
+
+def _short(text: str, length: int = 80) -> str:
+    """``text`` cut to ``length`` characters for a message."""
+    return text if len(text) <= length else text[: length - 3] + "..."
+
+
+def _constraint_instances(node: Any, universe: Universe) -> tuple[int, str]:
+    """How many constraints a UP trajectory-constraint node stands for once its ``forall`` are written out
+    (counted without writing them, without recursion), and the variables of the largest (``?a - t ...``)."""
+    total, most, variables_of_most = 0, 0, ""
+    stack = [(node, 1)]
+    while stack:
+        current, factor = stack.pop()
+        if current.is_and():
+            stack.extend((arg, factor) for arg in current.args)
+        elif current.is_forall():
+            variables = tuple((f"?{v.name}", v.type.name) for v in current.variables())
+            inner = factor * instance_count(variables, universe)
+            if inner > most:
+                most, variables_of_most = inner, " ".join(f"{v} - {t}" for v, t in variables)
+            stack.append((current.arg(0), inner))
+        elif not current.is_true():
+            total += factor
+    return total, variables_of_most
 
 
 def formula_from_up(node: Any) -> Formula:
@@ -291,21 +327,21 @@ _UP_CONSTRAINTS = (
 )
 
 
-def _constraints_from_up(node: Any, binding: dict, problem: Problem) -> list[Constraint]:
+def _constraints_from_up(node: Any, binding: dict, universe: Universe) -> list[Constraint]:
     """Trajectory constraints from a UP node; a ``forall`` around constraints is expanded over the objects.
 
     ``(sometime-after true φ)`` is how the reader is handed ``(at end φ)`` (the same meaning).
     """
     if node.is_and():
-        return [c for a in node.args for c in _constraints_from_up(a, binding, problem)]
+        return [c for a in node.args for c in _constraints_from_up(a, binding, universe)]
     if node.is_true():
         return []
     if node.is_forall():
         variables = tuple((f"?{v.name}", v.type.name) for v in node.variables())
         return [
             c
-            for extra in bindings(variables, problem.universe())
-            for c in _constraints_from_up(node.arg(0), {**binding, **extra}, problem)
+            for extra in bindings(variables, universe)
+            for c in _constraints_from_up(node.arg(0), {**binding, **extra}, universe)
         ]
     if node.is_sometime_after() and node.arg(0).is_true():
         return [AtEnd(substitute(formula_from_up(node.arg(1)), binding))]

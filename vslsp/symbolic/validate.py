@@ -15,28 +15,28 @@ its PDDL 3.0 semantics:
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 from vslsp.errors import InputError
 from vslsp.files import read_text, shown
+from vslsp.symbolic.budget import phase
 from vslsp.symbolic.formula import (
     Always,
     And,
-    AtEnd,
     AtMostOnce,
-    Constraint,
     Formula,
-    Sometime,
-    SometimeAfter,
     SometimeBefore,
+    Universe,
     conjunction,
     holds,
     substitute,
 )
 from vslsp.symbolic.locate import as_written
 from vslsp.symbolic.model import Domain, Problem, ground_effects
+from vslsp.symbolic.monitors import ConstraintMonitor
 
 PlanStep = tuple[str, tuple[str, ...]]
 PlanLike = Iterable[PlanStep | str]
@@ -109,37 +109,53 @@ def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validati
     Every violation is listed. At a step that cannot be applied the simulation stops: the goal
     and the constraints that only the rest of a trajectory could keep (sometime, at end,
     sometime-after) are then not judged; always, at-most-once and sometime-before are, on the
-    states reached.
+    states reached. The whole run is within the validating phase's budget
+    (:func:`vslsp.symbolic.budget.phase`).
     """
+    with phase("validating", f"the plan for problem {problem.name}"):
+        return _validate(domain, problem, plan_steps)
+
+
+def _validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validation:
     steps = [_as_step(step) for step in getattr(plan_steps, "steps", plan_steps)]
     universe = problem.universe()
-    state = frozenset(problem.init)
-    trajectory = [state]
+    objects = dict(problem.all_objects())
+    # One state, changed in place step by step; the constraints are judged as the states come
+    # (vslsp.symbolic.monitors), so no trajectory is kept: memory stays that of one state.
+    state = set(problem.init)
+    monitors = [ConstraintMonitor(constraint, universe) for constraint in problem.constraints]
+    for monitor in monitors:
+        monitor.observe(state)
     violations: list[Violation] = []
     for number, (name, args) in enumerate(steps, start=1):
-        stuck = _inapplicable(domain, problem, number, name, args, state)
+        stuck = _inapplicable(domain, objects, universe, number, name, args, cast(frozenset, state))
         if stuck:
             violations.append(stuck)
             break
-        action = domain.action(name)
-        added, deleted = ground_effects(action, args, state, universe)
-        state = (state - deleted) | added
-        trajectory.append(state)
+        added, deleted = ground_effects(domain.action(name), args, cast(frozenset, state), universe)
+        state -= deleted
+        state |= added
+        for monitor in monitors:
+            monitor.observe(state)
     finished = not violations
     if finished:
         for conjunct in conjuncts(problem.goal):
-            if not holds(conjunct, state, universe):
+            if not holds(conjunct, cast(frozenset, state), universe):
                 text = conjunct.to_pddl()
                 violations.append(
                     Violation("goal", text, len(steps), f"the goal {text} does not hold after the last step")
                 )
-    for constraint in problem.constraints:
-        if not finished and not isinstance(constraint, _SAFETY):
+
+    def when(i: int) -> str:
+        return "in the initial state" if i == 0 else f"after step {i} ({' '.join((steps[i - 1][0], *steps[i - 1][1]))})"
+
+    for monitor in monitors:
+        if not finished and not isinstance(monitor.constraint, _SAFETY):
             continue
-        broken = _broken(constraint, trajectory, steps, universe)
+        broken = monitor.verdict(when)
         if broken:
             at, why = broken
-            text = constraint.to_pddl()
+            text = monitor.constraint.to_pddl()
             violations.append(Violation("constraint", text, at, f"constraint {text} is broken: {why}"))
     if violations:
         return Validation(False, violations[0].message, tuple(violations))
@@ -149,7 +165,13 @@ def validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validati
 
 
 def _inapplicable(
-    domain: Domain, problem: Problem, number: int, name: str, args: tuple[str, ...], state: frozenset
+    domain: Domain,
+    objects: dict[str, str],
+    universe: Universe,
+    number: int,
+    name: str,
+    args: tuple[str, ...],
+    state: frozenset,
 ) -> Violation | None:
     """Why step ``number`` cannot be applied in ``state`` (its false preconditions), or None."""
     written = "(" + " ".join((name, *args)) + ")"
@@ -158,11 +180,10 @@ def _inapplicable(
         action = domain.action(name)
     except InputError as error:
         return Violation("precondition", written, number, f"{label}: {error}")
-    wrong = _wrong_arguments(domain, action.parameters, args, dict(problem.all_objects()))
+    wrong = _wrong_arguments(domain, action.parameters, args, objects)
     if wrong:
         return Violation("precondition", written, number, f"{label}: {wrong}")
     precondition = substitute(action.precondition, dict(zip((p for p, _ in action.parameters), args, strict=False)))
-    universe = problem.universe()
     if holds(precondition, state, universe):
         return None
     false = [part for part in conjuncts(precondition) if not holds(part, state, universe)]
@@ -195,54 +216,6 @@ def initially_broken(problem: Problem) -> str | None:
             return (
                 f"{constraint.to_pddl()} can never hold: {constraint.formula.to_pddl()} is already true in the "
                 "initial state, before anything else"
-            )
-    return None
-
-
-def _broken(
-    constraint: Constraint, trajectory: Sequence[frozenset], steps: Sequence[PlanStep], universe
-) -> tuple[int, str] | None:
-    """Where (the state's index) and why ``constraint`` fails on ``trajectory`` (states s_0..s_n), or None."""
-
-    def when(i: int) -> str:
-        return "in the initial state" if i == 0 else f"after step {i} ({' '.join((steps[i - 1][0], *steps[i - 1][1]))})"
-
-    def truth(formula: Formula) -> list[bool]:
-        return [holds(formula, s, universe) for s in trajectory]
-
-    if isinstance(constraint, Always):
-        values = truth(constraint.formula)
-        if all(values):
-            return None
-        return values.index(False), f"{constraint.formula.to_pddl()} is false {when(values.index(False))}"
-    last = len(trajectory) - 1
-    if isinstance(constraint, Sometime):
-        return None if any(truth(constraint.formula)) else (last, f"{constraint.formula.to_pddl()} never holds")
-    if isinstance(constraint, AtEnd):
-        return None if truth(constraint.formula)[-1] else (last, f"{constraint.formula.to_pddl()} is false at the end")
-    if isinstance(constraint, AtMostOnce):
-        values = truth(constraint.formula)
-        starts = [i for i, v in enumerate(values) if v and (i == 0 or not values[i - 1])]
-        if len(starts) <= 1:
-            return None
-        return starts[1], f"{constraint.formula.to_pddl()} becomes true again {when(starts[1])}"
-    p = truth(constraint.formula)
-    if isinstance(constraint, SometimeBefore):
-        q = truth(constraint.before)
-        for i, p_i in enumerate(p):
-            if p_i and not any(q[:i]):
-                return i, (
-                    f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.before.to_pddl()} "
-                    "has not held before"
-                )
-        return None
-    assert isinstance(constraint, SometimeAfter)
-    q = truth(constraint.after)
-    for i, p_i in enumerate(p):
-        if p_i and not any(q[i:]):
-            return i, (
-                f"{constraint.formula.to_pddl()} holds {when(i)} but {constraint.after.to_pddl()} "
-                "never holds then or later"
             )
     return None
 

@@ -44,6 +44,9 @@ API (stable: fields are only added)
 - :func:`read_document` ``(text, file) -> Document``, :func:`closest` ``(name, candidates)``,
   :func:`text_of` ``(node)`` (normalised text), and the vocabulary: :data:`REQUIREMENTS`,
   :data:`PDDL3_NAMES`, :data:`GOAL_OPERATORS`, :data:`EFFECT_OPERATORS`.
+- :data:`RESERVED_NAMES`, :func:`is_reserved_name` ``(name) -> bool``, :func:`reserved_name_message`
+  ``(name, what) -> str``: the words of PDDL that cannot name an object, constant, type, predicate or
+  action (``and``, ``or``, ``not``, ``forall`` ...; not ``at``, a common predicate), shared by every reader.
 """
 
 from vslsp.symbolic.language.analysis import Analysis, analyse
@@ -52,7 +55,15 @@ from vslsp.symbolic.language.files import MAX_PDDL_BYTES, check_files, read_text
 from vslsp.symbolic.language.index import KINDS, Declaration, Index, Parameter, Reference
 from vslsp.symbolic.language.plans import PlanAnalysis, analyse_plan
 from vslsp.symbolic.language.syntax import Document, Group, Token, read_document, text_of
-from vslsp.symbolic.language.vocabulary import EFFECT_OPERATORS, GOAL_OPERATORS, PDDL3_NAMES, REQUIREMENTS
+from vslsp.symbolic.language.vocabulary import (
+    EFFECT_OPERATORS,
+    GOAL_OPERATORS,
+    PDDL3_NAMES,
+    REQUIREMENTS,
+    RESERVED_NAMES,
+    is_reserved_name,
+    reserved_name_message,
+)
 
 __all__ = [
     "ERROR",
@@ -62,6 +73,7 @@ __all__ = [
     "MAX_PDDL_BYTES",
     "PDDL3_NAMES",
     "REQUIREMENTS",
+    "RESERVED_NAMES",
     "WARNING",
     "Analysis",
     "Declaration",
@@ -79,7 +91,9 @@ __all__ = [
     "analyse_plan",
     "check_files",
     "closest",
+    "is_reserved_name",
     "read_document",
     "read_text",
+    "reserved_name_message",
     "text_of",
 ]

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from vslsp.symbolic.budget import recursion_room
 from vslsp.symbolic.language.context import Context
 from vslsp.symbolic.language.declarations import (
     Body,
@@ -76,7 +77,7 @@ def analyse(
     token written, and the index of declarations and references. Either text may hold a domain or a
     problem (the ``(define (domain|problem ...))`` header decides); a problem without its domain is
     checked for its syntax and sections only."""
-    with gc_paused():
+    with gc_paused(), recursion_room():  # the checks recurse once or twice per level (at most MAX_NESTING)
         return _analyse(domain_text, domain_file, problem_text, problem_file)
 
 
@@ -119,10 +120,11 @@ def _analyse(domain_text: str | None, domain_file: str, problem_text: str | None
             if analysis.problem_domain and analysis.problem_domain.lower() != domain[2].lower():
                 section = analysis.sections(problem[0].file).get(":domain")
                 at = section.items[1].span if section is not None and len(section.items) > 1 else problem[1].open.span
-                ctx.warning(
+                ctx.error(
                     at,
                     f"the problem is for domain '{analysis.problem_domain}', but the domain file defines "
-                    f"'{domain[2]}'; read with it all the same",
+                    f"'{domain[2]}'; give the domain file of '{analysis.problem_domain}', or write "
+                    f"(:domain {domain[2]}) in the problem",
                     "other-domain",
                 )
     for body in bodies:

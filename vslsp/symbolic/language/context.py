@@ -6,9 +6,10 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
-from vslsp.symbolic.language.diagnostics import ERROR, WARNING, Diagnostic, Fix, Span, closest
+from vslsp.symbolic.language.diagnostics import ERROR, WARNING, Diagnostic, Fix, Span, SuggestionBudget, closest
 from vslsp.symbolic.language.index import Declaration, Index
 from vslsp.symbolic.language.syntax import Group, Token
+from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
 
 
 @dataclass
@@ -29,6 +30,11 @@ class Context:
     #: list of (domain NAME), (:requirements ...), (:types ...), (:constants ...)
     header_end: dict[str, Span] = field(default_factory=dict)
     in_problem: bool = False
+    #: the type hierarchy is deeper than its limit (reported): argument types are then not compared
+    types_too_deep: bool = False
+    #: what the did-you-mean suggestions of this analysis may still compare
+    suggestions: SuggestionBudget = field(default_factory=SuggestionBudget)
+    _term_names: tuple[tuple[bool, int], list[str]] | None = None
     _ancestors: dict[str, list[str]] = field(default_factory=dict)
     _subtype: dict[tuple[tuple[str, ...], tuple[str, ...]], bool] = field(default_factory=dict)
 
@@ -42,6 +48,19 @@ class Context:
     ) -> None:
         self.diagnostics.append(Diagnostic(span, WARNING, message, code, suggestion, tuple(fixes)))
 
+    def term_names(self) -> list[str]:
+        """The constants, and in a problem the objects too: what a name in a formula may be (one list per
+        state of the index, not to be changed)."""
+        key = (self.in_problem, len(self.index.declarations))
+        if self._term_names is None or self._term_names[0] != key:
+            names = self.index.names("constant") + (self.index.names("object") if self.in_problem else [])
+            self._term_names = (key, names)
+        return self._term_names[1]
+
+    def closest(self, name: str, candidates: Iterable[str]) -> str | None:
+        """:func:`~vslsp.symbolic.language.diagnostics.closest` within this analysis's budget of comparisons."""
+        return closest(name, candidates, self.suggestions)
+
     def use(self, requirement: str, span: Span) -> None:
         """Note that the files need ``requirement`` (first at ``span``)."""
         self.used.setdefault(requirement, span)
@@ -50,7 +69,7 @@ class Context:
         self, token: Token, message: str, candidates: Iterable[str], code: str, fixes: Iterable[Fix] = ()
     ) -> None:
         """An error ``message`` at ``token`` with the closest candidate as suggestion and first fix."""
-        suggestion = closest(token.text, candidates)
+        suggestion = self.closest(token.text, candidates)
         all_fixes = [Fix(f"change to '{suggestion}'", token.span, suggestion)] if suggestion else []
         all_fixes.extend(fixes)
         self.error(token.span, message, code, suggestion, all_fixes)
@@ -72,10 +91,12 @@ class Context:
         if cached is not None:
             return cached
         chain = [name]
+        seen = {name}
         index = 0
         while index < len(chain):
             for parent in self.parents.get(chain[index], ()):
-                if parent not in chain:
+                if parent not in seen:
+                    seen.add(parent)
                     chain.append(parent)
             index += 1
         if "object" not in chain:
@@ -86,6 +107,8 @@ class Context:
     def is_subtype(self, types: tuple[str, ...], allowed: tuple[str, ...]) -> bool:
         """Whether every type of ``types`` (an either-list) is one of ``allowed`` or below one of them; an
         undefined type (reported where it is written) matches anything."""
+        if self.types_too_deep:
+            return True
         known = self._subtype.get((types, allowed))
         if known is None:
             known = not all(self.type_known(t) for t in (*types, *allowed)) or all(
@@ -130,7 +153,9 @@ class Context:
     # --- declarations ------------------------------------------------------------------------------
 
     def declare(self, declaration: Declaration, what: str) -> None:
-        """Add ``declaration`` to the index; a second one of the same name is an error at its name."""
+        """Add ``declaration`` to the index; a second one of the same name is an error at its name, and so
+        is a name that is a word of PDDL (``and``, ``forall`` ...)."""
+        self.reserved(declaration, what)
         earlier = self.index.declare(declaration)
         if earlier is not None:
             where = f"line {earlier.span.line}" + (
@@ -139,3 +164,8 @@ class Context:
             self.error(
                 declaration.span, f"{what} '{declaration.name}' is declared twice (first at {where})", "duplicate"
             )
+
+    def reserved(self, declaration: Declaration, what: str) -> None:
+        """An error at ``declaration`` when its name is a word of PDDL (:data:`RESERVED_NAMES`)."""
+        if is_reserved_name(declaration.name):
+            self.error(declaration.span, reserved_name_message(declaration.name, what), "reserved-name")

@@ -9,8 +9,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from vslsp.symbolic.budget import MAX_TYPE_DEPTH, type_depths
 from vslsp.symbolic.language.context import Context
-from vslsp.symbolic.language.diagnostics import Fix, Span, closest
+from vslsp.symbolic.language.diagnostics import Fix, Span
 from vslsp.symbolic.language.index import Declaration, Parameter
 from vslsp.symbolic.language.syntax import Document, Group, Token
 from vslsp.symbolic.language.vocabulary import (
@@ -221,6 +222,7 @@ def types(ctx: Context, section: Group, document: Document) -> None:
         declaration = Declaration(
             "type", name.text, name.span, name.span, comment, types=tuple(t.key for t in entry.types)
         )
+        ctx.reserved(declaration, "type")
         earlier = ctx.index.declare(declaration)
         if earlier is not None:
             ctx.warning(
@@ -243,34 +245,59 @@ def types(ctx: Context, section: Group, document: Document) -> None:
                     Span(at.file, at.line, at.column, at.line, at.column),
                     f" {parent.text}",
                 )
-                suggestion = closest(parent.text, ctx.index.names("type"))
+                suggestion = ctx.closest(parent.text, ctx.index.names("type"))
                 ctx.warning(parent.span, message, "undeclared-parent", suggestion, [fix])
                 found = Declaration("type", parent.text, parent.span, parent.span)
                 ctx.index.declare(found)
                 ctx.parents.setdefault(parent.key, ("object",))
             ctx.index.refer("type", parent.text, parent.span, found)
     ctx.types_declared()
-    reported: set[frozenset[str]] = set()
-    for child in list(ctx.parents):  # in the order written: a cycle is reported at its first type
-        seen, current = [child], child
-        while True:
-            following = [p for p in ctx.parents.get(current, ()) if p != "object"]
-            if not following:
-                break
-            current = following[0]
-            if current == child:
-                cycle_start = ctx.index.find("type", child)
-                if cycle_start is not None and frozenset(seen) not in reported:
-                    reported.add(frozenset(seen))
-                    ctx.error(
-                        cycle_start.span,
-                        f"the types form a cycle ({' - '.join([*seen, child])}); a type cannot be its own ancestor",
-                        "type-cycle",
-                    )
-                break
-            if current in seen:
-                break
-            seen.append(current)
+    _type_cycles(ctx)
+    _type_depth(ctx)
+
+
+def _type_cycles(ctx: Context) -> None:
+    """An error at the first type written of each cycle of first parents, in time linear in the types."""
+    following = {child: next((p for p in parents if p != "object"), None) for child, parents in ctx.parents.items()}
+    order = {child: index for index, child in enumerate(ctx.parents)}
+    walk_of: dict[str, int] = {}
+    for walk, start in enumerate(ctx.parents):
+        current: str | None = start
+        path: list[str] = []
+        while current is not None and current not in walk_of:
+            walk_of[current] = walk
+            path.append(current)
+            current = following.get(current)
+        if current is None or walk_of[current] != walk:
+            continue  # ends at object, or runs into a walk seen before
+        cycle = path[path.index(current) :]
+        first = min(range(len(cycle)), key=lambda i: order.get(cycle[i], len(order)))
+        cycle = cycle[first:] + cycle[:first]
+        declaration = ctx.index.find("type", cycle[0])
+        if declaration is not None:
+            ctx.error(
+                declaration.span,
+                f"the types form a cycle ({' - '.join([*cycle, cycle[0]])}); a type cannot be its own ancestor",
+                "type-cycle",
+            )
+
+
+def _type_depth(ctx: Context) -> None:
+    """An error at the first type written whose chain of parents is longer than :data:`MAX_TYPE_DEPTH`."""
+    depths = type_depths(ctx.parents)
+    deepest = max(depths.values(), default=0)
+    if deepest <= MAX_TYPE_DEPTH:
+        return
+    ctx.types_too_deep = True
+    over = next(t for t in ctx.parents if depths.get(t, 0) > MAX_TYPE_DEPTH)
+    declaration = ctx.index.find("type", over)
+    if declaration is not None:
+        ctx.error(
+            declaration.span,
+            f"the type hierarchy is {deepest} types deep: nested too deeply (limit {MAX_TYPE_DEPTH}); "
+            "give the types fewer levels of parents",
+            "types-too-deep",
+        )
 
 
 def constants(ctx: Context, section: Group, document: Document, kind: str, with_types: bool = True) -> None:

@@ -11,6 +11,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
+from vslsp.symbolic.budget import MAX_SUGGESTION_COMPARISONS
+
 ERROR = "error"
 WARNING = "warning"
 
@@ -135,13 +137,33 @@ def distance(a: str, b: str, limit: int) -> int:
     return previous[-1]
 
 
-def closest(name: str, candidates: Iterable[str]) -> str | None:
+class SuggestionBudget:
+    """How many candidate names the did-you-mean suggestions of one check may still compare
+    (:data:`~vslsp.symbolic.budget.MAX_SUGGESTION_COMPARISONS`); past it, :func:`closest` suggests none."""
+
+    def __init__(self, comparisons: int = MAX_SUGGESTION_COMPARISONS) -> None:
+        self.left = comparisons
+
+    def take(self, count: int) -> bool:
+        """Spend ``count`` comparisons if that many are left."""
+        if count > self.left:
+            return False
+        self.left -= count
+        return True
+
+
+def closest(name: str, candidates: Iterable[str], budget: SuggestionBudget | None = None) -> str | None:
     """The candidate nearest to ``name`` (case ignored) when it is close enough to be a typo: at most
     one edit for names of 3 or 4 characters, two up to 8, three beyond (none for shorter names: any
-    one-letter name is one edit from any other); ties go to the first candidate."""
+    one-letter name is one edit from any other); ties go to the first candidate. With a ``budget``, none
+    once it is spent."""
     key = name.lower()
     if len(key) < 3:
         return None
+    if budget is not None:
+        candidates = candidates if isinstance(candidates, (list, tuple)) else list(candidates)
+        if not budget.take(len(candidates)):
+            return None
     limit = 1 if len(key) <= 4 else 2 if len(key) <= 8 else 3
     best: str | None = None
     best_distance = limit + 1

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from vslsp.errors import InputError
 from vslsp.files import decode_text, read_bytes, regular_file, shown
+from vslsp.symbolic.budget import phase
 
 #: The largest PDDL file read (the planner path's reader slows down more than linearly with size).
 MAX_PDDL_BYTES = 1_000_000
@@ -31,9 +32,13 @@ def read_text(path: str | Path, what: str = "PDDL file") -> str:
 
 
 def check_files(domain_path: str | Path, problem_path: str | Path | None = None):  # type: ignore[no-untyped-def]
-    """:func:`~vslsp.symbolic.language.analyse` on files read with :func:`read_text` (names as given)."""
+    """:func:`~vslsp.symbolic.language.analyse` on files read with :func:`read_text` (names as given), within
+    the checking phase's budget (:func:`vslsp.symbolic.budget.phase`)."""
     from vslsp.symbolic.language.analysis import analyse
 
     domain_text = read_text(domain_path)
     problem_text = read_text(problem_path) if problem_path is not None else None
-    return analyse(domain_text, str(domain_path), problem_text, str(problem_path) if problem_path is not None else "")
+    with phase("checking", str(problem_path if problem_path is not None else domain_path)):
+        return analyse(
+            domain_text, str(domain_path), problem_text, str(problem_path) if problem_path is not None else ""
+        )

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from vslsp.symbolic.language.context import Context
 from vslsp.symbolic.language.declarations import Body, parameters
-from vslsp.symbolic.language.diagnostics import Fix, Span, closest
+from vslsp.symbolic.language.diagnostics import Fix, Span
 from vslsp.symbolic.language.index import Declaration
 from vslsp.symbolic.language.syntax import Group, Token
 from vslsp.symbolic.language.vocabulary import (
@@ -151,8 +151,8 @@ def _unknown_head(ctx: Context, node: Group, head: Token, operators: tuple[str, 
         ctx.error(head.span, message, "misplaced-constraint")
         return
     predicates = ctx.index.names("predicate")
-    near_predicate = closest(head.text, predicates)
-    near_operator = closest(head.text, [o for o in operators if o[0].isalpha()])
+    near_predicate = ctx.closest(head.text, predicates)
+    near_operator = ctx.closest(head.text, [o for o in operators if o[0].isalpha()])
     if near_operator is not None and near_predicate is None:
         ctx.unknown(head, f"unknown operator '{head.text}'", operators, "unknown-operator")
         return
@@ -223,7 +223,7 @@ def term(
         if declaration is None:
             if _is_number(item.text):
                 return
-            names = ctx.index.names("constant") + (ctx.index.names("object") if ctx.in_problem else [])
+            names = ctx.term_names()
             what = "object or constant" if ctx.in_problem else "constant"
             ctx.unknown(item, f"unknown {what} '{item.text}'", names, f"unknown-{kind}")
             return

@@ -107,12 +107,14 @@ class Index:
     # built on first use, forgotten on each change: what a server asks once per keystroke or hover
     _by_line: dict[tuple[str, int], list[Declaration | Reference]] | None = None
     _uses: dict[int, list[Reference]] | None = None
+    _names: dict[str, list[str]] = field(default_factory=dict)
 
     def declare(self, declaration: Declaration) -> Declaration | None:
         """Add ``declaration``; the earlier one of the same kind and name if there is one (then the first
         stays the one names resolve to). Parameters and variables are not looked up by name here."""
         self.declarations.append(declaration)
         self._by_line = None
+        self._names.pop(declaration.kind, None)
         if declaration.kind in ("parameter", "variable"):
             return None
         table = self._by_kind.setdefault(declaration.kind, {})
@@ -133,8 +135,13 @@ class Index:
         return table.get(name.lower()) if table is not None else None
 
     def names(self, kind: str) -> list[str]:
-        """The declared names of ``kind`` as written, in declaration order (for completion)."""
-        return [d.name for d in self._by_kind.get(kind, {}).values()]
+        """The declared names of ``kind`` as written, in declaration order (for completion); one list
+        per kind until the next declaration of that kind (a check asks for them once per unknown name),
+        not to be changed by the caller."""
+        names = self._names.get(kind)
+        if names is None:
+            names = self._names[kind] = [d.name for d in self._by_kind.get(kind, {}).values()]
+        return names
 
     def of_kind(self, kind: str) -> list[Declaration]:
         return list(self._by_kind.get(kind, {}).values())

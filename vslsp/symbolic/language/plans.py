@@ -12,7 +12,7 @@ import re
 from dataclasses import dataclass, field
 
 from vslsp.symbolic.language.analysis import Analysis
-from vslsp.symbolic.language.diagnostics import ERROR, Diagnostic, Fix, Span, closest
+from vslsp.symbolic.language.diagnostics import ERROR, Diagnostic, Fix, Span, SuggestionBudget, closest
 from vslsp.symbolic.language.index import Reference
 
 _STEP = re.compile(
@@ -39,6 +39,7 @@ def analyse_plan(analysis: Analysis, text: str, file: str = "<plan>") -> PlanAna
     index = analysis.index
     actions = index.names("action")
     objects = index.names("object") + index.names("constant")
+    suggestions = SuggestionBudget()
     for number, line in enumerate(text.split("\n"), start=1):
         code = line.split(";", 1)[0].rstrip("\r")
         if not code.strip():
@@ -70,7 +71,7 @@ def analyse_plan(analysis: Analysis, text: str, file: str = "<plan>") -> PlanAna
         ]
         errors = len(found.diagnostics)
         if action is None:
-            suggestion = closest(name, actions)
+            suggestion = closest(name, actions, suggestions)
             fixes = (Fix(f"change to '{suggestion}'", span, suggestion),) if suggestion else ()
             found.diagnostics.append(
                 Diagnostic(span, ERROR, f"unknown action '{name}'", "unknown-action", suggestion, fixes)
@@ -83,7 +84,7 @@ def analyse_plan(analysis: Analysis, text: str, file: str = "<plan>") -> PlanAna
             declared = index.find("object", word) or index.find("constant", word)
             found.references.append(Reference("object" if declared is None else declared.kind, word, at, declared))
             if declared is None:
-                suggestion = closest(word, objects)
+                suggestion = closest(word, objects, suggestions)
                 fixes = (Fix(f"change to '{suggestion}'", at, suggestion),) if suggestion else ()
                 message = f"unknown object or constant '{word}'"
                 found.diagnostics.append(Diagnostic(at, ERROR, message, "unknown-object", suggestion, fixes))

@@ -17,6 +17,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 
+from vslsp.symbolic.budget import MAX_NESTING, nested_too_deeply
 from vslsp.symbolic.language.diagnostics import ERROR, Diagnostic, Span
 
 _new_span = tuple.__new__  # a Span without NamedTuple's Python-level constructor: one per token read
@@ -82,10 +83,23 @@ def _last_token(group: Group) -> Token:
 
 def text_of(node: Token | Group, lower: bool = False) -> str:
     """The node as written, whitespace and comments normalised: ``(sometime-before (a) (b))``;
-    ``lower``: in lower case (PDDL ignores case)."""
-    if isinstance(node, Token):
-        return node.key if lower else node.text
-    return "(" + " ".join(text_of(item, lower) for item in node.items) + ")"
+    ``lower``: in lower case (PDDL ignores case). Without recursion: a tree may be deep."""
+    parts: list[str] = []
+    stack: list[Token | Group | str] = [node]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, str):
+            parts.append(item)
+        elif isinstance(item, Token):
+            parts.append(item.key if lower else item.text)
+        else:
+            stack.append(")")
+            for index in range(len(item.items) - 1, -1, -1):
+                stack.append(item.items[index])
+                if index:
+                    stack.append(" ")
+            stack.append("(")
+    return "".join(parts)
 
 
 @dataclass(slots=True)
@@ -138,7 +152,8 @@ def read_document(text: str, file: str) -> Document:
 
 def _read_document(text: str, file: str) -> Document:
     tokens, comments = tokenize(text, file)
-    groups, diagnostics = build_tree(tokens)
+    too_deep = _too_deep(tokens)
+    groups, diagnostics = build_tree(tokens) if too_deep is None else ([], [too_deep])
     return Document(
         file,
         text,
@@ -174,6 +189,20 @@ def tokenize(text: str, file: str) -> tuple[list[Token], list[Token]]:
             tokens.append(Token("name", word, word.lower(), line, offset - line_start + 1, offset, file))
         offset += len(word)
     return tokens, comments
+
+
+def _too_deep(tokens: list[Token]) -> Diagnostic | None:
+    """An error at the first ``(`` nested deeper than :data:`MAX_NESTING`, or None. Such a file is not
+    nested into a tree at all: every check after reading walks the tree, one call per level."""
+    depth = 0
+    for token in tokens:
+        if token.kind == "(":
+            depth += 1
+            if depth > MAX_NESTING:
+                return Diagnostic(token.span, ERROR, nested_too_deeply(depth, MAX_NESTING), "too-deep")
+        elif token.kind == ")":
+            depth = max(depth - 1, 0)
+    return None
 
 
 @dataclass(slots=True)

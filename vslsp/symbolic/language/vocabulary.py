@@ -116,3 +116,12 @@ def is_reserved_name(name: str) -> bool:
     """Whether ``name`` is a word of PDDL's syntax that no predicate, type, object or action may take
     (PDDL is case-insensitive: ``AND`` is ``and``; a variable's ``?`` is not part of the word)."""
     return name.removeprefix("?").lower() in RESERVED_NAMES
+
+
+def reserved_name_message(name: str, what: str) -> str:
+    """Why ``name`` cannot name a ``what`` (object, predicate ...), and what to do."""
+    article = "an" if what[:1] in "aeiou" else "a"
+    return (
+        f"'{name}' is a word of PDDL ({name.lower()} ...), so it cannot name {article} {what}; "
+        f"choose another name (e.g. '{name}-1')"
+    )
