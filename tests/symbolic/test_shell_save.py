@@ -181,3 +181,50 @@ def test_every_accepted_command_says_what_it_did(tmp_path):
     said = out.split("(vslsp) ")[1:]  # what followed each prompt; the last prompt met the end of input
     assert len(said) == len(commands) + 1 and all(text.strip() for text in said[:-1]), said
     assert said[2] == "undone: drop init (far orange)\n" and said[5].startswith("saved ")
+
+
+#: A hand-written domain: a comment per action, one inside :predicates, a trailing one.
+KITCHEN = """\
+; A kitchen, written by hand.
+(define (domain kitchen)
+  (:requirements :strips :typing)
+  (:types dish)
+  (:predicates
+    (clean ?d - dish)   ; washed
+    (holding ?d - dish))
+
+  ; Picking a dish up.
+  (:action pick-up
+    :parameters (?d - dish)
+    :effect (holding ?d))
+
+  ; Washing what is held.
+  (:action wash
+    :parameters (?d - dish)
+    :precondition (holding ?d)
+    :effect (clean ?d)))
+; the end
+"""
+
+
+def test_a_replaced_action_is_rewritten_in_its_place_and_a_dropped_one_goes_with_its_comment(tmp_path):
+    (tmp_path / "kitchen.pddl").write_text(KITCHEN)
+    shell, out = session(
+        f"load {tmp_path}/kitchen.pddl\n"
+        "action wash :parameters (?d - dish) :precondition (and (holding ?d) (not (clean ?d))) :effect (clean ?d)\n"
+        "drop action pick-up\npredicate (dirty ?d - dish)\n"
+        f"save {tmp_path}/saved.pddl\n"
+    )
+    assert "error" not in out
+    saved = (tmp_path / "saved.pddl").read_text()
+    # Only the action, the predicates' end and the requirements differ; every comment left stays.
+    assert saved == (
+        KITCHEN.replace(":typing)", ":typing :negative-preconditions)")
+        .replace("(holding ?d - dish))", "(holding ?d - dish)\n    (dirty ?d - dish))")
+        .replace(KITCHEN[KITCHEN.index("  ; Picking") : KITCHEN.index("  ; Washing")], "")
+        .replace(
+            "    :precondition (holding ?d)\n    :effect (clean ?d)))",
+            "    :precondition (and (holding ?d) (not (clean ?d)))\n    :effect (and (clean ?d))))",
+        )
+    )
+    assert read_back(tmp_path / "saved.pddl", None)[0] == shell.domain

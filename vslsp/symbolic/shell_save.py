@@ -85,10 +85,18 @@ class _Edits:
 
     def applied(self) -> str:
         text = self.text
+        merged: list[tuple[int, int]] = []
+        for start, end in sorted((start, end) for start, end, new in self.changes if not new and start < end):
+            if merged and start <= merged[-1][1]:  # two removals that meet or overlap are one
+                merged[-1] = (merged[-1][0], max(end, merged[-1][1]))
+            else:
+                merged.append((start, end))
+        changes = [change for change in self.changes if change[2] or change[0] == change[1]]
+        changes += [(start, end, "") for start, end in merged]
         # From the end back, so each span still points at the original text; of two insertions at one
         # place the one asked first ends up first.
-        order = sorted(range(len(self.changes)), key=lambda i: (*self.changes[i][:2], i), reverse=True)
-        for start, end, new in (self.changes[i] for i in order):
+        order = sorted(range(len(changes)), key=lambda i: (*changes[i][:2], i), reverse=True)
+        for start, end, new in (changes[i] for i in order):
             text = text[:start] + new.replace("\n", self.newline) + text[end:]
         return text
 
@@ -111,10 +119,17 @@ class _Edits:
         indent = self.text[line_start:start]
         return "\n" + indent if not indent.strip() else " "
 
-    def remove(self, node: Token | Group) -> None:
-        """Take ``node`` out with the blank that set it apart (its whole line when it had one)."""
+    def remove(self, first: Token | Group, last: Token | Group | None = None, comments: bool = False) -> None:
+        """Take ``first`` (to ``last``) out with the blank that set it apart (whole lines when it had them);
+        ``comments``: with the comment lines just above it, which tell what it is."""
         text = self.text
-        start, end = _span(node)
+        start, end = _span(first)[0], _span(last or first)[1]
+        line_start = text.rfind("\n", 0, start) + 1
+        while comments and line_start > 0 and not text[line_start:start].strip():
+            above = text.rfind("\n", 0, line_start - 1) + 1
+            if not text[above:line_start].lstrip().startswith(";"):
+                break
+            start = line_start = above
         left, right = start, end
         while left > 0 and text[left - 1] in " \t":
             left -= 1
@@ -202,6 +217,7 @@ def domain_in_place(text: str, before: Domain, after: Domain) -> str:
         {a.name: a for a in after.actions},
         lambda name: generated.get(f":action {name.lower()}", after.action(name).to_pddl()),
         separator="\n\n  " if not actions else None,
+        comments=True,
     )
     return edits.applied()
 
@@ -305,19 +321,29 @@ def _keyed(
     after: dict,
     render: Callable[[Any], str],
     separator: str | None = None,
+    comments: bool = False,
 ) -> None:
     """A list of items known by a key (atoms, predicates, actions): the unchanged ones kept as written,
-    a changed one rewritten in place, a removed one taken out, new ones appended after the last item
-    kept (``anchor`` when none is)."""
+    a changed one rewritten in place, a removed one taken out (``comments``: with the comment lines just
+    above it), new ones appended after the last item kept (``anchor`` when none is)."""
     written = {key for key, _ in items}
     kept = []
+    run: list[Group] = []  # removed items with nothing but blanks between them: taken out as one
     for key, node in items:
         if key not in after:
-            edits.remove(node)
+            if run and edits.text[_span(run[-1])[1] : _span(node)[0]].strip():
+                edits.remove(run[0], run[-1], comments)
+                run = []
+            run.append(node)
             continue
+        if run:
+            edits.remove(run[0], run[-1], comments)
+            run = []
         kept.append(node)
         if after[key] != before.get(key):
             edits.replace(node, render(key))
+    if run:
+        edits.remove(run[0], run[-1], comments)
     new = [render(key) for key in after if key not in written]
     if new:
         gap = separator or (edits.separator(items[-1][1]) if items else " ")
