@@ -228,3 +228,22 @@ def test_a_replaced_action_is_rewritten_in_its_place_and_a_dropped_one_goes_with
         )
     )
     assert read_back(tmp_path / "saved.pddl", None)[0] == shell.domain
+
+
+def test_typed_lists_get_new_names_appended_in_the_order_given(tmp_path):
+    shell, out = session(
+        f"load {PDDL / 'domain.pddl'} {PDDL / 'pull-in-order.pddl'}\n"
+        "type heavy - block\ntype table\nobjects red - block\nobjects t1 - table\n"
+        f"save {tmp_path}/d.pddl {tmp_path}/p.pddl\n"
+    )
+    assert "error" not in out
+    # The untyped 'block' says '- object' once a typed name follows it; 'red' joins its type's group.
+    assert changed_lines((PDDL / "domain.pddl").read_text(), (tmp_path / "d.pddl").read_text()) == [
+        "-  (:types block)",
+        "+  (:types block - object heavy - block table)",
+    ]
+    assert changed_lines((PDDL / "pull-in-order.pddl").read_text(), (tmp_path / "p.pddl").read_text()) == [
+        "-  (:objects orange green yellow - block)",
+        "+  (:objects orange green yellow red - block t1 - table)",
+    ]
+    assert read_back(tmp_path / "d.pddl", tmp_path / "p.pddl") == (shell.domain, shell.problem)

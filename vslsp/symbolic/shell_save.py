@@ -351,22 +351,29 @@ def _keyed(
 
 
 def _typed_list(edits: _Edits, section: Group, old: tuple, new: tuple, generated: str, types: bool = False) -> None:
-    """``a b - t c - u`` extended by the new names when the old ones stay as they were, else written anew."""
-    kept = [entry for entry in new if entry in old]
-    trailing_untyped = _trailing_untyped(section)
-    added = [entry for entry in new if entry not in old]
-    typed_added = [(n, t) for n, t in added if t is not None and not (types and t == "object")]
-    if len(kept) != len(old) or (trailing_untyped and typed_added) or not section.items[1:]:
+    """``a b - t c - u`` extended by the names added after the old ones, in the model's order; written
+    anew when an old entry changed or went."""
+    if tuple(new[: len(old)]) != tuple(old) or not section.items[1:]:
         edits.replace(section, generated)
         return
-    untyped = [n for n, t in added if (n, t) not in typed_added]
-    groups: dict[str, list[str]] = {}
-    for name, type_ in typed_added:
-        groups.setdefault(type_, []).append(name)
-    last = section.items[-1]
-    if not trailing_untyped and isinstance(last, Token) and last.text in groups:  # joins the last group
-        edits.insert_after(section.items[-3], " ".join(groups.pop(last.text)), " ")
-    parts = [f"{' '.join(names)} - {type_}" for type_, names in groups.items()] + untyped
+    runs: list[tuple[str | None, list[str]]] = []  # consecutive names of one type
+    for name, type_ in new[len(old) :]:
+        type_ = None if types and type_ == "object" else type_
+        if runs and runs[-1][0] == type_:
+            runs[-1][1].append(name)
+        else:
+            runs.append((type_, [name]))
+    items = section.items[1:]
+    last = items[-1]
+    if not _trailing_untyped(section) and isinstance(last, Token) and runs and runs[0][0] == last.text:
+        edits.insert_after(items[-3], " ".join(runs.pop(0)[1]), " ")  # joins the last group, of its type
+    # Names without a type are typed by the next "- TYPE": before another group they say "- object".
+    parts = [
+        " ".join(names) if type_ is None and number == len(runs) - 1 else f"{' '.join(names)} - {type_ or 'object'}"
+        for number, (type_, names) in enumerate(runs)
+    ]
+    if parts and _trailing_untyped(section) and not (len(runs) == 1 and runs[0][0] is None):
+        parts.insert(0, "- object")
     if parts:
         edits.insert_after(last, " ".join(parts), " ")
 
