@@ -6,7 +6,7 @@ import io
 import warnings
 
 import pytest
-from helpers.cli import REPO, vslsp
+from helpers.cli import REPO, vslsp, vslsp_process
 from helpers.symbolic import PDDL
 
 from vslsp.symbolic import read_pddl
@@ -176,6 +176,19 @@ def test_every_accepted_command_says_what_it_did(tmp_path):
         "drop constraint 1",
         f"save {tmp_path}/d.pddl {tmp_path}/p.pddl",
         "validate (pull orange) (pull green) (pull yellow)",
+        "domain",
+        "problem in-order",
+        "type heavy - block",
+        "predicate (high ?b - block)",
+        "action lift :parameters (?b - heavy) :effect (high ?b)",
+        "objects red - heavy",
+        "init (far red)",
+        "goal (high red)",
+        "constraint (sometime (far red))",
+        "drop constraints",
+        "drop action lift",
+        "show",
+        "help undo",
     ]
     _, out = session("\n".join(commands) + "\n")
     said = out.split("(vslsp) ")[1:]  # what followed each prompt; the last prompt met the end of input
@@ -247,3 +260,20 @@ def test_typed_lists_get_new_names_appended_in_the_order_given(tmp_path):
         "+  (:objects orange green yellow red - block t1 - table)",
     ]
     assert read_back(tmp_path / "d.pddl", tmp_path / "p.pddl") == (shell.domain, shell.problem)
+
+
+def test_the_files_given_to_vslsp_shell_are_edited_in_place_too(tmp_path):
+    done = vslsp_process(
+        "shell",
+        PDDL / "domain.pddl",
+        PDDL / "pull-in-order.pddl",
+        input=f"save {tmp_path}/same.pddl {tmp_path}/same-problem.pddl\ndrop init (far green)\n"
+        f"save {tmp_path}/d.pddl {tmp_path}/p.pddl\n",
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "same.pddl").read_bytes() == (PDDL / "domain.pddl").read_bytes()
+    assert (tmp_path / "same-problem.pddl").read_bytes() == (PDDL / "pull-in-order.pddl").read_bytes()
+    assert changed_lines((PDDL / "pull-in-order.pddl").read_text(), (tmp_path / "p.pddl").read_text()) == [
+        "-    (far green)"
+    ]

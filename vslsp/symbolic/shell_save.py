@@ -74,7 +74,8 @@ def saved_texts(loaded: Loaded | None, domain: Domain, problem: Problem) -> tupl
 
 
 class _Edits:
-    """Replacements of spans of one text, applied together (they never overlap)."""
+    """Replacements of spans of one text, applied together: insertions and rewrites never overlap;
+    removals that meet or overlap (neighbours taken out with their blanks) are merged first."""
 
     def __init__(self, text: str):
         self.text = text
