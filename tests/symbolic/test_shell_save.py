@@ -277,3 +277,19 @@ def test_the_files_given_to_vslsp_shell_are_edited_in_place_too(tmp_path):
     assert changed_lines((PDDL / "pull-in-order.pddl").read_text(), (tmp_path / "p.pddl").read_text()) == [
         "-    (far green)"
     ]
+
+
+def test_a_dropped_constraint_takes_only_its_line_and_a_new_one_follows_the_rest(tmp_path):
+    shell, out = session(
+        f"load {PDDL / 'domain.pddl'} {PDDL / 'pull-in-order.pddl'}\n"
+        "drop constraint 1\nconstraint (sometime (far green))\n"
+        f"save {tmp_path}/d.pddl {tmp_path}/p.pddl\n"
+    )
+    assert "error" not in out
+    assert changed_lines((PDDL / "pull-in-order.pddl").read_text(), (tmp_path / "p.pddl").read_text()) == [
+        "-    (sometime-before (not (far green)) (not (far orange)))",
+        "-    (sometime-before (not (far yellow)) (not (far green))))))",
+        "+    (sometime-before (not (far yellow)) (not (far green)))",
+        "+    (sometime (far green)))))",
+    ]
+    assert read_back(tmp_path / "d.pddl", tmp_path / "p.pddl") == (shell.domain, shell.problem)

@@ -7,9 +7,9 @@ section whose model is unchanged since loading (the name, ``:requirements``, ``:
 ``:constants``, ``:predicates``, each ``:action`` by name, ``:objects``, ``:init``, ``:goal``,
 ``:constraints``) keeps its text byte for byte. In a changed list (``:predicates``, ``:init``, the
 actions) the unchanged items keep theirs, a removed item's text goes and a new one is appended
-after the last; a changed typed list (``:types``, ``:constants``, ``:objects``) gets new names
-appended, or is written anew when an entry changed; a changed goal or constraints section is
-written anew in its place; a new section goes where PDDL 3.0 orders it. What is written anew is
+after the last (the constraints too, where the file's list maps one to one onto the model's); a
+changed typed list (``:types``, ``:constants``, ``:objects``) gets new names appended, or is written
+anew when an entry changed; a changed goal is written anew in its place; a new section goes where PDDL 3.0 orders it. What is written anew is
 laid out as ``to_pddl`` lays it out. The sections are found in the positioned syntax tree of the
 language engine (:mod:`vslsp.symbolic.language.syntax`), which knows comments.
 """
@@ -261,9 +261,36 @@ def problem_in_place(text: str, before: Problem, after: Problem) -> str:
         _put_section(edits, define, found, ":init", generated, PROBLEM_ORDER)
     if before.goal != after.goal:
         _put_section(edits, define, found, ":goal", generated, PROBLEM_ORDER)
-    if before.constraints != after.constraints:
+    if before.constraints != after.constraints and not _constraints(edits, found, before, after):
         _put_section(edits, define, found, ":constraints", generated, PROBLEM_ORDER)
     return edits.applied()
+
+
+def _constraints(edits: _Edits, found: dict[str, Group], before: Problem, after: Problem) -> bool:
+    """Constraints dropped or appended (as ``drop constraint N`` and ``constraint C`` do) edited one by
+    one, the others kept as written; False when that cannot be (none left, reordered, a preference)."""
+    section = found.get(":constraints")
+    if section is None or not after.constraints:
+        return False
+    items, anchor = section.items[1:], section.items[0]
+    if len(items) == 1 and isinstance(items[0], Group) and items[0].key == "and":
+        items, anchor = items[0].items[1:], items[0].items[0]
+    groups = [item for item in items if isinstance(item, Group) and item.key != "preference"]
+    kept = [c for c in after.constraints if c in before.constraints]
+    in_order = [c for c in before.constraints if c in kept] == kept == list(after.constraints[: len(kept)])
+    distinct = len(set(before.constraints)) == len(before.constraints)
+    if len(groups) != len(items) or len(groups) != len(before.constraints) or not in_order or not distinct:
+        return False
+    written = dict(zip(before.constraints, groups, strict=True))
+    _keyed(
+        edits,
+        list(written.items()),
+        anchor,
+        {c: c for c in before.constraints},
+        {c: c for c in after.constraints},
+        lambda c: c.to_pddl(),
+    )
+    return True
 
 
 def _atom(node: Group) -> Atom | None:
