@@ -9,9 +9,10 @@ section whose model is unchanged since loading (the name, ``:requirements``, ``:
 actions) the unchanged items keep theirs, a removed item's text goes and a new one is appended
 after the last (the constraints too, where the file's list maps one to one onto the model's); a
 changed typed list (``:types``, ``:constants``, ``:objects``) gets new names appended, or is written
-anew when an entry changed; a changed goal is written anew in its place; a new section goes where PDDL 3.0 orders it. What is written anew is
-laid out as ``to_pddl`` lays it out. The sections are found in the positioned syntax tree of the
-language engine (:mod:`vslsp.symbolic.language.syntax`), which knows comments.
+anew when an entry changed; a changed goal is written anew in its place; a new section goes where
+PDDL 3.0 orders it. What is written anew is laid out as ``to_pddl`` lays it out. The sections are
+found in the positioned syntax tree of the language engine (:mod:`vslsp.symbolic.language.syntax`),
+which knows comments.
 """
 
 from __future__ import annotations
@@ -273,8 +274,9 @@ def _constraints(edits: _Edits, found: dict[str, Group], before: Problem, after:
     if section is None or not after.constraints:
         return False
     items, anchor = section.items[1:], section.items[0]
-    if len(items) == 1 and isinstance(items[0], Group) and items[0].key == "and":
-        items, anchor = items[0].items[1:], items[0].items[0]
+    wrapper = items[0] if len(items) == 1 else None
+    if isinstance(wrapper, Group) and wrapper.key == "and":
+        items, anchor = wrapper.items[1:], wrapper.items[0]
     groups = [item for item in items if isinstance(item, Group) and item.key != "preference"]
     kept = [c for c in after.constraints if c in before.constraints]
     in_order = [c for c in before.constraints if c in kept] == kept == list(after.constraints[: len(kept)])
