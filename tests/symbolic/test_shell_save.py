@@ -293,3 +293,10 @@ def test_a_dropped_constraint_takes_only_its_line_and_a_new_one_follows_the_rest
         "+    (sometime (far green)))))",
     ]
     assert read_back(tmp_path / "d.pddl", tmp_path / "p.pddl") == (shell.domain, shell.problem)
+
+
+def test_loading_the_same_model_with_other_text_is_a_change_undo_takes_back(tmp_path):
+    (tmp_path / "commented.pddl").write_text("; my own comment\n" + (PDDL / "domain.pddl").read_text())
+    _, out = session(f"load {PDDL / 'domain.pddl'}\nload {tmp_path}/commented.pddl\nundo\nsave {tmp_path}/d.pddl\n")
+    assert f"undone: load {tmp_path}/commented.pddl" in out
+    assert (tmp_path / "d.pddl").read_bytes() == (PDDL / "domain.pddl").read_bytes()

@@ -135,7 +135,8 @@ class Shell(cmd.Cmd):
             self.errors += 1
             self.say(f"error: {str(error).lower()} in what you typed")
         finally:
-            if (self.domain, self.problem) != before and line.split()[:1] != ["undo"]:
+            changed = (self.domain, self.problem) != before or self.loaded is not loaded
+            if changed and line.split()[:1] != ["undo"]:
                 self.changes.append((" ".join(line.split()), *before, loaded))
         return False
 
