@@ -208,3 +208,13 @@ def test_the_shipped_domains_and_the_public_corpus_check_without_errors():
     for domain, problem in pairs:
         errors = [d.format() for d in check_files(domain, problem).errors]
         assert errors == [], (domain, problem)
+
+
+def test_offsets_count_a_crlf_comments_carriage_return():
+    from vslsp.symbolic.language.syntax import read_document
+
+    text = "; a comment\r\n(define (domain d)) ; another\r\n(x)\r\n"
+    document = read_document(text, "crlf.pddl")
+    for token in document.tokens + document.comments:
+        assert text[token.offset : token.offset + len(token.text)] == token.text, token
+    assert [c.text for c in document.comments] == ["; a comment", "; another"]

@@ -198,12 +198,12 @@ def shell(domain: str | None, problem: str | None, keep_going: bool) -> None:
     fit where the cursor is; undo; history in ~/.vslsp_history. Reads commands from standard
     input when it is not a terminal (no history then); such a session exits 1 when a command
     was refused (an error, or its usage shown), unless --keep-going."""
-    from vslsp.symbolic import read_pddl
     from vslsp.symbolic.shell import Shell
+    from vslsp.symbolic.shell_save import load
 
     with pddl_edge(False, False):
-        parsed_domain, parsed_problem = read_pddl(domain, problem) if domain else (None, None)
-    session = Shell(parsed_domain, parsed_problem)
+        loaded = load(domain, problem) if domain else None
+    session = Shell(loaded.domain if loaded else None, loaded.problem if loaded else None, loaded)
     session.cmdloop()
     if session.unsaved:  # a script's output was lost: its exit code says so (the error was shown in the session)
         first = session.unsaved[0]

@@ -27,11 +27,12 @@ from vslsp.symbolic.conflict import explain
 from vslsp.symbolic.formula import Atom, atoms_of
 from vslsp.symbolic.model import Domain, Predicate, Problem, When
 from vslsp.symbolic.outcomes import Unsolvable
-from vslsp.symbolic.pddl import parse_pddl, read_pddl, save
+from vslsp.symbolic.pddl import parse_pddl, save
 from vslsp.symbolic.planner import DEFAULT_PLANNER, PLANNERS, solve
 from vslsp.symbolic.shell_check import Checker, did_you_mean, in_shell_terms, parse
 from vslsp.symbolic.shell_commands import NAMES, command, example, in_full, overview, usage
 from vslsp.symbolic.shell_complete import DELIMITERS, complete
+from vslsp.symbolic.shell_save import Loaded, load, saved_texts
 from vslsp.symbolic.shell_terminal import line_editing, read_history, write_history
 from vslsp.symbolic.validate import parse_plan, validate
 
@@ -115,12 +116,16 @@ class Shell(cmd.Cmd):
     prompt = "(vslsp) "
     identchars = cmd.Cmd.identchars + "-"
 
-    def __init__(self, domain: Domain | None = None, problem: Problem | None = None, **kwargs):
+    def __init__(
+        self, domain: Domain | None = None, problem: Problem | None = None, loaded: Loaded | None = None, **kwargs
+    ):
         super().__init__(**kwargs)
         self.domain = domain or Domain("vsl-sp")
         self.problem = problem or Problem("task", self.domain)
+        self.loaded = loaded  # the files read, which save edits in place (shell_save)
         self.last_plan: list[tuple[str, tuple[str, ...]]] = []
-        self.changes: list[tuple[str, Domain, Problem]] = []  # (command, domain and problem before it), for undo
+        # (command, domain, problem and files loaded before it), for undo
+        self.changes: list[tuple[str, Domain, Problem, Loaded | None]] = []
         self.errors = 0  # commands refused (an error or their usage shown): a piped session's exit code
         self.unsaved: list[VslspError] = []  # the saves that failed (a script's exit code tells of them)
 
@@ -129,7 +134,7 @@ class Shell(cmd.Cmd):
         self.stdout.write(text + "\n")
 
     def onecmd(self, line: str) -> bool:
-        before = (self.domain, self.problem)
+        before, loaded = (self.domain, self.problem), self.loaded
         try:
             _balanced(line.partition(" ")[2])
             return super().onecmd(line)
@@ -142,8 +147,9 @@ class Shell(cmd.Cmd):
         except RecursionError:  # a check that recursed past Python's limit: the shell goes on
             self.say("error: what you typed nests too deeply for vslsp; flatten it: (and a (and b c)) is (and a b c)")
         finally:
-            if (self.domain, self.problem) != before and line.split()[:1] != ["undo"]:
-                self.changes.append((" ".join(line.split()), *before))
+            changed = (self.domain, self.problem) != before or self.loaded is not loaded
+            if changed and line.split()[:1] != ["undo"]:
+                self.changes.append((" ".join(line.split()), *before, loaded))
         return False
 
     def _usage(self, name: str) -> None:
@@ -290,7 +296,7 @@ class Shell(cmd.Cmd):
         if not self.changes:
             self.say("nothing to undo")
             return
-        line, self.domain, self.problem = self.changes.pop()
+        line, self.domain, self.problem, self.loaded = self.changes.pop()
         self.say(f"undone: {line}")
 
     # --- the problem ---
@@ -413,7 +419,8 @@ class Shell(cmd.Cmd):
         if not paths or len(paths) > 2:
             self._usage("load")
             return
-        domain, problem = read_pddl(*paths)
+        self.loaded = load(*paths)
+        domain, problem = self.loaded.domain, self.loaded.problem
         self.domain, self.problem = domain, problem or Problem("task", domain)
         self.last_plan = []
         self.say(f"loaded domain {domain.name}" + (f" and problem {problem.name}" if problem else ""))
@@ -423,14 +430,15 @@ class Shell(cmd.Cmd):
         if not paths or len(paths) > 2:
             self._usage("save")
             return
+        texts = saved_texts(self.loaded, self.domain, self.problem)
         try:
-            save(self.domain.to_pddl(), paths[0])
-            if len(paths) > 1:
-                save(self.problem.to_pddl(), paths[1])
+            for path, text in zip(paths, texts, strict=False):
+                save(text, path)
         except VslspError as error:
             self.unsaved.append(error)
             raise
-        self.say(f"saved {' and '.join(paths)}")
+        kept = " (the loaded text kept where unchanged)" if self.loaded else ""
+        self.say(f"saved {' and '.join(paths)}{kept}")
 
     def do_help(self, arg: str) -> None:
         name = arg.strip()

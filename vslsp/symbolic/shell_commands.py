@@ -78,7 +78,10 @@ COMMANDS: tuple[Command, ...] = (
         "load", "load DOMAIN [PROBLEM]", "read PDDL files (replacing what is in the shell)", "load domain.pddl p.pddl"
     ),
     Command(
-        "save", "save DOMAIN [PROBLEM]", "write the domain (and the problem) as PDDL files", "save domain.pddl p.pddl"
+        "save",
+        "save DOMAIN [PROBLEM]",
+        "write PDDL files (after load: the loaded text, comments kept, only the changes rewritten)",
+        "save domain.pddl p.pddl",
     ),
     Command("help", "help [COMMAND]", "list the commands, or tell one in full", "help drop"),
     Command("quit", "quit", "leave the shell (also Ctrl-D; Ctrl-C only clears the line)", "quit"),

@@ -180,9 +180,9 @@ def tokenize(text: str, file: str) -> tuple[list[Token], list[Token]]:
                 line_start = offset + space.rindex("\n") + 1
             offset += len(space)
         first = word[0]
-        if first == ";":
-            word = word.rstrip("\r")
-            comments.append(Token("comment", word, word, line, offset - line_start + 1, offset, file))
+        if first == ";":  # a CRLF file's comment ends before its \r, which still counts in the offsets
+            comment = word.rstrip("\r")
+            comments.append(Token("comment", comment, comment, line, offset - line_start + 1, offset, file))
         elif first == "(" or first == ")":
             tokens.append(Token(first, first, first, line, offset - line_start + 1, offset, file))
         else:
