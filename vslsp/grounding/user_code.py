@@ -46,18 +46,28 @@ def time_limit(seconds: float) -> Iterator[None]:
         yield
         return
     expired = False
+    inside = True
 
     def alarm(signum: int, frame: Any) -> None:
         nonlocal expired
         expired = True
-        raise TimeLimitExceeded()
+        if inside:  # once the block is left, an alarm still on its way only notes the expiry
+            raise TimeLimitExceeded()
 
+    # Armed inside the try, disarmed first in the finally (again if an alarm lands on the way out):
+    # the timer never outlives the block (vslsp.symbolic.budget.time_budget keeps the same rule).
     previous = signal.signal(signal.SIGALRM, alarm)
-    signal.setitimer(signal.ITIMER_REAL, seconds, 1.0)
     try:
+        signal.setitimer(signal.ITIMER_REAL, seconds, 1.0)
         yield
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
+        while True:
+            try:
+                inside = False
+                signal.setitimer(signal.ITIMER_REAL, 0)
+                break
+            except TimeLimitExceeded:
+                continue
         signal.signal(signal.SIGALRM, previous)
     if expired:  # the code caught the stop and returned all the same
         raise TimeLimitExceeded()

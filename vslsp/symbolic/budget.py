@@ -71,23 +71,34 @@ def time_budget(seconds: float) -> Iterator[None]:
         return
 
     expired = False
+    inside = True
 
     def alarm(signum: int, frame: Any) -> None:
         nonlocal expired
         expired = True
-        raise OverBudget()
+        if inside:  # once the block is left, an alarm still on its way only notes the expiry
+            raise OverBudget()
 
     # Rule: the alarm repeats every 50 ms once the budget is spent, and a block that ends after it
     # fired is over budget even if no raise got out. A signal handler runs wherever the main thread
     # is, a finalizer that the garbage collector runs included, and an exception raised there is
     # only printed ("Exception ignored in ...") and lost: one single alarm can be swallowed.
+    # The timer is armed inside the try and disarmed before anything else in the finally (retried if an
+    # alarm lands on the way out): whenever the alarm fires, the timer ends with the block; never
+    # left running to raise later in whatever code runs next.
     previous = signal.signal(signal.SIGALRM, alarm)
-    signal.setitimer(signal.ITIMER_REAL, seconds, 0.05)
     _active.on = True
     try:
+        signal.setitimer(signal.ITIMER_REAL, seconds, 0.05)
         yield
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
+        while True:
+            try:
+                inside = False
+                signal.setitimer(signal.ITIMER_REAL, 0)
+                break
+            except OverBudget:
+                continue
         signal.signal(signal.SIGALRM, previous)
         _active.on = False
     if expired:
