@@ -17,6 +17,7 @@ both ways).
 from __future__ import annotations
 
 from vslsp.errors import InputError
+from vslsp.symbolic.budget import check_instances, instance_count
 from vslsp.symbolic.formula import (
     Always,
     And,
@@ -34,6 +35,7 @@ from vslsp.symbolic.formula import (
     Sometime,
     SometimeAfter,
     SometimeBefore,
+    Universe,
     bindings,
     conjunction,
     substitute,
@@ -89,6 +91,8 @@ def read_with_engine(
         problem = _problem(analysis.documents[problem_name].groups[0], analysis.problem_name.lower(), domain)
     except Unsupported:
         return None
+    except InputError as error:  # a limit of the problem as a whole (its ground instances): no place in it
+        raise InputError(f"{problem_name}: {error}") from None
     return domain, problem
 
 
@@ -345,9 +349,35 @@ def _problem(define: Group, name: str, domain: Domain) -> Problem:
             goal = conjunction([_formula(section.items[1])])
         else:
             problem = Problem(name, domain, tuple(objects), frozenset(init), goal)
-            constraints.extend(c for item in section.items[1:] for c in _constraints(item, {}, problem))
+            universe = problem.universe()
+            for item in section.items[1:]:
+                count, variables = _constraint_instances(item, universe)  # before any is built
+                check_instances(count, f"the constraint (forall ({variables}) ...)" if variables else "a constraint")
+                constraints.extend(_constraints(item, {}, problem))
     _distinct_names(domain.types, domain.predicates, domain.actions, objects)
     return Problem(name, domain, tuple(objects), frozenset(init), goal, tuple(constraints))
+
+
+def _constraint_instances(node: Token | Group, universe: Universe) -> tuple[int, str]:
+    """How many constraints one item of ``(:constraints ...)`` stands for once its ``forall`` are written
+    out (counted without writing them, without recursion), and the variables of the largest, as
+    :func:`vslsp.symbolic.up_model.problem_from_up` counts them."""
+    total, most, variables_of_most = 0, 0, ""
+    stack: list[tuple[Token | Group, int]] = [(node, 1)]
+    while stack:
+        current, factor = stack.pop()
+        if isinstance(current, Group) and current.key == "and":
+            stack.extend((item, factor) for item in current.items[1:])
+        elif isinstance(current, Group) and current.key == "forall" and len(current.items) == 3:
+            head = current.items[1]
+            variables = tuple(_parameters(head.items)) if isinstance(head, Group) else ()
+            inner = factor * instance_count(variables, universe)
+            if inner > most:
+                most, variables_of_most = inner, " ".join(f"{v} - {t}" for v, t in variables)
+            stack.append((current.items[2], inner))
+        else:
+            total += factor
+    return total, variables_of_most
 
 
 def _constraints(node: Token | Group, binding: dict[str, str], problem: Problem) -> list[Constraint]:
