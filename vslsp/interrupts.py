@@ -255,3 +255,38 @@ def guarded_command(
         bounded = "import os, resource, sys; n = int(sys.argv[1]); resource.setrlimit(resource.RLIMIT_AS, (n, n)); "
         return [sys.executable, "-c", bounded + "os.execvp(sys.argv[2], sys.argv[2:])", str(limit), *command]
     return [sys.executable, "-c", _GUARD, str(os.getpid()), str(folder or ""), str(limit), *command]
+
+
+@contextmanager
+def alarm(seconds: float, stop: type[BaseException], repeat: float) -> Iterator[None]:
+    """Raise ``stop()`` in the block (main thread) after ``seconds``, again every ``repeat`` seconds
+    while it runs, and once more on leaving it when the time ran out but the raise was caught.
+
+    The rule that keeps the timer from outliving the block: it is armed inside the ``try`` and
+    disarmed first in the ``finally`` (again if an alarm lands on the way out), and an alarm after
+    the block only notes the expiry. A signal handler runs wherever the main thread is, a finalizer
+    the garbage collector runs included, where a raise is only printed and lost: hence the repeat."""
+    expired = False
+    inside = True
+
+    def ring(signum: int, frame: Any) -> None:
+        nonlocal expired
+        expired = True
+        if inside:
+            raise stop()
+
+    previous = signal.signal(signal.SIGALRM, ring)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, seconds, repeat)
+        yield
+    finally:
+        while True:
+            try:
+                inside = False
+                signal.setitimer(signal.ITIMER_REAL, 0)
+                break
+            except stop:
+                continue
+        signal.signal(signal.SIGALRM, previous)
+    if expired:
+        raise stop()

@@ -65,7 +65,9 @@ def load_predicates(path: str | Path) -> tuple[Predicate, ...]:
             if passes_through(error):
                 raise
             sys.modules.pop(module_name, None)
-            raise InputError(f"cannot load predicates file {name}{_line(error, path)}: {describe(error)}") from None
+            raise InputError(
+                f"cannot load predicates file {name}{error_line(error, path)}: {describe(error)}"
+            ) from None
     predicates = registry.predicates()
     if not predicates:
         raise InputError(
@@ -97,7 +99,8 @@ def check_unique(predicates: Sequence[Predicate]) -> tuple[Predicate, ...]:
     return tuple(seen.values())
 
 
-def _line(error: BaseException, path: Path) -> str:
+def error_line(error: BaseException, path: Path) -> str:
+    """``", line N"``: where in the user's file ``path`` loading it raised ``error`` ("" when not in it)."""
     if isinstance(error, SyntaxError) and error.lineno:
         return f", line {error.lineno}"
     frames = [f for f in traceback.extract_tb(error.__traceback__) if Path(f.filename) == path]

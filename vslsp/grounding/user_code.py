@@ -22,7 +22,8 @@ import signal
 import sys
 import threading
 from collections.abc import Iterator
-from typing import Any
+
+from vslsp.interrupts import alarm
 
 #: Seconds one call of a predicate may take (a predicate decides one atom: microseconds).
 PREDICATE_TIME_LIMIT_S = 10.0
@@ -45,32 +46,8 @@ def time_limit(seconds: float) -> Iterator[None]:
     if not armed:
         yield
         return
-    expired = False
-    inside = True
-
-    def alarm(signum: int, frame: Any) -> None:
-        nonlocal expired
-        expired = True
-        if inside:  # once the block is left, an alarm still on its way only notes the expiry
-            raise TimeLimitExceeded()
-
-    # Armed inside the try, disarmed first in the finally (again if an alarm lands on the way out):
-    # the timer never outlives the block (vslsp.symbolic.budget.time_budget keeps the same rule).
-    previous = signal.signal(signal.SIGALRM, alarm)
-    try:
-        signal.setitimer(signal.ITIMER_REAL, seconds, 1.0)
+    with alarm(seconds, TimeLimitExceeded, 1.0):  # raised again on leaving when the code caught it
         yield
-    finally:
-        while True:
-            try:
-                inside = False
-                signal.setitimer(signal.ITIMER_REAL, 0)
-                break
-            except TimeLimitExceeded:
-                continue
-        signal.signal(signal.SIGALRM, previous)
-    if expired:  # the code caught the stop and returned all the same
-        raise TimeLimitExceeded()
 
 
 @contextlib.contextmanager

@@ -21,9 +21,9 @@ import sys
 import threading
 from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
-from typing import Any
 
 from vslsp.errors import InputError
+from vslsp.interrupts import alarm
 
 #: The longest any one phase (reading, checking, grounding, validating) may take, in seconds of wall clock.
 PHASE_BUDGET_S = 60.0
@@ -70,39 +70,14 @@ def time_budget(seconds: float) -> Iterator[None]:
         yield
         return
 
-    expired = False
-    inside = True
-
-    def alarm(signum: int, frame: Any) -> None:
-        nonlocal expired
-        expired = True
-        if inside:  # once the block is left, an alarm still on its way only notes the expiry
-            raise OverBudget()
-
-    # Rule: the alarm repeats every 50 ms once the budget is spent, and a block that ends after it
-    # fired is over budget even if no raise got out. A signal handler runs wherever the main thread
-    # is, a finalizer that the garbage collector runs included, and an exception raised there is
-    # only printed ("Exception ignored in ...") and lost: one single alarm can be swallowed.
-    # The timer is armed inside the try and disarmed before anything else in the finally (retried if an
-    # alarm lands on the way out): whenever the alarm fires, the timer ends with the block; never
-    # left running to raise later in whatever code runs next.
-    previous = signal.signal(signal.SIGALRM, alarm)
+    # Once spent, the alarm repeats every 50 ms, and a block that ends after it fired is over budget
+    # even if no raise got out (vslsp.interrupts.alarm).
     _active.on = True
     try:
-        signal.setitimer(signal.ITIMER_REAL, seconds, 0.05)
-        yield
+        with alarm(seconds, OverBudget, 0.05):
+            yield
     finally:
-        while True:
-            try:
-                inside = False
-                signal.setitimer(signal.ITIMER_REAL, 0)
-                break
-            except OverBudget:
-                continue
-        signal.signal(signal.SIGALRM, previous)
         _active.on = False
-    if expired:
-        raise OverBudget()
 
 
 @contextmanager

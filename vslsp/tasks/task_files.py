@@ -25,7 +25,6 @@ import importlib.machinery
 import importlib.util
 import os
 import sys
-import traceback
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import FrameType, ModuleType
@@ -77,6 +76,7 @@ def check_tasks_file(path: Path) -> None:
 
 
 def _import(path: Path, name: str) -> ModuleType:
+    from vslsp.grounding.loader import error_line
     from vslsp.grounding.user_code import describe, passes_through, quiet_stdout
 
     module_id = module_name(path)
@@ -97,15 +97,8 @@ def _import(path: Path, name: str) -> ModuleType:
         sys.modules.pop(module_id, None)
         if passes_through(error):
             raise
-        raise InputError(f"cannot load tasks file {name}{_line(error, path)}: {describe(error)}") from None
+        raise InputError(f"cannot load tasks file {name}{error_line(error, path)}: {describe(error)}") from None
     return module
-
-
-def _line(error: BaseException, path: Path) -> str:
-    if isinstance(error, SyntaxError) and error.lineno:
-        return f", line {error.lineno}"
-    frames = [f for f in traceback.extract_tb(error.__traceback__) if Path(f.filename) == path]
-    return f", line {frames[-1].lineno}" if frames else ""
 
 
 class _TasksFileFinder(importlib.abc.MetaPathFinder):
