@@ -263,7 +263,7 @@ def test_a_client_server_that_failed_to_start_is_retried_and_said_in_one_line():
     broken_head = FailingStarts(CLIENT_SERVER_STARTS, SERVER_FAILED)
     with pytest.raises(ConnectionAbortedError) as refused:
         _init(broken_head, "ray://127.0.0.1:10001", {})
-    assert broken_head.inits == CLIENT_SERVER_STARTS
+    assert broken_head.inits == CLIENT_SERVER_STARTS and broken_head.shutdowns == CLIENT_SERVER_STARTS
     reason = _reason(refused.value)
     assert reason == (
         f"the head could not start a Ray client server for this connection in {CLIENT_SERVER_STARTS} tries "
@@ -272,4 +272,4 @@ def test_a_client_server_that_failed_to_start_is_retried_and_said_in_one_line():
     other = FailingStarts(1, "Initialization failure from server: version mismatch")
     with pytest.raises(ConnectionAbortedError):
         _init(other, "ray://127.0.0.1:10001", {})  # any other refusal is final
-    assert other.inits == 1 and _reason(ConnectionAbortedError("a\n  b")) == "a b"
+    assert other.inits == 1 and other.shutdowns == 1 and _reason(ConnectionAbortedError("a\n  b")) == "a b"

@@ -225,7 +225,11 @@ def _connect(ray: ModuleType, address: str | None, workers: int) -> bool:
 # a busy head that start can fail ("Starting Ray client server failed"), and the next connection
 # gets a new one: such a failure is retried, every other refusal is final.
 CLIENT_SERVER_STARTS = 3
-_CLIENT_SERVER_FAILED = ("Starting Ray client server failed", "Proxy failed to Connect to backend")
+_CLIENT_SERVER_FAILED = (
+    "Starting Ray client server failed",
+    "Proxy failed to Connect to backend",
+    "in start_specific_server",  # the proxy's start of it raised (CI: psutil on a process just gone)
+)
 
 
 def _init(ray: ModuleType, address: str, quiet: dict) -> None:
@@ -236,9 +240,9 @@ def _init(ray: ModuleType, address: str, quiet: dict) -> None:
             ray.init(address=address, **quiet)
             return
         except ConnectionError as error:
+            ray.shutdown()  # a refused connection leaves nothing half-connected (the next try, the next run)
             if attempt == CLIENT_SERVER_STARTS or not any(words in str(error) for words in _CLIENT_SERVER_FAILED):
                 raise
-            ray.shutdown()  # nothing half-connected goes into the next try
 
 
 def _reason(error: BaseException) -> str:
