@@ -14,6 +14,10 @@ The rules (docs/bad-input.md, "Signals and crashes"):
   kill the whole planner tree (its translator and search too, which a death signal alone does
   not reach: the setting is not inherited by the children a process forks) and to remove the
   planner's temporary folder.
+- a wait of the main thread never blocks for long (:data:`WAIT_SLICE_S`, :func:`communicate`):
+  Python runs a signal's handler only between two bytecodes of the main thread, and a signal
+  that lands after the last such point and before a blocking call (a lock, ``poll``, ``waitpid``)
+  leaves its handler unrun until that call returns, so every wait is cut into slices.
 - a memory limit never asks for more address space than the user's own ``ulimit -v``
   (:func:`memory_limit_mb`): a limit above it is lowered to it, with a one-line notice.
 """
@@ -25,7 +29,9 @@ import errno
 import os
 import resource
 import signal
+import subprocess
 import sys
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -35,6 +41,9 @@ from vslsp.errors import Interrupted
 #: The signals a shell or a terminal sends to end a command.
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT)
 _PR_SET_PDEATHSIG = 1
+#: The longest one blocking call of a waiting main thread lasts, in seconds: a signal that came
+#: just before the call (its handler not yet run) is acted upon when the slice ends.
+WAIT_SLICE_S = 0.25
 _received: list[str] = []  # the names of the signals received since the last resume(), first first
 _depth = 0  # how many handled() blocks are open (the outermost installs the handlers)
 
@@ -56,6 +65,8 @@ def resume() -> None:
 
 
 def _once(number: int, frame: Any) -> None:
+    if postponed(number):
+        return
     _received.append(signal.Signals(number).name)
     if len(_received) > 1:  # the run is already stopping: let its cleanup finish
         return
@@ -290,3 +301,45 @@ def alarm(seconds: float, stop: type[BaseException], repeat: float) -> Iterator[
         signal.signal(signal.SIGALRM, previous)
     if expired:
         raise stop()
+
+
+_deferring = 0  # how many deferred() blocks run now (in any thread)
+_postponed: list[int] = []  # the signals that came during them
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """A critical section no signal cuts short (e.g. between stopping a process and killing it):
+    vslsp's handlers leave a signal that comes meanwhile (:func:`postponed`) for the end of the
+    block, where it is sent again. Blocking the signal would not do: the kernel gives a signal
+    sent to the process to any thread that does not block it, and its handler still runs here."""
+    global _deferring
+    _deferring += 1
+    try:
+        yield
+    finally:
+        _deferring -= 1
+        if not _deferring and _postponed:
+            number = _postponed[0]
+            _postponed.clear()
+            signal.raise_signal(number)
+
+
+def postponed(number: int) -> bool:
+    """Whether a handler must leave signal ``number`` for the end of a :func:`deferred` block."""
+    if _deferring:
+        _postponed.append(number)
+        return True
+    return False
+
+
+def communicate(process: subprocess.Popen, timeout: float | None = None) -> tuple[Any, Any]:
+    """``process.communicate(timeout=timeout)`` in slices of :data:`WAIT_SLICE_S` (a retried
+    communicate loses no output): a signal is acted upon within a slice, never after the timeout."""
+    deadline = time.monotonic() + (float("inf") if timeout is None else timeout)
+    while True:
+        try:
+            return process.communicate(timeout=max(0.0, min(WAIT_SLICE_S, deadline - time.monotonic())))
+        except subprocess.TimeoutExpired:
+            if timeout is not None and time.monotonic() >= deadline:
+                raise subprocess.TimeoutExpired(process.args, timeout) from None

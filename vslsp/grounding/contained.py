@@ -48,7 +48,7 @@ from vslsp.errors import InputError
 from vslsp.files import shown
 from vslsp.grounding.predicates import Atom, Predicate, Scene, atoms_of
 from vslsp.grounding.user_code import LOAD_TIME_LIMIT_S, PREDICATE_TIME_LIMIT_S
-from vslsp.interrupts import guarded_command
+from vslsp.interrupts import WAIT_SLICE_S, guarded_command
 
 if TYPE_CHECKING:
     import numpy as np
@@ -255,8 +255,10 @@ class UserPredicates:
         view = memoryview(data)
         while view:
             left = deadline - time.monotonic()
-            if left <= 0 or not select.select([], [self._requests], [], left)[1]:
+            if left <= 0:
                 return False
+            if not select.select([], [self._requests], [], min(left, WAIT_SLICE_S))[1]:
+                continue
             try:
                 view = view[os.write(self._requests, view) :]
             except BlockingIOError:
@@ -269,8 +271,10 @@ class UserPredicates:
         """The next reply line; b"" at the end of the pipe, None past ``deadline``."""
         while b"\n" not in self._buffer:
             left = deadline - time.monotonic()
-            if left <= 0 or not select.select([self._replies], [], [], left)[0]:
+            if left <= 0:
                 return None
+            if not select.select([self._replies], [], [], min(left, WAIT_SLICE_S))[0]:
+                continue
             chunk = os.read(self._replies, 1 << 20)
             if not chunk:
                 return b""

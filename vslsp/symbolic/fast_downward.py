@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vslsp.errors import InputError
-from vslsp.interrupts import guarded_command
+from vslsp.interrupts import communicate, deferred, guarded_command
 from vslsp.outputs import NO_SPACE, write_error
 from vslsp.symbolic.outcomes import PlanStatus
 
@@ -130,7 +130,7 @@ def run(
             errors="replace",
         )
         try:
-            log, _ = process.communicate(timeout=timeout)  # wall-clock (the driver limits CPU time)
+            log, _ = communicate(process, timeout)  # wall-clock (the driver limits CPU time)
         except subprocess.TimeoutExpired:
             kill_tree(process)
             log, _ = process.communicate()
@@ -211,19 +211,23 @@ def descendants(pid: int) -> list[int]:
 
 
 def kill_tree(process: subprocess.Popen) -> None:
-    """SIGKILL ``process`` and every process below it, and reap it."""
-    if process.poll() is None:
-        try:  # stopped first, so that it starts no new process while its tree is read
-            os.kill(process.pid, signal.SIGSTOP)
-        except ProcessLookupError:
-            pass
-        tree = descendants(process.pid) if os.path.isdir("/proc") else []
-        for pid in [process.pid, *tree]:
-            try:
-                os.kill(pid, signal.SIGKILL)
+    """SIGKILL ``process`` and every process below it, and reap it.
+
+    A signal that comes meanwhile waits for the end (:func:`vslsp.interrupts.deferred`): a process
+    stopped and then left unkilled would stay stopped for good, deaf to its parent-death signal."""
+    with deferred():
+        if process.poll() is None:
+            try:  # stopped first, so that it starts no new process while its tree is read
+                os.kill(process.pid, signal.SIGSTOP)
             except ProcessLookupError:
                 pass
-    process.wait()
+            tree = descendants(process.pid) if os.path.isdir("/proc") else []
+            for pid in [process.pid, *tree]:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+        process.wait()
 
 
 def _read_plan(path: Path) -> tuple[tuple[str, tuple[str, ...]], ...]:

@@ -40,6 +40,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
+from vslsp import interrupts
 from vslsp.errors import InputError
 from vslsp.tasks.base import Task, TrialResult
 from vslsp.tasks.task_files import by_value_for_ray
@@ -47,7 +48,6 @@ from vslsp.tasks.trial import run_one
 
 RETRIES = 1  # Ray re-runs a trial whose worker died once (the local backend's rule), then it is failed
 PROBE_S = 4.0  # how long a cluster's address may take to accept a connection, then to answer
-WAIT_S = 0.5  # longest wait for a result before the driver looks at signals again
 INSTALL = "pip install 'vslsp[ray]'"
 # The client's connection preface of HTTP/2 (RFC 9113, 3.4) and an empty SETTINGS frame: a gRPC
 # server (Ray's GCS and its client server are) answers with a SETTINGS frame of its own.
@@ -148,7 +148,7 @@ def _run(
             while queue and len(pending) < workers:
                 seed = queue.popleft()
                 pending[trial.remote(task_ref, seed, seed in keep)] = seed
-            ready, _ = ray.wait(list(pending), num_returns=1, timeout=WAIT_S)
+            ready, _ = ray.wait(list(pending), num_returns=1, timeout=interrupts.WAIT_SLICE_S)
             for ref in ready:
                 finished(_outcome(ray, ref, task.name, pending.pop(ref)))
     except BaseException:  # an interrupt (KeyboardInterrupt, runner.Interrupted) or an error: stop every trial

@@ -129,8 +129,8 @@ _in_trial = False  # in a pool worker: whether a trial runs now
 
 def _trial_in_worker(task: Task, seed: int, keep: bool) -> TrialResult:
     """:func:`run_one` in a pool worker, noting that a trial runs (for :func:`_raise_interrupted`)."""
-    global _in_trial
-    _in_trial = True
+    global _in_trial, _stopping
+    _in_trial, _stopping = True, False  # once per trial: a worker told to stop may get the next queued one
     try:
         return run_one(task, seed, keep)
     finally:
@@ -139,11 +139,23 @@ def _trial_in_worker(task: Task, seed: int, keep: bool) -> TrialResult:
             os._exit(128 + signal.SIGTERM)
 
 
+_stopping = False  # in a pool worker: whether a signal already raised in the trial running now
+
+
 def _raise_interrupted(number: int, frame: Any) -> None:
+    global _stopping
     if not _in_trial:
         # A worker starting or waiting for its next trial has nothing to clean up; raising there
         # would print the pool loop's traceback on the user's terminal.
         os._exit(128 + number)
+    if interrupts.postponed(number):  # a planner being killed: the signal comes again after it
+        return
+    if _stopping:
+        # Once, as in the driver (interrupts.handled): the first signal's cleanup (the planner
+        # killed, its folder removed) runs to its end. A worker gets two when its driver ends it
+        # and then exits (its parent-death signal).
+        return
+    _stopping = True
     raise Interrupted(signal.Signals(number).name)
 
 
@@ -191,7 +203,9 @@ def _run_pool(
             ):
                 seed = queue.pop(0)
                 running[pool.submit(_trial_in_worker, task, seed, seed in keep)] = seed
-            completed, _ = wait(list(running), return_when=FIRST_COMPLETED)
+            completed: set[Future] = set()
+            while not completed:  # in slices: a signal is acted upon within one (interrupts.WAIT_SLICE_S)
+                completed, _ = wait(list(running), timeout=interrupts.WAIT_SLICE_S, return_when=FIRST_COMPLETED)
             broken = []
             for future in completed:
                 seed = running.pop(future)
