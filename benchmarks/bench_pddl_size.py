@@ -112,7 +112,7 @@ def main() -> None:
     args = parser.parse_args()
     commands, skipped = readers(args.node_modules, args.memory)
     for line in skipped:
-        print(line)
+        print(line, flush=True)
     # PYTHONPATH may name the repository, whose pddl/ folder would shadow the PyPI package
     env = {**{k: v for k, v in os.environ.items() if k != "PYTHONPATH"}, "NODE_PATH": str(args.node_modules)}
     results: list[dict[str, object]] = []
@@ -146,7 +146,10 @@ def main() -> None:
                 for n in commands
                 if n != "vslsp"
             ]
-            print(f"{n_objects:>8} {size_mb:>6.2f}  " + "  ".join(f"{c:>34}" for c in cells) + "  " + ", ".join(ratios))
+            print(
+                f"{n_objects:>8} {size_mb:>6.2f}  " + "  ".join(f"{c:>34}" for c in cells) + "  " + ", ".join(ratios),
+                flush=True,
+            )
     sized = [r for r in results if r["objects"] != 7]
     per_mb = [r["vslsp"]["cpu_s_per_mb"] for r in sized]  # type: ignore[index]
     base_rss = results[0]["vslsp"]["rss_mb"]  # type: ignore[index]
@@ -160,7 +163,10 @@ def main() -> None:
         if name != "vslsp":
             worst = min(r[name]["cpu_s"] / r["vslsp"]["cpu_s"] for r in sized)  # type: ignore[index]
             verdict = "met" if worst >= TARGET_RATIO else "NOT met"
-            print(f"vs {name}: vslsp at least {worst:.1f}x faster in CPU (target {TARGET_RATIO:g}x: {verdict})")
+            print(
+                f"vs {name}: vslsp at least {worst:.1f}x faster in CPU (target {TARGET_RATIO:g}x: {verdict})",
+                flush=True,
+            )
     if args.json is not None:
         args.json.write_text(json.dumps({"results": results, "skipped": skipped}, indent=2))
 
