@@ -27,6 +27,7 @@ import json
 import os
 import resource
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -70,7 +71,7 @@ def measure(command: list[str], memory_mb: int, env: dict[str, str], cpu_limit_s
     _, status, usage = os.wait4(process.pid, 0)
     process.returncode = os.waitstatus_to_exitcode(status)
     cpu = usage.ru_utime + usage.ru_stime
-    if process.returncode < 0 and cpu >= cpu_limit_s:  # SIGXCPU: past the CPU limit
+    if process.returncode == -signal.SIGXCPU or (process.returncode == -signal.SIGKILL and cpu >= cpu_limit_s):
         return {"cpu_s": cpu, "rss_mb": usage.ru_maxrss / 1024, "over": 1.0}
     if process.returncode != 0:
         raise ValueError(f"{command[0]} exited {process.returncode}: {error.decode(errors='replace')[-300:]}")
