@@ -32,7 +32,7 @@ import stat
 import tempfile
 import zipfile
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 from vslsp.errors import InputError
 
@@ -120,12 +120,24 @@ def read_bytes(path: PathLike, what: str, limit: int) -> bytes:
         with open(path, "rb") as file:
             if not stat.S_ISREG(os.fstat(file.fileno()).st_mode):  # replaced between stat and open
                 raise InputError(f"cannot read {what} {shown(path)}: it is not a regular file; give a file")
-            data = file.read(limit + 1)
+            data = _read_within(file, os.fstat(file.fileno()).st_size, limit)
     except OSError as error:
         raise InputError(f"cannot read {what} {shown(path)}: {error.strerror}") from None
     if len(data) > limit:
         raise too_large(path, what, limit)
     return data
+
+
+def _read_within(file: BinaryIO, size: int, limit: int) -> bytes:
+    """At most ``limit + 1`` bytes of ``file``, whose size on disk is ``size``. ``read(n)`` reserves ``n``
+    bytes before it reads, so the file is read by its own size (a small file under a large limit takes
+    no more memory than itself), then in chunks while it still grows."""
+    chunks = [file.read(min(size, limit) + 1)]
+    total = len(chunks[0])
+    while chunks[-1] and total <= limit:
+        chunks.append(file.read(min(1 << 20, limit + 1 - total)))
+        total += len(chunks[-1])
+    return b"".join(chunks)
 
 
 def decode_text(data: bytes, path: PathLike, what: str) -> str:

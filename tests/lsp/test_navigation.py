@@ -168,7 +168,9 @@ async def test_rename_refuses_what_is_no_pddl_name_or_no_declared_name(editor, k
     assert refused.value.code == -32803  # RequestFailed: understood, refused
     assert refused.value.data is None and "\n" not in refused.value.message  # one line, no traceback
     for reserved in ("and", "AND", "forall", "either", "when", "sometime-before", "object"):
-        with pytest.raises(JsonRpcException, match="is a word of PDDL's syntax") as refused:
+        with pytest.raises(
+            JsonRpcException, match=r"is a word of PDDL \(.*\), so it cannot name a predicate"
+        ) as refused:
             await editor.client.text_document_rename_async(
                 types.RenameParams(text_document=ident(domain), position=at, new_name=reserved)
             )

@@ -92,8 +92,8 @@ def test_an_unreadable_file_is_one_message_and_json_with_no_diagnostics(capsys, 
     assert code == 2 and data["diagnostics"] == [] and "missing.pddl: cannot read the file" in data["error"]
     too_big = tmp_path / "big.pddl"
     too_big.write_text(";" * 1_000_001)
-    code, _, err = vslsp(capsys, "pddl", "check", DOMAIN, too_big)
-    assert code == 2 and "vslsp reads at most 1 MB" in err and "Traceback" not in err
+    code, _, err = vslsp(capsys, "pddl", "check", DOMAIN, too_big, "--max-size", "1")
+    assert code == 2 and "over the limit of 1.0 MB; raise it with --max-size MB" in err and "Traceback" not in err
 
 
 def test_the_check_imports_neither_unified_planning_nor_the_planner():

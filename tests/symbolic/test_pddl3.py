@@ -202,13 +202,14 @@ def test_unsupported_constructs_are_named_as_written_with_their_place():
         parse_pddl(text)
 
 
-def test_a_file_over_the_size_budget_is_refused_up_front(tmp_path):
-    from vslsp.symbolic.pddl import MAX_PDDL_BYTES
-
+def test_a_file_over_the_size_limit_is_refused_up_front(tmp_path):
     big = tmp_path / "big.pddl"
-    big.write_text(LIGHTS + ";" * (MAX_PDDL_BYTES + 1))
-    with pytest.raises(InputError, match=r"big.pddl: the PDDL file has 1.0 MB; vslsp reads at most 1 MB"):
-        read_pddl(big)
+    big.write_text(LIGHTS + ";" * 1_000_001)
+    with pytest.raises(
+        InputError, match=r"big.pddl: the PDDL file has 1.0 MB, over the limit of 1.0 MB; raise it with --max-size MB"
+    ):
+        read_pddl(big, max_bytes=1_000_000)
+    assert read_pddl(big)[0].name == "lights"  # the default limit (100 MB) reads it
 
 
 def test_undeclared_requirements_are_warned_and_counts_read_well(lights):

@@ -467,3 +467,23 @@ def test_at_is_a_predicate_name_and_pddl_words_name_nothing():
     assert "error: 'and' is a word of PDDL (and ...), so it cannot name a predicate; choose another name" in out
     assert "error: 'or' is a word of PDDL (or ...), so it cannot name an object" in out
     assert "error: 'not' is a word of PDDL (not ...), so it cannot name a type" in out
+
+
+@pytest.mark.parametrize("word", ["and", "or", "not", "imply", "forall", "exists", "when", "either", "define", "at"])
+def test_the_checker_and_the_shell_agree_on_what_may_name_a_predicate(tmp_path, word):
+    # one vocabulary (vslsp.symbolic.language.vocabulary): both accept `at`, both refuse the others alike
+    from vslsp.symbolic.language import check_files, reserved_name_message
+
+    domain = tmp_path / "d.pddl"
+    domain.write_text(
+        f"(define (domain d) (:requirements :strips :typing) (:types dish place)\n"
+        f" (:predicates ({word} ?d - dish ?p - place))\n"
+        f" (:action put :parameters (?d - dish ?p - place) :precondition (and) :effect ({word} ?d ?p)))\n"
+    )
+    checked = [d.message for d in check_files(domain).errors]
+    out = run(f"type dish place\npredicate ({word} ?d - dish ?p - place)\n")
+    if word == "at":
+        assert checked == [] and "error" not in out
+    else:
+        message = reserved_name_message(word, "predicate")
+        assert message in checked and f"error: {message}" in out

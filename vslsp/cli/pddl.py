@@ -71,6 +71,28 @@ def debug_option(function: Any) -> Any:
     return click.option("--debug", is_flag=True, help="Show the traceback of an internal error (exit 3).")(function)
 
 
+#: The largest ``--max-size``, in MB: past it a file's memory (about 70 bytes a byte read) outgrows a machine.
+MAX_SIZE_MB = 10_000.0
+
+
+def max_size_option(function: Any) -> Any:
+    """``--max-size MB``: the largest PDDL file read (:data:`vslsp.symbolic.language.files.MAX_PDDL_BYTES`
+    by default), given to the function as ``max_bytes``."""
+    from vslsp.cli.params import positive_float
+    from vslsp.symbolic.language.files import MAX_PDDL_BYTES, MAX_SIZE_OPTION
+
+    return click.option(
+        MAX_SIZE_OPTION,
+        "max_bytes",
+        type=positive_float(MAX_SIZE_MB),
+        default=MAX_PDDL_BYTES / 1e6,
+        show_default=True,
+        metavar="MB",
+        callback=lambda _ctx, _param, value: max(1, int(value * 1e6)),
+        help="The largest PDDL file read, in MB (a larger one is exit 2, naming it and its size).",
+    )(function)
+
+
 @click.group()
 def pddl() -> None:
     """Work with PDDL 3.0 domain and problem files."""
@@ -80,14 +102,15 @@ def pddl() -> None:
 @click.argument("domain", type=click.Path(dir_okay=False))
 @click.argument("problem", type=click.Path(dir_okay=False), required=False)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
+@max_size_option
 @debug_option
-def check(domain: str, problem: str | None, as_json: bool, debug: bool) -> None:
+def check(domain: str, problem: str | None, as_json: bool, max_bytes: int, debug: bool) -> None:
     """Check DOMAIN (and PROBLEM): every error and warning, one line each as
     FILE:LINE:COL: error|warning: message (did you mean 'x'?). Exit 2 with any error, 0 otherwise."""
     from vslsp.symbolic.language import check_files
 
     with pddl_edge(as_json, debug, {"diagnostics": []}):
-        analysis = check_files(domain, problem)
+        analysis = check_files(domain, problem, max_bytes)
     summary = _summary(analysis, domain, problem)
     if as_json:
         report: dict[str, Any] = {
@@ -192,7 +215,8 @@ class ShellCommand(click.Command):
     is_flag=True,
     help="Commands read from a pipe or file: exit 0 even when some were refused (default: exit 1).",
 )
-def shell(domain: str | None, problem: str | None, keep_going: bool) -> None:
+@max_size_option
+def shell(domain: str | None, problem: str | None, keep_going: bool, max_bytes: int) -> None:
     """Author a domain and a problem interactively, starting from DOMAIN (and PROBLEM) if given:
     every command is checked as it is typed; tab completion of commands and of the names that
     fit where the cursor is; undo; history in ~/.vslsp_history. Reads commands from standard
@@ -202,8 +226,9 @@ def shell(domain: str | None, problem: str | None, keep_going: bool) -> None:
     from vslsp.symbolic.shell_save import load
 
     with pddl_edge(False, False):
-        loaded = load(domain, problem) if domain else None
+        loaded = load(domain, problem, max_bytes) if domain else None
     session = Shell(loaded.domain if loaded else None, loaded.problem if loaded else None, loaded)
+    session.max_bytes = max_bytes
     session.cmdloop()
     if session.unsaved:  # a script's output was lost: its exit code says so (the error was shown in the session)
         first = session.unsaved[0]

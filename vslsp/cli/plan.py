@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from vslsp.cli.params import int_range, non_negative_float, positive_float, prepare_output_file
-from vslsp.cli.pddl import debug_option, pddl_edge
+from vslsp.cli.pddl import debug_option, max_size_option, pddl_edge
 from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
 
 MAX_TIMEOUT_S = 7 * 24 * 3600.0  # a week
@@ -70,6 +70,7 @@ if TYPE_CHECKING:
     help='Print {"plan": [...] or null, "planner": str, "time_s": float, "compilation": str, "warnings": '
     '[...]} (and "error", "conflict", "conflict_minimal" on failure).',
 )
+@max_size_option
 @debug_option
 def plan(
     domain: str,
@@ -81,6 +82,7 @@ def plan(
     out: str | None,
     conflict_budget: float,
     as_json: bool,
+    max_bytes: int,
     debug: bool,
 ) -> None:
     """Find a plan for PROBLEM in DOMAIN, keeping its PDDL 3.0 trajectory constraints.
@@ -100,7 +102,7 @@ def plan(
         target = prepare_output_file(out) if out is not None else None
         if target is not None:
             refuse_input(target, {"domain": domain, "problem": problem}, "--out")
-        parsed_domain, parsed_problem = read_pddl(domain, problem)
+        parsed_domain, parsed_problem = read_pddl(domain, problem, max_bytes)
         assert parsed_problem is not None
         try:
             result = solve(
@@ -114,7 +116,9 @@ def plan(
         except Unsolvable as error:
             if not conflict_budget:
                 raise
-            lines = _explained(parsed_domain, parsed_problem, problem, planner, conflict_budget, memory, failure)
+            lines = _explained(
+                parsed_domain, parsed_problem, problem, planner, conflict_budget, memory, failure, max_bytes
+            )
             if as_json:
                 raise
             raise Unsolvable("\n".join([error.reason, *lines])) from None
@@ -134,7 +138,14 @@ def plan(
 
 
 def _explained(
-    domain: Domain, problem: Problem, path: str, planner: str, budget: float, memory: int, failure: dict
+    domain: Domain,
+    problem: Problem,
+    path: str,
+    planner: str,
+    budget: float,
+    memory: int,
+    failure: dict,
+    max_bytes: int,
 ) -> list[str]:
     """The conflict of an unsolvable problem as lines of text; ``failure`` gets its JSON fields."""
     from vslsp.errors import VslspError
@@ -147,7 +158,7 @@ def _explained(
     except VslspError as error:  # the plan's own verdict stands; the explanation is extra
         return [f"why: not found ({error})"]
     assert conflict is not None
-    items = conflict.located(read_text(path), path)
+    items = conflict.located(read_text(path, max_bytes=max_bytes), path)
     reasons = conflict.reasons(domain, problem)
     failure["conflict"], failure["conflict_minimal"], failure["reasons"] = items, conflict.minimal, reasons
     lines = [f"why: {conflict.summary()}", *(f"  {where(i)}: {i['kind']} {i['text']}" for i in items)]

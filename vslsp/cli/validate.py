@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.pddl import debug_option, pddl_edge
+from vslsp.cli.pddl import debug_option, max_size_option, pddl_edge
 
 
 @click.command()
@@ -22,8 +22,9 @@ from vslsp.cli.pddl import debug_option, pddl_edge
     help='Print {"valid": bool, "reason": str, "violations": [{"kind", "text", "step", "file", "line", '
     '"column", "message"}], "warnings": [...]}.',
 )
+@max_size_option
 @debug_option
-def validate(domain: str, problem: str, plan: str, as_json: bool, debug: bool) -> None:
+def validate(domain: str, problem: str, plan: str, as_json: bool, max_bytes: int, debug: bool) -> None:
     """Check PLAN against DOMAIN and PROBLEM (exit 1: invalid).
 
     PLAN has one step per line: "(action arg ...)", "0: (action arg ...)" as VAL and IPC planners
@@ -39,10 +40,14 @@ def validate(domain: str, problem: str, plan: str, as_json: bool, debug: bool) -
     from vslsp.symbolic.pddl import read_text
 
     with pddl_edge(as_json, debug, {"valid": None}) as warned:
-        parsed_domain, parsed_problem = read_pddl(domain, problem)
+        parsed_domain, parsed_problem = read_pddl(domain, problem, max_bytes)
         assert parsed_problem is not None
         verdict = validate_plan(parsed_domain, parsed_problem, read_plan(plan, parsed_domain, parsed_problem))
-        texts = (read_text(problem), Path(plan).read_bytes().decode("utf-8-sig")) if not verdict.valid else ("", "")
+        texts = (
+            (read_text(problem, max_bytes=max_bytes), Path(plan).read_bytes().decode("utf-8-sig"))
+            if not verdict.valid
+            else ("", "")
+        )
         violations = verdict.located(texts[0], problem, texts[1], plan)
     if as_json:
         click.echo(json.dumps({**verdict.to_dict(), "violations": violations, "warnings": warned}))

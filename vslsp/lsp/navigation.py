@@ -16,7 +16,7 @@ from lsprotocol import types
 from vslsp.lsp.analysis import Analyses, Checked
 from vslsp.lsp.positions import Lines, characters, units
 from vslsp.symbolic.language import Declaration, Span
-from vslsp.symbolic.language.vocabulary import is_reserved_name
+from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
 
 #: Declarations visible in a domain and all its problems.
 _DOMAIN_WIDE = ("domain", "type", "constant", "predicate", "function", "action")
@@ -130,7 +130,7 @@ def rename(analyses: Analyses, checked: Checked, line: int, column: int, new_nam
             + (" (after the '?')" if variable else "")
         )
     if is_reserved_name(bare):
-        raise ValueError(f"'{bare}' is a word of PDDL's syntax, which no name may take; choose another name")
+        raise ValueError(reserved_name_message(bare, declaration.kind))
     new_text = f"?{bare}" if variable else bare
     changes: dict[str, list[types.TextEdit]] = {}
     for uri, span in occurrences(analyses, checked, line, column) or []:

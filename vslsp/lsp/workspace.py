@@ -24,7 +24,9 @@ _DOMAIN_OF = re.compile(r"\(\s*:domain\s+([^\s()]+)", re.IGNORECASE)
 #: A problem's own choice of its domain file, as the VS Code PDDL extension reads it: ``;; !domain: FILE``
 #: (FILE relative to the problem's folder).
 CHOSEN = re.compile(r"^[ \t]*;+[ \t]*!domain:[ \t]*(\S+)", re.IGNORECASE | re.MULTILINE)
-#: Files larger than this on disk are not read to find a domain (vslsp reads at most 1 MB of PDDL).
+#: The folder's files larger than this are not read to find a domain or a domain's problems: a large problem
+#: is not loaded only for its header (a document the editor opens is read whatever its size; the files
+#: vslsp reads from disk have their own limit, vslsp.symbolic.language.files.MAX_PDDL_BYTES).
 _LARGEST = 1_000_000
 
 

@@ -93,15 +93,16 @@ def navigate(
     if what == "rename":
         if target.kind not in RENAMABLE:
             raise InputError(f"a {target.kind} cannot be renamed")
-        new_text = renamed(target.name, new_name)
+        new_text = renamed(target.name, new_name, target.kind)
         return {"name": target.name, "edits": [{**_place(span, files), "text": new_text} for span in places]}
     raise InputError(f"'what' must be definition, references, rename or outline, got {what!r}")
 
 
-def renamed(old: str, new_name: object) -> str:
-    """The text a rename of ``old`` to ``new_name`` writes (``?x`` for a variable), or InputError for a name
-    PDDL does not allow (a keyword of PDDL is none: ``and``, ``either``, ``forall``...)."""
-    from vslsp.symbolic.language import is_reserved_name
+def renamed(old: str, new_name: object, what: str = "name") -> str:
+    """The text a rename of ``old`` (a ``what``: predicate, object ...) to ``new_name`` writes (``?x`` for a
+    variable), or InputError for a name PDDL does not allow (a keyword of PDDL is none: ``and``, ``either``,
+    ``forall``...; the language engine's one message)."""
+    from vslsp.symbolic.language import is_reserved_name, reserved_name_message
 
     if not isinstance(new_name, str) or not new_name:
         raise InputError("give the new name")
@@ -113,7 +114,7 @@ def renamed(old: str, new_name: object) -> str:
             + (" (after the '?')" if variable else "")
         )
     if not variable and is_reserved_name(bare):
-        raise InputError(f"'{bare}' is a word of PDDL itself; choose another name")
+        raise InputError(reserved_name_message(bare, what))
     return f"?{bare}" if variable else bare
 
 

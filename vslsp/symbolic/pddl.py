@@ -6,7 +6,7 @@ own ``to_pddl``; reading is unified-planning's reader, converted by
 :mod:`vslsp.symbolic.up_model`, with what the reader cannot explain checked first and its
 errors turned into :class:`~vslsp.errors.InputError` with FILE:LINE:COL
 (:mod:`vslsp.symbolic.pddl_errors`). Files are read within a budget: at most
-:data:`MAX_PDDL_BYTES` bytes, UTF-8, and the reading phase's budget
+:data:`MAX_PDDL_BYTES` bytes unless told otherwise, UTF-8, and the reading phase's budget
 (:data:`vslsp.symbolic.budget.PHASE_BUDGET_S` seconds).
 """
 
@@ -44,18 +44,21 @@ from vslsp.symbolic.up_model import domain_from_up, environment, problem_from_up
 __all__ = ["MAX_PDDL_BYTES", "parse_pddl", "read_domain", "read_pddl", "read_problem", "read_text", "save"]
 
 
-def read_pddl(domain_path: str | Path, problem_path: str | Path | None = None) -> tuple[Domain, Problem | None]:
+def read_pddl(
+    domain_path: str | Path, problem_path: str | Path | None = None, max_bytes: int = MAX_PDDL_BYTES
+) -> tuple[Domain, Problem | None]:
     """Read a domain (and a problem) file through unified-planning's PDDLReader.
 
     Malformed input raises InputError ``FILE:LINE:COL: what is wrong`` (a problem for another domain,
     a name that is a word of PDDL too); what vslsp reads leniently (preferences) is a
     :class:`PddlWarning`. The reading phase's budget covers the whole read: the files, the checks and
-    the reader. A flat problem that checks clean is read from the language engine's tree
-    (:mod:`vslsp.symbolic.flat_problem`), any other through unified-planning's reader.
+    the reader; each file is of at most ``max_bytes`` (:data:`MAX_PDDL_BYTES`). A flat problem that
+    checks clean is read from the language engine's tree (:mod:`vslsp.symbolic.flat_problem`), any other
+    through unified-planning's reader.
     """
     with phase("reading", shown(problem_path if problem_path is not None else domain_path)):
-        domain_text = read_text(domain_path)
-        problem_text = read_text(problem_path) if problem_path is not None else None
+        domain_text = read_text(domain_path, max_bytes=max_bytes)
+        problem_text = read_text(problem_path, max_bytes=max_bytes) if problem_path is not None else None
         return _read(
             domain_text, problem_text, shown(domain_path), shown(problem_path) if problem_path is not None else None
         )

@@ -25,6 +25,7 @@ from vslsp.errors import InputError, VslspError
 from vslsp.symbolic.budget import MAX_READER_NESTING, MAX_READER_TYPE_DEPTH
 from vslsp.symbolic.conflict import explain
 from vslsp.symbolic.formula import Atom, atoms_of
+from vslsp.symbolic.language.files import MAX_PDDL_BYTES
 from vslsp.symbolic.model import Domain, Predicate, Problem, When
 from vslsp.symbolic.outcomes import Unsolvable
 from vslsp.symbolic.pddl import parse_pddl, save
@@ -115,6 +116,7 @@ class Shell(cmd.Cmd):
     intro = "vslsp PDDL shell: build a domain and a problem, plan, validate. Type help for the commands."
     prompt = "(vslsp) "
     identchars = cmd.Cmd.identchars + "-"
+    max_bytes = MAX_PDDL_BYTES  # the largest PDDL file ``load`` reads (the session's --max-size)
 
     def __init__(
         self, domain: Domain | None = None, problem: Problem | None = None, loaded: Loaded | None = None, **kwargs
@@ -419,7 +421,7 @@ class Shell(cmd.Cmd):
         if not paths or len(paths) > 2:
             self._usage("load")
             return
-        self.loaded = load(*paths)
+        self.loaded = load(paths[0], paths[1] if len(paths) > 1 else None, self.max_bytes)
         domain, problem = self.loaded.domain, self.loaded.problem
         self.domain, self.problem = domain, problem or Problem("task", domain)
         self.last_plan = []

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.symbolic.formula import Atom
-from vslsp.symbolic.language.files import read_text
+from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
 from vslsp.symbolic.language.syntax import Group, Token, read_document
 from vslsp.symbolic.model import Domain, Problem
 from vslsp.symbolic.pddl import read_pddl
@@ -59,11 +59,12 @@ class Loaded:
     problem: Problem | None = None
 
 
-def load(domain_path: str | Path, problem_path: str | Path | None = None) -> Loaded:
-    """Read a domain (and a problem) file, keeping their text for :func:`domain_in_place`."""
-    domain, problem = read_pddl(domain_path, problem_path)
-    problem_text = read_text(problem_path) if problem_path is not None else None
-    return Loaded(read_text(domain_path), domain, problem_text, problem)
+def load(domain_path: str | Path, problem_path: str | Path | None = None, max_bytes: int = MAX_PDDL_BYTES) -> Loaded:
+    """Read a domain (and a problem) file of at most ``max_bytes`` each, keeping their text for
+    :func:`domain_in_place`."""
+    domain, problem = read_pddl(domain_path, problem_path, max_bytes)
+    problem_text = read_text(problem_path, max_bytes=max_bytes) if problem_path is not None else None
+    return Loaded(read_text(domain_path, max_bytes=max_bytes), domain, problem_text, problem)
 
 
 def saved_texts(loaded: Loaded | None, domain: Domain, problem: Problem) -> tuple[str, str]:

@@ -171,6 +171,9 @@ def tokenize(text: str, file: str) -> tuple[list[Token], list[Token]]:
     expression pass; the whitespace before each token carries the line count)."""
     tokens: list[Token] = []
     comments: list[Token] = []
+    # a name written again shares the strings of its first writing (a large problem names each object
+    # several times): the tokens' memory grows with the tokens, not with their letters
+    seen: dict[str, tuple[str, str]] = {}
     line, line_start, offset = 1, 0, 0
     for space, word in _SPACED_TOKEN.findall(text):
         if space:
@@ -186,7 +189,11 @@ def tokenize(text: str, file: str) -> tuple[list[Token], list[Token]]:
         elif first == "(" or first == ")":
             tokens.append(Token(first, first, first, line, offset - line_start + 1, offset, file))
         else:
-            tokens.append(Token("name", word, word.lower(), line, offset - line_start + 1, offset, file))
+            shared = seen.get(word)
+            if shared is None:
+                key = word.lower()
+                shared = seen[word] = (word, word if key == word else key)
+            tokens.append(Token("name", shared[0], shared[1], line, offset - line_start + 1, offset, file))
         offset += len(word)
     return tokens, comments
 
