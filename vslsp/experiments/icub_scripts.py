@@ -197,12 +197,8 @@ def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
             pulled |= {c for c, _ in pulls}
             demonstrations.append(watch(world, trial, pulls, f"demonstration {i + 1}"))
     trial.task = learn_task(demonstrations, ordered=False, models=trial.domain if trial.predicates else None)
-    n = int(rng.integers(1, 4))
-    colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=n, replace=False))
-    far = tuple(bool(v) for v in rng.random(n) < 0.6)
-    if not any(far):
-        far = (True,) + far[1:]
-    with trial.world(line_layout(reproduction_seed(trial.seed), colours, far)) as world:
+    with trial.world(keep_all_near_scene(rng, trial.seed)) as world:
+        colours = tuple(c.colour for c in world.spec.cubes)
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
         before, after = narration(trial, world)
         run = execute(trial, world, library, faults, planner, before, after)
@@ -217,6 +213,17 @@ def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
             f"objects still far in the simulator: {[c for c, f in final.items() if f]}",
             "objects still far in the simulator",
         )
+
+
+def keep_all_near_scene(rng: np.random.Generator, seed: int) -> SceneSpec:
+    """The test scene of keep-all-near's trial ``seed``: one to three cubes of colours drawn
+    from ``rng``, at least one far, laid out by the reproduction seed."""
+    n = int(rng.integers(1, 4))
+    colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=n, replace=False))
+    far = tuple(bool(v) for v in rng.random(n) < 0.6)
+    if not any(far):
+        far = (True,) + far[1:]
+    return line_layout(reproduction_seed(seed), colours, far)
 
 
 def execute(trial: IcubRun, world, library, faults, planner, before, after):

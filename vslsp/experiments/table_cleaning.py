@@ -153,6 +153,35 @@ def pose_error(goal: np.ndarray, pose: np.ndarray, centre: np.ndarray) -> tuple[
     return round(offset * 1000, 3), round(float(turn), 3), round(angle, 3)
 
 
+def tutor_operation(
+    scene: RgbdTable, layout: dict, rng: np.random.Generator, index: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The tutor's operation ``index`` of :data:`OPERATIONS` in ``scene`` (of ``layout``): the
+    object put down at its place (in the box: on the box's floor), turned from its layout's yaw
+    by up to :data:`MAX_TURN` (drawn from ``rng``); the scene settles. Returns the object's
+    bounds (lower (3,), upper (3,)) before it moved."""
+    name, (x, y), into_tray = OPERATIONS[index]
+    support = scene.surface_height(x, y) if into_tray else 0.0
+    yaw = layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)
+    start = scene.bounds(name)
+    scene.tutor_move(name, scene.resting_pose(name, x, y, yaw, support=support))
+    scene.settle()
+    return start
+
+
+def demonstration_layout(seed: int) -> dict[str, tuple[float, float, float]]:
+    """The demonstration's scene of ``seed``: the operated objects and the blob, which stays on the table."""
+    names = [name for name, _, _ in OPERATIONS] + ["blob"]
+    return random_layout(names, seed, keep_clear=KEEP_CLEAR)
+
+
+def reshuffle(layout: dict, seed: int, rng: np.random.Generator) -> dict[str, tuple[float, float, float]]:
+    """The reproduction's scene: the objects of ``layout`` laid out anew (the layout of
+    ``seed + 1``), each turned from its demonstrated yaw by up to :data:`MAX_TURN` (drawn from ``rng``)."""
+    reshuffled = random_layout(list(layout), seed + 1, keep_clear=KEEP_CLEAR)
+    return {name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()}
+
+
 def demonstrate(
     scene: RgbdTable,
     layout: dict,
@@ -169,15 +198,11 @@ def demonstrate(
     goals: dict[str, np.ndarray] = {}
     images: list[np.ndarray] = []
     in_box: list[str] = []
-    for index, (name, (x, y), into_tray) in enumerate(OPERATIONS):
+    for index, (name, _, into_tray) in enumerate(OPERATIONS):
         scene.say(f"the tutor moves {name}" + (" into the box" if into_tray else ""))
         scene.park()
         pre_image = scene.capture()
-        support = scene.surface_height(x, y) if into_tray else 0.0
-        yaw = layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)
-        start = scene.bounds(name)
-        scene.tutor_move(name, scene.resting_pose(name, x, y, yaw, support=support))
-        scene.settle()
+        start = tutor_operation(scene, layout, rng, index)
         in_box += [name] if into_tray else []
         later = [place_box(*place) for _, place, tray in OPERATIONS[index + 1 :] if not tray]
         slips.during(scene, index, [n for n in scene.bodies if n != name and n not in in_box], [start, *later])
@@ -258,18 +283,14 @@ def run_table_cleaning(
     object in an operation (None: the option not given), found or not by the ``slip_detection``
     (:mod:`vslsp.experiments.vsl3d_slips`)."""
     rng = np.random.default_rng(seed)
-    names = [name for name, _, _ in OPERATIONS] + ["blob"]  # the blob stays on the table
-    layout = random_layout(names, seed, keep_clear=KEEP_CLEAR)
+    layout = demonstration_layout(seed)
     with RgbdTable(layout, robot=True, views=views) as scene:
         film(scene, video, "table cleaning: the tutor's demonstration")
         slips = DemonstrationSlips(tutor_slips, seed, slip_detection)
         demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed, slips)
         scene.park()
         demonstrated_final = scene.picture()
-    reshuffled = random_layout(names, seed + 1, keep_clear=KEEP_CLEAR)
-    reshuffled = {
-        name: (x, y, layout[name][2] + rng.uniform(-MAX_TURN, MAX_TURN)) for name, (x, y, _) in reshuffled.items()
-    }
+    reshuffled = reshuffle(layout, seed, rng)
     results, matched, cloud, records = [], [], None, {}
     with RgbdTable(reshuffled, robot=True, views=views) as scene:
         film(scene, video, "table cleaning: the robot reproduces it (VSL-3D)")

@@ -62,13 +62,12 @@ class TabletopExperiment(Task):
     def goal(self, world: PandaTable, demo: TabletopDemonstration, outcomes: list[OperationOutcome]) -> bool:
         """Every operation the reproduction owes was done, and the last demonstrated relation
         of every item it moved holds at the end (ground truth)."""
-        from vslsp.experiments.tabletop_protocol import judge_relation
+        from vslsp.experiments.tabletop_protocol import relations_hold
 
         owed = self.owed(demo, outcomes)
         if not set(owed) <= {o.index for o in outcomes}:
             return False
-        last = {demo.items[k]: k for k in owed}
-        return all(judge_relation(world, demo, k, self.anchor_map)[0] for k in last.values())
+        return relations_hold(world, demo, owed, self.anchor_map)
 
     def owed(self, demo: TabletopDemonstration, outcomes: list[OperationOutcome]) -> list[int]:
         """The demonstrated operations the reproduction must achieve: all of them."""

@@ -11,8 +11,9 @@ and :data:`ANGLE_TOLERANCE` (and the stack level within :data:`LEVEL_TOLERANCE`)
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
@@ -137,8 +138,52 @@ def relation(world: PandaTable, name: str, anchor: str | None) -> tuple[float, f
     return (*scenes.relative((ax, ay, ayaw), (x, y, yaw)), z - az)
 
 
+class DemonstratedRelations(Protocol):
+    """What the judge reads of a demonstration (ground truth): per operation the item moved,
+    its anchor and its pose relative to the anchor afterwards (:class:`TabletopDemonstration`)."""
+
+    @property
+    def items(self) -> tuple[str, ...]: ...
+
+    @property
+    def anchors(self) -> tuple[str | None, ...]: ...
+
+    @property
+    def relative(self) -> tuple[tuple[float, float, float, float], ...]: ...
+
+
+@dataclass(frozen=True)
+class Relations:
+    """The judge's part of a demonstration alone (:class:`DemonstratedRelations`), without the
+    recorded observations: what a tutor's moves left, measured on the ground truth."""
+
+    items: tuple[str, ...]
+    anchors: tuple[str | None, ...]
+    relative: tuple[tuple[float, float, float, float], ...]
+
+
+def tutor_relations(world: PandaTable, moves: Iterable[Move]) -> Relations:
+    """The tutor performs ``moves`` in ``world`` without recording them; the relations they leave."""
+    items, anchors, relations = [], [], []
+    for name, where, anchor in moves:
+        tutor_move(world, name, where(world), None)
+        items.append(name)
+        anchors.append(anchor)
+        relations.append(relation(world, name, anchor))
+    return Relations(tuple(items), tuple(anchors), tuple(relations))
+
+
+def relations_hold(
+    world: PandaTable, demo: DemonstratedRelations, owed: Iterable[int], anchor_map: dict[str, str]
+) -> bool:
+    """The goal on the ground truth: the last demonstrated relation of every item that the
+    ``owed`` operations move holds now."""
+    last = {demo.items[k]: k for k in owed}
+    return all(judge_relation(world, demo, k, anchor_map)[0] for k in last.values())
+
+
 def judge_relation(
-    world: PandaTable, demo: TabletopDemonstration, k: int, anchor_map: dict[str, str]
+    world: PandaTable, demo: DemonstratedRelations, k: int, anchor_map: dict[str, str]
 ) -> tuple[bool, dict]:
     """Does operation ``k``'s demonstrated relation hold now (ground truth)? ``anchor_map``
     renames anchors (the user's intervention in the Tower of Hanoi)."""

@@ -1,0 +1,33 @@
+"""VSL's reproduction as a policy: from the tutor's recorded demonstration of the episode's trial,
+it picks and places the letters of alphabet-ordering in the reproduction world, one step an
+operation, until the experiment's judge says the goal holds."""
+
+import gymnasium
+import pytest
+
+import vslsp.gym  # noqa: F401 (registers the environments)
+from vslsp.gym.policies import VslPolicy
+
+
+@pytest.mark.slow
+def test_the_vsl_policy_reaches_the_goal_of_alphabet_ordering():
+    env = gymnasium.make("vslsp/PandaTable-v0")
+    try:
+        observation, _ = env.reset(seed=0)
+        demonstration = env.unwrapped.demonstrate()
+        assert demonstration.items == ("A", "B", "C", "D")
+        policy = VslPolicy(demonstration.demonstration, env.unwrapped.camera)
+        rewards, held, info, done = [], [], None, False
+        while not done:
+            action = policy(observation, info)
+            assert action is not None, "the policy stopped before the goal"
+            assert action in env.action_space
+            observation, reward, terminated, truncated, info = env.step(action)
+            rewards.append(reward)
+            held.append(info["held"])
+            done = terminated or truncated
+    finally:
+        env.close()
+    assert rewards[-1] == 1.0 and sum(rewards) == 1.0
+    assert held == ["A", "B", "C", "D"]  # one pick-and-place an operation, in the demonstrated order
+    assert policy.next == 4
