@@ -93,15 +93,16 @@ def closed_loop(task_name: str, seed: int, goal: Goal, folder: str | Path, ask: 
     """The reproduction of ``task_name``'s demonstration in the new world of ``seed``'s
     :func:`~vslsp.experiments.seeds.reproduction_seed`, driven by the answers of ``ask``: the
     scene photographed into ``folder`` (``scene-NN.png``), each answered pick and place executed
-    by the Panda, until the answer is done (at most ``limit`` questions). Returns per
-    demonstrated operation its errors against the goal at the end (ground truth): position (m),
-    angle (deg), level (m), and whether it was answered."""
+    by the Panda, until the answer is done (at most ``limit`` questions). Returns, per answered
+    operation in order, its errors against the goal just after it was executed (ground truth):
+    position (m), angle (deg), level (m); and, under ``"final"``, whether the last operation of
+    every item still holds at the end. Raises TaskFailed when a question got an error."""
     folder = Path(folder)
     task = get_task(task_name)
     assert isinstance(task, TabletopExperiment), f"{task_name} is not a tabletop task"
     task = task.for_seed(seed)
     rng = np.random.default_rng(reproduction_seed(seed))
-    answered: set[int] = set()
+    done: list[dict] = []
     with PandaTable.from_layout(task.layout(rng, "reproduction"), seed) as world:
         for n in range(1, limit + 1):
             scene = folder / f"scene-{n:02d}.png"
@@ -117,8 +118,11 @@ def closed_loop(task_name: str, seed: int, goal: Goal, folder: str | Path, ask: 
                 (*place["table_m"], place["hand_angle_rad"]),
                 answer["grasp_width_m"],
             )
-            answered.add(answer["operation"] - 1)
-        return [{**placement_errors(world, goal, k), "answered": k in answered} for k in range(len(goal.items))]
+            k = answer["operation"] - 1
+            done.append({"operation": k + 1, **placement_errors(world, goal, k)})
+        last = {item: k for k, item in enumerate(goal.items)}
+        final = [placement_errors(world, goal, k) for k in sorted(last.values())]
+    return done + [{"final": final}]
 
 
 def placement_errors(world: PandaTable, goal: Goal, k: int) -> dict:
