@@ -49,7 +49,7 @@ def learn(folder: str, out: str, as_json: bool) -> None:
     demo = learn_recording(recording)
     path = save_learned(demo, recording, out)
     pictures = _annotate(demo, recording.names, Path(out))
-    operations = [
+    operations: list[dict] = [
         {
             "operation": i,
             "name": recording.names[i - 1],

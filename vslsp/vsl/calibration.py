@@ -196,7 +196,10 @@ def _view(camera: TableCamera, workspace: Any, size: tuple[int, int]) -> TableVi
     if not (0 <= centre[0] < width and 0 <= centre[1] < height):
         raise InputError("the workspace's centre is not in the image: the calibration does not fit the images")
     area = (x_range[1] - x_range[0]) * (y_range[1] - y_range[0])
-    px_per_m = float(workspace.get("px_per_m", np.sqrt(width * height / area)))
+    try:
+        px_per_m = float(workspace["px_per_m"]) if "px_per_m" in workspace else float(np.sqrt(width * height / area))
+    except (TypeError, ValueError):
+        raise InputError('"workspace" px_per_m is a number (view pixels a metre)') from None
     if not 0 < px_per_m * max(x_range[1] - x_range[0], y_range[1] - y_range[0]) <= 8192:
         raise InputError('the view of the workspace would be over 8192 px a side; give a smaller "px_per_m"')
     return TableView(camera, (x_range[0], x_range[1]), (y_range[0], y_range[1]), px_per_m, z)

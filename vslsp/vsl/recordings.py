@@ -63,7 +63,10 @@ def read_recording(folder: str | Path) -> Recording:
     if not folder.is_dir():
         raise InputError(f"{shown(folder)} is not a folder; give the folder of the demonstration's pictures")
     found = _operation_files(folder)
-    observations, files, size, first = [], [], None, None
+    observations: list[dict[str, np.ndarray]] = []
+    files: list[dict[str, str]] = []
+    size: tuple[int, int] | None = None
+    first: Path = folder
     for number in sorted(found):
         roles = found[number]
         for role in ("mid", "post") + (("pre",) if number == 1 else ()):
