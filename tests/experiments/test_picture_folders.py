@@ -8,8 +8,8 @@ truth: every operation within 1 cm and 5 deg of its demonstrated relation."""
 import json
 
 import pytest
+from helpers.cli import vslsp
 
-from tests.helpers.cli import vslsp
 from vslsp.experiments.picture_folders import closed_loop, write_recording
 
 pytestmark = pytest.mark.slow

@@ -9,8 +9,8 @@ import shutil
 import cv2
 import numpy as np
 import pytest
+from helpers.cli import vslsp
 
-from tests.helpers.cli import vslsp
 from vslsp.experiments.picture_folders import write_recording
 from vslsp.vision.image import read_image, write_image
 from vslsp.vsl.learned import load_learned, save_learned
