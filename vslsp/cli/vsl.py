@@ -1,0 +1,174 @@
+"""``vslsp vsl learn FOLDER --out DEMO`` and ``vslsp vsl reproduce DEMO SCENE``: VSL on a
+user's own pictures (docs/recordings.md): a demonstration learned from a folder of numbered
+pictures, and the next operation's pick and place in a picture of a new scene, one at a time
+with ``--step SESSION`` (the user's robot acts, photographs, and asks again)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+import numpy as np
+
+from vslsp.cli.params import prepare_output_file, prepare_output_folder
+from vslsp.errors import InputError
+
+_JSON_HELP = 'Print one JSON object on stdout ({"error": ...} on failure).'
+
+
+@click.group()
+def vsl() -> None:
+    """VSL (Algorithm 1) on your own pictures: learn a demonstration, reproduce it in a new scene."""
+
+
+@vsl.command()
+@click.argument("folder", type=click.Path(file_okay=False))
+@click.option("--out", "out", required=True, type=click.Path(file_okay=False), help="The folder to write DEMO into.")
+@click.option("--json", "as_json", is_flag=True, help=_JSON_HELP)
+def learn(folder: str, out: str, as_json: bool) -> None:
+    """Learn the demonstration in FOLDER (01-pre.png, 01-mid.png, 01-post.png, ...; optional
+    calibration.json, names.json, heights.json: docs/recordings.md) into the folder --out: the
+    moved object of every operation, its pick and place, its features, the recorded
+    observations and an annotated picture of each operation."""
+    from vslsp.outputs import refuse_places
+    from vslsp.vsl.learned import FEATURES, RECORD, save_learned
+    from vslsp.vsl.recordings import learn as learn_recording
+    from vslsp.vsl.recordings import read_recording
+
+    recording = read_recording(folder)  # every file checked before any work
+    if Path(out).resolve() == Path(folder).resolve():
+        raise InputError(f"--out {out} is the recording's folder FOLDER; write the demonstration elsewhere")
+    names = [RECORD, FEATURES] + [
+        f"{i:02d}-{which}.png"
+        for i in range(1, len(recording.observations) + 1)
+        for which in ("pre-pick", "pre-place", "post-place", "annotated")
+    ]
+    prepare_output_folder(out)
+    refuse_places(out, tuple(names))
+    demo = learn_recording(recording)
+    path = save_learned(demo, recording, out)
+    pictures = _annotate(demo, recording.names, Path(out))
+    operations: list[dict] = [
+        {
+            "operation": i,
+            "name": recording.names[i - 1],
+            "pick_point_px": [round(c, 1) for c in op.pick_point],
+            "place_point_px": [round(c, 1) for c in op.place_point],
+            "turn_rad": round(op.turn, 4),
+            "features": len(op.features),
+            "annotated": picture,
+        }
+        for i, (op, picture) in enumerate(zip(demo.operations, pictures), start=1)
+    ]
+    if as_json:
+        click.echo(
+            json.dumps(
+                {
+                    "demonstration": str(path),
+                    "calibrated": recording.calibration.calibrated,
+                    "operations": operations,
+                }
+            )
+        )
+        return
+    for op in operations:
+        click.echo(
+            f"operation {op['operation']} ({op['name']}): pick at {op['pick_point_px']} px, place at "
+            f"{op['place_point_px']} px (seen from above), turned {np.degrees(op['turn_rad']):.1f} deg; "
+            f"{op['features']} features"
+        )
+    click.echo(f"learned {len(operations)} operations into {path}")
+
+
+def _annotate(demo, names: tuple[str, ...], folder: Path) -> list[str]:
+    """Each operation's three observations side by side, the pick frame on the pre-pick one
+    and the place frame on the pre-place one; the files' names."""
+    from vslsp.tasks.drawing import PICK, PLACE, label, small, square
+    from vslsp.vision.image import write_image
+
+    files = []
+    for i, op in enumerate(demo.operations, start=1):
+        pre, pre_place, post = op.pre_pick.copy(), op.pre_place.copy(), op.post_place.copy()
+        square(pre, op.pick_point, demo.pick_frame, PICK)
+        square(pre_place, op.place_point, demo.place_frame, PLACE)
+        square(post, op.place_point, demo.pick_frame, PICK)
+        picture = np.hstack(
+            [
+                label(small(pre), f"{i}: pre-pick ({names[i - 1]})"),
+                label(small(pre_place), f"{i}: pre-place (place frame)"),
+                label(small(post), f"{i}: post-place"),
+            ]
+        )
+        name = f"{i:02d}-annotated.png"
+        write_image(folder / name, picture)
+        files.append(name)
+    return files
+
+
+@vsl.command()
+@click.argument("demo", type=click.Path(file_okay=False))
+@click.argument("scene", type=click.Path(dir_okay=False))
+@click.option(
+    "--step",
+    "session_file",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="A session file (JSON, created when missing): answer its next operation and move on, so that "
+    'your robot acts, photographs and asks again; {"done": true} when every operation is done.',
+)
+@click.option(
+    "--operation",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Without --step: the operation to answer (1 = the first).",
+)
+@click.option("--json", "as_json", is_flag=True, help=_JSON_HELP)
+def reproduce(demo: str, scene: str, session_file: str | None, operation: int, as_json: bool) -> None:
+    """The next operation's pick and place in SCENE (a picture of the new scene by the camera
+    of the demonstration): pixels of SCENE and, with a calibration, table metres."""
+    from vslsp.vision.image import read_image
+    from vslsp.vsl.learned import Session, load_learned, next_operation
+
+    learned = load_learned(demo)
+    image = read_image(scene)
+    if (image.shape[1], image.shape[0]) != learned.size:
+        raise InputError(
+            f"{scene} is {image.shape[1]}x{image.shape[0]} px, the demonstration's pictures "
+            f"{learned.size[0]}x{learned.size[1]}: photograph the scene with the demonstration's camera"
+        )
+    session = None
+    if session_file is not None:
+        prepare_output_file(session_file, "--step")
+        session = Session.open(session_file, demo, len(learned))
+        k = session.next
+    elif operation > len(learned):
+        raise InputError(f"--operation {operation}: the demonstration has {len(learned)} operations")
+    else:
+        k = operation - 1
+    if k >= len(learned):
+        answer: dict = {"done": True, "operations": len(learned)}
+    else:
+        answer = next_operation(learned, k, image)
+        if session is not None and session_file is not None:
+            session.next, session.given = k + 1, [*(session.given or []), {"scene": str(scene), **answer}]
+            session.save(session_file)
+    if as_json:
+        click.echo(json.dumps(answer))
+        return
+    if answer["done"]:
+        click.echo(f"done: all {answer['operations']} operations of the demonstration are done")
+        return
+    lines = [f"operation {answer['operation']} of {answer['operations']} ({answer['name']}):"]
+    for role in ("pick", "place"):
+        where = answer[role]
+        line = f"  {role} at ({where['pixel'][0]:.1f}, {where['pixel'][1]:.1f}) px"
+        if "table_m" in where:
+            line += (
+                f", table ({where['table_m'][0]:.4f}, {where['table_m'][1]:.4f}) m, hand angle "
+                f"{np.degrees(where['hand_angle_rad']):.1f} deg"
+            )
+        lines.append(line)
+    lines.append(f"  turn the object {np.degrees(answer['turn_rad']):.1f} deg")
+    click.echo("\n".join(lines))
