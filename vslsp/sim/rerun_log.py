@@ -62,6 +62,7 @@ class RerunLog:
         self._rr = rr
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._stream = rr.RecordingStream(APPLICATION, recording_id=recording_id, send_properties=False)
+        self._stream.set_log_time_enabled(False)  # the wall clock: a seed gives the same recording
         self._stream.save(self.path)
         self._stream.set_time("step", sequence=0)
         self._stream.set_time("sim_time", duration=0.0)
