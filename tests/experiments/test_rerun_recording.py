@@ -8,12 +8,11 @@ import subprocess
 import sys
 
 import pytest
-
-from tests.helpers.cli import vslsp
+from helpers.cli import vslsp
 
 pytest.importorskip("rerun.chunk")
 
-from tests.helpers.rerun import rows  # noqa: E402 (once the SDK is known to be there)
+from helpers.rerun import rows  # noqa: E402 (once the SDK is known to be there)
 
 
 @pytest.mark.slow

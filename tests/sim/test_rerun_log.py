@@ -13,7 +13,7 @@ from vslsp.sim.scene import TABLE_Z
 
 rerun_chunk = pytest.importorskip("rerun.chunk")
 
-from tests.helpers.rerun import rows  # noqa: E402 (once the SDK is known to be there)
+from helpers.rerun import rows  # noqa: E402 (once the SDK is known to be there)
 
 REACH = np.array([0.3, -0.1, TABLE_Z + 0.05])
 
