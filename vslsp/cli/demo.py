@@ -17,6 +17,7 @@ import click
 
 from vslsp.cli.experiment import OUTPUT_FOLDERS, REPORT_FILES
 from vslsp.cli.params import OUTPUT_FOLDER, check_display, seed_option
+from vslsp.cli.rerun import check_recording, finish_recording, rerun_option, start_recording
 from vslsp.outputs import refuse_places
 
 
@@ -38,9 +39,14 @@ from vslsp.outputs import refuse_places
     help="Skill library folder (default: the shipped skills).",
 )
 @click.option("--video", is_flag=True, help="Film the trial into videos/trial-SEED.mp4 (H.264) in the report folder.")
-def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool) -> None:
+@rerun_option(
+    "Log the trial (camera images, the arm and the hand's path, plan steps, symbolic state) on one "
+    "timeline into FILE.rrd for rerun's viewer (pip install 'vslsp[rerun]')."
+)
+def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool, rerun_file: str | None) -> None:
     """Run the full VSL-SP pipeline (pull-in-order) on the embedded scene and write a report."""
     check_display(gui)
+    recording = check_recording(rerun_file) if rerun_file is not None else None
     from rich.console import Console
 
     from vslsp import stages
@@ -54,6 +60,8 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool) -
     stages.reset()
     task = PullInOrder(skills=skills_dir, video=str(Path(out).resolve()) if video else None)
     task.check()
+    if recording is not None:
+        task.settings["rerun"] = start_recording(recording)
     with console.status("loading the skill library") as status:
         console.log(f"skills from {task.library_path}")
 
@@ -61,7 +69,11 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool) -
             console.log(what)
             status.update(what)
 
-        result = task.run_trial(seed, keep=True, on_stage=stage, gui=gui)
+        try:
+            result = task.run_trial(seed, keep=True, on_stage=stage, gui=gui)
+        finally:
+            if recording is not None:
+                finish_recording(recording, task.settings["rerun"])
         result.time_s = time.perf_counter() - start
         result.cpu_s = cpu_seconds() - cpu
         result.stages_s = stages.split(result.time_s)

@@ -18,6 +18,7 @@ from pathlib import Path
 import click
 
 from vslsp.cli.params import PROBABILITY, count, int_range, prepare_output_folder, seed_option
+from vslsp.cli.rerun import check_recording, finish_recording, rerun_option, start_recording
 from vslsp.errors import Interrupted
 from vslsp.interrupts import SIGNALS
 from vslsp.outputs import OutputFailed, refuse_places
@@ -61,6 +62,10 @@ MAX_WORKERS = 64
     "--video",
     is_flag=True,
     help="VSL-SP: film every trial from a scene camera into videos/trial-SEED.mp4 (H.264) in the report folder.",
+)
+@rerun_option(
+    "VSL-SP and VSL-3D: log every trial (camera images, point clouds, the arm and the hand's path, plan "
+    "steps, symbolic state) on one timeline into FILE.rrd for rerun's viewer (pip install 'vslsp[rerun]')."
 )
 @click.option("--planner", default=None, help="VSL-SP: unified-planning oneshot planner [default: fast-downward].")
 @click.option(
@@ -123,6 +128,7 @@ def experiment(
     address: str | None,
     faults: bool,
     video: bool,
+    rerun_file: str | None,
     planner: str | None,
     skills_dir: str | None,
     method: str | None,
@@ -163,6 +169,7 @@ def experiment(
     if out == "":
         raise InputError("--out: an empty path is not a folder; give a folder name")
     folder = Path(out) if out is not None else Path("out") / "experiments" / name
+    recording = check_recording(rerun_file) if rerun_file is not None else None
     task = get_task(
         name,
         faults=faults,
@@ -173,6 +180,7 @@ def experiment(
         tutor_slips=tutor_slips,
         slip_detection=None if slip_detection is None else slip_detection == "on",
         views=views,
+        rerun="(checked)" if recording is not None else None,
         predicates=str(Path(predicates_file).resolve()) if predicates_file else None,
     )
     if backend == "local" and trials > 1:
@@ -181,7 +189,15 @@ def experiment(
         check_main_guard(workers)  # a runner script without a main guard: refused before the folder
     prepare_output_folder(folder)
     refuse_places(folder, REPORT_FILES, OUTPUT_FOLDERS)
-    data = run_experiment(task, range(seed, seed + trials), folder, workers=workers, backend=backend, address=address)
+    if recording is not None:
+        task.settings["rerun"] = start_recording(recording)
+    try:
+        data = run_experiment(
+            task, range(seed, seed + trials), folder, workers=workers, backend=backend, address=address
+        )
+    finally:
+        if recording is not None:
+            finish_recording(recording, task.settings["rerun"])
     if as_json:
         click.echo(json.dumps(data))
     else:

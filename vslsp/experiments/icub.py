@@ -28,7 +28,7 @@ from vslsp.experiments.icub_report import (
     trial_rows,
     write_artefacts,
 )
-from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
+from vslsp.tasks.base import Option, System, Task, TrialResult, rerun_log, video_path
 from vslsp.tasks.registry import register
 
 if TYPE_CHECKING:
@@ -53,6 +53,7 @@ class IcubExperiment(Task):
             Option.VIDEO,
             Option.TUTOR_SLIPS,
             Option.SLIP_DETECTION,
+            Option.RERUN,
         }
     )
     keep_first = True  # a trial takes tens of seconds: the first one's artefacts travel back instead of a re-run
@@ -78,6 +79,10 @@ class IcubExperiment(Task):
             from vslsp.sim.video import check_encoder
 
             check_encoder()
+        if self.option(Option.RERUN):
+            from vslsp.sim.rerun_log import check_rerun
+
+            check_rerun()
 
     @property
     def library_path(self) -> Path:
@@ -107,10 +112,12 @@ class IcubExperiment(Task):
         gui: bool = False,
         on_stage=None,
         video: str | Path | None = None,
+        recording: Any = None,
     ) -> IcubRun:
         """Run the trial of ``seed`` with the task's options (faults, planner, predicates); user
         errors propagate, task failures are recorded. ``video``: an MP4 file to film the trial
-        into (:class:`~vslsp.sim.video.SceneVideo`)."""
+        into (:class:`~vslsp.sim.video.SceneVideo`); ``recording``: the trial's rerun recording
+        (:class:`~vslsp.sim.rerun_log.RerunLog`), closed with the trial."""
         import numpy as np
 
         from vslsp.errors import InputError, TaskFailed
@@ -123,6 +130,7 @@ class IcubExperiment(Task):
         trial = IcubRun(seed, gui=gui, on_stage=on_stage, predicates=self.predicates())
         if video is not None:
             trial.video = SceneVideo(video)
+        trial.recording = recording
         if self.slips_given:
             from vslsp.experiments.icub_slips import Watcher
 
@@ -143,6 +151,8 @@ class IcubExperiment(Task):
         finally:
             if trial.video is not None:
                 trial.video.close()
+            if trial.recording is not None:
+                trial.recording.close()
         if faults:  # where each fault fired (the plan may be shorter than the drawn step), explained
             planned = {id(step) for run in trial.executions for step in run.steps}
             trial.details["fault_log"] = fault_log(trial.steps, planned, trial.error or "the trial ended")
@@ -182,6 +192,7 @@ class IcubExperiment(Task):
             gui=gui,
             on_stage=on_stage,
             video=Path(folder) / video_path(seed) if folder else None,
+            recording=rerun_log(self, seed),
         )
         planned = {id(step) for run in trial.executions for step in run.steps}
         operations = [

@@ -1,6 +1,7 @@
 """The state of one trial of the iCub experiments while it runs: what it found, what it keeps
-for the report, the worlds it runs in (filmed with ``--video``: :mod:`vslsp.sim.video`) and
-their narration. The trial's record is a :class:`~vslsp.tasks.TrialResult` built from it
+for the report, the worlds it runs in (filmed with ``--video``: :mod:`vslsp.sim.video`, logged
+with ``--rerun``: :mod:`vslsp.sim.rerun_log`) and their narration. The trial's record is a
+:class:`~vslsp.tasks.TrialResult` built from it
 (:meth:`vslsp.experiments.icub.IcubExperiment.run_trial`)."""
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from typing import Any
 from vslsp.loop.monitor import FAULT_WHAT, StepResult
 from vslsp.loop.pipeline import Execution
 from vslsp.sim import SceneSpec, World
+from vslsp.sim.rerun_log import RerunLog
 from vslsp.sim.video import SceneVideo
 from vslsp.symbolic import Domain, Task
 from vslsp.worlds.icub import IcubLineWorld
@@ -39,6 +41,7 @@ class IcubRun:
     on_stage: object = field(default=None, repr=False, compare=False)
     predicates: tuple = field(default=(), repr=False, compare=False)  # the user's, grounded at every step
     video: SceneVideo | None = field(default=None, repr=False, compare=False)  # with --video
+    recording: RerunLog | None = field(default=None, repr=False, compare=False)  # with --rerun
     # With --tutor-slips or --slip-detection: the tutor's slips, their detection, their records
     # (vslsp.experiments.icub_slips.Watcher); None: the tutor never slips, today's path.
     watcher: Any = field(default=None, repr=False, compare=False)
@@ -57,18 +60,38 @@ class IcubRun:
         world = IcubLineWorld.from_layout(spec, gui=self.gui)
         if self.video is not None:
             self.video.attach(world)
+        if self.recording is not None:
+            self.recording.attach(world)
         return world
 
     def say(self, *lines: str) -> None:
-        """The video's caption from now on (nothing without a video)."""
+        """The video's caption from now on, the recording's next step (nothing without either)."""
         if self.video is not None:
             self.video.caption(*lines)
+        if self.recording is not None:
+            self.recording.caption(*lines)
 
     def show(self, world: World, *lines: str) -> None:
         """Show ``world`` as it is now under ``lines`` for a moment (a step's outcome)."""
         if self.video is not None:
             self.video.caption(*lines)
             self.video.hold(world)
+        if self.recording is not None:
+            self.recording.caption(*lines)
+
+    def observe(self, title: str, pre, post, grounding, step=None, far: dict[str, bool] | None = None) -> None:
+        """An observed operation for the report (``pre``, ``post``: the camera's (H, W, 3) images,
+        ``grounding`` their :class:`~vslsp.grounding.Grounding`, ``step`` the executed step) and the
+        recording: the images and the symbolic state (``far``: every object's, else the grounded one's)."""
+        self.observations.append((title, pre, post, grounding, step))
+        if self.recording is not None:
+            self.recording.observation(title, pre, post)
+            if far is None and grounding is not None:
+                far = {grounding.name: grounding.far_post}
+            if far is not None:
+                self.recording.state(
+                    f"(far {name})" if is_far else f"(not (far {name}))" for name, is_far in far.items()
+                )
 
     def show_step(self, world: World, label: str, result: StepResult) -> None:
         """A step's outcome in the video: expected and observed, and the fault it carried."""

@@ -90,7 +90,7 @@ def watch(
             step = watcher.step(grounding, moves, state, after, trial.predicates)
         if recorder is not None:
             recorder.record(state.image, after.image)
-        trial.observations.append((f"{title}, operation {i}", state.image, after.image, grounding, None))
+        trial.observe(f"{title}, operation {i}", state.image, after.image, grounding, far=after.far())
         steps.append(step)
         seen = "far" if grounding.far_post else "near"
         trial.show(
@@ -137,9 +137,7 @@ def explore(trial: IcubRun, rng: np.random.Generator, library: SkillLibrary) -> 
                 )
             explorations.append(exploration)
             grounding, (pre, post) = exploration.groundings[0], exploration.images[0]
-            trial.observations.append(
-                (f"the robot tries {action}" + (f" ({r + 1})" if rounds > 1 else ""), pre, post, grounding, None)
-            )
+            trial.observe(f"the robot tries {action}" + (f" ({r + 1})" if rounds > 1 else ""), pre, post, grounding)
     trial.domain = learn_models(explorations)
     return trial.domain
 
@@ -313,12 +311,20 @@ def record(trial: IcubRun, run: Execution) -> None:
     """Put an execution into the trial: its steps and replans, each step's observation (grounded as
     ``vslsp ground`` grounds its raw images) for the report, the planning status, and its failure."""
     trial.executions.append(run)
+    if trial.recording is not None:
+        for plan in run.plans:
+            trial.recording.plan(plan.lines())
     trial.steps.extend(run.steps)
     trial.replans += run.replans
     for i, (step, (before, after)) in enumerate(zip(run.steps, zip(run.states, run.states[1:])), start=1):
         grounding = observed_grounding(before.image, after.image)[0]
-        trial.observations.append(
-            (f"VSL-SP execution step {i}: {step.action} {step.obj}", before.image, after.image, grounding, step)
+        trial.observe(
+            f"VSL-SP execution step {i}: {step.action} {step.obj}",
+            before.image,
+            after.image,
+            grounding,
+            step,
+            after.far(),
         )
     if run.planning_status is not None:
         trial.details["planning_status"] = run.planning_status.value

@@ -66,8 +66,8 @@ def _bring(
         trial.steps.append(result)
         trial.show_step(world, f"VSL step {shown}: {action} {name}", result)
         # VSL's own steps, shown in the report (grounded only when drawn: a failed step may show no change)
-        trial.observations.append(
-            (f"VSL reproduction step {shown}: {action} {name}", state.image, after.image, None, result)
+        trial.observe(
+            f"VSL reproduction step {shown}: {action} {name}", state.image, after.image, None, result, after.far()
         )
         if result.ok:
             acted.append(name)

@@ -134,6 +134,7 @@ def run_stacking(
     views: int = 1,
     tutor_slips: float | None = None,
     slip_detection: bool = True,
+    recording: Any = None,
 ) -> tuple[tuple[StackResult, ...], dict]:
     """Demonstrate the two stacks in a seeded random scene, move everything, reproduce with the
     robot. ``absent`` names objects or boxes left out of the new scene (bad input: each is
@@ -142,7 +143,8 @@ def run_stacking(
     also nudges another object still on the table in an operation (None: the option not given),
     found or not by the ``slip_detection`` (:mod:`vslsp.experiments.vsl3d_slips`; the landmark
     is the box under the operated object's post-action observation, never a disturbed object).
-    Returns the results and the report's pictures."""
+    ``recording``: a :class:`~vslsp.sim.rerun_log.RerunLog` that logs both scenes. Returns the results
+    and the report's pictures."""
     rng = np.random.default_rng(seed)
     names = [name for name, _ in OPERATIONS] + list(BOXES)
     layout = random_layout(names, seed, tray=False, heights=STACK_HEIGHTS, radii=BOX_RADII)
@@ -153,7 +155,7 @@ def run_stacking(
     images = []
     slips = DemonstrationSlips(tutor_slips, seed, slip_detection)
     with RgbdTable(objects, tray=False, robot=True, boxes=boxes, views=views) as scene:
-        film(scene, video, "stacking: the tutor's demonstration")
+        film(scene, video, "stacking: the tutor's demonstration", recording)
         for index, (name, box) in enumerate(OPERATIONS):
             scene.say(f"the tutor stacks {name} on {box}")
             scene.park()
@@ -202,7 +204,7 @@ def run_stacking(
     results: list[StackResult] = []
     matched, cloud, records = [], None, {}
     with RgbdTable(objects, tray=False, robot=True, boxes=boxes, views=views) as scene:
-        film(scene, video, "stacking: the robot reproduces the stacks (VSL-3D)")
+        film(scene, video, "stacking: the robot reproduces the stacks (VSL-3D)", recording)
         movable = list(scene.bodies.values())
         put_down: list[np.ndarray] = []  # where earlier operations put their objects
         for index, ((name, box), demo) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):

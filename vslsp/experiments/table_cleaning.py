@@ -227,10 +227,14 @@ def demonstrate(
     return demonstrated, goals, images
 
 
-def film(scene: RgbdTable, video: Any, caption: str) -> None:
-    """Let ``video`` (a :class:`~vslsp.sim.video.SceneVideo`, or None) film ``scene`` under ``caption``."""
+def film(scene: RgbdTable, video: Any, caption: str, recording: Any = None) -> None:
+    """Let ``video`` (a :class:`~vslsp.sim.video.SceneVideo`, or None) film ``scene`` under ``caption``,
+    and ``recording`` (a :class:`~vslsp.sim.rerun_log.RerunLog`, or None) log it."""
     if video is not None:
         video.attach(scene)
+    if recording is not None:
+        recording.attach(scene)
+    if video is not None or recording is not None:
         scene.say(caption, hold=1.0)
 
 
@@ -271,6 +275,7 @@ def run_table_cleaning(
     views: int = 1,
     tutor_slips: float | None = None,
     slip_detection: bool = True,
+    recording: Any = None,
 ) -> tuple[TableCleaningResult, dict[str, Any]]:
     """Demonstrate the table cleaning in a seeded random scene, reshuffle, reproduce with the
     robot. Returns the outcome and the report's pictures: ``demonstration`` (per operation the
@@ -281,11 +286,12 @@ def run_table_cleaning(
     that films both scenes; ``views``: the RGB-D sensors whose clouds are fused (1, the paper's
     single view, or 2: the far sensor too). ``tutor_slips``: the probability that the tutor also nudges another
     object in an operation (None: the option not given), found or not by the ``slip_detection``
-    (:mod:`vslsp.experiments.vsl3d_slips`)."""
+    (:mod:`vslsp.experiments.vsl3d_slips`). ``recording``: a :class:`~vslsp.sim.rerun_log.RerunLog` that
+    logs both scenes and each reproduction's capture (its RGB image and its world cloud)."""
     rng = np.random.default_rng(seed)
     layout = demonstration_layout(seed)
     with RgbdTable(layout, robot=True, views=views) as scene:
-        film(scene, video, "table cleaning: the tutor's demonstration")
+        film(scene, video, "table cleaning: the tutor's demonstration", recording)
         slips = DemonstrationSlips(tutor_slips, seed, slip_detection)
         demonstrated, goals, images = demonstrate(scene, layout, rng, method, seed, slips)
         scene.park()
@@ -293,7 +299,7 @@ def run_table_cleaning(
     reshuffled = reshuffle(layout, seed, rng)
     results, matched, cloud, records = [], [], None, {}
     with RgbdTable(reshuffled, robot=True, views=views) as scene:
-        film(scene, video, "table cleaning: the robot reproduces it (VSL-3D)")
+        film(scene, video, "table cleaning: the robot reproduces it (VSL-3D)", recording)
         movable = list(scene.bodies.values())
         put_down: list[np.ndarray] = []  # where earlier operations put their objects
         for index, ((name, _, _), (moved, failure)) in enumerate(zip(OPERATIONS, demonstrated, strict=True)):
@@ -315,6 +321,9 @@ def run_table_cleaning(
                 put_down.append(record.placed)
             matched.append(picture(record))
             records[index] = record
+            if recording is not None and record.last is not None:
+                recording.observation(f"robot, operation {index + 1}: {name}", record.last.image.rgb, scene.picture())
+                recording.cloud("capture", record.last.world.points)
             if cloud is None and record.last is not None:
                 cloud = cloud_view(record.last.world.points)
         scene.park()

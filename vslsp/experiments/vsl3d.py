@@ -17,7 +17,7 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.outputs import output_subfolder
-from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
+from vslsp.tasks.base import Option, System, Task, TrialResult, rerun_log, video_path
 from vslsp.tasks.registry import register
 
 
@@ -81,7 +81,9 @@ class Vsl3dExperiment(Task):
     :meth:`reproduce` and the report's sentence (:attr:`summary_line`)."""
 
     system = System.VSL_3D
-    options = frozenset({Option.METHOD, Option.VIDEO, Option.VIEWS, Option.TUTOR_SLIPS, Option.SLIP_DETECTION})
+    options = frozenset(
+        {Option.METHOD, Option.VIDEO, Option.VIEWS, Option.TUTOR_SLIPS, Option.SLIP_DETECTION, Option.RERUN}
+    )
     summary_line = "Operations"
 
     def check(self) -> None:
@@ -99,6 +101,10 @@ class Vsl3dExperiment(Task):
             from vslsp.sim.video import check_encoder
 
             check_encoder()
+        if self.option(Option.RERUN):
+            from vslsp.sim.rerun_log import check_rerun
+
+            check_rerun()
 
     @property
     def method(self) -> str:
@@ -114,9 +120,10 @@ class Vsl3dExperiment(Task):
         it was; the studio re-runs a trial with it)."""
         return {"views": self.views} if Option.VIEWS in self.settings else {}
 
-    def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
+    def reproduce(self, seed: int, video: Any = None, recording: Any = None) -> tuple[list[dict], dict]:
         """Demonstrate and reproduce the trial of ``seed`` (filmed by ``video``, a
-        :class:`~vslsp.sim.video.SceneVideo`, when given): the operations' records and the pictures."""
+        :class:`~vslsp.sim.video.SceneVideo`, and logged by ``recording``, a
+        :class:`~vslsp.sim.rerun_log.RerunLog`, when given): the operations' records and the pictures."""
         raise NotImplementedError
 
     @property
@@ -134,11 +141,14 @@ class Vsl3dExperiment(Task):
 
         folder = self.option(Option.VIDEO)
         video = SceneVideo(Path(folder) / video_path(seed), camera=tabletop_scene_camera()) if folder else None
+        recording = rerun_log(self, seed)
         try:
-            operations, pictures = self.reproduce(seed, video)
+            operations, pictures = self.reproduce(seed, video, recording)
         finally:
             if video is not None:
                 video.close()
+            if recording is not None:
+                recording.close()
         failed = [op for op in operations if not op["success"]]
         return TrialResult(
             self.name,
@@ -211,10 +221,12 @@ class TableCleaning(Vsl3dExperiment):
         "(success: each object within 1.5 cm and 15 deg of its demonstrated pose)."
     )
 
-    def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
+    def reproduce(self, seed: int, video: Any = None, recording: Any = None) -> tuple[list[dict], dict]:
         from vslsp.experiments.table_cleaning import run_table_cleaning
 
-        outcome, pictures = run_table_cleaning(seed, self.method, video, views=self.views, **self.slips)
+        outcome, pictures = run_table_cleaning(
+            seed, self.method, video, views=self.views, recording=recording, **self.slips
+        )
         return [op.to_dict() for op in outcome.operations], pictures
 
 
@@ -232,8 +244,10 @@ class Stacking(Vsl3dExperiment):
     )
     summary_line = "Stacks, errors relative to the box"
 
-    def reproduce(self, seed: int, video: Any = None) -> tuple[list[dict], dict]:
+    def reproduce(self, seed: int, video: Any = None, recording: Any = None) -> tuple[list[dict], dict]:
         from vslsp.experiments.stacking import run_stacking
 
-        outcome, pictures = run_stacking(seed, self.method, video=video, views=self.views, **self.slips)
+        outcome, pictures = run_stacking(
+            seed, self.method, video=video, views=self.views, recording=recording, **self.slips
+        )
         return [op.to_dict() for op in outcome], pictures

@@ -56,6 +56,7 @@ class Option(enum.StrEnum):
     TUTOR_SLIPS = "tutor_slips"  # P: per demonstrated operation the tutor also disturbs another object
     SLIP_DETECTION = "slip_detection"  # False: the paper's VSL, which takes every change for the operation
     VIEWS = "views"  # VSL-3D's depth cameras: 1 (the paper's single view) or 2 (fused)
+    RERUN = "rerun"  # the run's folder of recording parts: each trial logged into its trial-SEED.rrd
 
     @property
     def flag(self) -> str:
@@ -195,6 +196,17 @@ def cpu_seconds() -> float:
 def video_path(seed: int) -> str:
     """Where the video of trial ``seed`` goes, relative to the report folder."""
     return f"videos/trial-{seed}.mp4"
+
+
+def rerun_log(task: Task, seed: int) -> Any:
+    """The rerun recording of trial ``seed`` (a :class:`~vslsp.sim.rerun_log.RerunLog`) when the
+    task runs with ``--rerun``, else None; its part goes into the run's folder of parts."""
+    parts = task.option(Option.RERUN)
+    if not parts:
+        return None
+    from vslsp.sim.rerun_log import RerunLog, part_path, recording_id
+
+    return RerunLog(part_path(parts, seed), seed, recording_id(parts))
 
 
 def timed(task: Task, seed: int, keep: bool) -> TrialResult:
