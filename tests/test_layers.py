@@ -38,7 +38,7 @@ LAYERS = {
     "vslsp.loop": 8,
     "vslsp.tasks": 9,
     "vslsp.experiments": 10,
-    **dict.fromkeys(("vslsp.cli", "vslsp.lsp", "vslsp.studio", "vslsp.gym"), 11),
+    **dict.fromkeys(("vslsp.cli", "vslsp.lsp", "vslsp.studio", "vslsp.gym", "vslsp.api"), 11),
 }
 BELOW = {layer: set(range(layer)) for layer in range(12)}
 #: The layers (and same-layer subpackages) each layer may import; the exceptions to "all below"

@@ -20,13 +20,22 @@ if not os.environ.get(_CV_LIMIT, "").isdigit() or int(os.environ[_CV_LIMIT]) > 4
 
 from vslsp.errors import VslspError  # noqa: E402
 
-__all__ = ["VslspError", "__version__", "ground"]
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (mypy reads it the same)
+
+if TYPE_CHECKING:
+    from vslsp.api import *  # noqa: F403
+
+__all__ = ["VslspError", "__version__", "api", "ground"]  # noqa: F405 (resolved by __getattr__)
 
 
 def __getattr__(name: str):
-    # ``vslsp.ground`` is imported on first use, so that ``import vslsp`` stays light (no OpenCV).
-    if name == "ground":
-        from vslsp.grounding.operation import ground
+    # ``vslsp.api`` and its names (``vslsp.ground``, ``vslsp.Recorder``, ...: docs/api.md) are
+    # imported on first use, so that ``import vslsp`` stays light (no OpenCV, no simulator).
+    import importlib
 
-        return ground
+    api = importlib.import_module("vslsp.api")
+    if name == "api":
+        return api
+    if name in api.__all__:
+        return getattr(api, name)
     raise AttributeError(f"module 'vslsp' has no attribute {name!r}")

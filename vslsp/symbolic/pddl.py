@@ -65,10 +65,14 @@ def read_pddl(
 
 
 def read_domain(path: str | Path) -> Domain:
+    """The domain in the PDDL file ``path`` (``vslsp.symbolic.read_domain("pddl/domain.pddl")``);
+    raises InputError naming the file and line of what it cannot read."""
     return read_pddl(path)[0]
 
 
 def read_problem(domain_path: str | Path, problem_path: str | Path) -> Problem:
+    """The problem in the PDDL file ``problem_path``, read against the domain in ``domain_path``;
+    raises InputError naming the file and line of what it cannot read."""
     problem = read_pddl(domain_path, problem_path)[1]
     assert problem is not None
     return problem
