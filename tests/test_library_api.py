@@ -1,0 +1,69 @@
+"""The library API (docs/api.md): every name of ``vslsp.api.__all__`` resolves, has a docstring
+and is listed in docs/api.md; ``vslsp`` re-exports them without importing them; the API's own
+compositions plan and validate a shipped problem; a built wheel ships ``py.typed`` (PEP 561)."""
+
+import re
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+import vslsp
+from vslsp import api
+
+ROOT = Path(__file__).resolve().parents[1]
+REFERENCE = ROOT / "docs" / "api.md"
+
+
+def test_every_name_has_a_docstring():
+    undocumented = [name for name in api.__all__ if not (getattr(api, name).__doc__ or "").strip()]
+    assert undocumented == []
+
+
+def test_every_name_is_in_the_reference():
+    listed = set(re.findall(r"^- \*\*`(\w+)`\*\*", REFERENCE.read_text(), re.MULTILINE))
+    assert sorted(set(api.__all__) - listed) == []
+    assert sorted(listed - set(api.__all__)) == []  # and the page lists nothing that is not there
+
+
+def test_vslsp_reexports_the_api_names():
+    assert vslsp.Recorder is api.Recorder and vslsp.plan is api.plan and vslsp.ground is api.ground
+    with pytest.raises(AttributeError, match="no attribute 'recorder'"):
+        vslsp.recorder  # noqa: B018
+
+
+def test_import_vslsp_imports_no_part_of_the_api():
+    code = "import sys, vslsp; print(sorted(m for m in sys.modules if m.startswith(('vslsp.', 'cv2', 'pybullet'))))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "['vslsp.errors']"
+
+
+def test_a_shipped_problem_is_planned_and_its_plan_validated():
+    domain = api.read_domain(ROOT / "pddl" / "domain.pddl")
+    problem = api.read_problem(ROOT / "pddl" / "domain.pddl", ROOT / "pddl" / "pull-in-order.pddl")
+    result = api.plan(domain, problem, timeout=60.0)
+    assert result.lines() and api.validate(domain, problem, result.steps).valid
+
+
+#: What a wheel is built from (a copy: building in place would leave build/ in the checkout).
+SOURCES = ("setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "constraints.txt", "vslsp", "skills", "pddl")
+
+
+@pytest.mark.slow
+def test_a_built_wheel_ships_py_typed(tmp_path):
+    source = tmp_path / "source"
+    source.mkdir()
+    for name in SOURCES:
+        if (ROOT / name).is_dir():
+            shutil.copytree(ROOT / name, source / name, ignore=shutil.ignore_patterns("__pycache__"))
+        else:
+            shutil.copy(ROOT / name, source / name)
+    wheels = tmp_path / "wheels"
+    command = [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(wheels), "."]
+    subprocess.run(command, check=True, cwd=source, capture_output=True)
+    (wheel,) = wheels.glob("vslsp-*.whl")
+    names = zipfile.ZipFile(wheel).namelist()
+    assert "vslsp/py.typed" in names and "vslsp/api.py" in names
