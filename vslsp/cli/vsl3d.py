@@ -1,4 +1,6 @@
-"""``vslsp vsl3d``: VSL-3D's experiments, an alias of ``vslsp experiment`` for its tasks."""
+"""``vslsp vsl3d``: VSL-3D's experiments (an alias of ``vslsp experiment`` for its tasks), and
+VSL-3D on a user's own clouds (docs/recordings.md, "VSL-3D"): ``learn FOLDER --out DEMO`` and
+``reproduce DEMO SCENE [--step SESSION]``, the next operation's object and its place."""
 
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ from vslsp.cli.experiment import experiment
 
 @click.group()
 def vsl3d() -> None:
-    """VSL-3D: learn object reconfigurations from RGB-D point clouds (alias of vslsp experiment)."""
+    """VSL-3D: learn object reconfigurations from RGB-D point clouds: your own clouds, or the experiments."""
 
 
 @vsl3d.command("table-cleaning", context_settings={"ignore_unknown_options": True})
@@ -142,7 +144,7 @@ def reproduce(
                 f"operation {answer['operation']} of {answer['operations']} ({answer['name']}):",
                 f"  the object at {pick['centroid_m']} m (table frame), {pick['centroid_camera_m']} m (camera frame)",
                 f"  grasp at {pick['grasp']['point_m']} m, hand at {pick['grasp']['hand_angle_rad']:.3f} rad",
-                f"  place it at {place['centroid_m']} m (its centroid), the fingertips at {place['grasp']['point_m']} m,"
+                f"  place it at {place['centroid_m']} m (its centroid), fingertips at {place['grasp']['point_m']} m,"
                 f" hand at {place['grasp']['hand_angle_rad']:.3f} rad; turned {answer['rotation_deg']:.1f} deg",
             ]
         )

@@ -72,7 +72,7 @@ def _ply_points(data: bytes) -> np.ndarray:
 def _pcd_points(data: bytes) -> np.ndarray:
     from pypcd4 import PointCloud
 
-    cloud = PointCloud.from_fileobj(io.BytesIO(data))
+    cloud = PointCloud.from_fileobj(io.BufferedReader(io.BytesIO(data)))
     return np.asarray(cloud.numpy(("x", "y", "z")), dtype=float)
 
 
@@ -99,7 +99,9 @@ def read_depth_png(path: str | Path, scale: float, size: tuple[int, int]) -> np.
     for millimetres; 0: no return), checked to be ``size`` (W, H) px."""
     path = Path(path)
     data = read_bytes(path, "depth image", MAX_DEPTH_BYTES)
-    image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED) if data[:8] == b"\x89PNG\r\n\x1a\n" else None
+    image = (
+        cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED) if data[:8] == b"\x89PNG\r\n\x1a\n" else None
+    )
     if image is None or image.ndim != 2 or image.dtype != np.uint16:
         raise InputError(f"depth image {shown(path)} is not a one-channel 16-bit PNG (depth in millimetres)")
     if (image.shape[1], image.shape[0]) != size:
