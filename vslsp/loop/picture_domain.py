@@ -138,7 +138,9 @@ def _read_pairs(folder: Path) -> tuple[PicturePair, ...]:
                 missing = folder / f"{other.name.split('-')[0]}-{role}{other.suffix}"
                 raise InputError(f"{shown(missing)} is missing: operation {number} needs its {role}-action picture")
     names = _names(folder / "names.json", {n: roles["pre"].name.split("-")[0] for n, roles in found.items()})
-    pairs, size, first = [], None, None
+    pairs: list[PicturePair] = []
+    size: tuple[int, ...] | None = None
+    first = folder
     for number in sorted(found):
         files = found[number]
         images = {role: read_image(files[role]) for role in ("pre", "post")}
