@@ -6,6 +6,7 @@ does; bad folders are refused with exit 2 and one line naming the file."""
 
 import json
 import shutil
+from pathlib import Path
 
 import pytest
 from helpers.cli import vslsp
@@ -17,6 +18,7 @@ from vslsp.symbolic import read_domain, read_problem, solve
 pytestmark = pytest.mark.slow
 
 SEED = 0
+REPO = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -107,3 +109,16 @@ def test_json_errors_are_json(pictures, tmp_path, capsys):
     (pictures / "names.json").unlink()
     code, out, _ = vslsp(capsys, "learn-domain", pictures, "--out", tmp_path / "out", "--json")
     assert code == 2 and "names.json is missing" in json.loads(out)["error"]
+
+
+def test_the_users_predicates_enter_the_models_and_each_pairs_atoms(rendered, tmp_path, capsys):
+    predicates = REPO / "examples" / "grounding" / "predicates.py"
+    code, out, err = vslsp(
+        capsys, "learn-domain", rendered[0], "--out", tmp_path / "out", "--predicates", predicates, "--json"
+    )
+    assert code == 0, err
+    first = json.loads(out)["operations"][0]
+    assert "(on-robot-side orange)" in first["atoms"]["post"] and "(far orange)" in first["atoms"]["pre"]
+    pull = next(a for a in read_domain(tmp_path / "out" / "domain.pddl").actions if a.name == "pull")
+    assert "(on-robot-side ?b)" in pull.to_pddl()  # an effect the skill makes in every execution
+    assert _plan(capsys, tmp_path / "out") == [f"pull {c}" for c in ORDERED_COLOURS]
