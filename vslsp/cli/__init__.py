@@ -25,6 +25,7 @@ COMMANDS: dict[str, str] = {
     "pddl": "vslsp.cli.pddl:pddl",
     "shell": "vslsp.cli.pddl:shell",  # the same as `vslsp pddl shell`
     "plan": "vslsp.cli.plan:plan",
+    "learn-domain": "vslsp.cli.learn_domain:learn_domain",
     "vsl": "vslsp.cli.vsl:vsl",
     "vsl3d": "vslsp.cli.vsl3d:vsl3d",
     "validate": "vslsp.cli.validate:validate",

@@ -17,7 +17,7 @@ import numpy as np
 
 from vslsp.errors import TaskFailed
 from vslsp.grounding import Predicate, unary_literals, with_builtins
-from vslsp.grounding.operation import Grounding, ground
+from vslsp.grounding.operation import Grounding, SceneGrounding, ground
 from vslsp.loop.monitor import StepResult, execute_step
 from vslsp.loop.perception import PerceivedState, perceive
 from vslsp.sim import World
@@ -34,10 +34,18 @@ NO_PLAN_EXISTS = (PlanStatus.UNSOLVABLE_PROVEN, PlanStatus.UNSOLVABLE_INCOMPLETE
 def literals(state: PerceivedState, predicates: Sequence[Predicate] | None = None) -> dict[str, dict[str, bool]]:
     """The grounded predicates of every object seen: ``{"green": {"far": True}, ...}``; with the
     user's unary ``predicates`` too (``far`` is always there)."""
+    return scene_literals(state.grounding, predicates)
+
+
+def scene_literals(
+    grounding: SceneGrounding, predicates: Sequence[Predicate] | None = None
+) -> dict[str, dict[str, bool]]:
+    """:func:`literals` of one grounded observation (the objects :func:`ground_scene` found)."""
+    far = grounding.far_by_name()
     if not predicates:
-        return {name: {"far": far} for name, far in state.far().items()}
-    values = unary_literals(state.grounding.atoms(with_builtins(predicates)))
-    return {name: values.get(name, {}) for name in state.objects}
+        return {name: {"far": value} for name, value in far.items()}
+    values = unary_literals(grounding.atoms(with_builtins(predicates)))
+    return {name: values.get(name, {}) for name in far}
 
 
 def to_step(
