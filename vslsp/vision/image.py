@@ -211,3 +211,18 @@ def colour_distance(image: np.ndarray, colour: np.ndarray) -> np.ndarray:
     """Largest per-channel difference (H, W) uint8 between an image (H, W, 3) and one colour (3,)."""
     a, b, c = (cv2.absdiff(channel, float(value)) for channel, value in zip(cv2.split(image), colour, strict=True))
     return cv2.max(cv2.max(a, b), c)
+
+
+TABLE_GRAIN = 40  # grey levels: a pixel this close to the table's colour (any channel) is table
+
+
+def flatten_table(image: np.ndarray, grain: int = TABLE_GRAIN) -> np.ndarray:
+    """The image (H, W, 3) with the table top painted its one colour (:func:`table_colour`):
+    every pixel within ``grain`` of it (:func:`colour_distance`). A table's grain (wood, a
+    cloth, a printed pattern) lies still under the objects; a place is told by the objects
+    around it, and the grain's features would find the demonstration's place on the table
+    again where it was, wherever the objects now lie."""
+    colour = table_colour(image)
+    flat = image.copy()
+    flat[colour_distance(image, colour) < grain] = np.rint(colour).astype(np.uint8)
+    return flat

@@ -22,6 +22,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.files import read_json
+from vslsp.vision.image import flatten_table
 from vslsp.vsl.pick_place import TableCamera, TableView
 
 MAX_CALIBRATION_BYTES = 1_000_000
@@ -88,8 +89,9 @@ class Calibration:
         return cv2.undistort(image, self.camera.matrix, self.distortion)
 
     def observe(self, image: np.ndarray) -> np.ndarray:
-        """What VSL sees of a user's image (H, W, 3): undistorted, seen from above (h, w, 3)."""
-        return self.view.rectify(self.undistort(image))
+        """What VSL sees of a user's image (H, W, 3): undistorted, seen from above (h, w, 3),
+        the table top one flat colour (:func:`~vslsp.vision.image.flatten_table`)."""
+        return flatten_table(self.view.rectify(self.undistort(image)))
 
     def undistort_point(self, u: float, v: float) -> tuple[float, float]:
         """The pixel of the undistorted image (:meth:`undistort`) that shows what the user's
