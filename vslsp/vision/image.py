@@ -214,15 +214,24 @@ def colour_distance(image: np.ndarray, colour: np.ndarray) -> np.ndarray:
 
 
 TABLE_GRAIN = 40  # grey levels: a pixel this close to the table's colour (any channel) is table
+GRAIN_SPECK = 0.02  # of the image's shorter side: a patch off the table's colour narrower than this is grain
 
 
-def flatten_table(image: np.ndarray, grain: int = TABLE_GRAIN) -> np.ndarray:
-    """The image (H, W, 3) with the table top painted its one colour (:func:`table_colour`):
-    every pixel within ``grain`` of it (:func:`colour_distance`). A table's grain (wood, a
-    cloth, a printed pattern) lies still under the objects; a place is told by the objects
-    around it, and the grain's features would find the demonstration's place on the table
-    again where it was, wherever the objects now lie."""
+def flatten_table(image: np.ndarray, grain: int = TABLE_GRAIN, speck: float = GRAIN_SPECK) -> np.ndarray:
+    """The image (H, W, 3) with the table top painted its one colour (:func:`table_colour`).
+    A table's grain (wood, a cloth, a printed pattern) lies still under the objects; a place is
+    told by the objects around it, and the grain's features would find the demonstration's
+    place on the table again where it was, wherever the objects now lie. The table is every
+    pixel within ``grain`` of its colour (:func:`colour_distance`), less what lies inside an
+    object's outline (an object may show the table's colour within), plus the patches off its
+    colour narrower than ``speck`` of the image's shorter side (the grain's own light and dark
+    flecks; an object is many times wider)."""
     colour = table_colour(image)
+    objects = (colour_distance(image, colour) >= grain).astype(np.uint8)
+    outlines, _ = cv2.findContours(objects, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+    cv2.drawContours(objects, outlines, -1, 1, thickness=cv2.FILLED)
+    side = max(3, int(round(speck * min(image.shape[:2]))) | 1)
+    objects = cv2.morphologyEx(objects, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (side, side)))
     flat = image.copy()
-    flat[colour_distance(image, colour) < grain] = np.rint(colour).astype(np.uint8)
+    flat[objects == 0] = np.rint(colour).astype(np.uint8)
     return flat
