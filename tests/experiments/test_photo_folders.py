@@ -5,6 +5,7 @@ distortion, blur, noise and JPEG, written as a user's recording folder, learned 
 card judged on the ground truth (1 cm / 5 deg of its demonstrated pose beside the card before)."""
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -12,14 +13,16 @@ from helpers.cli import vslsp
 
 pytest.importorskip("skimage")
 
-from vslsp.experiments.photo_folders import closed_loop, photo_task, write_recording  # noqa: E402
+from vslsp.experiments.photo_folders import WORKSPACE, closed_loop, photo_task, write_recording  # noqa: E402
 
 POSITION, ANGLE = 0.01, 5.0  # m, deg
 
 
-def run(tmp_path, capsys, seed: int, operations: int) -> list[dict]:
-    task = photo_task(seed, operations)
+def run(tmp_path, capsys, seed: int, operations: int, task=None, calibration=None) -> list[dict]:
+    task = task or photo_task(seed, operations)
     goal = write_recording(task, seed, tmp_path / "recording")
+    if calibration is not None:
+        (tmp_path / "recording" / "calibration.json").write_text(json.dumps(calibration))
     code, _, err = vslsp(capsys, "vsl", "learn", tmp_path / "recording", "--out", tmp_path / "demo", "--json")
     assert code == 0, err
     (tmp_path / "scenes").mkdir()
@@ -59,6 +62,24 @@ def test_the_same_seed_takes_the_same_pictures(tmp_path):
 
 def test_two_operations_are_placed_on_the_ground_truth(tmp_path, capsys):
     done = run(tmp_path, capsys, 0, 2)
+    assert [op["operation"] for op in done] == [1, 2]
+    for op in done:
+        assert op["position_error_m"] <= POSITION and op["angle_error_deg"] <= ANGLE, op
+
+
+def test_a_homography_calibration_places_as_well(tmp_path, capsys):
+    """The camera of seed 0 without lens distortion, told as the homography of the table plane
+    (what `vslsp vsl calibrate --points` writes): heights make no difference to flat cards."""
+    task = photo_task(0, 2)
+    camera = replace(task.camera, distortion=np.zeros(5))
+    plane = camera.matrix @ np.column_stack([camera.rotation[:, 0], camera.rotation[:, 1], camera.translation])
+    homography = np.linalg.inv(plane)
+    calibration = {
+        "homography": (homography / homography[2, 2]).tolist(),
+        "image_size": [1024, 768],
+        "workspace": WORKSPACE,
+    }
+    done = run(tmp_path, capsys, 0, 2, replace(task, camera=camera), calibration)
     assert [op["operation"] for op in done] == [1, 2]
     for op in done:
         assert op["position_error_m"] <= POSITION and op["angle_error_deg"] <= ANGLE, op

@@ -5,7 +5,7 @@ import pytest
 
 from vslsp.errors import InputError
 from vslsp.grounding.synthetic import TABLE_RGB, Square, tabletop_image
-from vslsp.vision.image import as_rgb, header_size, read_image, table_colour, write_image
+from vslsp.vision.image import as_rgb, flatten_table, header_size, read_image, table_colour, write_image
 
 
 @pytest.mark.parametrize(
@@ -63,3 +63,16 @@ def test_png_round_trip_keeps_rgb_order(tmp_path):
 def test_table_colour_is_the_dominant_colour_despite_objects_and_noise():
     image = tabletop_image([Square("blue", (200, 200), 120), Square("red", (420, 160), 120)], noise=15)
     assert np.abs(table_colour(image) - np.array(TABLE_RGB)).max() < 8
+
+
+def test_flatten_table_paints_the_grain_and_keeps_the_objects_whole():
+    rng = np.random.default_rng(0)
+    image = tabletop_image([Square("blue", (200, 200), 120), Square("red", (420, 160), 120)], line=None, noise=10)
+    image[300:306, 100:106] = 255  # a fleck of the table's grain, far narrower than an object
+    image[190:210, 190:210] = TABLE_RGB  # an object showing the table's colour within its outline
+    image = np.clip(image + rng.normal(0, 6, image.shape), 0, 255).astype(np.uint8)
+    flat = flatten_table(image)
+    colour = np.rint(table_colour(image))
+    assert np.all(flat[300:306, 100:106] == colour) and np.all(flat[20:40, 20:40] == colour)
+    assert np.array_equal(flat[150:250, 150:250], image[150:250, 150:250])
+    assert np.array_equal(flat[120:200, 380:460], image[120:200, 380:460])
