@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
@@ -180,7 +180,9 @@ def _table(texture: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     return np.clip(colour + 0.35 * grain[..., None], 0, 255).astype(np.uint8)
 
 
-def _arrangement(cards: tuple[Card, ...], rng: np.random.Generator, anchor_at: tuple[float, float], turn_deg: float):
+def _arrangement(
+    cards: tuple[Card, ...], rng: np.random.Generator, anchor_at: tuple[float, float], turn_deg: float
+) -> dict[str, Pose]:
     """The anchor at ``anchor_at`` turned up to ``turn_deg`` either way; the loose cards shuffled
     along the near side of the table."""
     poses = {cards[0].name: (anchor_at[0], anchor_at[1], float(np.radians(rng.uniform(-turn_deg, turn_deg))))}
@@ -296,8 +298,3 @@ def placement_errors(poses: dict[str, Pose], goal: Goal, k: int) -> dict:
         "position_error_m": round(float(np.hypot(now[0] - wanted[0], now[1] - wanted[1])), 4),
         "angle_error_deg": round(float(np.degrees(abs(wrap(now[2] - wanted[2])))), 2),
     }
-
-
-def with_look(task: PhotoTask, look: Look) -> PhotoTask:
-    """``task`` photographed with another ``look``."""
-    return replace(task, look=look)
