@@ -214,7 +214,7 @@ def colour_distance(image: np.ndarray, colour: np.ndarray) -> np.ndarray:
 
 
 GRAIN_SPREAD = 4.0  # the grain's reach: this many times the table pixels' median distance from its colour
-NO_GRAIN = 12  # grey levels: a reach below this is sensor noise on a plain table, no grain
+NO_GRAIN = 20  # grey levels: a reach below this is a plain table and its sensor noise (sigma up to about 3.5)
 GRAIN_SPECK = 0.02  # of the image's shorter side: a patch off the table's colour narrower than this is grain
 
 
