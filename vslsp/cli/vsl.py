@@ -172,3 +172,55 @@ def reproduce(demo: str, scene: str, session_file: str | None, operation: int, a
         lines.append(line)
     lines.append(f"  turn the object {np.degrees(answer['turn_rad']):.1f} deg")
     click.echo("\n".join(lines))
+
+
+@vsl.command()
+@click.argument("images", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.option(
+    "--checkerboard",
+    "pattern",
+    default=None,
+    help="COLSxROWS: the inner corners of a checkerboard lying on the table (every IMAGE shows it; "
+    "with two or more, the lens distortion is fitted too).",
+)
+@click.option("--square", type=float, default=None, help="With --checkerboard: a square's side in millimetres.")
+@click.option(
+    "--points",
+    "points",
+    is_flag=True,
+    help="IMAGE then four or more pairs u,v:x,y (image pixels : table metres): a homography.",
+)
+@click.option("--out", "out", required=True, type=click.Path(dir_okay=False), help="The calibration.json to write.")
+@click.option("--json", "as_json", is_flag=True, help=_JSON_HELP)
+def calibrate(
+    images: tuple[str, ...], pattern: str | None, square: float | None, points: bool, out: str, as_json: bool
+) -> None:
+    """Write calibration.json (docs/recordings.md) from pictures of a checkerboard on the table
+    (--checkerboard COLSxROWS --square MM IMAGE...) or from table points marked in one picture
+    (--points IMAGE u,v:x,y u,v:x,y u,v:x,y u,v:x,y)."""
+    from vslsp.outputs import write_text
+    from vslsp.vision.image import read_image
+    from vslsp.vsl.calibrate import checkerboard_calibration, parse_pattern, parse_points, points_calibration
+
+    if (pattern is None) == (not points):
+        raise InputError("give either --checkerboard COLSxROWS --square MM or --points (not both)")
+    if points:
+        image_file, *pairs = images
+        pixels, table = parse_points(pairs)
+        prepare_output_file(out)
+        image = read_image(image_file)
+        data = points_calibration(pixels, table, (image.shape[1], image.shape[0]), image_file)
+    else:
+        assert pattern is not None
+        size = parse_pattern(pattern)
+        if square is None or not square > 0:
+            raise InputError("--square: give the side of a checkerboard square in millimetres (> 0)")
+        prepare_output_file(out)
+        pictures = [read_image(name) for name in images]
+        data = checkerboard_calibration(pictures, images, size, square / 1000.0)
+    write_text(out, json.dumps(data, indent=2) + "\n")
+    if as_json:
+        click.echo(json.dumps({"calibration": str(out), **data}))
+        return
+    error = f"reprojection {data['rms_px']:.3f} px" if "rms_px" in data else f"fit {1000 * data['rms_m']:.2f} mm"
+    click.echo(f"wrote {out} ({'camera and table plane' if pattern else 'homography'}; {error})")

@@ -211,3 +211,40 @@ def colour_distance(image: np.ndarray, colour: np.ndarray) -> np.ndarray:
     """Largest per-channel difference (H, W) uint8 between an image (H, W, 3) and one colour (3,)."""
     a, b, c = (cv2.absdiff(channel, float(value)) for channel, value in zip(cv2.split(image), colour, strict=True))
     return cv2.max(cv2.max(a, b), c)
+
+
+GRAIN_SPREAD = 4.0  # the grain's reach: this many times the table pixels' median distance from its colour
+NO_GRAIN = 20  # grey levels: a reach below this is a plain table and its sensor noise (sigma up to about 3.5)
+GRAIN_SPECK = 0.02  # of the image's shorter side: a patch off the table's colour narrower than this is grain
+
+
+def table_grain(image: np.ndarray) -> int:
+    """How far (grey levels, any channel) the table's own pixels stray from its colour:
+    :data:`GRAIN_SPREAD` times the median :func:`colour_distance` of the pixels near it (within
+    60); 0 for a plain table (a reach below :data:`NO_GRAIN`)."""
+    distance = colour_distance(image[::4, ::4], table_colour(image))
+    reach = GRAIN_SPREAD * float(np.median(distance[distance < 60]))
+    return 0 if reach < NO_GRAIN else int(round(reach))
+
+
+def flatten_table(image: np.ndarray, speck: float = GRAIN_SPECK) -> np.ndarray:
+    """The image (H, W, 3) with a grained table top painted its one colour (:func:`table_colour`).
+    A table's grain (wood, a cloth, a printed pattern) lies still under the objects; a place is
+    told by the objects around it, and the grain's features would find the demonstration's
+    place on the table again where it was, wherever the objects now lie. The table is every
+    pixel within its grain (:func:`table_grain`) of its colour, less what lies inside an
+    object's outline (an object may show the table's colour within), plus the patches off its
+    colour narrower than ``speck`` of the image's shorter side (the grain's own light and dark
+    flecks; an object is many times wider). A plain table is left as it is."""
+    grain = table_grain(image)
+    if grain == 0:
+        return image
+    colour = table_colour(image)
+    objects = (colour_distance(image, colour) >= grain).astype(np.uint8)
+    outlines, _ = cv2.findContours(objects, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+    cv2.drawContours(objects, outlines, -1, 1, thickness=cv2.FILLED)
+    side = max(3, int(round(speck * min(image.shape[:2]))) | 1)
+    objects = cv2.morphologyEx(objects, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (side, side)))
+    flat = image.copy()
+    flat[objects == 0] = np.rint(colour).astype(np.uint8)
+    return flat

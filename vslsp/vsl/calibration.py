@@ -22,6 +22,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.files import read_json
+from vslsp.vision.image import flatten_table
 from vslsp.vsl.pick_place import TableCamera, TableView
 
 MAX_CALIBRATION_BYTES = 1_000_000
@@ -88,8 +89,19 @@ class Calibration:
         return cv2.undistort(image, self.camera.matrix, self.distortion)
 
     def observe(self, image: np.ndarray) -> np.ndarray:
-        """What VSL sees of a user's image (H, W, 3): undistorted, seen from above (h, w, 3)."""
-        return self.view.rectify(self.undistort(image))
+        """What VSL sees of a user's image (H, W, 3): undistorted, seen from above (h, w, 3),
+        the table top one flat colour (:func:`~vslsp.vision.image.flatten_table`)."""
+        return flatten_table(self.view.rectify(self.undistort(image)))
+
+    def undistort_point(self, u: float, v: float) -> tuple[float, float]:
+        """The pixel of the undistorted image (:meth:`undistort`) that shows what the user's
+        image shows at (u, v)."""
+        if self.distortion is None or not isinstance(self.camera, PinholeTable):
+            return u, v
+        matrix = self.camera.matrix
+        ideal = cv2.undistortPoints(np.array([[[u, v]]], np.float64), matrix, self.distortion, P=matrix)
+        x, y = ideal.reshape(2)
+        return float(x), float(y)
 
     def image_pixel(self, x: float, y: float, z: float = 0.0) -> tuple[float, float]:
         """Where the user's (distorted) image sees the table point (x, y) at height ``z`` (m)."""
