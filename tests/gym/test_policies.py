@@ -6,6 +6,7 @@ import gymnasium
 import pytest
 
 import vslsp.gym  # noqa: F401 (registers the environments)
+from tests.helpers.gym_episodes import run_episode
 from vslsp.gym.policies import VslPolicy
 
 
@@ -17,17 +18,10 @@ def test_the_vsl_policy_reaches_the_goal_of_alphabet_ordering():
         demonstration = env.unwrapped.demonstrate()
         assert demonstration.items == ("A", "B", "C", "D")
         policy = VslPolicy(demonstration.demonstration, env.unwrapped.camera)
-        rewards, held, info, done = [], [], None, False
-        while not done:
-            action = policy(observation, info)
-            assert action is not None, "the policy stopped before the goal"
-            assert action in env.action_space
-            observation, reward, terminated, truncated, info = env.step(action)
-            rewards.append(reward)
-            held.append(info["held"])
-            done = terminated or truncated
+        rewards, infos, _ = run_episode(env, policy, observation)
     finally:
         env.close()
     assert rewards[-1] == 1.0 and sum(rewards) == 1.0
-    assert held == ["A", "B", "C", "D"]  # one pick-and-place an operation, in the demonstrated order
+    # one pick-and-place an operation, in the demonstrated order
+    assert [info["held"] for info in infos] == ["A", "B", "C", "D"]
     assert policy.next == 4

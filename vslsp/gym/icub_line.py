@@ -15,6 +15,10 @@ cube may stay far).
   every cube near, each become near in the demonstrated order; ``keep-all-near``: no cube far),
   which terminates the episode; in ``pull-in-order`` a cube become near out of order ends it
   as failed.
+
+:meth:`IcubLineEnv.demonstrate` lets the robot learn ``pull-in-order`` as the experiment's trial
+does (its skills' models from its own executions, the task and its order from the tutor's
+demonstration), what VSL-SP's policy (:class:`vslsp.gym.vslsp_policy.VslSpPolicy`) plans with.
 """
 
 from __future__ import annotations
@@ -23,9 +27,11 @@ from typing import Any
 
 import gymnasium
 import numpy as np
+from gymnasium.error import ResetNeeded
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.experiments.icub_scripts import ORDERED_COLOURS, keep_all_near_scene
+from vslsp.experiments.icub_run import IcubRun
+from vslsp.experiments.icub_scripts import ORDERED_COLOURS, explore, keep_all_near_scene, watch
 from vslsp.experiments.seeds import reproduction_seed
 from vslsp.gym.base import RENDER_SIZE, WorldEnv, image_space
 from vslsp.loop.monitor import execute_step
@@ -33,6 +39,7 @@ from vslsp.loop.perception import perceive
 from vslsp.sim import COLOURS
 from vslsp.sim.video import scene_camera
 from vslsp.skills.library import SKILL_NAMES, SkillLibrary, default_library_path
+from vslsp.symbolic import Domain, Task, learn_task
 from vslsp.worlds.icub import IcubLineWorld, line_layout
 
 TASKS = ("pull-in-order", "keep-all-near")
@@ -69,6 +76,23 @@ class IcubLineEnv(WorldEnv[np.ndarray, np.ndarray, IcubLineWorld]):
             spec = keep_all_near_scene(np.random.default_rng(trial), trial)
         self.became_near = []
         return IcubLineWorld.from_layout(spec, trial)
+
+    def demonstrate(self) -> tuple[Domain, Task]:
+        """What the robot of this episode's trial learns before its test scene (the experiment's
+        ``pull-in-order``, :func:`~vslsp.experiments.icub_scripts.pull_in_order`, in worlds of
+        its own): push's and pull's models from its own executions, then the task and its order
+        (``sometime-before``) from the tutor pulling the orange, green and yellow cubes in turn."""
+        if self.task != "pull-in-order":
+            raise InputError(f"demonstrate() learns pull-in-order; this environment's task is {self.task!r}")
+        if self.trial_seed is None:
+            raise ResetNeeded("call reset() before demonstrate()")
+        trial = IcubRun(self.trial_seed)
+        explore(trial, np.random.default_rng(self.trial_seed), self.library)
+        scene = line_layout(self.trial_seed, ORDERED_COLOURS, (True,) * len(ORDERED_COLOURS))
+        with trial.world(scene) as world:
+            steps = watch(world, trial, [(colour, "pull") for colour in ORDERED_COLOURS], "demonstration")
+        assert trial.domain is not None
+        return trial.domain, learn_task([steps], ordered=True)
 
     def _observe(self) -> np.ndarray:
         return self.live.observe("head", WIDTH, HEIGHT).rgb

@@ -17,6 +17,10 @@ poses the judge checks) and builds the reshuffled scene the experiment's robot s
   (:data:`~vslsp.experiments.table_cleaning.TOLERANCE_M`,
   :data:`~vslsp.experiments.table_cleaning.TOLERANCE_DEG` about the vertical) of its
   demonstrated pose, which terminates the episode.
+
+:meth:`RgbdTableEnv.demonstrate` records the tutor's demonstration of the episode's trial as the
+experiment does (the moved objects VSL-3D's policy, :class:`vslsp.gym.vsl3d_policy.Vsl3dPolicy`,
+reproduces).
 """
 
 from __future__ import annotations
@@ -25,12 +29,14 @@ from typing import Any
 
 import gymnasium
 import numpy as np
+from gymnasium.error import ResetNeeded
 
 from vslsp.experiments.cloud_reproduction import WORKSPACE
 from vslsp.experiments.table_cleaning import (
     OPERATIONS,
     TOLERANCE_DEG,
     TOLERANCE_M,
+    demonstrate,
     demonstration_layout,
     pose_error,
     reshuffle,
@@ -39,6 +45,7 @@ from vslsp.experiments.table_cleaning import (
 from vslsp.gym.base import WorldEnv, image_space, pick_place_space
 from vslsp.sim.camera import Camera
 from vslsp.sim.cloud_scene import SENSOR
+from vslsp.vsl3d.vsl import MovedObject
 from vslsp.worlds.rgbd_table import RgbdTable
 
 GRIP_DEPTH = 0.03  # m: the fingertips close this far below the top seen at the pick
@@ -76,6 +83,20 @@ class RgbdTableEnv(WorldEnv[dict[str, Any], np.ndarray, RgbdTable]):
                 tutor_operation(shown, layout, rng, index)
                 self.goals[name] = shown.truth(name)
         return RgbdTable(reshuffle(layout, trial, rng), robot=True)
+
+    def demonstrate(self, method: str = "prerejective_ransac") -> list[MovedObject | None]:
+        """The tutor's demonstration of this episode's trial, recorded (the experiment's
+        :func:`~vslsp.experiments.table_cleaning.demonstrate`, in a scene of its own): per
+        operation of :data:`~vslsp.experiments.table_cleaning.OPERATIONS` the moved object
+        getObject found by registration ``method`` (None where it found none); the tutor puts
+        the objects where the episode's goal poses are."""
+        trial = self.trial_seed
+        if trial is None:
+            raise ResetNeeded("call reset() before demonstrate()")
+        layout = demonstration_layout(trial)
+        with RgbdTable(layout, robot=True) as shown:
+            demonstrated, _, _ = demonstrate(shown, layout, np.random.default_rng(trial), method, trial)
+        return [moved for moved, _ in demonstrated]
 
     def _observe(self) -> dict[str, Any]:
         scene = self.live

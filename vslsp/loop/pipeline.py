@@ -22,7 +22,18 @@ from vslsp.loop.monitor import StepResult, execute_step
 from vslsp.loop.perception import PerceivedState, perceive
 from vslsp.sim import World
 from vslsp.skills.library import SkillLibrary
-from vslsp.symbolic import Domain, NoPlan, PlanResult, PlanStatus, Step, Task, learn_domain, make_problem, solve
+from vslsp.symbolic import (
+    Domain,
+    NoPlan,
+    PlanResult,
+    PlanStatus,
+    Problem,
+    Step,
+    Task,
+    learn_domain,
+    make_problem,
+    solve,
+)
 from vslsp.symbolic.planner import DEFAULT_TIMEOUT_S
 
 MAX_REPLANS = 4
@@ -141,6 +152,31 @@ class Execution:
         return data
 
 
+def plan_task(
+    domain: Domain,
+    task: Task,
+    state: dict[str, dict[str, bool]],
+    *,
+    planner: str = "fast-downward",
+    timeout: float | None = DEFAULT_TIMEOUT_S,
+    notes: list[str] | None = None,
+) -> tuple[Problem, PlanResult, Task]:
+    """Plan ``task`` from the grounded ``state`` (:func:`literals`): the problem, its plan and the
+    task planned for. When the planner finds no plan for an ordered task, the order can no longer
+    be kept (a later object already changed): the task without its order is planned instead
+    (said in ``notes``) and returned. Raises :class:`NoPlan` when the planner stops otherwise."""
+    while True:
+        problem = make_problem(domain, task, state)
+        try:
+            return problem, solve(domain, problem, planner, timeout=timeout), task
+        except NoPlan as failure:
+            if not (task.ordered and failure.status in NO_PLAN_EXISTS):
+                raise
+            if notes is not None:
+                notes.append(f"{failure}; replanning without the demonstrated order")
+            task = task.without_order()
+
+
 def execute_task(
     world: World,
     library: SkillLibrary,
@@ -174,14 +210,11 @@ def execute_task(
     state = perceive(world)
     run.states.append(state)
     while True:
-        problem = make_problem(domain, task, literals(state, predicates))
         try:
-            plan = solve(domain, problem, planner, timeout=planner_timeout)
+            problem, plan, task = plan_task(
+                domain, task, literals(state, predicates), planner=planner, timeout=planner_timeout, notes=run.notes
+            )
         except NoPlan as failure:
-            if task.ordered and failure.status in NO_PLAN_EXISTS:
-                run.notes.append(f"{failure}; replanning without the demonstrated order")
-                task = task.without_order()
-                continue
             run.planning_status = failure.status
             return run.fail(str(failure), failure.cause)
         run.plans.append(plan)
