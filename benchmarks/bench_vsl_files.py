@@ -15,28 +15,17 @@ Seeds ``seed`` .. ``seed + trials - 1`` (default 0-19). A trial costs about 15-2
 from __future__ import annotations
 
 import argparse
-import contextlib
-import io
 import json
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-from vslsp.cli import main as vslsp_main
+from vsl_answers import ANGLE, POSITION, vslsp
+
 from vslsp.experiments.picture_folders import closed_loop, write_recording
 
-POSITION = 0.01  # m
-ANGLE = 5.0  # deg
 TARGET = 0.99
-
-
-def vslsp(*args: object) -> dict:
-    """``vslsp ARGS --json`` in this process: its JSON answer."""
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.suppress(SystemExit):
-        vslsp_main([*map(str, args), "--json"])
-    return json.loads(out.getvalue())
 
 
 def trial(task: str, seed: int, root: Path) -> dict:

@@ -16,28 +16,17 @@ Seeds ``seed`` .. ``seed + trials - 1`` (default 0-19). Needs the photos extra (
 from __future__ import annotations
 
 import argparse
-import contextlib
-import io
 import json
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-from vslsp.cli import main as vslsp_main
+from vsl_answers import ANGLE, POSITION, vslsp
+
 from vslsp.experiments.photo_folders import closed_loop, photo_task, write_recording
 
-POSITION = 0.01  # m
-ANGLE = 5.0  # deg
 TARGET = 0.95
-
-
-def vslsp(*args: object) -> dict:
-    """``vslsp ARGS --json`` in this process: its JSON answer."""
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.suppress(SystemExit):
-        vslsp_main([*map(str, args), "--json"])
-    return json.loads(out.getvalue())
 
 
 def trial(seed: int, operations: int, root: Path) -> dict:
