@@ -4,9 +4,9 @@ operation, until the experiment's judge says the goal holds."""
 
 import gymnasium
 import pytest
+from helpers.gym_episodes import run_episode
 
 import vslsp.gym  # noqa: F401 (registers the environments)
-from tests.helpers.gym_episodes import run_episode
 from vslsp.gym.policies import VslPolicy
 
 

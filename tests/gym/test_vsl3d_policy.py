@@ -5,9 +5,9 @@ says every object lies at its demonstrated pose."""
 
 import gymnasium
 import pytest
+from helpers.gym_episodes import run_episode
 
 import vslsp.gym  # noqa: F401 (registers the environments)
-from tests.helpers.gym_episodes import run_episode
 from vslsp.gym.vsl3d_policy import Vsl3dPolicy
 
 

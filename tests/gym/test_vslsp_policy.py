@@ -4,9 +4,9 @@ and yellow cubes of ``vslsp/ICubLine-v0`` near in the demonstrated order, one pl
 
 import gymnasium
 import pytest
+from helpers.gym_episodes import run_episode
 
 import vslsp.gym  # noqa: F401 (registers the environments)
-from tests.helpers.gym_episodes import run_episode
 from vslsp.gym.vslsp_policy import VslSpPolicy
 
 
