@@ -1,12 +1,11 @@
 """The library API (docs/api.md): every name of ``vslsp.api.__all__`` resolves, has a docstring
 and is listed in docs/api.md; ``vslsp`` re-exports them without importing them; the API's own
-compositions plan and validate a shipped problem; a built wheel ships ``py.typed`` (PEP 561)."""
+compositions plan and validate a shipped problem (that the wheel ships ``py.typed``, PEP 561:
+tests/cli/test_cli_packaging.py)."""
 
 import re
-import shutil
 import subprocess
 import sys
-import zipfile
 from pathlib import Path
 
 import pytest
@@ -46,24 +45,3 @@ def test_a_shipped_problem_is_planned_and_its_plan_validated():
     problem = api.read_problem(ROOT / "pddl" / "domain.pddl", ROOT / "pddl" / "pull-in-order.pddl")
     result = api.plan(domain, problem, timeout=60.0)
     assert result.lines() and api.validate(domain, problem, result.steps).valid
-
-
-#: What a wheel is built from (a copy: building in place would leave build/ in the checkout).
-SOURCES = ("setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "constraints.txt", "vslsp", "skills", "pddl")
-
-
-@pytest.mark.slow
-def test_a_built_wheel_ships_py_typed(tmp_path):
-    source = tmp_path / "source"
-    source.mkdir()
-    for name in SOURCES:
-        if (ROOT / name).is_dir():
-            shutil.copytree(ROOT / name, source / name, ignore=shutil.ignore_patterns("__pycache__"))
-        else:
-            shutil.copy(ROOT / name, source / name)
-    wheels = tmp_path / "wheels"
-    command = [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q", "-w", str(wheels), "."]
-    subprocess.run(command, check=True, cwd=source, capture_output=True)
-    (wheel,) = wheels.glob("vslsp-*.whl")
-    names = zipfile.ZipFile(wheel).namelist()
-    assert "vslsp/py.typed" in names and "vslsp/api.py" in names

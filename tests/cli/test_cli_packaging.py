@@ -8,6 +8,7 @@ import shutil
 import subprocess
 import sys
 import venv
+import zipfile
 from pathlib import Path
 
 import pytest
@@ -58,6 +59,8 @@ def test_a_wheel_installed_in_a_fresh_venv_plans_and_loads_skills_from_elsewhere
     assert build.returncode == 0, build.stderr[-3000:]
     assert "is deprecated" not in build.stdout + build.stderr  # e.g. `project.license` as a TOML table
     wheel = next((tmp_path / "wheels").glob("vslsp-*.whl"))
+    shipped = zipfile.ZipFile(wheel).namelist()
+    assert "vslsp/py.typed" in shipped and "vslsp/api.py" in shipped  # typed for its users (PEP 561)
     environment = tmp_path / "venv"
     venv.create(environment, with_pip=True)  # no system site-packages: only what the wheel pulls in
     python = environment / "bin" / "python"
