@@ -248,9 +248,15 @@ def test_each_grounding_draws_its_own_overlay(studio_root):
 
 
 def _wait(web, run_id, states):
-    """The run's status once it is in one of ``states`` (how fast is bench_studio.py's to say)."""
-    wait_until(lambda: web.get(f"/api/runs/{run_id}").json()["state"] in states, f"run {run_id} to be {states}")
-    return web.get(f"/api/runs/{run_id}").json()
+    """The run's status once it is in one of ``states`` (how fast is bench_studio.py's to say); a run
+    that ended in another state fails the test at once, with its status."""
+    ended = ("done", "failed", "cancelled")
+    wait_until(
+        lambda: web.get(f"/api/runs/{run_id}").json()["state"] in (*states, *ended), f"run {run_id} to be {states}"
+    )
+    status = web.get(f"/api/runs/{run_id}").json()
+    assert status["state"] in states, status
+    return status
 
 
 def test_runs_queue_beyond_the_limit_and_cancel_at_once(studio_root):
@@ -270,6 +276,36 @@ def test_runs_queue_beyond_the_limit_and_cancel_at_once(studio_root):
     _wait(web, third, ("cancelled",))
     assert web.post(f"/api/runs/{third}/cancel").status_code == 400  # ended already
     assert web.post("/api/runs/20260101-000000-abcdef/cancel").status_code == 404
+
+
+def test_a_run_cancelled_as_its_process_starts_reads_cancelled(studio_root):
+    """The cancel lands while the worker is still starting (before or while it writes its first
+    status): it ends cancelled, never failed (the cancel mark is a file the worker's writes leave alone)."""
+    import time
+
+    web = client(studio_root, max_jobs=1)
+    for seed, after_s in enumerate((0.0, 0.2, 0.6, 2.0)):  # from its start to its first trials
+        run_id = web.post("/api/runs", json={"experiment": "house-roof", "trials": 50, "seed": seed}).json()["id"]
+        time.sleep(after_s)
+        assert web.post(f"/api/runs/{run_id}/cancel").json()["state"] in ("cancelling", "cancelled")
+        assert _wait(web, run_id, ("cancelled",))["state"] == "cancelled"
+
+
+def test_a_cancel_survives_the_workers_own_status_write(studio_root):
+    """The studio marks a cancel; the worker, which read its status before, then writes that copy (its
+    pid): the job, once its process is gone, still reads cancelled."""
+    import json
+    import time
+
+    from vslsp.studio import runs
+
+    folder = studio_root / runs.RUNS / "20260101-000000-abcdef"
+    folder.mkdir(parents=True)
+    workers_copy = {"id": folder.name, "state": "running", "started": time.time() - 60, "done": 0, "total": 5}
+    (folder / "status.json").write_text(json.dumps(workers_copy))
+    runs.request_cancel(folder)
+    runs.write_status(folder / "status.json", {**workers_copy, "pid": 2**22 + 12345})  # no such process
+    assert runs.read_job(studio_root, runs.RUNS, folder.name, "run")["state"] == "cancelled"
 
 
 @pytest.mark.slow

@@ -38,6 +38,8 @@ _ID = re.compile(r"^[0-9]{8}-[0-9]{6}-[0-9a-f]{6}$")
 ENDED = ("done", "failed", "cancelled")
 #: How long a cancelled job may take to stop and write its report before its process group is killed.
 CANCEL_GRACE_S = 20.0
+#: The file in a job's folder that says the user cancelled it (see :func:`request_cancel`).
+CANCEL_MARK = "cancel-requested"
 #: The experiment options a run request may set (the fields of ``vslsp experiment``'s options).
 FIELDS = (
     "experiment",
@@ -60,6 +62,22 @@ def write_status(path: Path, data: dict[str, Any]) -> None:
     from vslsp.outputs import write_text
 
     write_text(path, json.dumps(data))
+
+
+def request_cancel(folder: Path) -> None:
+    """Mark the job in ``folder`` as cancelled by the user. The mark is a file of its own
+    (:data:`CANCEL_MARK`), never a field of the status file: the worker rewrites its status from its
+    own copy, and a field the studio added would be lost by a write that raced it (a job killed by
+    the SIGTERM that followed would then read as failed, not cancelled)."""
+    from vslsp.outputs import write_text
+
+    write_text(folder / CANCEL_MARK, "")
+
+
+def cancel_requested(folder: Path, status: dict[str, Any]) -> bool:
+    """Whether the user asked to cancel the job in ``folder`` (its mark, or the status field an
+    earlier studio wrote)."""
+    return (folder / CANCEL_MARK).exists() or bool(status.get("cancel_requested"))
 
 
 def _integer(request: dict, key: str, default: int, low: int, high: int) -> int:
@@ -276,7 +294,7 @@ class Queue:
                 return read_job(self.root, base, job_id, what)
             child = self.children.get(job_id)
             pid = child.pid if child is not None else status.get("pid")
-            write_status(path, {**json.loads(path.read_text()), "cancel_requested": True})
+            request_cancel(path.parent)
             if isinstance(pid, int):
                 try:
                     os.kill(pid, signal.SIGTERM)
@@ -342,7 +360,7 @@ def read_job(root: Path, base: str, job_id: str, what: str) -> dict:
     if not queue(root).alive(job_id, status):
         time.sleep(0.2)  # the worker may have written its last status as it ended
         status = json.loads(path.read_text())
-        if status.get("state") not in ENDED and status.get("cancel_requested"):
+        if status.get("state") not in ENDED and cancel_requested(path.parent, status):
             status.update(state="cancelled", error="cancelled before any trial finished")
         elif status.get("state") not in ENDED:
             status.update(state="failed", error=f"the {what}'s process ended before it finished (see its log.txt)")

@@ -25,12 +25,15 @@ def main(status_path: str) -> int:
     def cancelled(number: int, _frame: object) -> None:
         raise Interrupted(signal.Signals(number).name)
 
-    signal.signal(signal.SIGTERM, cancelled)  # the studio cancels a job with SIGTERM
     path = Path(status_path)
     status = json.loads(path.read_text())
-    status["pid"] = os.getpid()  # a later studio tells a live job from a dead one by it
-    write_status(path, status)
+    # The studio cancels a job with SIGTERM. Until here its default action ends the process (the
+    # studio's cancel mark then says cancelled); from here on every line is inside the ``try``, so a
+    # cancel at any moment ends with a status written.
+    signal.signal(signal.SIGTERM, cancelled)
     try:
+        status["pid"] = os.getpid()  # a later studio tells a live job from a dead one by it
+        write_status(path, status)
         if status.get("kind") == "figures":
             from vslsp.studio.trial_figures import draw
 
