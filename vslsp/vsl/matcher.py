@@ -115,8 +115,8 @@ def match_observation(
             # the best so far, not the last frame's: the correlation may fall in steps each
             # short of MARGIN (0.99, 0.94, 0.85 as the frame takes in more of the board the
             # new world does not share), and a frame past that decides by chance, against the
-            # place the smaller frames put first (trial 882695's third operation: the free
-            # body led the finished houses by 0.094 at two frames, then lost at the largest).
+            # place the smaller frames put first: their leader stands (pinned in
+            # tests/vsl/test_matcher.py).
             break
         # The rules. A frame narrows the candidates down (the paper: context "narrows down the
         # possible matches and leaves only a single matching observation"): one it beats by
@@ -160,11 +160,10 @@ def match_observation(
         if search.turns and frames is not None and len(frames) == 1:
             # A copy of the object, seen by the same camera, correlates within MARGIN of 1 at
             # its frame; a fit that falls short of that fitted a few features, not the copy,
-            # and may be turned far off (trial 883153's third pick: RANSAC fitted the roof 135
-            # degrees off at 0.75, which put it on its slot that far turned; the copy's pose
-            # correlates 0.96). It is re-fitted from turns all round its place, as a local
-            # re-fit from the fit's own turn cannot reach a copy that far off. A good fit keeps
-            # its pose.
+            # and may be turned far off (RANSAC on a few features can fit a symmetric-looking
+            # object at any turn and a wrong scale). It is re-fitted from turns all round its
+            # place, as a local re-fit from the fit's own turn cannot reach a copy that far off.
+            # A good fit keeps its pose.
             seen = world.astype(np.float32)
             if _correlation(observation, seen, point, frames[0], match.transform) < 1.0 - MARGIN:
                 fitted = refit_all_round(observation, seen, point, frames[0], match, search.turns)
@@ -173,10 +172,9 @@ def match_observation(
     # The match taken is a place and a pose. A copy of the place, seen by the same camera,
     # correlates within MARGIN of 1 at the first frame (the place and its nearest
     # surroundings); a fit that falls short of that fitted a few features, not the copy, and
-    # is re-fitted before it is taken, whether or not a comparison re-fitted it (trial
-    # 882692's third operation: the rivals' fits were degenerate, so nothing was compared, and
-    # the free body's copy, fitted at 0.96 scale and 0.79 correlation, was taken 6 degrees
-    # off). Which place is taken stays as it was; a good fit keeps its pose.
+    # is re-fitted before it is taken, whether or not a comparison re-fitted it (when the
+    # rivals' fits are degenerate nothing is compared, and a poor fit would be taken as it is,
+    # a few degrees off). Which place is taken stays as it was; a good fit keeps its pose.
     first = search.compare[0]
     if (
         not refitted[taken]
@@ -288,9 +286,8 @@ def refit_all_round(
     (its own turn the first): the best-correlating of the re-fits.
 
     A fit that collapsed the frame to a line or a point (RANSAC on a few features in a line) has
-    a place but no pose: the turn read from it means nothing (trial 884247's first pick: the
-    zero matrix read as no turn, and the roof landed 46 degrees off its slot). It starts as a
-    rigid copy, unturned, at its place, and the turns all round find its pose."""
+    a place but no pose: the turn read from it means nothing (a zero matrix reads as no turn).
+    It starts as a rigid copy, unturned, at its place, and the turns all round find its pose."""
     here = np.array([match.x, match.y])
     if not _scale(match.transform) > _DEGENERATE:
         shift = np.array([[1.0, 0.0, match.x - point[0]], [0.0, 1.0, match.y - point[1]], [0.0, 0.0, 1.0]])

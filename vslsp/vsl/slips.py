@@ -161,8 +161,8 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
         # taken one's fit onto the nudged one's new place, its own arrival showing too few
         # features to fit; the nudge is the slip, and the arrival is left to the recorder). Only
         # a nudge that explains its object well (:data:`_NUDGE_WELL`) overrules it: a fit of the
-        # disk below onto a disk put on it explains it in part only (Tower of Hanoi 13, 17:
-        # half the difference left; the roofs' nudges, house-roof 80-94: an eighth at most).
+        # disk below onto a disk put on it explains it in part only (about half the difference
+        # is left, where a true nudge of an identical object leaves an eighth at most).
         first = _decide(_pair(*pairing, first=taken), grown, taken)
         if first.operated is not None and not any(
             _same_place(first.operated, nudge) and nudge.mismatch <= _NUDGE_WELL for nudge in nudges
