@@ -28,7 +28,7 @@ LAYERS = {
         ),
         0,
     ),
-    **dict.fromkeys(("vslsp.geometry", "vslsp.dmp"), 1),
+    **dict.fromkeys(("vslsp.geometry", "vslsp.dmp", "vslsp.perturbations"), 1),
     "vslsp.sim": 2,
     **dict.fromkeys(("vslsp.worlds", "vslsp.skills"), 3),
     **dict.fromkeys(("vslsp.vision", "vslsp.vsl3d"), 4),
