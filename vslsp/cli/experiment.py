@@ -84,6 +84,15 @@ MAX_WORKERS = 64
     "(a nudge of 1-4 cm and up to 20 deg, seeded) [default: 0].",
 )
 @click.option(
+    "--perturb",
+    "perturb",
+    metavar="NAME=LEVEL",
+    multiple=True,
+    help="The reproduction's world differs from the demonstration's (repeatable): camera=CM_AND_DEG "
+    "(moved and turned), scale=X, brightness=%, contrast=%, temperature=K, shadow=SHARE, noise=SIGMA, "
+    "salt=SHARE, jpeg=QUALITY, depth_noise=MM, holes=SHARE, occlusion=%, clutter=N (docs/cli.md).",
+)
+@click.option(
     "--slip-detection",
     type=click.Choice(["on", "off"]),
     default=None,
@@ -134,6 +143,7 @@ def experiment(
     method: str | None,
     tutor_slips: float | None,
     slip_detection: str | None,
+    perturb: tuple[str, ...],
     views: int | None,
     predicates_file: str | None,
     out: str | None,
@@ -179,6 +189,7 @@ def experiment(
         method=method,
         tutor_slips=tutor_slips,
         slip_detection=None if slip_detection is None else slip_detection == "on",
+        perturb=_perturbation(perturb),
         views=views,
         rerun="(checked)" if recording is not None else None,
         predicates=str(Path(predicates_file).resolve()) if predicates_file else None,
@@ -212,6 +223,14 @@ def experiment(
     if data.get("interrupted"):
         sys.exit(Interrupted(data["interrupted"]).exit_code)
     sys.exit(0 if data["successes"] == data["trials"] and not data.get("partial") else 1)
+
+
+def _perturbation(items: tuple[str, ...]) -> tuple[str, ...] | None:
+    """``--perturb``'s items, checked (exit 2 on a bad one); None when none is given or every
+    level is neutral (the runs without the option)."""
+    from vslsp.perturbations import Perturbation
+
+    return None if Perturbation.parse(items).none else items
 
 
 def run_experiment(

@@ -36,7 +36,7 @@ class HouseRoof(Task):
 
     name = "house-roof"
     system = System.VSL
-    options = frozenset({Option.TUTOR_SLIPS, Option.SLIP_DETECTION})
+    options = frozenset({Option.TUTOR_SLIPS, Option.SLIP_DETECTION, Option.PERTURB})
     paper_section = "Simulation (Figure 4: roof placement)"
     description = (
         "The tutor puts two roofs on their house bodies and the third upside down below its body; each "
@@ -52,8 +52,10 @@ class HouseRoof(Task):
         from vslsp.experiments.house_roof_trial import ObservationFeatures, demonstrate, reproduce
         from vslsp.vsl.slips import UnseenOperation
         from vslsp.worlds.house_roof.board import HouseWorld
+        from vslsp.worlds.house_roof.camera import BoardCamera
 
         slips = self.option(Option.TUTOR_SLIPS)
+        drawn = self.perturbation().draw(seed)
         try:
             demo = demonstrate(seed, slips, bool(self.option(Option.SLIP_DETECTION, True)))
         except InputError as unseen:  # the recorder could not see the tutor's operation
@@ -71,7 +73,8 @@ class HouseRoof(Task):
         results, milliseconds, reproductions = {}, {}, {}
         for frame in FRAMES:
             clock = time.perf_counter()
-            reproduction = reproduce(demo, world, frame, features)
+            camera = None if drawn.none else BoardCamera(drawn, world)  # each frame sees the same images
+            reproduction = reproduce(demo, world, frame, features, camera)
             milliseconds[frame] = round(1000.0 * (time.perf_counter() - clock), 1)
             results[frame] = reproduction.to_dict()
             reproductions[frame] = reproduction
@@ -84,7 +87,11 @@ class HouseRoof(Task):
             error,
             # with --tutor-slips: per demonstrated operation what moved, which was operated, the slip
             operations=_slip_records(demo.slips, slips),
-            details={"reproduction_ms": milliseconds, **results},
+            details={
+                "reproduction_ms": milliseconds,
+                **results,
+                **({} if camera is None else {"perturbation": camera.to_dict()}),
+            },
             artefacts=(demo, reproductions) if keep else None,
             failure_cause=cause,
         )

@@ -58,6 +58,7 @@ from vslsp.worlds.house_roof.board import (
     HouseWorld,
     pose_dict,
 )
+from vslsp.worlds.house_roof.camera import BoardCamera
 from vslsp.worlds.slips import TutorSlips
 
 PIXEL_SIZE = 0.001  # m per px: the board is 96 x 72 cm
@@ -246,10 +247,15 @@ def reproduce(
     world: HouseWorld,
     frame: FrameMode | str = FrameMode.ADAPTIVE,
     features: ObservationFeatures | None = None,
+    camera: BoardCamera | None = None,
 ) -> Reproduction:
     """Algorithm 1 part II in ``world``: for each recorded operation, find the pre-pick and
     pre-place observations (``frame`` "adaptive" or "fixed", see :func:`place_frames`), move
-    the hand along the pick-and-place trajectory, and let the grasped roof land where it ends."""
+    the hand along the pick-and-place trajectory, and let the grasped roof land where it ends.
+
+    ``camera`` is the reproduction's camera when a perturbation changed it (moved, other light,
+    noise, an occluder, distractors): VSL then matches in board coordinates, its image mapped
+    back through the camera's calibration (:meth:`BoardCamera.on_board`)."""
     if frame not in tuple(FrameMode):
         raise InputError(f"unknown frame policy {frame!r}; use 'adaptive' or 'fixed'")
     frame = FrameMode(frame)
@@ -257,7 +263,7 @@ def reproduce(
     start, results, pre_place_worlds = world, [], []
     for k, operation in enumerate(demo.demonstration.operations):
         with stage("perception"):  # the camera's image of the board
-            seen = world.render()
+            seen = _observe(world, camera)
         pick = match_observation(
             operation.pre_observation,
             seen,
@@ -272,7 +278,7 @@ def reproduce(
         grasped = world.roof_at((pick.x, pick.y))
         lifted = world if grasped is None else world.with_roof(grasped, None)
         with stage("perception"):
-            seen = lifted.render()
+            seen = _observe(lifted, camera)
         pre_place_worlds.append(seen)
         place = match_observation(
             demo.pre_place[k],
@@ -317,6 +323,11 @@ def reproduce(
             OperationResult(pick, place, pick.theta, theta_place, trajectory, grasped, landed, slot, diagnosis)
         )
     return Reproduction(frame, start, world, tuple(results), tuple(pre_place_worlds))
+
+
+def _observe(world: HouseWorld, camera: BoardCamera | None) -> np.ndarray:
+    """The board as the reproduction's camera sees it, in board coordinates."""
+    return world.render() if camera is None else camera.on_board(camera.see(world))
 
 
 def pick_frame(object_size: float) -> int:

@@ -71,19 +71,37 @@ def board_homography(width: int, height: int, distance: float, drawn: Drawn, uni
     return projection / projection[2, 2]
 
 
-def view(image: np.ndarray, homography: np.ndarray) -> np.ndarray:
-    """The board ``image`` as the moved camera sees it (the same size; what lies outside the
-    board is the board's edge colour)."""
+def view(image: np.ndarray, homography: np.ndarray, margin: int = 0) -> np.ndarray:
+    """The board ``image`` as the moved camera sees it: its sensor the board's size and ``margin``
+    px more on each side (a camera whose view reaches past the board, so a moved one still sees
+    it whole); past the board, the board's edge colour."""
     height, width = image.shape[:2]
-    border = tuple(int(c) for c in np.median(image[[0, -1]].reshape(-1, image.shape[2]), axis=0))
-    return cv2.warpPerspective(image, homography, (width, height), flags=cv2.INTER_LINEAR, borderValue=border)
-
-
-def to_board(image: np.ndarray, homography: np.ndarray) -> np.ndarray:
-    """The moved camera's ``image`` mapped back onto the board through its calibration
-    (``homography``, board to image): the view a reproduction matches in board coordinates."""
-    height, width = image.shape[:2]
-    border = tuple(int(c) for c in np.median(image[[0, -1]].reshape(-1, image.shape[2]), axis=0))
     return cv2.warpPerspective(
-        image, homography, (width, height), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderValue=border
+        image,
+        _framed(homography, margin),
+        (width + 2 * margin, height + 2 * margin),
+        flags=cv2.INTER_LINEAR,
+        borderValue=_edge_colour(image),
     )
+
+
+def to_board(image: np.ndarray, homography: np.ndarray, margin: int = 0) -> np.ndarray:
+    """The moved camera's ``image`` (from :func:`view` with the same ``margin``) mapped back onto
+    the board through its calibration (``homography``, board to image): the view a reproduction
+    matches in board coordinates."""
+    height, width = image.shape[0] - 2 * margin, image.shape[1] - 2 * margin
+    return cv2.warpPerspective(
+        image,
+        _framed(homography, margin),
+        (width, height),
+        flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+        borderValue=_edge_colour(image),
+    )
+
+
+def _framed(homography: np.ndarray, margin: int) -> np.ndarray:
+    return np.array([[1.0, 0.0, margin], [0.0, 1.0, margin], [0.0, 0.0, 1.0]]) @ homography
+
+
+def _edge_colour(image: np.ndarray) -> tuple[int, ...]:
+    return tuple(int(c) for c in np.median(image[[0, -1]].reshape(-1, image.shape[2]), axis=0))

@@ -33,7 +33,10 @@ import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
+
+if TYPE_CHECKING:
+    from vslsp.perturbations import Perturbation
 
 
 class System(enum.StrEnum):
@@ -57,6 +60,7 @@ class Option(enum.StrEnum):
     SLIP_DETECTION = "slip_detection"  # False: the paper's VSL, which takes every change for the operation
     VIEWS = "views"  # VSL-3D's depth cameras: 1 (the paper's single view) or 2 (fused)
     RERUN = "rerun"  # the run's folder of recording parts: each trial logged into its trial-SEED.rrd
+    PERTURB = "perturb"  # NAME=LEVEL items: how the reproduction's world differs (vslsp.perturbations)
 
     @property
     def flag(self) -> str:
@@ -145,6 +149,12 @@ class Task:
 
     def check(self) -> None:
         """Validate the options before any trial runs (raise :class:`InputError`)."""
+
+    def perturbation(self) -> Perturbation:
+        """The perturbation of ``--perturb`` (neutral when not given)."""
+        from vslsp.perturbations import Perturbation  # numpy and OpenCV: only for a trial
+
+        return Perturbation.parse(tuple(self.option(Option.PERTURB, ())))
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         """Run the trial of ``seed``; ``keep`` keeps the artefacts that :meth:`figures` draws."""
