@@ -37,7 +37,7 @@ def trial(library: SkillLibrary, skill: str, seed: int) -> dict:
     with World(spec) as world:
         state = perceive(world)
         start = time.perf_counter()
-        result, after = execute_step(world, library, skill, cube.colour, state)
+        result, after = execute_step(world, library, skill, cube.colour, state, not STARTS_FAR[skill])
         seconds = time.perf_counter() - start
         crossed = world.is_far(cube.name) != STARTS_FAR[skill]
         x, y, _ = world.cube_pose(cube.name)

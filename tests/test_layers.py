@@ -49,6 +49,7 @@ MAY_IMPORT: dict[str, set[int | str]] = {
     "vslsp.outputs": {"vslsp.errors"},
     "vslsp.files": {"vslsp.errors"},
     "vslsp.interrupts": {"vslsp.errors"},
+    "vslsp.skills": {*BELOW[3], "vslsp.worlds"},  # a skill acts in a world through its protocol
     "vslsp.vision": {0, 1},  # perception: no simulator, no world
     "vslsp.vsl3d": {0, 1},  # an algorithm: no simulator, no world
     "vslsp.grounding": {0, 1, 2, 4},  # the simulator only for its test kit's rendered scenes

@@ -1,16 +1,29 @@
-"""Closed-loop steps: perception of a rendered scene, a skill run on what is seen, the check."""
+"""Closed-loop steps: perception of a rendered scene, a skill run on what is seen, the check of
+the effect its learned model expects."""
 
 import numpy as np
 import pytest
 
-from vslsp.loop.monitor import StepResult, execute_step, fault_log
+from vslsp.errors import TaskFailed
+from vslsp.loop.monitor import execute_step, model_expects_far
 from vslsp.loop.perception import perceive
-from vslsp.sim import SceneSpec, World
+from vslsp.sim import SceneSpec
+from vslsp.symbolic import Action, Atom, Domain, Not, Predicate, When
+from vslsp.worlds import World
+from vslsp.worlds.icub import IcubLineWorld
+
+FAR = Atom("far", ("?b",))
+BLOCK = (("?b", "block"),)
+
+
+def _domain(*actions: Action) -> Domain:
+    return Domain("d", (("block", None),), (Predicate("far", BLOCK),), actions)
 
 
 def test_the_robot_sees_every_cube_where_it_is_and_on_which_side():
     spec = SceneSpec.random(11, n_cubes=3)
-    with World(spec) as world:
+    with IcubLineWorld.from_layout(spec) as world:
+        assert isinstance(world, World)  # the loop acts on the worlds' protocol
         state = perceive(world)
         assert sorted(state.objects) == sorted(c.colour for c in spec.cubes)
         for cube in spec.cubes:
@@ -26,9 +39,9 @@ def test_the_robot_sees_every_cube_where_it_is_and_on_which_side():
 def test_a_step_moves_the_cube_across_and_the_robot_sees_it(library, action):
     spec = SceneSpec.random(3, n_cubes=1, far=(action == "pull",))
     name = spec.cubes[0].name
-    with World(spec) as world:
+    with IcubLineWorld.from_layout(spec) as world:
         state = perceive(world)
-        result, after = execute_step(world, library, action, name, state)
+        result, after = execute_step(world, library, action, name, state, action == "push")
         assert result.ok, result.error
         assert world.is_far(name) == (action == "push")  # ground truth
         assert after.objects[name].far == (action == "push")
@@ -37,33 +50,44 @@ def test_a_step_moves_the_cube_across_and_the_robot_sees_it(library, action):
         assert 0.02 < abs(after.line_distance(name)) < 0.12
 
 
-@pytest.mark.parametrize("fault", ["skip", "nudge"])
-def test_a_faulty_step_is_noticed(library, fault):
+def test_the_expected_effect_is_the_learned_models():
+    far = {"red": True, "blue": False}
+    domain = _domain(
+        Action("push", BLOCK, Not(FAR), (FAR,)),
+        Action("pull", BLOCK, FAR, (Not(FAR),)),
+        Action("wipe", BLOCK),  # no effect on far: far stays as it was
+        Action("flip", BLOCK, effects=(When(FAR, (Not(FAR),)), When(Not(FAR), (FAR,)))),  # read before
+    )
+    assert model_expects_far(domain, "push", ("blue",), far) is True
+    assert model_expects_far(domain, "pull", ("red",), far) is False
+    assert model_expects_far(domain, "wipe", ("red",), far) is True
+    assert model_expects_far(domain, "wipe", ("blue",), far) is False
+    assert model_expects_far(domain, "flip", ("red",), far) is False
+    assert model_expects_far(domain, "flip", ("blue",), far) is True
+    with pytest.raises(TaskFailed, match="no action 'lift'"):
+        model_expects_far(domain, "lift", ("red",), far)
+
+
+def test_a_step_is_checked_against_its_model_not_a_table(library):
+    # A domain that (wrongly) models pull as leaving the cube far: the same pull that crosses the
+    # line is then a failed step, its error naming the model's expectation.
+    wrong = _domain(Action("pull", BLOCK, FAR, ()))
     spec = SceneSpec.random(4, n_cubes=1, far=(True,))
     name = spec.cubes[0].name
-    with World(spec) as world:
+    with IcubLineWorld.from_layout(spec) as world:
         state = perceive(world)
-        result, after = execute_step(world, library, "pull", name, state, fault=fault)
-        assert not result.ok
-        assert result.observed_far is True and world.is_far(name)
-        assert "expected (far" in result.error
-        # The step says which fault it carried, in the words the report uses.
-        assert result.fault == fault and result.to_dict()["fault"] == fault
-        assert (result.expected, result.observed) == (f"(not (far {name}))", f"(far {name})")
+        expected = model_expects_far(wrong, "pull", (name,), state.far())
+        result, after = execute_step(world, library, "pull", name, state, expected)
+        assert not world.is_far(name) and after.objects[name].far is False  # the cube crossed
+        assert not result.ok and result.expected == f"(far {name})" and result.observed == f"(not (far {name}))"
+        assert result.error == f"expected (far {name}) to be True after pull, observed False"
 
 
-def test_the_fault_log_explains_each_fault_and_what_followed_it():
-    skipped = StepResult("pull", "green", False, True, False, "expected ...", fault="skip")
-    again = StepResult("pull", "green", False, False, True, None)
-    nudged = StepResult("push", "red", True, None, False, "expected ...", fault="nudge")
-    vsl_skipped = StepResult("pull", "blue", False, True, False, "expected ...", fault="skip")
-    vsl_again = StepResult("pull", "blue", False, False, True, None)
-    steps = [skipped, again, nudged, vsl_skipped, vsl_again]
-    log = fault_log(steps, {id(skipped), id(again), id(nudged)}, "gave up")
-    assert [(e["step"], e["kind"]) for e in log] == [(1, "skip"), (3, "nudge"), (4, "skip")]
-    assert log[0]["expected"] == "(not (far green))" and log[0]["observed"] == "(far green)"
-    assert log[0]["recovery"] == "replanned: pull green"
-    # The planned run's next step is VSL's, not a recovery of the planner's: none followed it.
-    assert log[1]["observed"] == "red not seen" and log[1]["recovery"] == "none: gave up"
-    assert log[2]["recovery"] == "VSL matched again: pull blue"
-    assert fault_log([again], {id(again)}, "") == []
+def test_a_step_without_a_skill_or_an_object_is_refused(library):
+    spec = SceneSpec.random(4, n_cubes=1, far=(True,))
+    with IcubLineWorld.from_layout(spec) as world:
+        state = perceive(world)
+        with pytest.raises(TaskFailed, match="no skill for action 'lift'"):
+            execute_step(world, library, "lift", spec.cubes[0].name, state, False)
+        with pytest.raises(TaskFailed, match="does not see it"):
+            execute_step(world, library, "pull", "nothing", state, False)

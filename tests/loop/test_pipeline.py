@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from vslsp.experiments.icub_faults import Faults
 from vslsp.experiments.icub_run import IcubRun
 from vslsp.experiments.icub_scripts import record
 from vslsp.loop.pipeline import execute_task, explore_skill, learn_models
@@ -76,8 +77,9 @@ def test_a_task_is_planned_executed_and_checked_in_the_simulator(library, domain
 def test_a_missing_effect_makes_the_robot_replan(library, domain):
     spec = SceneSpec.random(6, colours=("blue", "yellow"), far=(True, False))
     with World(spec) as world:
-        run = execute_task(world, library, domain, _all_near_task(), faults={0: "nudge"})
-        assert run.replans == 1 and not run.steps[0].ok
+        faults = Faults({0: "nudge"})  # the experiments' fault injection, through the loop's hooks
+        run = execute_task(world, library, domain, _all_near_task(), act=faults.act, on_plan=faults.planned)
+        assert run.replans == 1 and not run.steps[0].ok and faults.fired == {0: "nudge"}
         assert run.success, run.error
         assert not world.is_far("blue")
 

@@ -34,6 +34,7 @@ from vslsp.tasks.registry import register
 if TYPE_CHECKING:
     import numpy as np
 
+    from vslsp.experiments.icub_faults import Faults
     from vslsp.experiments.icub_run import IcubRun
     from vslsp.skills.library import SkillLibrary
 
@@ -99,7 +100,9 @@ class IcubExperiment(Task):
         path = self.option(Option.PREDICATES)
         return shared_predicates(path) if path else ()
 
-    def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
+    def play(
+        self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: Faults, planner: str
+    ) -> None:
         """The experiment's trial: demonstrate, learn, reproduce and judge, into ``trial``
         (task failures raise :class:`~vslsp.errors.TaskFailed`)."""
         raise NotImplementedError
@@ -121,8 +124,8 @@ class IcubExperiment(Task):
         import numpy as np
 
         from vslsp.errors import InputError, TaskFailed
+        from vslsp.experiments.icub_faults import Fault, Faults, fault_log
         from vslsp.experiments.icub_run import IcubRun
-        from vslsp.loop.monitor import Fault, fault_log
         from vslsp.loop.pipeline import describe_learned
         from vslsp.sim.video import SceneVideo
 
@@ -142,8 +145,9 @@ class IcubExperiment(Task):
         fault_plan = {int(rng.integers(0, 2)): str(rng.choice(kinds))} if faults else {}
         if faults:
             trial.details["faults"] = {str(k): v for k, v in fault_plan.items()}
+        trial.faults = Faults(fault_plan)
         try:
-            self.play(trial, rng, library, fault_plan, self.option(Option.PLANNER, DEFAULT_PLANNER))
+            self.play(trial, rng, library, trial.faults, self.option(Option.PLANNER, DEFAULT_PLANNER))
         except TaskFailed as failure:
             trial.fail(str(failure), failure.cause)
         except InputError as failure:  # what the robot learned does not fit the scene: a failed trial
@@ -273,7 +277,9 @@ class SimpleVslTask(IcubExperiment):
         "adaptive frames, no PDDL) in a reshuffled scene."
     )
 
-    def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
+    def play(
+        self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: Faults, planner: str
+    ) -> None:
         from vslsp.experiments.icub_scripts import simple_vsl_task
 
         simple_vsl_task(trial, rng, library, faults, planner)
@@ -288,7 +294,9 @@ class KeepAllNear(IcubExperiment):
         "numbers and colours of objects (PDDL + Fast Downward)."
     )
 
-    def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
+    def play(
+        self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: Faults, planner: str
+    ) -> None:
         from vslsp.experiments.icub_scripts import keep_all_near
 
         keep_all_near(trial, rng, library, faults, planner)
@@ -303,7 +311,9 @@ class PullInOrder(IcubExperiment):
         "VSL-SP through sometime-before constraints."
     )
 
-    def play(self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: dict, planner: str) -> None:
+    def play(
+        self, trial: IcubRun, rng: np.random.Generator, library: SkillLibrary, faults: Faults, planner: str
+    ) -> None:
         from vslsp.experiments.icub_scripts import pull_in_order
 
         pull_in_order(trial, rng, library, faults, planner)

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from vslsp.experiments.icub_faults import fault_of
 from vslsp.grounding.operation import Grounding
 from vslsp.outputs import atomic_file, output_subfolder, write_text
 
@@ -334,7 +335,7 @@ def plot_trajectories(path: Path, trial) -> None:
         )
     for top, (name, _) in zip(tops, systems):
         idle = [
-            f"{k} ({f'fault {s.fault}' if s.fault else 'not executed'})"
+            f"{k} ({f'fault {fault_of(s)}' if fault_of(s) else 'not executed'})"
             for k, s in enumerate(trial.steps, start=1)
             if s.trajectory is None and (id(s) in planned) == name.startswith("VSL-SP")
         ]

@@ -9,7 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from vslsp.loop.monitor import FAULT_WHAT, StepResult
+from vslsp.experiments.icub_faults import FAULT_WHAT, Faults
+from vslsp.loop.monitor import StepResult
 from vslsp.loop.pipeline import Execution
 from vslsp.sim import SceneSpec, World
 from vslsp.sim.rerun_log import RerunLog
@@ -45,6 +46,8 @@ class IcubRun:
     # With --tutor-slips or --slip-detection: the tutor's slips, their detection, their records
     # (vslsp.experiments.icub_slips.Watcher); None: the tutor never slips, today's path.
     watcher: Any = field(default=None, repr=False, compare=False)
+    # With --faults: the faults scheduled in the trial's execution (what play's ``faults`` is).
+    faults: Faults = field(default_factory=Faults, repr=False, compare=False)
 
     def fail(self, error: str, cause: str | None = None) -> None:
         """The trial failed: ``error`` says why, ``cause`` names it in short (the report's tally)."""
@@ -93,8 +96,8 @@ class IcubRun:
                     f"(far {name})" if is_far else f"(not (far {name}))" for name, is_far in far.items()
                 )
 
-    def show_step(self, world: World, label: str, result: StepResult) -> None:
-        """A step's outcome in the video: expected and observed, and the fault it carried."""
+    def show_step(self, world: World, label: str, result: StepResult, fault: str | None = None) -> None:
+        """A step's outcome in the video: expected and observed, and the ``fault`` it carried."""
         verdict = "ok" if result.ok else "effect MISSING"
-        fault = f" (FAULT {result.fault}: {FAULT_WHAT[result.fault]})" if result.fault else ""
-        self.show(world, f"{label}{fault}", f"expected {result.expected}, observed {result.observed}: {verdict}")
+        carried = f" (FAULT {fault}: {FAULT_WHAT[fault]})" if fault else ""
+        self.show(world, f"{label}{carried}", f"expected {result.expected}, observed {result.observed}: {verdict}")

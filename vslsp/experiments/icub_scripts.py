@@ -28,6 +28,7 @@ from collections.abc import Callable
 import numpy as np
 
 from vslsp.errors import TaskFailed
+from vslsp.experiments.icub_faults import Faults
 from vslsp.experiments.icub_report import observed_grounding
 from vslsp.experiments.icub_run import IcubRun
 from vslsp.experiments.icub_slips import OperatedPlane
@@ -37,12 +38,12 @@ from vslsp.grounding.operation import ground
 from vslsp.loop.monitor import StepResult
 from vslsp.loop.perception import PerceivedState, perceive
 from vslsp.loop.pipeline import Execution, execute_task, explore_skill, learn_models, to_step
-from vslsp.sim import COLOURS, SceneSpec, World
+from vslsp.sim import COLOURS, SceneSpec
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Domain, learn_task
 from vslsp.vsl.demonstration import Demonstration, ImagePlane, Operation
 from vslsp.vsl.recorder import Recorder
-from vslsp.worlds.icub import line_layout, tutor_operation
+from vslsp.worlds.icub import IcubLineWorld, line_layout, tutor_operation
 
 ORDERED_COLOURS = ("orange", "green", "yellow")
 # With user predicates the robot tries each skill this many times (different cubes and places):
@@ -55,7 +56,7 @@ EXPLORATIONS_WITH_PREDICATES = 3
 
 
 def watch(
-    world: World,
+    world: IcubLineWorld,
     trial: IcubRun,
     operations: list[tuple[str, str]],
     title: str,
@@ -102,7 +103,7 @@ def watch(
     return steps
 
 
-def observation_plane(trial: IcubRun, world: World) -> ImagePlane:
+def observation_plane(trial: IcubRun, world: IcubLineWorld) -> ImagePlane:
     """VSL's observation model of the demonstration: the paper's, or with the slip detection on,
     the one that records the operated cube when several moved."""
     first = world.observe("head").rgb
@@ -111,7 +112,7 @@ def observation_plane(trial: IcubRun, world: World) -> ImagePlane:
     return ImagePlane(first)
 
 
-def tutor_task(spec: SceneSpec, rng: np.random.Generator, world: World) -> list[tuple[str, str]]:
+def tutor_task(spec: SceneSpec, rng: np.random.Generator, world: IcubLineWorld) -> list[tuple[str, str]]:
     """The tutor's sequence in a scene: every cube across the line, in a random order."""
     order = rng.permutation(len(spec.cubes))
     return [(spec.cubes[i].colour, "pull" if world.is_far(spec.cubes[i].name) else "push") for i in order]
@@ -145,7 +146,7 @@ def explore(trial: IcubRun, rng: np.random.Generator, library: SkillLibrary) -> 
 # --- the three trials ----------------------------------------------------------------------
 
 
-def simple_vsl_task(trial: IcubRun, rng, library, faults, planner) -> None:
+def simple_vsl_task(trial: IcubRun, rng, library, faults: Faults, planner) -> None:
     colours = tuple(str(c) for c in rng.choice(list(COLOURS), size=3, replace=False))
     with trial.world(line_layout(trial.seed, colours)) as world:
         start_far = tuple(world.is_far(c.name) for c in world.spec.cubes)
@@ -176,7 +177,7 @@ def simple_vsl_task(trial: IcubRun, rng, library, faults, planner) -> None:
         trial.fail(f"final far {final} differs from the demonstrated {goal}", "final far differs from the demonstrated")
 
 
-def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
+def keep_all_near(trial: IcubRun, rng, library, faults: Faults, planner) -> None:
     explore(trial, rng, library)
     demonstrations: list = []
     pulled: set[str] = set()
@@ -198,10 +199,10 @@ def keep_all_near(trial: IcubRun, rng, library, faults, planner) -> None:
     with trial.world(keep_all_near_scene(rng, trial.seed)) as world:
         colours = tuple(c.colour for c in world.spec.cubes)
         initial = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-        before, after = narration(trial, world)
+        before, after = narration(trial, world, faults=faults)
         run = execute(trial, world, library, faults, planner, before, after)
         final = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-    record(trial, run)
+    record(trial, run, faults)
     trial.success = run.success and not any(final.values())
     trial.details.update(
         {"goal": "no block is far", "test_objects": list(colours), "initial_far": initial, "final_far": final}
@@ -224,23 +225,26 @@ def keep_all_near_scene(rng: np.random.Generator, seed: int) -> SceneSpec:
     return line_layout(reproduction_seed(seed), colours, far)
 
 
-def execute(trial: IcubRun, world, library, faults, planner, before, after):
-    """Plan the learned task and execute it in ``world`` with the skills, narrated step by step."""
+def execute(trial: IcubRun, world, library, faults: Faults | None, planner, before, after) -> Execution:
+    """Plan the learned task and execute it in ``world`` with the skills, narrated step by step;
+    ``faults`` (``--faults``, the trial's; None: none) disturbs the steps it schedules."""
     assert trial.domain is not None and trial.task is not None  # learned before the test scene
+    faults = faults or Faults()
     return execute_task(
         world,
         library,
         trial.domain,
         trial.task,
         planner=planner,
-        faults=faults,
         on_step=after,
         predicates=trial.predicates,
         before_step=before,
+        act=faults.act,
+        on_plan=faults.planned,
     )
 
 
-def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
+def pull_in_order(trial: IcubRun, rng, library, faults: Faults, planner) -> None:
     all_far = (True,) * len(ORDERED_COLOURS)
     explore(trial, rng, library)
     with trial.world(line_layout(trial.seed, ORDERED_COLOURS, all_far)) as world:
@@ -260,15 +264,15 @@ def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
                 if not world.is_far(cube.name) and cube.colour not in became_near:
                     became_near.append(cube.colour)
 
-        before, after = narration(trial, world, watch_truth)
+        before, after = narration(trial, world, watch_truth, faults)
         run = execute(trial, world, library, faults, planner, before, after)
         final_sp = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
-    record(trial, run)
+    record(trial, run, faults)
     # VSL: the same test scene, reproduced from the single demonstration by match finding.
     trial.stage("reproducing the demonstration with VSL's match finding")
     with trial.world(test_scene) as world:
         # The executed order: the first action on each object (a knocked-back one is acted on again).
-        acted = list(dict.fromkeys(reproduce_vsl(world, trial, library, demonstration, {})))
+        acted = list(dict.fromkeys(reproduce_vsl(world, trial, library, demonstration)))
         final_vsl = {c.colour: world.is_far(c.name) for c in world.spec.cubes}
     sp_ok = run.success and not any(final_sp.values()) and became_near == list(ORDERED_COLOURS)
     vsl_ok = not any(final_vsl.values()) and acted == list(ORDERED_COLOURS)
@@ -290,26 +294,35 @@ def pull_in_order(trial: IcubRun, rng, library, faults, planner) -> None:
         )
 
 
-def narration(trial: IcubRun, world: World, on_step: Callable | None = None) -> tuple[Callable, Callable]:
-    """The callbacks that caption VSL-SP's steps in the video (before: the step and its fault;
-    after: expected and observed), then call ``on_step``."""
-    label = [""]
+def narration(
+    trial: IcubRun, world: IcubLineWorld, on_step: Callable | None = None, faults: Faults | None = None
+) -> tuple[Callable, Callable]:
+    """The callbacks that caption VSL-SP's steps in the video (before: the step and the fault
+    ``faults`` (the trial's by default) schedules there; after: expected and observed), then call
+    ``on_step``."""
+    faults = faults or trial.faults
+    label, number = [""], [0]
 
-    def before(number: int, action: str, obj: str, fault: str | None) -> None:
-        label[0] = f"VSL-SP step {number}: {action} {obj} (planned)"
+    def before(step: int, action: str, obj: str) -> None:
+        label[0], number[0] = f"VSL-SP step {step}: {action} {obj} (planned)", step
+        fault = faults.upcoming()
         trial.say(label[0] + (f", FAULT {fault} injected" if fault else ""))
 
     def after(result: StepResult, state: PerceivedState) -> None:
-        trial.show_step(world, label[0], result)
+        fault = faults.fault_of(number[0] - 1)
+        trial.show_step(world, label[0], result, fault)
         if on_step is not None:
             on_step(result, state)
 
     return before, after
 
 
-def record(trial: IcubRun, run: Execution) -> None:
-    """Put an execution into the trial: its steps and replans, each step's observation (grounded as
-    ``vslsp ground`` grounds its raw images) for the report, the planning status, and its failure."""
+def record(trial: IcubRun, run: Execution, faults: Faults | None = None) -> None:
+    """Put an execution into the trial: its steps (marked with the faults ``faults``, the trial's
+    by default, injected) and replans, each step's observation (grounded as ``vslsp ground``
+    grounds its raw images) for the report, the planning status, and its failure."""
+    faults = faults or trial.faults
+    run.steps = [faults.mark(k, step) for k, step in enumerate(run.steps)]
     trial.executions.append(run)
     if trial.recording is not None:
         for plan in run.plans:

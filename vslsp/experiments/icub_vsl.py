@@ -8,26 +8,28 @@ import cv2
 import numpy as np
 
 from vslsp.errors import TaskFailed
+from vslsp.experiments.icub_faults import Faults
 from vslsp.experiments.icub_run import IcubRun
-from vslsp.loop.monitor import Action, execute_step
+from vslsp.loop.monitor import execute_step
 from vslsp.loop.perception import PerceivedState, perceive
-from vslsp.sim import World
 from vslsp.skills.library import SkillLibrary
 from vslsp.vision.features import FeatureMemo
 from vslsp.vision.matching import Match
 from vslsp.vision.objects import dark_mask
 from vslsp.vsl.demonstration import Operation
 from vslsp.vsl.matcher import Search, match_observation
+from vslsp.worlds.icub import IcubLineWorld
 
 
 def reproduce_vsl(
-    world: World, trial: IcubRun, library: SkillLibrary, demonstration, faults: dict[int, str]
+    world: IcubLineWorld, trial: IcubRun, library: SkillLibrary, demonstration, faults: Faults | None = None
 ) -> list[str]:
     """Reproduce a recorded demonstration by match finding: for each operation, find the
     demonstrated object in the current scene (SIFT + RANSAC, adaptive frame) and bring it to
     the demonstrated side of the line. A last look checks every object against its final
     demonstrated side and acts again on any that a later operation knocked back. Returns the
-    objects acted on, in order."""
+    objects acted on, in order. ``faults`` disturbs the steps it schedules (``--faults``)."""
+    faults = faults or Faults()
     acted: list[str] = []
     memo = FeatureMemo()  # an unchanged world and a recorded observation seen again: SIFT once
     for op in demonstration.operations:
@@ -40,11 +42,11 @@ def reproduce_vsl(
 
 
 def _bring(
-    world: World,
+    world: IcubLineWorld,
     trial: IcubRun,
     library: SkillLibrary,
     op: Operation,
-    faults: dict[int, str],
+    faults: Faults,
     acted: list[str],
     memo: FeatureMemo,
 ) -> None:
@@ -59,12 +61,14 @@ def _bring(
         trial.details.setdefault("matched_by", []).append(how)
         if state.objects[name].far == target:
             return
-        action = (Action.PUSH if target else Action.PULL).value
+        action = "push" if target else "pull"  # VSL's skills: push takes an object far, pull near
         shown = 1 + sum(title.startswith("VSL reproduction") for title, *_ in trial.observations)
         trial.say(f"VSL step {shown}: {action} {name} (found by {how})")
-        result, after = execute_step(world, library, action, name, state, faults.get(len(trial.steps)))
+        index = faults.steps
+        result, after = execute_step(world, library, action, name, state, target, faults.act)
+        result = faults.mark(index, result)
         trial.steps.append(result)
-        trial.show_step(world, f"VSL step {shown}: {action} {name}", result)
+        trial.show_step(world, f"VSL step {shown}: {action} {name}", result, faults.fault_of(index))
         # VSL's own steps, shown in the report (grounded only when drawn: a failed step may show no change)
         trial.observe(
             f"VSL reproduction step {shown}: {action} {name}", state.image, after.image, None, result, after.far()

@@ -10,7 +10,8 @@ cube may stay far).
 - action: a skill on a cube, MultiDiscrete ``[2, 6]``: the skill (0 push, 1 pull:
   :data:`SKILLS`) and the cube's colour (:data:`COLOUR_NAMES`); the robot finds the cube in
   its head camera's view and runs the skill's DMP on it
-  (:func:`~vslsp.loop.monitor.execute_step`); a colour it does not see does nothing;
+  (:func:`~vslsp.loop.monitor.execute_step`, the step ``ok`` when the cube ends on the side the
+  skill takes it to: :data:`TAKES_FAR`); a colour it does not see does nothing;
 - reward: 1.0 once the experiment's goal holds on the simulator's truth (``pull-in-order``:
   every cube near, each become near in the demonstrated order; ``keep-all-near``: no cube far),
   which terminates the episode; in ``pull-in-order`` a cube become near out of order ends it
@@ -44,6 +45,8 @@ from vslsp.worlds.icub import IcubLineWorld, line_layout
 
 TASKS = ("pull-in-order", "keep-all-near")
 SKILLS = ("push", "pull")
+#: Whether each skill takes the cube far (push) or near (pull): what the environment checks a step by.
+TAKES_FAR = {"push": True, "pull": False}
 COLOUR_NAMES = tuple(COLOURS)
 WIDTH, HEIGHT = 640, 480  # the head camera's image
 
@@ -105,7 +108,7 @@ class IcubLineEnv(WorldEnv[np.ndarray, np.ndarray, IcubLineWorld]):
         if colour not in state.objects:
             return {**info, "ok": False, "error": f"the robot sees no {colour} cube"}
         try:
-            result, _ = execute_step(world, self.library, skill, colour, state)
+            result, _ = execute_step(world, self.library, skill, colour, state, TAKES_FAR[skill])
         except TaskFailed as failure:
             return {**info, "ok": False, "error": str(failure)}
         for cube in world.spec.cubes:

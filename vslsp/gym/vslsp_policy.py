@@ -6,7 +6,8 @@ Each observation is grounded (``far`` for every cube seen, :func:`~vslsp.groundi
 the first is planned from (:func:`~vslsp.loop.pipeline.plan_task`: the PDDL problem of the task
 in the scene, solved by the real planner; an ordered task whose order can no longer be kept is
 planned without it). After each step the policy checks the step's expected effect in the new
-observation (push: the cube far, pull: near); a missing effect ends the plan and the policy
+observation (the learned model's effect: :func:`~vslsp.loop.monitor.model_expects_far`); a
+missing effect ends the plan and the policy
 replans from what it sees, at most ``max_replans`` times. The plan run to its end, it plans once
 more: an empty plan says the goal holds in what the robot sees, and the policy stops.
 """
@@ -21,7 +22,7 @@ import numpy as np
 from vslsp.grounding import Predicate
 from vslsp.grounding.operation import ground_scene
 from vslsp.gym.icub_line import COLOUR_NAMES, SKILLS
-from vslsp.loop.monitor import EXPECTED_FAR
+from vslsp.loop.monitor import model_expects_far
 from vslsp.loop.pipeline import MAX_REPLANS, plan_task, scene_literals
 from vslsp.symbolic import Domain, NoPlan, PlanResult, Task
 from vslsp.symbolic.planner import DEFAULT_TIMEOUT_S
@@ -51,7 +52,7 @@ class VslSpPolicy:
         self.error: str | None = None  # why the policy stopped before the goal held (None: it holds, or running)
         self.success = False  # the last plan was empty: the goal holds in what the robot sees
         self._remaining: list[tuple[str, tuple[str, ...]]] = []  # the current plan's steps not yet taken
-        self._last: tuple[str, str] | None = None  # the step last returned: (skill, colour)
+        self._last: tuple[str, str, bool] | None = None  # the step last returned: (skill, colour, expected far)
 
     def __call__(self, observation: np.ndarray, info: Mapping[str, Any] | None = None) -> np.ndarray | None:
         """The next action, ``[skill, colour]`` (indices into :data:`~vslsp.gym.icub_line.SKILLS`
@@ -62,10 +63,10 @@ class VslSpPolicy:
             return None
         grounding = ground_scene(observation, robot_side="bottom")
         if self._last is not None:
-            action, colour = self._last
+            action, colour, expected = self._last
             self._last = None
             far = grounding.far_by_name().get(colour)
-            if (info is not None and not info.get("ok", True)) or far != EXPECTED_FAR[action]:
+            if (info is not None and not info.get("ok", True)) or far != expected:
                 if self.replans >= self.max_replans:
                     self.error = f"gave up after {self.max_replans} replans: {action} {colour} missed its effect"
                     return None
@@ -93,5 +94,5 @@ class VslSpPolicy:
                 return None
             self._remaining = [(action, tuple(args)) for action, args in plan.steps]
         action, args = self._remaining.pop(0)
-        self._last = (action, args[0])
+        self._last = (action, args[0], model_expects_far(self.domain, action, args, grounding.far_by_name()))
         return np.array([SKILLS.index(action), COLOUR_NAMES.index(args[0])], dtype=np.int64)

@@ -13,8 +13,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vslsp.grounding.operation import SceneGrounding, ground_scene
-from vslsp.sim import CUBE_SIZE, TABLE_Z, World
+from vslsp.sim import CUBE_SIZE, TABLE_Z, Observation
 from vslsp.stages import in_stage
+from vslsp.worlds import World
 
 
 @dataclass(frozen=True)
@@ -52,9 +53,10 @@ class PerceivedState:
 
 
 @in_stage("perception")
-def perceive(world: World, camera: str = "head") -> PerceivedState:
-    """Observe the scene with ``camera`` and ground every object (the arm is parked first)."""
-    observation = world.observe(camera)
+def perceive(world: World[Observation]) -> PerceivedState:
+    """Observe the scene with the world's sensor (the head camera) and ground every object (the
+    arm is parked, out of view, between steps)."""
+    observation = world.observe()
     grounding = ground_scene(observation.rgb, robot_side="bottom")
     view = observation.camera
     objects = {}

@@ -18,9 +18,9 @@ import numpy as np
 from vslsp.errors import TaskFailed
 from vslsp.grounding import Predicate, unary_literals, with_builtins
 from vslsp.grounding.operation import Grounding, SceneGrounding, ground
-from vslsp.loop.monitor import StepResult, execute_step
+from vslsp.loop.monitor import Act, StepResult, execute_step, model_expects_far, run_skill
 from vslsp.loop.perception import PerceivedState, perceive
-from vslsp.sim import World
+from vslsp.sim import Observation
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import (
     Domain,
@@ -35,6 +35,7 @@ from vslsp.symbolic import (
     solve,
 )
 from vslsp.symbolic.planner import DEFAULT_TIMEOUT_S
+from vslsp.worlds import World
 
 MAX_REPLANS = 4
 #: The planner's statuses that say the problem has no plan (proved, or the whole search gave up):
@@ -76,7 +77,7 @@ class Exploration:
 
 
 def explore_skill(
-    world: World,
+    world: World[Observation],
     library: SkillLibrary,
     action: str,
     obj: str | None = None,
@@ -86,14 +87,15 @@ def explore_skill(
 
     The grounded execution (which object moved, ``far`` before and after) is what the
     action models are learned from (the paper's Table 3). ``obj`` defaults to the first
-    object on the side the skill starts from.
+    object on the side the skill starts from; the robot expects it to cross the line (no model
+    is learned yet).
     """
     state = perceive(world)
     start_far = action == "pull"
     name = obj or next((n for n, o in state.objects.items() if o.far == start_far), None)
     if name is None:
         raise TaskFailed(f"the robot sees no {'far' if start_far else 'near'} object to try {action} on")
-    result, after = execute_step(world, library, action, name, state)
+    result, after = execute_step(world, library, action, name, state, not start_far)
     if not result.ok:
         raise TaskFailed(f"exploring {action} on {name}: {result.error}", cause=f"exploring {action} on {name}")
     grounding = ground(state.image, after.image)
@@ -178,34 +180,35 @@ def plan_task(
 
 
 def execute_task(
-    world: World,
+    world: World[Observation],
     library: SkillLibrary,
     domain: Domain,
     task: Task,
     *,
     planner: str = "fast-downward",
-    faults: dict[int, str] | None = None,
     max_replans: int = MAX_REPLANS,
     on_step: Callable[[StepResult, PerceivedState], None] | None = None,
     predicates: Sequence[Predicate] | None = None,
-    before_step: Callable[[int, str, str, str | None], None] | None = None,
+    before_step: Callable[[int, str, str], None] | None = None,
     planner_timeout: float | None = DEFAULT_TIMEOUT_S,
+    act: Act = run_skill,
+    on_plan: Callable[[PlanResult, int], None] | None = None,
 ) -> Execution:
     """Plan ``task`` in the scene the robot sees and execute the plan, replanning on failures.
 
-    ``faults`` maps the index of an executed step (0-based, over the whole run) to a fault to
-    inject there ("nudge" or "skip"), to exercise replanning; a fault scheduled past the end of
-    the first plan moves to its last step, so that every scheduled fault fires. The run
-    succeeds when a plan from the last observed state is empty: the goal holds in what the
-    robot sees. ``before_step(number, action, object, fault)`` is called before each step
-    (1-based over the run), ``on_step(result, state)`` after it.
+    Every step is acted out by ``act`` (the learned skill, :func:`~vslsp.loop.monitor.run_skill`)
+    and checked against the effect its learned model in ``domain`` expects
+    (:func:`~vslsp.loop.monitor.model_expects_far`). The run succeeds when a plan from the last
+    observed state is empty: the goal holds in what the robot sees. ``on_plan(plan, steps)`` is
+    called with each plan about to be executed and the number of steps run before it,
+    ``before_step(number, action, object)`` before each step (1-based over the run),
+    ``on_step(result, state)`` after it.
 
     When the planner finds no plan for the ordered task, the order can no longer be kept (a
     later object already changed): the loop replans for the goal alone. When it stops at its
     time or memory limit (or fails), nothing is known about the order: the run ends there,
     reporting the planner's status.
     """
-    faults = faults or {}
     run = Execution()
     state = perceive(world)
     run.states.append(state)
@@ -224,12 +227,13 @@ def execute_task(
         if not plan.steps:
             run.success = True
             return run
-        if not run.steps:
-            faults = {min(step, len(plan.steps) - 1): fault for step, fault in faults.items()}
+        if on_plan is not None:
+            on_plan(plan, len(run.steps))
         for action, args in plan.steps:
             if before_step is not None:
-                before_step(len(run.steps) + 1, action, args[0], faults.get(len(run.steps)))
-            result, state = execute_step(world, library, action, args[0], state, faults.get(len(run.steps)))
+                before_step(len(run.steps) + 1, action, args[0])
+            expected = model_expects_far(domain, action, args, state.far())
+            result, state = execute_step(world, library, action, args[0], state, expected, act)
             run.steps.append(result)
             run.states.append(state)
             if on_step is not None:

@@ -1,22 +1,28 @@
-"""Executing a learned skill on an object in the simulator: DMP rollout -> IK -> the arm moves."""
+"""Executing a learned skill on an object in a world (:class:`vslsp.worlds.World`, the iCub line
+world's simulator): DMP rollout -> IK -> the arm moves, then the world settles."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from vslsp.errors import UnreachableError
-from vslsp.sim import World
+from vslsp.sim import Observation
 from vslsp.sim.robot import READY_POSITION, HandTrajectory
 from vslsp.skills.library import Skill, from_object_frame, resample
 from vslsp.skills.teach import hand_yaw
 from vslsp.stages import in_stage
+from vslsp.worlds import World
 
 BEYOND = 0.06  # a push or pull aims to leave the object this far (m) past the line
 
 
 @in_stage("execution")
 def execute_skill(
-    world: World, skill: Skill, object_xy: np.ndarray, normal: np.ndarray, line_distance: float | None = None
+    world: World[Observation],
+    skill: Skill,
+    object_xy: np.ndarray,
+    normal: np.ndarray,
+    line_distance: float | None = None,
 ) -> HandTrajectory:
     """Run ``skill`` on the object seen at ``object_xy`` (table, m), the line's ``normal`` (2,).
 

@@ -3,8 +3,10 @@ world, whichever it is.
 
 A world is built (reset) from a seeded layout, the value its module draws from a trial's seed;
 its sensor gives one observation type; the tutor moves objects in it; a robot acts in it (none on
-the house-roof board, where only the hand's path is planned); and it knows the ground truth that
-judges a trial, which perception never reads. The worlds, each in :mod:`vslsp.worlds`:
+the house-roof board, where only the hand's path is planned) and the world settles after it
+acted; and it knows the ground truth that judges a trial, which perception never reads. The
+VSL-SP loop (:mod:`vslsp.loop`) and the skills' execution (:mod:`vslsp.skills.execute`) act
+on any ``World[Observation]``. The worlds, each in :mod:`vslsp.worlds`:
 
 ========================  =====================  ====================  =========================  ============
 world                     layout (seeded)        observation           tutor moves ``where``      truth
@@ -44,6 +46,10 @@ class World(Protocol[ObservationT_co]):
     @property
     def robot(self) -> Any:
         """The robot that acts in this world (None where there is none)."""
+        ...
+
+    def settle(self) -> None:
+        """Let the world come to rest after the robot acted (its physics, where it has any)."""
         ...
 
     def truth(self, name: str) -> Any:

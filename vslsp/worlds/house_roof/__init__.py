@@ -51,6 +51,9 @@ class HouseBoard:
         """The tutor lifts roof ``name`` (``where`` None: in the hand, out of view) or puts it at ``where``."""
         self.state = self.state.with_roof(_index(name), where)
 
+    def settle(self) -> None:
+        """Nothing moves by itself on the board."""
+
     def truth(self, name: str) -> Pose2 | None:
         """Roof ``name``'s pose (None while in the hand)."""
         return self.state.roofs[_index(name)]
