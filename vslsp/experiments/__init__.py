@@ -1,5 +1,7 @@
-"""The paper's eleven experiments, each a registered :class:`vslsp.tasks.Task` defined here and
-nowhere else (``vslsp experiment --list``); the only package that uses ``@register``.
+"""The paper's eleven experiments, each a :class:`vslsp.tasks.Task` defined here and nowhere else
+(``vslsp experiment --list``), declared as any package's tasks are: in the ``vslsp.tasks``
+entry-point group of vslsp's ``pyproject.toml``, ``NAME = "module:Class"``, imported on first use
+(:mod:`vslsp.tasks.registry`).
 
 One module per family, on the family's base class:
 
@@ -20,10 +22,3 @@ the experiments stays cheap.
 The seeds of a trial's worlds come from :mod:`~vslsp.experiments.seeds`. ``docs/tasks.md``
 shows a new experiment on an existing world written as one module.
 """
-
-MODULES = (
-    "vslsp.experiments.house_roof",
-    "vslsp.experiments.real_world",
-    "vslsp.experiments.vsl3d",
-    "vslsp.experiments.icub",
-)

@@ -24,13 +24,11 @@ from vslsp.outcomes import Diagnosis
 from vslsp.outputs import atomic_file, output_subfolder
 from vslsp.tasks.base import Option, System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square, with_legend
-from vslsp.tasks.registry import register
 
 FRAMES = ("fixed", "adaptive")  # the values of vslsp.vision.matching.FrameMode, as the report orders them
 PIXEL_MM = 1.0  # mm per px of the board (vslsp.experiments.house_roof_trial.PIXEL_SIZE, heavy to import)
 
 
-@register
 class HouseRoof(Task):
     """VSL without a robot: the paper's 2-D house-and-roof simulation."""
 

@@ -29,7 +29,6 @@ from vslsp.experiments.icub_report import (
     write_artefacts,
 )
 from vslsp.tasks.base import Option, System, Task, TrialResult, rerun_log, video_path
-from vslsp.tasks.registry import register
 
 if TYPE_CHECKING:
     import numpy as np
@@ -264,7 +263,6 @@ class IcubExperiment(Task):
         return files
 
 
-@register
 class SimpleVslTask(IcubExperiment):
     name = "simple-vsl-task"
     paper_section = "VSL-SP Results: simple VSL task"
@@ -279,7 +277,6 @@ class SimpleVslTask(IcubExperiment):
         simple_vsl_task(trial, rng, library, faults, planner)
 
 
-@register
 class KeepAllNear(IcubExperiment):
     name = "keep-all-near"
     paper_section = "VSL-SP Results: keep all objects near"
@@ -294,7 +291,6 @@ class KeepAllNear(IcubExperiment):
         keep_all_near(trial, rng, library, faults, planner)
 
 
-@register
 class PullInOrder(IcubExperiment):
     name = "pull-in-order"
     paper_section = "VSL-SP Results: pull in order"

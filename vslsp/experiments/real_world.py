@@ -8,12 +8,13 @@ in :mod:`vslsp.experiments.tabletop_protocol`).
 - ``animal-puzzle``: the frog's halves put on the 'pond' label, the giraffe's on the 'tree';
   the labels are moved before the reproduction (relative positioning).
 - ``tower-of-hanoi``: three disks moved from the first base to the second in seven moves
-  (several operations on one object, stacking). In every other trial the user intervenes: the
-  tutor makes the first move to the third base; the robot watches, recognises the moved disk
-  as operation 1's (:func:`~vslsp.vsl.reproduction.identify_moved`), and goes on with operation
-  2. Nothing else changes: each pre-place observation is matched against the scene as it now
-  is, and since the bases look alike only what lies on and around them decides, the moves
-  follow the tutor's choice and the tower ends on the third base.
+  (several operations on one object, stacking). With the user's intervention (``--intervention``:
+  by default on odd seeds, :class:`Intervention`) the tutor makes the first move to the third
+  base; the robot watches, recognises the moved disk as operation 1's
+  (:func:`~vslsp.vsl.reproduction.identify_moved`), and goes on with operation 2. Nothing else
+  changes: each pre-place observation is matched against the scene as it now is, and since the
+  bases look alike only what lies on and around them decides, the moves follow the tutor's
+  choice and the tower ends on the third base.
 - ``animals-vs-machines``: the tutor puts two animal and two machine cards into their bins; in
   the reproduction the tutor presents the cards one at a time in a new order, and the robot
   searches the whole pre-pick dictionary for the best match
@@ -27,13 +28,16 @@ in :mod:`vslsp.experiments.tabletop_protocol`).
 from __future__ import annotations
 
 import copy
-from typing import TYPE_CHECKING
+import enum
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from vslsp.errors import InputError
 from vslsp.experiments.tabletop import TabletopExperiment
 from vslsp.outcomes import Diagnosis
-from vslsp.tasks.registry import register
+from vslsp.tasks.base import Option, TrialResult
 
 if TYPE_CHECKING:
     from vslsp.vision.features import Features
@@ -41,7 +45,6 @@ if TYPE_CHECKING:
     from vslsp.vsl.pick_place import PickPlaceDemonstration
 
 
-@register
 class AlphabetOrdering(TabletopExperiment):
     name = "alphabet-ordering"
     description = "Letters A-D put in a row by a static right-angle baseline (relative and absolute positioning)."
@@ -63,7 +66,6 @@ class AlphabetOrdering(TabletopExperiment):
             yield letter, (lambda world, p=Placement(x + jitter[0], y + jitter[1], yaw): p), "baseline-long"
 
 
-@register
 class AnimalPuzzle(TabletopExperiment):
     name = "animal-puzzle"
     description = "The frog's halves put on the 'pond' label, the giraffe's on the 'tree'; the labels move."
@@ -100,19 +102,43 @@ class AnimalPuzzle(TabletopExperiment):
                 yield f"{animal}-{part}", where, label
 
 
-@register
+class Intervention(enum.StrEnum):
+    """Whether the user intervenes in a tower-of-hanoi trial (``--intervention``)."""
+
+    BY_SEED = "by-seed"  # the paper's protocol: the user makes the first move on odd seeds only
+    NONE = "none"  # never: the robot makes all seven moves
+    FIRST_MOVE = "first-move"  # always: the user makes the first move to the third base
+
+
 class TowerOfHanoi(TabletopExperiment):
     name = "tower-of-hanoi"
     description = (
         "Three disks moved in seven moves (stacking); on odd seeds the user makes the first move and the "
         "robot goes on from there."
     )
+    options = TabletopExperiment.options | {Option.INTERVENTION}
 
-    intervention = False  # the user makes the first move (odd seeds)
+    intervention = False  # the user makes the first move in this trial
+
+    @property
+    def intervention_choice(self) -> Intervention:
+        """The ``--intervention`` option (:attr:`Intervention.BY_SEED` when not given)."""
+        return Intervention(self.option(Option.INTERVENTION, Intervention.BY_SEED))
+
+    def check(self) -> None:
+        given = self.option(Option.INTERVENTION, Intervention.BY_SEED)
+        if given not in set(Intervention):
+            raise InputError(
+                f"--intervention takes {', '.join(Intervention)} (the user makes the first move on odd seeds, "
+                f"never, or always), got {given!r}"
+            )
+        super().check()
 
     def for_seed(self, seed: int) -> TowerOfHanoi:
-        """On odd seeds, the user makes the first move to the third base (the intervention)."""
-        if seed % 2 == 0:
+        """With the user's intervention in the trial of ``seed`` (by default: odd seeds), the user makes
+        the first move to the third base."""
+        chosen = self.intervention_choice
+        if chosen is Intervention.NONE or (chosen is Intervention.BY_SEED and seed % 2 == 0):
             return self
         trial = copy.copy(self)
         trial.intervention, trial.variant = True, "intervention"
@@ -172,8 +198,26 @@ class TowerOfHanoi(TabletopExperiment):
         ]
         return outcomes
 
+    def summary(self, results: list[TrialResult]) -> dict:
+        """The tabletop summary; a run given ``--intervention`` records it as ``intervention_choice``
+        (the studio re-runs a trial with it; ``intervention`` is the tally of the trials with one)."""
+        data = super().summary(results)
+        if Option.INTERVENTION in self.settings:
+            data["intervention_choice"] = str(self.intervention_choice)
+        return data
 
-@register
+    def markdown(self, data: Mapping[str, Any]) -> list[str]:
+        lines = super().markdown(data)
+        if "intervention" in data:
+            when = "every trial" if data.get("intervention_choice") == Intervention.FIRST_MOVE else "odd seeds"
+            lines += [
+                f"User intervention ({when}): {data['intervention']['successes']}/"
+                f"{data['intervention']['trials']} trials reached the tower on the third base.",
+                "",
+            ]
+        return lines
+
+
 class AnimalsVsMachines(TabletopExperiment):
     name = "animals-vs-machines"
     description = "Cards presented one at a time, each put in its bin (classification by the best match)."
@@ -244,7 +288,6 @@ class AnimalsVsMachines(TabletopExperiment):
         return outcomes
 
 
-@register
 class Domino(TabletopExperiment):
     name = "domino"
     description = "Five picture-domino pieces laid end to end, the tutor and the robot taking turns."

@@ -205,20 +205,13 @@ class TabletopExperiment(Task):
         return data
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
-        lines = [
+        return [
             "| robot operations ok | operation success | diagnoses |",
             "|---|---|---|",
             f"| {data['operations_ok']}/{data['operations']} | {100 * data['operation_success_rate']:.1f} % | "
             f"{', '.join(f'{k}: {v}' for k, v in data['diagnoses'].items())} |",
             "",
         ]
-        if "intervention" in data:
-            lines += [
-                f"User intervention (odd seeds): {data['intervention']['successes']}/"
-                f"{data['intervention']['trials']} trials reached the tower on the third base.",
-                "",
-            ]
-        return lines
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         return _figures(folder, *shown.artefacts)

@@ -18,7 +18,6 @@ from typing import Any
 from vslsp.errors import InputError
 from vslsp.outputs import output_subfolder
 from vslsp.tasks.base import Option, System, Task, TrialResult, rerun_log, video_path
-from vslsp.tasks.registry import register
 
 
 def operation_summary(results: list[TrialResult]) -> dict:
@@ -209,7 +208,6 @@ class Vsl3dExperiment(Task):
         ]
 
 
-@register
 class TableCleaning(Vsl3dExperiment):
     """Two objects into the box, the third in front of it, reproduced by the robot from point clouds."""
 
@@ -230,7 +228,6 @@ class TableCleaning(Vsl3dExperiment):
         return [op.to_dict() for op in outcome.operations], pictures
 
 
-@register
 class Stacking(Vsl3dExperiment):
     """Two objects stacked on two landmark boxes that move, reproduced by the robot."""
 

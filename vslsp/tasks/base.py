@@ -57,6 +57,7 @@ class Option(enum.StrEnum):
     SLIP_DETECTION = "slip_detection"  # False: the paper's VSL, which takes every change for the operation
     VIEWS = "views"  # VSL-3D's depth cameras: 1 (the paper's single view) or 2 (fused)
     RERUN = "rerun"  # the run's folder of recording parts: each trial logged into its trial-SEED.rrd
+    INTERVENTION = "intervention"  # tower-of-hanoi: whether the user makes the first move (by-seed, none, first-move)
 
     @property
     def flag(self) -> str:
