@@ -17,7 +17,10 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.outputs import output_subfolder
+from vslsp.sim.video import SceneVideo, check_encoder, tabletop_scene_camera
 from vslsp.tasks.base import Option, System, Task, TrialResult, rerun_log, video_path
+from vslsp.tasks.drawing import label
+from vslsp.vision.image import write_image
 
 
 def operation_summary(results: list[TrialResult]) -> dict:
@@ -50,8 +53,6 @@ def operation_failures(operations: list[dict]) -> list[str]:
 
 def vsl3d_figures(folder: Path, pictures: dict) -> dict[str, Any]:
     """Write a VSL-3D trial's pictures (see :func:`vslsp.experiments.table_cleaning.run_table_cleaning`)."""
-    from vslsp.tasks.drawing import label
-    from vslsp.vision.image import write_image
     from vslsp.vsl3d.pictures import write_clouds
 
     output_subfolder(folder, "images")
@@ -97,8 +98,6 @@ class Vsl3dExperiment(Task):
         if slips is not None and not 0.0 <= float(slips) <= 1.0:
             raise InputError(f"--tutor-slips is a probability from 0 to 1, not {slips}")
         if self.option(Option.VIDEO):
-            from vslsp.sim.video import check_encoder
-
             check_encoder()
         if self.option(Option.RERUN):
             from vslsp.sim.rerun_log import check_rerun
@@ -136,8 +135,6 @@ class Vsl3dExperiment(Task):
         }
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
-        from vslsp.sim.video import SceneVideo, tabletop_scene_camera
-
         folder = self.option(Option.VIDEO)
         video = SceneVideo(Path(folder) / video_path(seed), camera=tabletop_scene_camera()) if folder else None
         recording = rerun_log(self, seed)

@@ -126,14 +126,14 @@ def get_task(name: str, **options: object) -> Task:
 
 
 def _taking(option: str) -> str:
-    """The experiments that take ``option``: "the VSL-SP experiments" when they are a whole
-    system's, else their names."""
-    tasks = list_tasks()
-    taking = [c for c in tasks if option in {o.value for o in c.options}]
+    """The experiments that take ``option``: "the VSL-SP experiments" when every one of the paper's
+    experiments of those systems takes it, else their names."""
+    taking = [c for c in list_tasks() if option in {o.value for o in c.options}]
+    systems = dict.fromkeys(c.system for c in taking)
+    papers = [c for c in list_tasks() if c.__module__.startswith(BUILTIN + ".") and c.system in systems]
     if not taking:
         return "no experiment"
-    systems = dict.fromkeys(c.system for c in taking)
-    if all(c in taking for c in tasks if c.system in systems):
+    if all(c in taking for c in papers):
         return f"the {' and '.join(systems)} experiments"
     return " and ".join(c.name for c in taking)
 
