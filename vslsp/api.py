@@ -75,7 +75,7 @@ if TYPE_CHECKING:
         validate,
     )
     from vslsp.symbolic import Task as LearnedTask
-    from vslsp.tasks import System, Task, TrialResult, get_task, register, run_trials
+    from vslsp.tasks import System, Task, TrialResult, TrialStatus, get_task, register, run_trials
     from vslsp.vsl.calibration import Calibration
     from vslsp.vsl.demonstration import ImagePlane
     from vslsp.vsl.learned import Learned, Session, load_learned, save_learned
@@ -157,6 +157,7 @@ _HOME: dict[str, tuple[str, str]] = {
     "Task": ("vslsp.tasks.base", "Task"),
     "System": ("vslsp.tasks.base", "System"),
     "TrialResult": ("vslsp.tasks.base", "TrialResult"),
+    "TrialStatus": ("vslsp.tasks.base", "TrialStatus"),
     "register": ("vslsp.tasks.registry", "register"),
     "get_task": ("vslsp.tasks.registry", "get_task"),
     "run_trials": ("vslsp.tasks.runner", "run_trials"),
@@ -327,6 +328,7 @@ __all__ = [
     "TableModel",
     "Task",
     "TrialResult",
+    "TrialStatus",
     "Validation",
     "VslspError",
     "World",

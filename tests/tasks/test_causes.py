@@ -7,12 +7,14 @@ from __future__ import annotations
 import json
 import pickle
 
+import pytest
+
 from vslsp.errors import GroundingFailed, TaskFailed
 from vslsp.experiments.house_roof import _failure as house_roof_failure
 from vslsp.experiments.tabletop import _failure as tabletop_failure
 from vslsp.outcomes import Diagnosis
 from vslsp.symbolic import NoPlan, PlanStatus, Unsolvable
-from vslsp.tasks import TrialResult
+from vslsp.tasks import TrialResult, TrialStatus
 from vslsp.tasks.trial import run_one
 
 
@@ -58,6 +60,29 @@ def test_an_exception_in_a_trial_is_tallied_by_its_type():
     result = run_one(Broken(), 3)  # type: ignore[arg-type]
     assert result.error is not None and result.error.startswith("ValueError: a: b: c (at ")
     assert result.cause == "ValueError"
+    assert result.status is TrialStatus.RAISED and result.to_dict()["status"] == "raised"
+
+
+def test_a_trial_status_agrees_with_its_success():
+    solved, failed = TrialResult("t", 1, True), TrialResult("t", 2, False, "rolled 6")
+    assert (solved.status, failed.status) == (TrialStatus.SOLVED, TrialStatus.FAILED)
+    lost = TrialResult("t", 3, False, "worker died", failure_cause="worker died", status=TrialStatus.LOST)
+    # the record keeps its keys (success, error) and adds the status beside them
+    assert lost.to_dict() == {
+        "experiment": "t",
+        "seed": 3,
+        "success": False,
+        "status": "lost",
+        "error": "worker died",
+        "time_s": 0.0,
+        "cpu_s": 0.0,
+    }
+    assert pickle.loads(pickle.dumps(lost)).status is TrialStatus.LOST
+    assert lost.without_artefacts().status is TrialStatus.LOST
+    with pytest.raises(ValueError, match="status solved cannot have success=False"):
+        TrialResult("t", 4, False, status=TrialStatus.SOLVED)
+    with pytest.raises(ValueError, match="status raised cannot have success=True"):
+        TrialResult("t", 5, True, status=TrialStatus.RAISED)
 
 
 def test_the_operation_tasks_name_the_first_failed_operation():

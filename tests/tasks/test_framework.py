@@ -14,24 +14,12 @@ import pytest
 from example_tasks import DiceBelowFive, Troublesome
 from helpers.cli import vslsp
 from helpers.events import HANG_S, experiment_program, process_gone, wait_until
+from helpers.paper_experiments import PAPER
 from helpers.records import without_times
 
 from vslsp.errors import InputError
 from vslsp.tasks import Run, get_task, list_tasks, run_trials, write_report
 
-PAPER = [
-    "house-roof",
-    "alphabet-ordering",
-    "animal-puzzle",
-    "tower-of-hanoi",
-    "animals-vs-machines",
-    "domino",
-    "table-cleaning",
-    "stacking",
-    "simple-vsl-task",
-    "keep-all-near",
-    "pull-in-order",
-]
 HERE = Path(__file__).parent
 
 

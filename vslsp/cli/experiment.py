@@ -3,7 +3,7 @@
 Every experiment takes the same options and writes the same report folder (``report.json``,
 ``report.md``, figures); ``--list`` lists them. Options that only some experiments take
 (``--faults``, ``--planner``, ``--skills``, ``--predicates``, ``--method``, ``--tutor-slips``,
-``--slip-detection``, ``--views``) are refused by the others.
+``--slip-detection``, ``--views``, ``--intervention``) are refused by the others.
 """
 
 from __future__ import annotations
@@ -107,6 +107,12 @@ MAX_WORKERS = 64
     "clouds fused) [default: 1].",
 )
 @click.option(
+    "--intervention",
+    default=None,
+    help="tower-of-hanoi: the user's intervention, by-seed (the user makes the first move on odd seeds), "
+    "none or first-move (in every trial) [default: by-seed].",
+)
+@click.option(
     "--out", type=click.Path(file_okay=False), default=None, help="Report folder (default: out/experiments/NAME)."
 )
 @click.option(
@@ -145,6 +151,7 @@ def experiment(
     slip_detection: str | None,
     perturb: tuple[str, ...],
     views: int | None,
+    intervention: str | None,
     predicates_file: str | None,
     out: str | None,
     task_files: tuple[str, ...],
@@ -191,6 +198,7 @@ def experiment(
         slip_detection=None if slip_detection is None else slip_detection == "on",
         perturb=_perturbation(perturb),
         views=views,
+        intervention=intervention,
         rerun="(checked)" if recording is not None else None,
         predicates=str(Path(predicates_file).resolve()) if predicates_file else None,
     )

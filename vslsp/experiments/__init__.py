@@ -1,5 +1,7 @@
-"""The paper's eleven experiments, each a registered :class:`vslsp.tasks.Task` defined here and
-nowhere else (``vslsp experiment --list``); the only package that uses ``@register``.
+"""The paper's eleven experiments, each a :class:`vslsp.tasks.Task` defined here and nowhere else
+(``vslsp experiment --list``), declared as any package's tasks are: in the ``vslsp.tasks``
+entry-point group of vslsp's ``pyproject.toml``, ``NAME = "module:Class"``, imported on first use
+(:mod:`vslsp.tasks.registry`).
 
 One module per family, on the family's base class:
 
@@ -14,16 +16,10 @@ One module per family, on the family's base class:
   :mod:`~vslsp.experiments.icub_run`; VSL's reproduction on the iCub,
   :mod:`~vslsp.experiments.icub_vsl`; the report, :mod:`~vslsp.experiments.icub_report`).
 
-A family module imports the simulator, OpenCV and torch only inside a trial, so that listing
-the experiments stays cheap.
+A family module imports what it uses at its top, the simulator and OpenCV too; torch (the
+skills, the point-cloud method, the VSL-SP loop) and matplotlib only inside a trial, so that
+listing the experiments stays cheap (``vslsp --help`` imports none of them: the registry is lazy).
 
 The seeds of a trial's worlds come from :mod:`~vslsp.experiments.seeds`. ``docs/tasks.md``
 shows a new experiment on an existing world written as one module.
 """
-
-MODULES = (
-    "vslsp.experiments.house_roof",
-    "vslsp.experiments.real_world",
-    "vslsp.experiments.vsl3d",
-    "vslsp.experiments.icub",
-)

@@ -12,25 +12,38 @@ pick-and-place trajectories of "Methodology".
 
 from __future__ import annotations
 
+import time
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.experiments.house_roof_trial import (
+    PIXEL_SIZE,
+    ObservationFeatures,
+    demonstrate,
+    pick_frame,
+    place_frames,
+    reproduce,
+)
 from vslsp.experiments.seeds import reproduction_seed
+from vslsp.experiments.slip_pictures import mark_moves, moves_caption
 from vslsp.outcomes import Diagnosis
 from vslsp.outputs import atomic_file, output_subfolder
 from vslsp.tasks.base import Option, System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square, with_legend
-from vslsp.tasks.registry import register
+from vslsp.vision.image import write_image
+from vslsp.vsl.slips import UnseenOperation
+from vslsp.worlds.house_roof.board import HouseWorld
+from vslsp.worlds.house_roof.camera import BoardCamera
 
 FRAMES = ("fixed", "adaptive")  # the values of vslsp.vision.matching.FrameMode, as the report orders them
 PIXEL_MM = 1.0  # mm per px of the board (vslsp.experiments.house_roof_trial.PIXEL_SIZE, heavy to import)
 
 
-@register
 class HouseRoof(Task):
     """VSL without a robot: the paper's 2-D house-and-roof simulation."""
 
@@ -47,12 +60,6 @@ class HouseRoof(Task):
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
         """Demonstrate in the world of ``seed``, reproduce with both frame policies in the world of
         :func:`~vslsp.experiments.seeds.reproduction_seed`; ``keep`` holds on to the images for the report."""
-        import time
-
-        from vslsp.experiments.house_roof_trial import ObservationFeatures, demonstrate, reproduce
-        from vslsp.vsl.slips import UnseenOperation
-        from vslsp.worlds.house_roof.board import HouseWorld
-        from vslsp.worlds.house_roof.camera import BoardCamera
 
         slips = self.option(Option.TUTOR_SLIPS)
         drawn = self.perturbation().draw(seed)
@@ -185,8 +192,6 @@ def _failure(adaptive: dict) -> tuple[str, str]:
 
 
 def _figures(folder: Path, demonstration, reproductions: dict) -> dict:
-    from vslsp.vision.image import write_image
-
     output_subfolder(folder, "images")
     files = {
         "demonstration": "images/demonstration.png",
@@ -204,9 +209,6 @@ def _figures(folder: Path, demonstration, reproductions: dict) -> dict:
 
 def _demonstration_picture(demo) -> np.ndarray:
     """One row per operation: pre-pick (pick frame), pre-place (first place frame), post."""
-    import cv2
-
-    from vslsp.experiments.house_roof_trial import pick_frame, place_frames
 
     rows = []
     for k, op in enumerate(demo.demonstration.operations, start=1):
@@ -224,8 +226,6 @@ def _demonstration_picture(demo) -> np.ndarray:
         )
         title = f"op {k}: post (turn {np.degrees(demo.turns[k - 1]):.0f} deg)"
         if demo.slips:  # with --tutor-slips: the objects that moved, as the slip detection found them
-            from vslsp.experiments.slip_pictures import mark_moves, moves_caption
-
             post = demo.actual_posts[k - 1].copy() if demo.actual_posts else post
             mark_moves(post, demo.moves[k - 1] if demo.moves else None, demo.slips[k - 1])
             title = f"op {k}: post; {moves_caption(demo.slips[k - 1])}"
@@ -248,9 +248,6 @@ def _demonstration_picture(demo) -> np.ndarray:
 def _matches_picture(demo, reproduction, frame: str) -> np.ndarray:
     """For each operation, the world the place was searched in: the pick frame (magenta) and
     the place frame that decided (azure) mapped into it by their transforms."""
-    import cv2
-
-    from vslsp.experiments.house_roof_trial import pick_frame
 
     panels = []
     for k, (op, result) in enumerate(zip(demo.demonstration.operations, reproduction.operations), start=1):
@@ -292,8 +289,6 @@ def _final_worlds_picture(demo, reproductions: dict) -> np.ndarray:
 def _trajectory_figure(path: Path, reproduction) -> None:
     """The hand's paths over the reproduction world (x, y), its height and rotation in time."""
     import matplotlib
-
-    from vslsp.experiments.house_roof_trial import PIXEL_SIZE
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -20,6 +20,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
+from vslsp.errors import InputError, TaskFailed
 from vslsp.experiments.icub_report import (
     fault_lines,
     learned_lines,
@@ -28,12 +31,12 @@ from vslsp.experiments.icub_report import (
     trial_rows,
     write_artefacts,
 )
+from vslsp.grounding.contained import shared_predicates
+from vslsp.sim.video import SceneVideo, check_encoder
 from vslsp.tasks.base import Option, System, Task, TrialResult, rerun_log, video_path
-from vslsp.tasks.registry import register
+from vslsp.worlds.icub import check_layout
 
 if TYPE_CHECKING:
-    import numpy as np
-
     from vslsp.experiments.icub_faults import Faults
     from vslsp.experiments.icub_run import IcubRun
     from vslsp.skills.library import SkillLibrary
@@ -68,7 +71,6 @@ class IcubExperiment(Task):
         out (:func:`vslsp.worlds.icub.check_layout`)."""
         from vslsp.skills.library import SKILL_NAMES, SkillLibrary
         from vslsp.symbolic import check_planner
-        from vslsp.worlds.icub import check_layout
 
         for far in self.layouts:
             check_layout(tuple(bool(side) for side in far))
@@ -77,8 +79,6 @@ class IcubExperiment(Task):
         SkillLibrary.load(self.library_path).require(SKILL_NAMES, self.library_path)
         self.predicates()  # a predicates file that does not load is reported before any work
         if self.option(Option.VIDEO):
-            from vslsp.sim.video import check_encoder
-
             check_encoder()
         if self.option(Option.RERUN):
             from vslsp.sim.rerun_log import check_rerun
@@ -95,7 +95,6 @@ class IcubExperiment(Task):
     def predicates(self) -> tuple:
         """The user's predicates (``--predicates FILE.py``), decided in one child process per file and
         process for the whole run (:func:`vslsp.grounding.contained.shared_predicates`); () without one."""
-        from vslsp.grounding.contained import shared_predicates
 
         path = self.option(Option.PREDICATES)
         return shared_predicates(path) if path else ()
@@ -121,13 +120,10 @@ class IcubExperiment(Task):
         errors propagate, task failures are recorded. ``video``: an MP4 file to film the trial
         into (:class:`~vslsp.sim.video.SceneVideo`); ``recording``: the trial's rerun recording
         (:class:`~vslsp.sim.rerun_log.RerunLog`), closed with the trial."""
-        import numpy as np
 
-        from vslsp.errors import InputError, TaskFailed
         from vslsp.experiments.icub_faults import Fault, Faults, fault_log
         from vslsp.experiments.icub_run import IcubRun
         from vslsp.loop.pipeline import describe_learned
-        from vslsp.sim.video import SceneVideo
 
         faults = bool(self.option(Option.FAULTS, False))
         trial = IcubRun(seed, gui=gui, on_stage=on_stage, predicates=self.predicates())
@@ -268,7 +264,6 @@ class IcubExperiment(Task):
         return files
 
 
-@register
 class SimpleVslTask(IcubExperiment):
     name = "simple-vsl-task"
     paper_section = "VSL-SP Results: simple VSL task"
@@ -285,7 +280,6 @@ class SimpleVslTask(IcubExperiment):
         simple_vsl_task(trial, rng, library, faults, planner)
 
 
-@register
 class KeepAllNear(IcubExperiment):
     name = "keep-all-near"
     paper_section = "VSL-SP Results: keep all objects near"
@@ -302,7 +296,6 @@ class KeepAllNear(IcubExperiment):
         keep_all_near(trial, rng, library, faults, planner)
 
 
-@register
 class PullInOrder(IcubExperiment):
     name = "pull-in-order"
     paper_section = "VSL-SP Results: pull in order"

@@ -12,9 +12,16 @@ from typing import Any
 
 import numpy as np
 
+from vslsp.errors import VslspError
 from vslsp.experiments.icub_faults import fault_of
-from vslsp.grounding.operation import Grounding
+from vslsp.grounding import draw_grounding
+from vslsp.grounding.moves import draw_moves
+from vslsp.grounding.operation import Grounding, ground
 from vslsp.outputs import atomic_file, output_subfolder, write_text
+from vslsp.sim import COLOURS
+from vslsp.tasks.drawing import caption, label
+from vslsp.vision.change import default_min_move
+from vslsp.vision.image import write_image
 
 # The paper's Table 3: the preconditions and effects VSL extracts for push and pull.
 TABLE_3 = {
@@ -42,10 +49,6 @@ def observed_grounding(pre: np.ndarray, post: np.ndarray) -> tuple[Grounding | N
     ``vslsp ground PRE POST`` gives it on the raw images written beside it (the same
     ``--min-move`` default: a neighbour the robot's hand nudged by a few pixels is left out),
     or None and why not (nothing moved: a skipped step; the images are still shown)."""
-    from vslsp.errors import VslspError
-    from vslsp.grounding.operation import ground
-    from vslsp.vision.change import default_min_move
-
     try:
         return ground(pre, post, min_move=default_min_move(pre.shape)), ""
     except VslspError as error:
@@ -55,11 +58,6 @@ def observed_grounding(pre: np.ndarray, post: np.ndarray) -> tuple[Grounding | N
 def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
     """Every observed pre/post pair drawn and captioned (with the camera's raw images), the
     learned PDDL, the first problem and plan, the executions, and the trajectory figure."""
-    from vslsp.grounding import draw_grounding
-    from vslsp.grounding.moves import draw_moves
-    from vslsp.tasks.drawing import caption, label
-    from vslsp.vision.image import write_image
-
     files: dict = {"images": []}
     images = output_subfolder(folder, "images")
     number = {id(step): k for k, step in enumerate(trial.steps, start=1)}
@@ -305,8 +303,6 @@ def plot_trajectories(path: Path, trial) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
-
-    from vslsp.sim import COLOURS
 
     planned = {id(step) for run in trial.executions for step in run.steps}
     numbered = [(k, s) for k, s in enumerate(trial.steps, start=1) if s.trajectory is not None]

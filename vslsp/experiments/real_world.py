@@ -8,12 +8,13 @@ in :mod:`vslsp.experiments.tabletop_protocol`).
 - ``animal-puzzle``: the frog's halves put on the 'pond' label, the giraffe's on the 'tree';
   the labels are moved before the reproduction (relative positioning).
 - ``tower-of-hanoi``: three disks moved from the first base to the second in seven moves
-  (several operations on one object, stacking). In every other trial the user intervenes: the
-  tutor makes the first move to the third base; the robot watches, recognises the moved disk
-  as operation 1's (:func:`~vslsp.vsl.reproduction.identify_moved`), and goes on with operation
-  2. Nothing else changes: each pre-place observation is matched against the scene as it now
-  is, and since the bases look alike only what lies on and around them decides, the moves
-  follow the tutor's choice and the tower ends on the third base.
+  (several operations on one object, stacking). With the user's intervention (``--intervention``:
+  by default on odd seeds, :class:`Intervention`) the tutor makes the first move to the third
+  base; the robot watches, recognises the moved disk as operation 1's
+  (:func:`~vslsp.vsl.reproduction.identify_moved`), and goes on with operation 2. Nothing else
+  changes: each pre-place observation is matched against the scene as it now is, and since the
+  bases look alike only what lies on and around them decides, the moves follow the tutor's
+  choice and the tower ends on the third base.
 - ``animals-vs-machines``: the tutor puts two animal and two machine cards into their bins; in
   the reproduction the tutor presents the cards one at a time in a new order, and the robot
   searches the whole pre-pick dictionary for the best match
@@ -27,51 +28,56 @@ in :mod:`vslsp.experiments.tabletop_protocol`).
 from __future__ import annotations
 
 import copy
-from typing import TYPE_CHECKING
+import enum
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from vslsp.errors import InputError
 from vslsp.experiments.tabletop import TabletopExperiment
+from vslsp.experiments.tabletop_protocol import (
+    OperationOutcome,
+    judge_relation,
+    look,
+    placement_like,
+    robot_operation,
+    tutor_operation,
+)
 from vslsp.outcomes import Diagnosis
-from vslsp.tasks.registry import register
+from vslsp.tasks.base import Option, TrialResult
+from vslsp.vision.features import Features, extract_features
+from vslsp.vision.matching import NoMatch
+from vslsp.vsl.reproduction import find_place, identify, identify_moved, match_object
+from vslsp.worlds.panda_table import Placement
+from vslsp.worlds.panda_table import layouts as scenes
 
 if TYPE_CHECKING:
-    from vslsp.vision.features import Features
     from vslsp.vision.matching import Match
     from vslsp.vsl.pick_place import PickPlaceDemonstration
 
 
-@register
 class AlphabetOrdering(TabletopExperiment):
     name = "alphabet-ordering"
     description = "Letters A-D put in a row by a static right-angle baseline (relative and absolute positioning)."
 
     def layout(self, rng, phase):
-        from vslsp.worlds.panda_table import layouts as scenes
-
         letters = scenes.letters()
         keep_out = [(x, y, 0.05) for x, y, _ in scenes.LETTER_GOALS.values()]
         keep_out += [(x, 0.1825, 0.02) for x in (0.47, 0.51, 0.55)]  # the baseline's short arm
         return scenes.baseline_arms() + list(zip(letters, scenes.scatter(rng, letters, keep_out)))
 
     def moves(self, rng):
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         for letter, (x, y, yaw) in scenes.LETTER_GOALS.items():
             jitter = rng.normal(0.0, 0.002, 2)
             yield letter, (lambda world, p=Placement(x + jitter[0], y + jitter[1], yaw): p), "baseline-long"
 
 
-@register
 class AnimalPuzzle(TabletopExperiment):
     name = "animal-puzzle"
     description = "The frog's halves put on the 'pond' label, the giraffe's on the 'tree'; the labels move."
 
     def layout(self, rng, phase):
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         labels = scenes.labels()
         if phase == "demonstration":
             poses = [(0.61, 0.13, 0.0), (0.61, -0.13, 0.0)]
@@ -85,9 +91,6 @@ class AnimalPuzzle(TabletopExperiment):
         )
 
     def moves(self, rng):
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         for animal in ("frog", "giraffe"):
             label = scenes.LABEL_OF[animal]
             for part in (0, 1):
@@ -100,19 +103,43 @@ class AnimalPuzzle(TabletopExperiment):
                 yield f"{animal}-{part}", where, label
 
 
-@register
+class Intervention(enum.StrEnum):
+    """Whether the user intervenes in a tower-of-hanoi trial (``--intervention``)."""
+
+    BY_SEED = "by-seed"  # the paper's protocol: the user makes the first move on odd seeds only
+    NONE = "none"  # never: the robot makes all seven moves
+    FIRST_MOVE = "first-move"  # always: the user makes the first move to the third base
+
+
 class TowerOfHanoi(TabletopExperiment):
     name = "tower-of-hanoi"
     description = (
         "Three disks moved in seven moves (stacking); on odd seeds the user makes the first move and the "
         "robot goes on from there."
     )
+    options = TabletopExperiment.options | {Option.INTERVENTION}
 
-    intervention = False  # the user makes the first move (odd seeds)
+    intervention = False  # the user makes the first move in this trial
+
+    @property
+    def intervention_choice(self) -> Intervention:
+        """The ``--intervention`` option (:attr:`Intervention.BY_SEED` when not given)."""
+        return Intervention(self.option(Option.INTERVENTION, Intervention.BY_SEED))
+
+    def check(self) -> None:
+        given = self.option(Option.INTERVENTION, Intervention.BY_SEED)
+        if given not in set(Intervention):
+            raise InputError(
+                f"--intervention takes {', '.join(Intervention)} (the user makes the first move on odd seeds, "
+                f"never, or always), got {given!r}"
+            )
+        super().check()
 
     def for_seed(self, seed: int) -> TowerOfHanoi:
-        """On odd seeds, the user makes the first move to the third base (the intervention)."""
-        if seed % 2 == 0:
+        """With the user's intervention in the trial of ``seed`` (by default: odd seeds), the user makes
+        the first move to the third base."""
+        chosen = self.intervention_choice
+        if chosen is Intervention.NONE or (chosen is Intervention.BY_SEED and seed % 2 == 0):
             return self
         trial = copy.copy(self)
         trial.intervention, trial.variant = True, "intervention"
@@ -120,9 +147,6 @@ class TowerOfHanoi(TabletopExperiment):
         return trial
 
     def layout(self, rng, phase):
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         layout = scenes.hanoi_bases()
         below = "base-1"
         x, y, _ = scenes.BASE_POSES[1]
@@ -133,9 +157,6 @@ class TowerOfHanoi(TabletopExperiment):
         return layout
 
     def moves(self, rng):
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         stacks = {1: ["disk-3", "disk-2", "disk-1"], 2: [], 3: []}
         for disk, target in scenes.hanoi_moves():
             name = f"disk-{disk}"
@@ -152,11 +173,6 @@ class TowerOfHanoi(TabletopExperiment):
             yield name, where, below  # judged on what it stands on: stack order
 
     def reproduce(self, world, demo, rng, keep=False):
-        from vslsp.experiments.tabletop_protocol import look, robot_operation, tutor_operation
-        from vslsp.vsl.reproduction import identify_moved
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         if not self.intervention:
             return super().reproduce(world, demo, rng, keep)
         # The user makes the first move to the third base; the robot watches and carries on.
@@ -172,15 +188,31 @@ class TowerOfHanoi(TabletopExperiment):
         ]
         return outcomes
 
+    def summary(self, results: list[TrialResult]) -> dict:
+        """The tabletop summary; a run given ``--intervention`` records it as ``intervention_choice``
+        (the studio re-runs a trial with it; ``intervention`` is the tally of the trials with one)."""
+        data = super().summary(results)
+        if Option.INTERVENTION in self.settings:
+            data["intervention_choice"] = str(self.intervention_choice)
+        return data
 
-@register
+    def markdown(self, data: Mapping[str, Any]) -> list[str]:
+        lines = super().markdown(data)
+        if "intervention" in data:
+            when = "every trial" if data.get("intervention_choice") == Intervention.FIRST_MOVE else "odd seeds"
+            lines += [
+                f"User intervention ({when}): {data['intervention']['successes']}/"
+                f"{data['intervention']['trials']} trials reached the tower on the third base.",
+                "",
+            ]
+        return lines
+
+
 class AnimalsVsMachines(TabletopExperiment):
     name = "animals-vs-machines"
     description = "Cards presented one at a time, each put in its bin (classification by the best match)."
 
     def layout(self, rng, phase):
-        from vslsp.worlds.panda_table import layouts as scenes
-
         cards = scenes.pictures()
         if phase == "demonstration":
             region = ((0.33, 0.45), scenes.SCATTER_Y)
@@ -188,9 +220,6 @@ class AnimalsVsMachines(TabletopExperiment):
         return scenes.bins() + [(card, scenes.hold_placement(k + 2)) for k, card in enumerate(cards)]
 
     def moves(self, rng):
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         filled = {"animals": 0, "machines": 0}
         for k in rng.permutation(len(scenes.SUBJECTS)):
             subject = scenes.SUBJECTS[k]
@@ -208,11 +237,6 @@ class AnimalsVsMachines(TabletopExperiment):
             )
 
     def reproduce(self, world, demo, rng, keep=False):
-        from vslsp.experiments.tabletop_protocol import OperationOutcome, judge_relation, look, robot_operation
-        from vslsp.vision.features import extract_features
-        from vslsp.vsl.reproduction import identify
-        from vslsp.worlds.panda_table import layouts as scenes
-
         order = list(demo.items)
         while order == list(demo.items):  # a new order
             order = [demo.items[k] for k in rng.permutation(len(order))]
@@ -244,21 +268,15 @@ class AnimalsVsMachines(TabletopExperiment):
         return outcomes
 
 
-@register
 class Domino(TabletopExperiment):
     name = "domino"
     description = "Five picture-domino pieces laid end to end, the tutor and the robot taking turns."
 
     def layout(self, rng, phase):
-        from vslsp.worlds.panda_table import layouts as scenes
-
         pieces = scenes.domino_pieces()
         return list(zip(pieces, scenes.scatter(rng, pieces)))
 
     def moves(self, rng):
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         start = Placement(*scenes.DOMINO_START)
         yield "domino-1", (lambda world: start), None
         for k in range(2, scenes.DOMINOES + 1):
@@ -278,18 +296,6 @@ class Domino(TabletopExperiment):
         return list(range(outcomes[0].index + 1, len(demo.items))) if outcomes else []
 
     def reproduce(self, world, demo, rng, keep=False):
-        from vslsp.experiments.tabletop_protocol import (
-            OperationOutcome,
-            look,
-            placement_like,
-            robot_operation,
-            tutor_operation,
-        )
-        from vslsp.vision.features import extract_features
-        from vslsp.vsl.reproduction import identify_moved
-        from vslsp.worlds.panda_table import Placement
-        from vslsp.worlds.panda_table import layouts as scenes
-
         first = int(rng.integers(0, 2))  # the tutor opens with the first piece or the second
         opening = _domino_opening(rng, scenes.DOMINOES - first)
         outcomes: list[OperationOutcome] = []
@@ -327,10 +333,6 @@ def answer_place(
     game they lie elsewhere and would draw the match to them. None when the played piece is not
     found or nothing matches about it (the robot then searches the whole view). ``features``
     are the SIFT features of ``world``."""
-    from vslsp.vision.features import Features
-    from vslsp.vision.matching import NoMatch
-    from vslsp.vsl.reproduction import find_place, match_object
-
     piece = match_object(demo, played, world, features)
     if isinstance(piece, NoMatch):
         return None
@@ -344,7 +346,6 @@ def answer_place(
 def _domino_opening(rng: np.random.Generator, pieces: int) -> tuple[float, float, float]:
     """Where the tutor lays the opening piece: anywhere in the far band, turned a little, so
     that the ``pieces`` still to come fit in the workspace."""
-    from vslsp.worlds.panda_table import layouts as scenes
 
     for _ in range(1000):
         x, yaw = rng.uniform(0.62, 0.66), -np.pi / 2.0 + rng.uniform(-0.12, 0.12)

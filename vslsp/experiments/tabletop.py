@@ -20,19 +20,34 @@ from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import cv2
 import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.experiments.seeds import reproduction_seed
+from vslsp.experiments.slip_pictures import mark_moves, moves_caption
+from vslsp.experiments.tabletop_protocol import (
+    TabletopDemonstration,
+    look,
+    relation,
+    relations_hold,
+    robot_operation,
+    tutor_move,
+)
+from vslsp.experiments.tabletop_slips import demonstrate_with_slips
 from vslsp.outcomes import Diagnosis
 from vslsp.outputs import atomic_file, output_subfolder
+from vslsp.sim.video import SceneVideo, check_encoder, tabletop_scene_camera
 from vslsp.tasks.base import Option, System, Task, TrialResult, video_path
 from vslsp.tasks.drawing import PICK, PLACE, grid, label, small, square
+from vslsp.vision.image import write_image
+from vslsp.vsl.pick_place import TableModel, TableView
+from vslsp.vsl.recorder import Recorder
+from vslsp.worlds.panda_table import PandaTable
 
 if TYPE_CHECKING:
-    from vslsp.experiments.tabletop_protocol import Move, OperationOutcome, TabletopDemonstration
+    from vslsp.experiments.tabletop_protocol import Move, OperationOutcome
     from vslsp.sim.tabletop import Item, Placement
-    from vslsp.worlds.panda_table import PandaTable
 
 
 class TabletopExperiment(Task):
@@ -62,7 +77,6 @@ class TabletopExperiment(Task):
     def goal(self, world: PandaTable, demo: TabletopDemonstration, outcomes: list[OperationOutcome]) -> bool:
         """Every operation the reproduction owes was done, and the last demonstrated relation
         of every item it moved holds at the end (ground truth)."""
-        from vslsp.experiments.tabletop_protocol import relations_hold
 
         owed = self.owed(demo, outcomes)
         if not set(owed) <= {o.index for o in outcomes}:
@@ -77,15 +91,9 @@ class TabletopExperiment(Task):
         """The tutor's demonstration in ``world``, recorded operation by operation (with
         ``--tutor-slips``: :func:`~vslsp.experiments.tabletop_slips.demonstrate_with_slips`)."""
         if self.option(Option.TUTOR_SLIPS) is not None:
-            from vslsp.experiments.tabletop_slips import demonstrate_with_slips
-
             return demonstrate_with_slips(
                 self, world, rng, self.option(Option.TUTOR_SLIPS), bool(self.option(Option.SLIP_DETECTION, True))
             )
-        from vslsp.experiments.tabletop_protocol import TabletopDemonstration, relation, tutor_move
-        from vslsp.vsl.pick_place import TableModel, TableView
-        from vslsp.vsl.recorder import Recorder
-
         recorder = Recorder(TableModel(TableView(world)))
         items, anchors, relations, seen = [], [], [], None
         for name, where, anchor in self.moves(rng):
@@ -99,14 +107,11 @@ class TabletopExperiment(Task):
         self, world: PandaTable, demo: TabletopDemonstration, rng: np.random.Generator, keep: bool = False
     ) -> list[OperationOutcome]:
         """Algorithm 1 part II: every operation in the demonstrated order."""
-        from vslsp.experiments.tabletop_protocol import robot_operation
 
         return [robot_operation(world, demo, k, self.anchor_map, keep=keep) for k in range(len(demo.items))]
 
     def check(self) -> None:
         if self.option(Option.VIDEO):
-            from vslsp.sim.video import check_encoder
-
             check_encoder()
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
@@ -114,7 +119,6 @@ class TabletopExperiment(Task):
         :func:`~vslsp.experiments.seeds.reproduction_seed`; ``keep`` holds on to the images for
         the report; with the ``video`` option, film both into the report folder's
         ``videos/trial-SEED.mp4``."""
-        from vslsp.sim.video import SceneVideo, tabletop_scene_camera
 
         folder = self.option(Option.VIDEO)
         video = SceneVideo(Path(folder) / video_path(seed), camera=tabletop_scene_camera()) if folder else None
@@ -127,9 +131,6 @@ class TabletopExperiment(Task):
         return result
 
     def _trial(self, seed: int, keep: bool, video) -> TrialResult:
-        from vslsp.experiments.tabletop_protocol import look
-        from vslsp.worlds.panda_table import PandaTable
-
         task = self.for_seed(seed)
         variant = task.variant
         rng = np.random.default_rng(seed)
@@ -205,20 +206,13 @@ class TabletopExperiment(Task):
         return data
 
     def markdown(self, data: Mapping[str, Any]) -> list[str]:
-        lines = [
+        return [
             "| robot operations ok | operation success | diagnoses |",
             "|---|---|---|",
             f"| {data['operations_ok']}/{data['operations']} | {100 * data['operation_success_rate']:.1f} % | "
             f"{', '.join(f'{k}: {v}' for k, v in data['diagnoses'].items())} |",
             "",
         ]
-        if "intervention" in data:
-            lines += [
-                f"User intervention (odd seeds): {data['intervention']['successes']}/"
-                f"{data['intervention']['trials']} trials reached the tower on the third base.",
-                "",
-            ]
-        return lines
 
     def figures(self, folder: Path, shown: TrialResult) -> dict[str, Any]:
         return _figures(folder, *shown.artefacts)
@@ -252,10 +246,6 @@ def _failure(operations: list[dict]) -> tuple[str, str]:
 
 
 def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:
-    import cv2
-
-    from vslsp.vision.image import write_image
-
     output_subfolder(folder, "images")
     files = {
         "demonstration": "images/demonstration.png",
@@ -271,8 +261,6 @@ def _figures(folder: Path, task_demo, outcomes: list, finals: dict) -> dict:
         square(pre_place, op.place_point, int(op.place_frame or demo.place_frame), PLACE)
         post, title = op.post_place, f"op {k + 1}: post-place"
         if task_demo.slips:  # with --tutor-slips: the items that moved, as the slip detection found them
-            from vslsp.experiments.slip_pictures import mark_moves, moves_caption
-
             post = task_demo.actual_posts[k].copy()
             mark_moves(post, task_demo.moves[k] if task_demo.moves else None, task_demo.slips[k])
             title = f"op {k + 1}: post-place; {moves_caption(task_demo.slips[k])}"

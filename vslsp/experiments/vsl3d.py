@@ -17,8 +17,10 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.outputs import output_subfolder
+from vslsp.sim.video import SceneVideo, check_encoder, tabletop_scene_camera
 from vslsp.tasks.base import Option, System, Task, TrialResult, rerun_log, video_path
-from vslsp.tasks.registry import register
+from vslsp.tasks.drawing import label
+from vslsp.vision.image import write_image
 
 
 def operation_summary(results: list[TrialResult]) -> dict:
@@ -51,8 +53,6 @@ def operation_failures(operations: list[dict]) -> list[str]:
 
 def vsl3d_figures(folder: Path, pictures: dict) -> dict[str, Any]:
     """Write a VSL-3D trial's pictures (see :func:`vslsp.experiments.table_cleaning.run_table_cleaning`)."""
-    from vslsp.tasks.drawing import label
-    from vslsp.vision.image import write_image
     from vslsp.vsl3d.pictures import write_clouds
 
     output_subfolder(folder, "images")
@@ -98,8 +98,6 @@ class Vsl3dExperiment(Task):
         if slips is not None and not 0.0 <= float(slips) <= 1.0:
             raise InputError(f"--tutor-slips is a probability from 0 to 1, not {slips}")
         if self.option(Option.VIDEO):
-            from vslsp.sim.video import check_encoder
-
             check_encoder()
         if self.option(Option.RERUN):
             from vslsp.sim.rerun_log import check_rerun
@@ -137,8 +135,6 @@ class Vsl3dExperiment(Task):
         }
 
     def run_trial(self, seed: int, keep: bool = False) -> TrialResult:
-        from vslsp.sim.video import SceneVideo, tabletop_scene_camera
-
         folder = self.option(Option.VIDEO)
         video = SceneVideo(Path(folder) / video_path(seed), camera=tabletop_scene_camera()) if folder else None
         recording = rerun_log(self, seed)
@@ -209,7 +205,6 @@ class Vsl3dExperiment(Task):
         ]
 
 
-@register
 class TableCleaning(Vsl3dExperiment):
     """Two objects into the box, the third in front of it, reproduced by the robot from point clouds."""
 
@@ -230,7 +225,6 @@ class TableCleaning(Vsl3dExperiment):
         return [op.to_dict() for op in outcome.operations], pictures
 
 
-@register
 class Stacking(Vsl3dExperiment):
     """Two objects stacked on two landmark boxes that move, reproduced by the robot."""
 

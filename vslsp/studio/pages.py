@@ -161,6 +161,11 @@ def experiments_page(root: Path) -> None:
             label="VSL-3D method",
         ).classes("w-48")
         views = ui.select({None: "default", 1: "1", 2: "2"}, value=None, label="views").classes("w-24")
+        intervention = ui.select(
+            {None: "default", "by-seed": "by-seed", "none": "none", "first-move": "first-move"},
+            value=None,
+            label="Hanoi intervention",
+        ).classes("w-40")
         planner = ui.input("planner (default: fast-downward)").classes("w-56")
         start = ui.button("Start").props("id=start")
 
@@ -172,6 +177,7 @@ def experiments_page(root: Path) -> None:
             "slip_detection": detection.value,
             "method": method.value,
             "views": views.value,
+            "intervention": intervention.value,
             "planner": planner.value or None,
         }
         request = {

@@ -53,6 +53,7 @@ FIELDS = (
     "slip_detection",
     "method",
     "views",
+    "intervention",
     "planner",
 )
 
@@ -99,7 +100,8 @@ def _choice(request: dict, key: str, kinds: type | tuple[type, ...], what: str) 
 def checked(request: Any) -> dict:
     """The run request with its defaults, or InputError (found before any trial runs, as the CLI's). The
     fields are ``vslsp experiment``'s options: ``experiment``, ``trials``, ``seed``, ``workers``, ``backend``,
-    ``faults``, ``video``, ``tutor_slips``, ``slip_detection``, ``method``, ``views``, ``planner``."""
+    ``faults``, ``video``, ``tutor_slips``, ``slip_detection``, ``method``, ``views``, ``intervention``,
+    ``planner``."""
     from vslsp.tasks import get_task
 
     if not isinstance(request, dict):
@@ -120,6 +122,7 @@ def checked(request: Any) -> dict:
         "slip_detection": _choice(request, "slip_detection", bool, "true or false"),
         "method": _choice(request, "method", str, "a match-finding method's name"),
         "views": _choice(request, "views", int, "1 or 2"),
+        "intervention": _choice(request, "intervention", str, "by-seed, none or first-move"),
         "planner": _choice(request, "planner", str, "a planner's name"),
     }
     slips = options["tutor_slips"]
@@ -140,7 +143,9 @@ def checked(request: Any) -> dict:
 
 def task_options(request: dict, report_folder: str) -> dict[str, Any]:
     """The options of ``get_task`` for a checked request (``video``: the report folder it films into)."""
-    options = {key: request.get(key) for key in ("faults", "tutor_slips", "slip_detection", "method", "views")}
+    options = {
+        key: request.get(key) for key in ("faults", "tutor_slips", "slip_detection", "method", "views", "intervention")
+    }
     return {**options, "planner": request.get("planner"), "video": report_folder if request.get("video") else None}
 
 

@@ -36,7 +36,11 @@ RECORDED_OPTIONS: dict[str, type | tuple[type, ...]] = {
     "tutor_slips": (int, float),  # the summary's own keys, written by the tasks that take them
     "slip_detection": bool,
     "views": int,
+    "intervention": str,
 }
+#: The options a summary records under a key of another name (tower-of-hanoi's ``intervention`` is
+#: the tally of the trials the user intervened in).
+RECORDED_AS = {"intervention": "intervention_choice"}
 #: The differences a check keeps.
 MAX_DIFFERENCES = 20
 
@@ -79,12 +83,12 @@ def checked(root: Path, rel: str, seed: int) -> dict:
 
 def recorded_options(root: Path, folder: Path, summary: dict, takes: set[str]) -> dict[str, Any]:
     """The options of the run that wrote the report, as far as it recorded them: the summary's
-    ``faults`` and ``method`` (VSL-SP, VSL-3D), ``tutor_slips``, ``slip_detection`` and ``views``,
-    or a studio run's request."""
+    ``faults`` and ``method`` (VSL-SP, VSL-3D), ``tutor_slips``, ``slip_detection``, ``views`` and
+    ``intervention_choice`` (tower-of-hanoi), or a studio run's request."""
     found = {
-        key: summary[key]
+        key: summary[RECORDED_AS.get(key, key)]
         for key, kind in RECORDED_OPTIONS.items()
-        if key in takes and isinstance(summary.get(key), kind)
+        if key in takes and isinstance(summary.get(RECORDED_AS.get(key, key)), kind)
     }
     status = folder.parent / "status.json"  # a studio run: out/studio/runs/ID/report
     if folder.name == "report" and folder.parent.parent == root.resolve() / runs.RUNS and status.is_file():

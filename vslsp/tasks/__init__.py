@@ -2,12 +2,12 @@
 one report (``vslsp experiment NAME``; ``vslsp experiment --list``).
 
 Public API: :class:`Task` (subclass it), :func:`register` (class decorator), :class:`TrialResult`
-(what a trial returns), :class:`System`, :class:`Option`, :func:`get_task`, :func:`list_tasks`,
-:func:`run_trials`, :func:`write_report`, :func:`load_task_files` (``--tasks FILE.py``). See
-``docs/tasks.md`` for a task written from scratch.
+(what a trial returns, how it ended: its :class:`TrialStatus`), :class:`System`, :class:`Option`,
+:func:`get_task`, :func:`list_tasks`, :func:`run_trials`, :func:`write_report`, :func:`load_task_files`
+(``--tasks FILE.py``). See ``docs/tasks.md`` for a task written from scratch.
 """
 
-from vslsp.tasks.base import Option, System, Task, TrialResult
+from vslsp.tasks.base import Option, System, Task, TrialResult, TrialStatus
 from vslsp.tasks.registry import get_task, list_tasks, load_task_files, register, task_class
 from vslsp.tasks.report import summary, write_report
 from vslsp.tasks.runner import Run, run_trials
@@ -22,6 +22,7 @@ __all__ = [
     "System",
     "Task",
     "TrialResult",
+    "TrialStatus",
     "get_task",
     "list_tasks",
     "load_task_files",

@@ -61,6 +61,7 @@ class Option(enum.StrEnum):
     VIEWS = "views"  # VSL-3D's depth cameras: 1 (the paper's single view) or 2 (fused)
     RERUN = "rerun"  # the run's folder of recording parts: each trial logged into its trial-SEED.rrd
     PERTURB = "perturb"  # NAME=LEVEL items: how the reproduction's world differs (vslsp.perturbations)
+    INTERVENTION = "intervention"  # tower-of-hanoi: whether the user makes the first move (by-seed, none, first-move)
 
     @property
     def flag(self) -> str:
@@ -68,11 +69,24 @@ class Option(enum.StrEnum):
         return "--" + self.value.replace("_", "-")
 
 
+class TrialStatus(enum.StrEnum):
+    """How a trial ended (what ``success`` says, and for a failure, where it came from), as
+    unified-planning's ``PlanGenerationResultStatus`` says how a planner ended."""
+
+    SOLVED = "solved"  # the goal reached, judged on the simulator's ground truth
+    FAILED = "failed"  # the trial ran to its end without reaching the goal (or learning the demonstration)
+    RAISED = "raised"  # the trial raised an exception, recorded as its error
+    LOST = "lost"  # the process that ran it ended during the trial (a crash, out of memory, a signal, Ray)
+
+
 @dataclass
 class TrialResult:
     """One trial of any task.
 
-    ``success`` is judged on the simulator's ground truth; ``error`` says why a trial failed and
+    ``success`` is judged on the simulator's ground truth; ``status`` says how the trial ended
+    (:class:`TrialStatus`: ``SOLVED`` exactly when ``success``; left out, ``SOLVED`` or ``FAILED``
+    by ``success``; a status that contradicts ``success`` is a ``ValueError``, as
+    unified-planning checks a result's status against its plan); ``error`` says why a trial failed and
     ``failure_cause`` names the cause in short (what the report tallies, :attr:`cause`);
     ``operations`` holds one JSON record per operation (what moved, how it was found, how it
     ended); ``details`` holds the task's other JSON fields; ``artefacts`` holds what the report
@@ -91,6 +105,13 @@ class TrialResult:
     stages_s: dict[str, float] | None = None  # wall seconds per stage (vslsp.stages), adding up to time_s
     video: str | None = None  # the trial's MP4, relative to the report folder (``--video``)
     failure_cause: str | None = None  # e.g. "no plan", "demonstration", the exception's type
+    status: TrialStatus | None = None  # None: SOLVED or FAILED by ``success``
+
+    def __post_init__(self) -> None:
+        if self.status is None:
+            self.status = TrialStatus.SOLVED if self.success else TrialStatus.FAILED
+        if self.success != (self.status is TrialStatus.SOLVED):
+            raise ValueError(f"a trial of status {self.status.value} cannot have success={self.success}")
 
     def to_dict(self) -> dict:
         """The trial's JSON record (``results`` of ``report.json``)."""
@@ -98,6 +119,7 @@ class TrialResult:
             "experiment": self.experiment,
             "seed": self.seed,
             "success": self.success,
+            "status": str(self.status),
             "error": self.error,
             "time_s": round(self.time_s, 3),
             "cpu_s": round(self.cpu_s, 3),

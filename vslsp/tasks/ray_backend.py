@@ -42,7 +42,7 @@ from typing import Any
 
 from vslsp import interrupts
 from vslsp.errors import InputError
-from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.base import Task, TrialResult, TrialStatus
 from vslsp.tasks.task_files import by_value_for_ray
 from vslsp.tasks.trial import run_one
 
@@ -364,10 +364,13 @@ def _outcome(ray: ModuleType, ref: Any, name: str, seed: int) -> TrialResult:
             f"worker died: its process ended during the trial {RETRIES + 1} "
             f"times ({type(error).__name__}: crash, out of memory or node lost)",
             failure_cause="worker died",
+            status=TrialStatus.LOST,
         )
     except errors.RayError as error:
         first = (str(error).strip().splitlines() or [""])[0][:300]
-        return TrialResult(name, seed, False, f"ray: {type(error).__name__}: {first}", failure_cause="ray")
+        return TrialResult(
+            name, seed, False, f"ray: {type(error).__name__}: {first}", failure_cause="ray", status=TrialStatus.LOST
+        )
 
 
 def _cancel(ray: ModuleType, refs: list[Any]) -> None:

@@ -24,7 +24,7 @@ from typing import Any
 
 from vslsp import interrupts
 from vslsp.errors import InputError
-from vslsp.tasks.base import Task, TrialResult
+from vslsp.tasks.base import Task, TrialResult, TrialStatus
 from vslsp.tasks.task_files import check_main_guard
 from vslsp.tasks.trial import Interrupted, run_one
 
@@ -215,7 +215,7 @@ def _run_pool(
                     broken.append(seed)
                 except Interrupted as stop:  # the worker alone was sent SIGTERM (by someone else)
                     ended = f"worker ended by {stop.signal_name}"
-                    finished(TrialResult(task.name, seed, False, ended, failure_cause=ended))
+                    finished(TrialResult(task.name, seed, False, ended, failure_cause=ended, status=TrialStatus.LOST))
             if broken:
                 # Every trial in flight was lost with the pool: retry each once in a fresh one.
                 lost = sorted(broken + list(running.values()))
@@ -231,6 +231,7 @@ def _run_pool(
                                 False,
                                 "worker died: its process ended during the trial twice (crash or out of memory)",
                                 failure_cause="worker died",
+                                status=TrialStatus.LOST,
                             )
                         )
                     else:

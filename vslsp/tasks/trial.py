@@ -5,7 +5,7 @@ from __future__ import annotations
 import traceback
 
 from vslsp.errors import Interrupted
-from vslsp.tasks.base import Task, TrialResult, timed
+from vslsp.tasks.base import Task, TrialResult, TrialStatus, timed
 
 __all__ = ["Interrupted", "run_one"]
 
@@ -24,5 +24,6 @@ def run_one(task: Task, seed: int, keep: bool = False) -> TrialResult:
             False,
             f"{type(error).__name__}: {error} (at {where.filename.split('/')[-1]}:{where.lineno})",
             failure_cause=type(error).__name__,
+            status=TrialStatus.RAISED,
         )
     return result if keep else result.without_artefacts()
