@@ -10,6 +10,7 @@ import cv2
 import numpy as np
 import pytest
 from helpers.cli import vslsp
+from helpers.pictures import png_header
 
 from vslsp.experiments.picture_folders import write_recording
 from vslsp.vision.image import read_image, write_image
@@ -163,6 +164,9 @@ def test_a_scene_of_another_size_or_missing_is_named(recording, demo, tmp_path, 
     scene = tmp_path / "scene.png"
     write_image(scene, np.zeros((480, 640, 3), np.uint8))
     assert "scene.png is 640x480 px" in refused(capsys, "vsl", "reproduce", demo, scene)
+    claimed = tmp_path / "claimed.png"  # no pixel: refused from its header, before it is decoded
+    claimed.write_bytes(png_header(640, 480))
+    assert "claimed.png is 640x480 px" in refused(capsys, "vsl", "reproduce", demo, claimed)
     assert "nowhere.png" in refused(capsys, "vsl", "reproduce", demo, tmp_path / "nowhere.png")
 
 
