@@ -4,11 +4,9 @@ pixels together are bounded (``--max-pixels MP``), checked from each file's head
 decoded; ``vslsp vsl reproduce`` checks a scene's size from its header before decoding it. Each
 refusal is exit 2, one line naming the file and saying what to do, before anything is written."""
 
-import json
-
 import numpy as np
 import pytest
-from helpers.cli import vslsp
+from helpers.cli import refused, vslsp
 from helpers.pictures import png_header
 
 from vslsp.vision.image import write_image
@@ -16,14 +14,6 @@ from vslsp.vision.image import write_image
 
 def picture(seed: int) -> np.ndarray:
     return np.random.default_rng(seed).integers(0, 255, (480, 640, 3), dtype=np.uint8)
-
-
-def refused(capsys, *args) -> str:
-    code, out, err = vslsp(capsys, *args, "--json")
-    assert code == 2, err
-    assert "error" in json.loads(out)
-    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    return err
 
 
 @pytest.fixture

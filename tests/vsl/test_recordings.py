@@ -9,7 +9,7 @@ import shutil
 import cv2
 import numpy as np
 import pytest
-from helpers.cli import vslsp
+from helpers.cli import refused, vslsp
 from helpers.pictures import png_header
 
 from vslsp.experiments.picture_folders import write_recording
@@ -90,14 +90,6 @@ def test_a_session_answers_operation_after_operation_until_done(recording, demo,
     session.write_text(json.dumps({**record, "next": 4}))  # the robot did all four
     code, out, _ = vslsp(capsys, "vsl", "reproduce", demo, scene, "--step", session, "--json")
     assert code == 0 and json.loads(out) == {"done": True, "operations": 4}
-
-
-def refused(capsys, *args) -> str:
-    code, out, err = vslsp(capsys, *args, "--json")
-    assert code == 2, err
-    assert "error" in json.loads(out)
-    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    return err
 
 
 def test_a_missing_picture_is_named(recording, tmp_path, capsys):

@@ -8,7 +8,7 @@ import json
 
 import numpy as np
 import pytest
-from helpers.cli import vslsp
+from helpers.cli import refused, vslsp
 
 from vslsp.experiments.cloud_folders import write_cloud_recording
 from vslsp.vsl3d.files import MAX_CLOUD_BYTES, write_pcd, write_ply
@@ -19,14 +19,6 @@ CALIBRATION = {
     "rotation": [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]],
     "translation": [0.0, 0.0, 1.0],
 }
-
-
-def refused(capsys, *args) -> str:
-    code, out, err = vslsp(capsys, *args, "--json")
-    assert code == 2, err
-    assert "error" in json.loads(out)
-    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    return err
 
 
 @pytest.fixture
