@@ -21,6 +21,7 @@ LAYERS = {
             "vslsp.outcomes",
             "vslsp.outputs",
             "vslsp.files",
+            "vslsp.folders",
             "vslsp.stages",
             "vslsp.data",
             "vslsp.provenance",
@@ -48,6 +49,7 @@ MAY_IMPORT: dict[str, set[int | str]] = {
     "vslsp.outcomes": {"vslsp.errors"},
     "vslsp.outputs": {"vslsp.errors"},
     "vslsp.files": {"vslsp.errors"},
+    "vslsp.folders": {"vslsp.errors", "vslsp.files", "vslsp.outputs"},
     "vslsp.interrupts": {"vslsp.errors"},
     "vslsp.skills": {*BELOW[3], "vslsp.worlds"},  # a skill acts in a world through its protocol
     "vslsp.vision": {0, 1},  # perception: no simulator, no world

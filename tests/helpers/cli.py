@@ -5,6 +5,7 @@ standard input, the installed entry point's behaviour)."""
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import shutil
 import subprocess
@@ -25,6 +26,16 @@ def vslsp(capsys: pytest.CaptureFixture[str], *args: object) -> tuple[int, str, 
     out, err = capsys.readouterr()
     code = done.value.code
     return (code if isinstance(code, int) else 1), out, err
+
+
+def refused(capsys: pytest.CaptureFixture[str], *args: object) -> str:
+    """``vslsp ARGS --json`` that must be bad input: exit 2, a JSON error on stdout, one line on
+    stderr and no traceback; returns stderr."""
+    code, out, err = vslsp(capsys, *args, "--json")
+    assert code == 2, err
+    assert "error" in json.loads(out)
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    return err
 
 
 def vslsp_process(

@@ -9,7 +9,8 @@ import shutil
 import cv2
 import numpy as np
 import pytest
-from helpers.cli import vslsp
+from helpers.cli import refused, vslsp
+from helpers.pictures import png_header
 
 from vslsp.experiments.picture_folders import write_recording
 from vslsp.vision.image import read_image, write_image
@@ -91,14 +92,6 @@ def test_a_session_answers_operation_after_operation_until_done(recording, demo,
     assert code == 0 and json.loads(out) == {"done": True, "operations": 4}
 
 
-def refused(capsys, *args) -> str:
-    code, out, err = vslsp(capsys, *args, "--json")
-    assert code == 2, err
-    assert "error" in json.loads(out)
-    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    return err
-
-
 def test_a_missing_picture_is_named(recording, tmp_path, capsys):
     folder = copy_of(recording, tmp_path)
     (folder / "02-mid.png").unlink()
@@ -163,6 +156,9 @@ def test_a_scene_of_another_size_or_missing_is_named(recording, demo, tmp_path, 
     scene = tmp_path / "scene.png"
     write_image(scene, np.zeros((480, 640, 3), np.uint8))
     assert "scene.png is 640x480 px" in refused(capsys, "vsl", "reproduce", demo, scene)
+    claimed = tmp_path / "claimed.png"  # no pixel: refused from its header, before it is decoded
+    claimed.write_bytes(png_header(640, 480))
+    assert "claimed.png is 640x480 px" in refused(capsys, "vsl", "reproduce", demo, claimed)
     assert "nowhere.png" in refused(capsys, "vsl", "reproduce", demo, tmp_path / "nowhere.png")
 
 

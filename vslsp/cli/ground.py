@@ -5,31 +5,38 @@ from __future__ import annotations
 
 import contextlib
 import json
+from typing import Any
 
 import click
 
 from vslsp.cli.params import PIXELS
 
 
+def grounding_options(function: Any) -> Any:
+    """``--robot-side`` and ``--predicates FILE.py`` (as ``predicates_file``): how a pair of
+    pictures is grounded, here and in ``vslsp learn-domain``."""
+    function = click.option(
+        "--predicates",
+        "predicates_file",
+        type=click.Path(dir_okay=False),
+        default=None,
+        help="A Python file of predicates (@predicate from vslsp.grounding) to ground for every object and "
+        "ordered pair, before and after. The file runs as Python with your rights, like a pytest "
+        "conftest.py, in a child process with time and memory limits (docs/grounding.md): use only files you trust.",
+    )(function)
+    return click.option(
+        "--robot-side",
+        type=click.Choice(["bottom", "top", "left", "right"]),
+        default="bottom",
+        show_default=True,
+        help="The image edge the robot is beyond (bottom: the robot's own view).",
+    )(function)
+
+
 @click.command()
 @click.argument("pre", type=click.Path(dir_okay=False))
 @click.argument("post", type=click.Path(dir_okay=False))
-@click.option(
-    "--robot-side",
-    type=click.Choice(["bottom", "top", "left", "right"]),
-    default="bottom",
-    show_default=True,
-    help="The image edge the robot is beyond (bottom: the robot's own view).",
-)
-@click.option(
-    "--predicates",
-    "predicates_file",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="A Python file of predicates (@predicate from vslsp.grounding) to ground for every object and "
-    "ordered pair, before and after. The file runs as Python with your rights, like a pytest "
-    "conftest.py, in a child process with time and memory limits (docs/grounding.md): use only files you trust.",
-)
+@grounding_options
 @click.option(
     "--min-move",
     type=PIXELS,

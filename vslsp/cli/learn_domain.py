@@ -10,33 +10,19 @@ from pathlib import Path
 
 import click
 
-from vslsp.cli.params import prepare_output_folder
-from vslsp.errors import InputError
+from vslsp.cli.ground import grounding_options
+from vslsp.cli.recordings import learn_options, max_pixels_option, prepare_learned
 
 DOMAIN, PROBLEM, SUMMARY = "domain.pddl", "problem.pddl", "learned.json"
 
 
 @click.command("learn-domain")
-@click.argument("folder", type=click.Path(file_okay=False))
-@click.option("--out", "out", required=True, type=click.Path(file_okay=False), help="The folder to write into.")
-@click.option(
-    "--predicates",
-    "predicates_file",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="A Python file of predicates (@predicate from vslsp.grounding) to ground besides far, as "
-    "`vslsp ground --predicates` does: it runs as Python with your rights in a child process with "
-    "limits (docs/grounding.md); use only files you trust.",
-)
-@click.option(
-    "--robot-side",
-    type=click.Choice(["bottom", "top", "left", "right"]),
-    default="bottom",
-    show_default=True,
-    help="The image edge the robot is beyond (bottom: the robot's own view).",
-)
-@click.option("--json", "as_json", is_flag=True, help='Print one JSON object on stdout ({"error": ...} on failure).')
-def learn_domain(folder: str, out: str, predicates_file: str | None, robot_side: str, as_json: bool) -> None:
+@learn_options("the domain, the problem and the overlays")
+@grounding_options
+@max_pixels_option
+def learn_domain(
+    folder: str, out: str, predicates_file: str | None, robot_side: str, as_json: bool, max_pixels: int
+) -> None:
     """Learn the PDDL domain and problem from the operations in FOLDER (01-pre.png, 01-post.png, ...
     and names.json, e.g. {"01": "pull red", "02": "push blue"}; optional explore/ of the robot's
     own executions): DIR/domain.pddl, DIR/problem.pddl (the demonstrated order as sometime-before
@@ -44,19 +30,16 @@ def learn_domain(folder: str, out: str, predicates_file: str | None, robot_side:
     from vslsp.grounding import draw_grounding, with_builtins
     from vslsp.grounding.contained import UserPredicates
     from vslsp.loop.picture_domain import learn_picture_domain, read_picture_folder
-    from vslsp.outputs import refuse_places, write_text
+    from vslsp.outputs import write_text
     from vslsp.vision.image import write_image
 
-    pictures = read_picture_folder(folder)  # every file checked before any work
-    if Path(out).resolve() == Path(folder).resolve():
-        raise InputError(f"--out {out} is the pictures' folder FOLDER; write the domain elsewhere")
+    pictures = read_picture_folder(folder, max_pixels)  # every file checked before any work
     overlays = {
         id(p): _overlay(p.number, i > 0)
         for i, pairs in enumerate((pictures.demonstration, pictures.explorations))
         for p in pairs
     }
-    prepare_output_folder(out)
-    refuse_places(out, (DOMAIN, PROBLEM, SUMMARY, *overlays.values()))
+    prepare_learned(folder, out, (DOMAIN, PROBLEM, SUMMARY, *overlays.values()), "the domain")
     with contextlib.ExitStack() as stack:
         predicates = None
         if predicates_file:  # the user's code runs in a child process (vslsp.grounding.contained)

@@ -313,6 +313,22 @@ def positive_float(maximum: float | None = None) -> PositiveFloat:
     return PositiveFloat(maximum)
 
 
+def millions_option(option: str, dest: str, default: int, unit: str, maximum: float, help: str) -> Callable[[F], F]:
+    """An input limit given in millions of ``unit`` (``--max-size 100`` MB, ``--max-pixels 300``
+    MP: a finite float > 0, at most ``maximum``), handed to the command as the whole count
+    ``dest`` (at least 1); ``default`` is the count."""
+    return click.option(
+        option,
+        dest,
+        type=positive_float(maximum),
+        default=default / 1e6,
+        show_default=True,
+        metavar=unit,
+        callback=lambda _ctx, _param, value: max(1, int(value * 1e6)),
+        help=help,
+    )
+
+
 def non_negative_float(maximum: float | None = None) -> PositiveFloat:
     """A finite float >= 0 (and <= ``maximum`` when given): a budget where 0 means "none"."""
     return PositiveFloat(maximum, zero=True)

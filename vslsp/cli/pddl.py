@@ -78,19 +78,11 @@ MAX_SIZE_MB = 10_000.0
 def max_size_option(function: Any) -> Any:
     """``--max-size MB``: the largest PDDL file read (:data:`vslsp.symbolic.language.files.MAX_PDDL_BYTES`
     by default), given to the function as ``max_bytes``."""
-    from vslsp.cli.params import positive_float
+    from vslsp.cli.params import millions_option
     from vslsp.symbolic.language.files import MAX_PDDL_BYTES, MAX_SIZE_OPTION
 
-    return click.option(
-        MAX_SIZE_OPTION,
-        "max_bytes",
-        type=positive_float(MAX_SIZE_MB),
-        default=MAX_PDDL_BYTES / 1e6,
-        show_default=True,
-        metavar="MB",
-        callback=lambda _ctx, _param, value: max(1, int(value * 1e6)),
-        help="The largest PDDL file read, in MB (a larger one is exit 2, naming it and its size).",
-    )(function)
+    help = "The largest PDDL file read, in MB (a larger one is exit 2, naming it and its size)."
+    return millions_option(MAX_SIZE_OPTION, "max_bytes", MAX_PDDL_BYTES, "MB", MAX_SIZE_MB, help)(function)
 
 
 @click.group()

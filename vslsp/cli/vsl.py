@@ -11,10 +11,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from vslsp.cli.params import prepare_output_file, prepare_output_folder
+from vslsp.cli.params import prepare_output_file
+from vslsp.cli.recordings import JSON_HELP, learn_options, max_pixels_option, prepare_learned, reply, reproduce_options
 from vslsp.errors import InputError
-
-_JSON_HELP = 'Print one JSON object on stdout ({"error": ...} on failure).'
 
 
 @click.group()
@@ -23,29 +22,24 @@ def vsl() -> None:
 
 
 @vsl.command()
-@click.argument("folder", type=click.Path(file_okay=False))
-@click.option("--out", "out", required=True, type=click.Path(file_okay=False), help="The folder to write DEMO into.")
-@click.option("--json", "as_json", is_flag=True, help=_JSON_HELP)
-def learn(folder: str, out: str, as_json: bool) -> None:
+@learn_options("DEMO")
+@max_pixels_option
+def learn(folder: str, out: str, as_json: bool, max_pixels: int) -> None:
     """Learn the demonstration in FOLDER (01-pre.png, 01-mid.png, 01-post.png, ...; optional
     calibration.json, names.json, heights.json: docs/recordings.md) into the folder --out: the
     moved object of every operation, its pick and place, its features, the recorded
     observations and an annotated picture of each operation."""
-    from vslsp.outputs import refuse_places
     from vslsp.vsl.learned import FEATURES, RECORD, save_learned
     from vslsp.vsl.recordings import learn as learn_recording
     from vslsp.vsl.recordings import read_recording
 
-    recording = read_recording(folder)  # every file checked before any work
-    if Path(out).resolve() == Path(folder).resolve():
-        raise InputError(f"--out {out} is the recording's folder FOLDER; write the demonstration elsewhere")
+    recording = read_recording(folder, max_pixels)  # every file checked before any work
     names = [RECORD, FEATURES] + [
         f"{i:02d}-{which}.png"
         for i in range(1, len(recording.observations) + 1)
         for which in ("pre-pick", "pre-place", "post-place", "annotated")
     ]
-    prepare_output_folder(out)
-    refuse_places(out, tuple(names))
+    prepare_learned(folder, out, tuple(names))
     demo = learn_recording(recording)
     path = save_learned(demo, recording, out)
     pictures = _annotate(demo, recording.names, Path(out))
@@ -107,59 +101,30 @@ def _annotate(demo, names: tuple[str, ...], folder: Path) -> list[str]:
 
 
 @vsl.command()
-@click.argument("demo", type=click.Path(file_okay=False))
-@click.argument("scene", type=click.Path(dir_okay=False))
-@click.option(
-    "--step",
-    "session_file",
-    type=click.Path(dir_okay=False),
-    default=None,
-    help="A session file (JSON, created when missing): answer its next operation and move on, so that "
-    'your robot acts, photographs and asks again; {"done": true} when every operation is done.',
-)
-@click.option(
-    "--operation",
-    type=click.IntRange(min=1),
-    default=1,
-    show_default=True,
-    help="Without --step: the operation to answer (1 = the first).",
-)
-@click.option("--json", "as_json", is_flag=True, help=_JSON_HELP)
+@reproduce_options("photographs")
+@click.option("--json", "as_json", is_flag=True, help=JSON_HELP)
 def reproduce(demo: str, scene: str, session_file: str | None, operation: int, as_json: bool) -> None:
     """The next operation's pick and place in SCENE (a picture of the new scene by the camera
     of the demonstration): pixels of SCENE and, with a calibration, table metres."""
     from vslsp.vision.image import read_image
-    from vslsp.vsl.learned import Session, load_learned, next_operation
+    from vslsp.vsl.learned import load_learned, next_operation
 
     learned = load_learned(demo)
-    image = read_image(scene)
-    if (image.shape[1], image.shape[0]) != learned.size:
-        raise InputError(
-            f"{scene} is {image.shape[1]}x{image.shape[0]} px, the demonstration's pictures "
-            f"{learned.size[0]}x{learned.size[1]}: photograph the scene with the demonstration's camera"
-        )
-    session = None
-    if session_file is not None:
-        prepare_output_file(session_file, "--step")
-        session = Session.open(session_file, demo, len(learned))
-        k = session.next
-    elif operation > len(learned):
-        raise InputError(f"--operation {operation}: the demonstration has {len(learned)} operations")
-    else:
-        k = operation - 1
-    if k >= len(learned):
-        answer: dict = {"done": True, "operations": len(learned)}
-    else:
-        answer = next_operation(learned, k, image)
-        if session is not None and session_file is not None:
-            session.next, session.given = k + 1, [*(session.given or []), {"scene": str(scene), **answer}]
-            session.save(session_file)
-    if as_json:
-        click.echo(json.dumps(answer))
-        return
-    if answer["done"]:
-        click.echo(f"done: all {answer['operations']} operations of the demonstration are done")
-        return
+
+    def fits(width: int, height: int) -> None:  # from the header, before the picture is decoded
+        if (width, height) != learned.size:
+            raise InputError(
+                f"{scene} is {width}x{height} px, the demonstration's pictures "
+                f"{learned.size[0]}x{learned.size[1]}: photograph the scene with the demonstration's camera"
+            )
+
+    image = read_image(scene, fits=fits)
+    count = len(learned)
+    reply(demo, scene, session_file, operation, count, lambda k: next_operation(learned, k, image), as_json, _told)
+
+
+def _told(answer: dict) -> list[str]:
+    """The lines of a reproduction's answer."""
     lines = [f"operation {answer['operation']} of {answer['operations']} ({answer['name']}):"]
     for role in ("pick", "place"):
         where = answer[role]
@@ -171,7 +136,7 @@ def reproduce(demo: str, scene: str, session_file: str | None, operation: int, a
             )
         lines.append(line)
     lines.append(f"  turn the object {np.degrees(answer['turn_rad']):.1f} deg")
-    click.echo("\n".join(lines))
+    return lines
 
 
 @vsl.command()
@@ -191,7 +156,7 @@ def reproduce(demo: str, scene: str, session_file: str | None, operation: int, a
     help="IMAGE then four or more pairs u,v:x,y (image pixels : table metres): a homography.",
 )
 @click.option("--out", "out", required=True, type=click.Path(dir_okay=False), help="The calibration.json to write.")
-@click.option("--json", "as_json", is_flag=True, help=_JSON_HELP)
+@click.option("--json", "as_json", is_flag=True, help=JSON_HELP)
 def calibrate(
     images: tuple[str, ...], pattern: str | None, square: float | None, points: bool, out: str, as_json: bool
 ) -> None:

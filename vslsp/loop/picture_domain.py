@@ -27,17 +27,16 @@ import numpy as np
 
 from vslsp.errors import InputError, VslspError
 from vslsp.files import read_json, shown
+from vslsp.folders import MAX_SIDE_FILE_BYTES, Form, operation_files, spelled_number
 from vslsp.grounding import Grounding, Predicate, ground, ground_scene
 from vslsp.loop.pipeline import scene_literals
 from vslsp.symbolic import Domain, Problem, Step, Task, learn_domain, learn_task, make_problem
 from vslsp.vision.change import default_min_move
-from vslsp.vision.image import IMAGE_EXTENSIONS, read_image
+from vslsp.vision.image import IMAGE_EXTENSIONS, MAX_FOLDER_PIXELS, read_pictures
 
 #: The actions of VSL-SP's skills: what a demonstrated operation may be named.
 ACTIONS = ("push", "pull")
-PAIR_FILE = re.compile(r"^(\d{1,4})-(pre|post)\.(png|jpg|jpeg)$", re.IGNORECASE)
 EXPLORE = "explore"
-MAX_NAMES_BYTES = 1_000_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,77 +84,40 @@ class LearnedDomain:
     explorations: tuple[LearnedOperation, ...]
 
 
-def read_picture_folder(folder: str | Path) -> PictureFolder:
+FORM = Form(
+    re.compile(r"^(\d{1,4})-(pre|post)(\.png|\.jpg|\.jpeg)$", re.IGNORECASE),
+    IMAGE_EXTENSIONS,
+    {"pre": "pre-action picture", "post": "post-action picture"},
+    (),
+    "NN-pre or NN-post (.png or .jpg)",
+    "picture",
+    "01-pre.png, 01-post.png",
+    "the operations' pictures",
+)
+
+
+def read_picture_folder(folder: str | Path, max_pixels: int = MAX_FOLDER_PIXELS) -> PictureFolder:
     """Read and check ``folder`` (the module's docstring) before any work. Raises InputError
     naming the file: a missing or unreadable picture, a name out of the form, numbers with
-    gaps, pictures of different sizes, a ``names.json`` missing, not parsing, naming an
-    unknown action or leaving out an operation."""
+    gaps, pictures of different sizes or of more than ``max_pixels`` together, a ``names.json``
+    missing, not parsing, naming an unknown action or leaving out an operation."""
     folder = Path(folder)
-    if not folder.is_dir():
-        raise InputError(f"{shown(folder)} is not a folder; give the folder of the operations' pictures")
-    demonstration = _read_pairs(folder)
+    demonstration = _pair_files(folder)
     explore = folder / EXPLORE
-    explorations = _read_pairs(explore) if explore.is_dir() else ()
-    size = demonstration[0].pre.shape
-    for pair in explorations:
-        if pair.pre.shape != size:
-            raise InputError(
-                f"{shown(pair.pre_file)} is {pair.pre.shape[1]}x{pair.pre.shape[0]} px, "
-                f"{shown(demonstration[0].pre_file)} {size[1]}x{size[0]}: take every picture with the same camera"
-            )
-    return PictureFolder(folder, demonstration, explorations)
+    explorations = _pair_files(explore) if explore.is_dir() else []
+    pictures = iter(read_pictures([f for _, files in demonstration + explorations for f in files], max_pixels))
+    pairs = [
+        PicturePair(spelled_number(pre), *name, pre, post, next(pictures), next(pictures))
+        for name, (pre, post) in demonstration + explorations
+    ]
+    return PictureFolder(folder, tuple(pairs[: len(demonstration)]), tuple(pairs[len(demonstration) :]))
 
 
-def _read_pairs(folder: Path) -> tuple[PicturePair, ...]:
-    found: dict[int, dict[str, Path]] = {}
-    for path in sorted(folder.iterdir()):
-        if path.suffix.lower() not in IMAGE_EXTENSIONS:
-            continue
-        match = PAIR_FILE.match(path.name)
-        if match is None:
-            raise InputError(
-                f"{shown(path)}: an image whose name is not NN-pre or NN-post (.png or .jpg); "
-                "rename it or move it out of the folder (docs/recordings.md)"
-            )
-        number, role = int(match.group(1)), match.group(2).lower()
-        if role in found.setdefault(number, {}):
-            raise InputError(
-                f"{shown(path)} and {shown(found[number][role])} are both operation {number}'s {role} picture"
-            )
-        found[number][role] = path
-    if not found:
-        raise InputError(f"{shown(folder)} holds no pictures named 01-pre.png, 01-post.png ...")
-    for expected, number in enumerate(sorted(found), start=1):
-        if number != expected:
-            some = next(iter(found[number].values()))
-            raise InputError(
-                f"{shown(some)}: operation {number} follows operation {expected - 1}; number the operations "
-                f"1, 2, 3 ... without gaps"
-            )
-        for role in ("pre", "post"):
-            if role not in found[number]:
-                other = next(iter(found[number].values()))
-                missing = folder / f"{other.name.split('-')[0]}-{role}{other.suffix}"
-                raise InputError(f"{shown(missing)} is missing: operation {number} needs its {role}-action picture")
-    names = _names(folder / "names.json", {n: roles["pre"].name.split("-")[0] for n, roles in found.items()})
-    pairs: list[PicturePair] = []
-    size: tuple[int, ...] | None = None
-    first = folder
-    for number in sorted(found):
-        files = found[number]
-        images = {role: read_image(files[role]) for role in ("pre", "post")}
-        for role, image in images.items():
-            if size is None:
-                size, first = image.shape, files[role]
-            elif image.shape != size:
-                raise InputError(
-                    f"{shown(files[role])} is {image.shape[1]}x{image.shape[0]} px, {shown(first)} "
-                    f"{size[1]}x{size[0]}: take every picture with the same camera at the same size"
-                )
-        action, obj = names[number]
-        spelled = files["pre"].name.split("-")[0]
-        pairs.append(PicturePair(spelled, action, obj, files["pre"], files["post"], images["pre"], images["post"]))
-    return tuple(pairs)
+def _pair_files(folder: Path) -> list[tuple[tuple[str, str], tuple[Path, Path]]]:
+    """Per operation of ``folder`` in order: its (action, object) and its (pre, post) files."""
+    found = operation_files(folder, FORM)
+    names = _names(folder / "names.json", {n: spelled_number(roles["pre"]) for n, roles in found.items()})
+    return [(names[n], (found[n]["pre"], found[n]["post"])) for n in sorted(found)]
 
 
 def _names(path: Path, spelled: dict[int, str]) -> dict[int, tuple[str, str]]:
@@ -163,7 +125,7 @@ def _names(path: Path, spelled: dict[int, str]) -> dict[int, tuple[str, str]]:
     example = '{"01": "pull red", "02": "push blue"}'
     if not path.exists():
         raise InputError(f"{shown(path)} is missing: name each operation's action and object, e.g. {example}")
-    data = read_json(path, "names", MAX_NAMES_BYTES)
+    data = read_json(path, "names", MAX_SIDE_FILE_BYTES)
     if not isinstance(data, dict):
         raise InputError(
             f"{shown(path)}: give an object mapping each operation's number to its action and object, e.g. {example}"

@@ -7,7 +7,9 @@ and turns a wrong input into an :class:`~vslsp.errors.InputError` that says what
 
 from __future__ import annotations
 
+import functools
 import os
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import cv2
@@ -100,8 +102,11 @@ def header_size(source: bytes | str | os.PathLike[str]) -> tuple[int, int] | Non
     return None
 
 
-def read_image(path: str | os.PathLike[str], what: str | None = None) -> np.ndarray:
-    """Read a PNG/JPEG file as RGB (H, W, 3) uint8.
+def read_image(
+    path: str | os.PathLike[str], what: str | None = None, fits: Callable[[int, int], None] | None = None
+) -> np.ndarray:
+    """Read a PNG/JPEG file as RGB (H, W, 3) uint8; ``fits`` (when given) checks its width and
+    height, read from its header, before it is decoded (raising an InputError to refuse it).
 
     The file must be a regular file of at most :data:`MAX_IMAGE_BYTES`; its size in pixels is
     read from its header and checked against :data:`SIZE_LIMITS` before anything is decoded, and
@@ -119,6 +124,8 @@ def read_image(path: str | os.PathLike[str], what: str | None = None) -> np.ndar
     if size is None:
         raise InputError(f"cannot read {what}: its header is cut short or malformed; save it again as PNG or JPEG")
     check_size(*size, what)
+    if fits is not None:
+        fits(*size)
     try:
         image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
     except cv2.error as error:  # OpenCV's own pixel limit (set in vslsp/__init__.py)
@@ -127,6 +134,41 @@ def read_image(path: str | os.PathLike[str], what: str | None = None) -> np.ndar
         raise InputError(f"cannot read {what}: not an image file OpenCV can decode (use PNG or JPEG)")
     check_size(image.shape[1], image.shape[0], what)
     return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
+
+
+#: The most pixels of the pictures one command reads together (a folder's: they are all held in
+#: memory, 3 bytes a pixel, about 0.9 GB; ``--max-pixels MP`` changes it).
+MAX_FOLDER_PIXELS = 300_000_000
+#: The option that changes it, named in the message of a folder over it.
+MAX_PIXELS_OPTION = "--max-pixels"
+
+
+def read_pictures(paths: Sequence[Path], max_pixels: int = MAX_FOLDER_PIXELS) -> list[np.ndarray]:
+    """The pictures ``paths`` (:func:`read_image`) taken by one camera: all of one size, and of
+    at most ``max_pixels`` together, both checked from each file's header before it is decoded.
+    Raises InputError naming the file that differs or that goes over the limit."""
+    first: list[tuple[Path, tuple[int, int]]] = []
+    total = 0
+
+    def fits(path: Path, width: int, height: int) -> None:
+        nonlocal total
+        if not first:
+            first.append((path, (width, height)))
+        elif (width, height) != first[0][1]:
+            (other, size) = first[0]
+            raise InputError(
+                f"{shown(path)} is {width}x{height} px, {shown(other)} {size[0]}x{size[1]}: "
+                "take every picture with the same camera at the same size"
+            )
+        total += width * height
+        if total > max_pixels:
+            raise InputError(
+                f"{shown(path)}: the pictures read up to it hold {total / 1e6:.1f} megapixels, over the limit of "
+                f"{max_pixels / 1e6:g} (all are held in memory, 3 bytes a pixel); use fewer or smaller pictures "
+                f"(e.g. 640x480) or raise the limit with {MAX_PIXELS_OPTION} MP"
+            )
+
+    return [read_image(path, fits=functools.partial(fits, path)) for path in paths]
 
 
 def check_image_output(path: str | os.PathLike[str]) -> Path:

@@ -21,11 +21,10 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
-from vslsp.files import read_json
+from vslsp.folders import read_parsed
 from vslsp.vision.image import flatten_table
 from vslsp.vsl.pick_place import TableCamera, TableView
 
-MAX_CALIBRATION_BYTES = 1_000_000
 NOMINAL_PX_PER_M = 1000.0  # an uncalibrated image: one pixel a millimetre
 
 
@@ -130,11 +129,7 @@ def uncalibrated(size: tuple[int, int]) -> Calibration:
 def read_calibration(path: str | Path, size: tuple[int, int]) -> Calibration:
     """The calibration in ``path`` (JSON) for images of ``size`` (W, H) px. Raises InputError,
     naming the file, when it does not parse or does not fit the images."""
-    data = read_json(path, "calibration", MAX_CALIBRATION_BYTES)
-    try:
-        return calibration_from_dict(data, size)
-    except InputError as error:
-        raise InputError(f"{path}: {error}") from None
+    return read_parsed(Path(path), "calibration", lambda data: calibration_from_dict(data, size))
 
 
 def calibration_from_dict(data: Any, size: tuple[int, int]) -> Calibration:

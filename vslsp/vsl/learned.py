@@ -22,8 +22,9 @@ import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
 from vslsp.files import load_npz, read_json, shown
+from vslsp.folders import read_record, unreadable, write_learned
 from vslsp.geometry.poses import wrap
-from vslsp.outputs import atomic_file, write_text
+from vslsp.outputs import write_text
 from vslsp.vision.features import Features
 from vslsp.vision.image import read_image, write_image
 from vslsp.vision.matching import NoMatch
@@ -80,8 +81,6 @@ def save_learned(demo: PickPlaceDemonstration, recording: Recording, folder: str
                 "features": len(op.features),
             }
         )
-    with atomic_file(folder / FEATURES) as stream:
-        np.savez(stream, **arrays)  # type: ignore[arg-type]
     record = {
         "format": FORMAT,
         "recording": os.path.abspath(recording.folder),
@@ -89,23 +88,15 @@ def save_learned(demo: PickPlaceDemonstration, recording: Recording, folder: str
         "calibration": recording.calibration.data,
         "operations": records,
     }
-    return write_text(folder / RECORD, json.dumps(record, indent=2) + "\n")
+    return write_learned(folder, RECORD, record, FEATURES, arrays)
 
 
 def load_learned(folder: str | Path) -> Learned:
     """Read a demonstration written by :func:`save_learned`. Raises InputError naming the
     file when ``folder`` is not one."""
     folder = Path(folder)
-    path = folder / RECORD
-    if not path.is_file():
-        raise InputError(
-            f"{shown(folder)} is not a learned demonstration (no {RECORD}); "
-            "make one with `vslsp vsl learn FOLDER --out DEMO`"
-        )
-    data = read_json(path, "learned demonstration", MAX_RECORD_BYTES)
+    path, data = read_record(folder, RECORD, FORMAT, "learned demonstration", "vslsp vsl learn", MAX_RECORD_BYTES)
     try:
-        if not isinstance(data, dict) or data.get("format") != FORMAT:
-            raise ValueError(f"its format is not {FORMAT!r}")
         size = (int(data["image_size"][0]), int(data["image_size"][1]))
         arrays = load_npz(folder / FEATURES, "demonstration's features", MAX_FEATURE_BYTES)
         operations = []
@@ -134,9 +125,7 @@ def load_learned(folder: str | Path) -> Learned:
             uncalibrated(size) if data["calibration"] is None else calibration_from_dict(data["calibration"], size)
         )
     except (ValueError, KeyError, TypeError, IndexError, AttributeError) as error:
-        raise InputError(
-            f"{shown(path)} is not a readable learned demonstration ({error}); learn it again with `vslsp vsl learn`"
-        ) from None
+        raise unreadable(path, error, "vslsp vsl learn") from None
     return Learned(PickPlaceDemonstration(tuple(operations)), calibration, names, size)
 
 

@@ -24,14 +24,13 @@ import numpy as np
 
 from vslsp.errors import GroundingFailed, InputError
 from vslsp.files import read_json, shown
-from vslsp.vision.image import IMAGE_EXTENSIONS, read_image
+from vslsp.folders import MAX_SIDE_FILE_BYTES, Form, operation_files, read_names
+from vslsp.vision.image import IMAGE_EXTENSIONS, MAX_FOLDER_PIXELS, read_pictures
 from vslsp.vsl.calibration import Calibration, read_calibration, uncalibrated
 from vslsp.vsl.pick_place import PickPlaceDemonstration, TableModel
 from vslsp.vsl.recorder import Heights, Recorder
 
 ROLES = ("pre", "mid", "post")  # pre-pick, pre-place, post-place
-OPERATION_FILE = re.compile(r"^(\d{1,4})-(pre|mid|post)\.(png|jpg|jpeg)$", re.IGNORECASE)
-MAX_SIDE_FILE_BYTES = 1_000_000  # names.json, heights.json
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,92 +53,43 @@ class Recording:
         return width, height
 
 
-def read_recording(folder: str | Path) -> Recording:
+FORM = Form(
+    re.compile(r"^(\d{1,4})-(pre|mid|post)(\.png|\.jpg|\.jpeg)$", re.IGNORECASE),
+    IMAGE_EXTENSIONS,
+    {"mid": "pre-place picture", "post": "post-place picture", "pre": "pre-pick picture"},
+    ("pre",),
+    "NN-pre, NN-mid or NN-post (.png or .jpg)",
+    "picture",
+    "01-pre.png, 01-mid.png, 01-post.png",
+    "the demonstration's pictures",
+)
+
+
+def read_recording(folder: str | Path, max_pixels: int = MAX_FOLDER_PIXELS) -> Recording:
     """Read and check the recording in ``folder`` (see the module's docstring). Raises
-    InputError naming the file: a missing or unreadable image, images of different sizes,
-    operations out of order or with gaps, a calibration, names or heights file that does not
-    parse or does not fit."""
+    InputError naming the file: a missing or unreadable image, images of different sizes or of
+    more than ``max_pixels`` together, operations out of order or with gaps, a calibration,
+    names or heights file that does not parse or does not fit."""
     folder = Path(folder)
-    if not folder.is_dir():
-        raise InputError(f"{shown(folder)} is not a folder; give the folder of the demonstration's pictures")
-    found = _operation_files(folder)
+    found = operation_files(folder, FORM)
+    paths = [path for number in sorted(found) for path in found[number].values()]
+    pictures = iter(read_pictures(paths, max_pixels))
     observations: list[dict[str, np.ndarray]] = []
     files: list[dict[str, str]] = []
-    size: tuple[int, int] | None = None
-    first: Path = folder
     for number in sorted(found):
         roles = found[number]
-        for role in ("mid", "post") + (("pre",) if number == 1 else ()):
-            if role not in roles:
-                raise InputError(
-                    f"{shown(folder / f'{number:02d}-{role}.png')} is missing: operation {number} needs its "
-                    f"{_ROLE_NAMES[role]} picture (docs/recordings.md)"
-                )
-        images = {}
-        for role, path in roles.items():
-            image = read_image(path)
-            shape = image.shape[1], image.shape[0]
-            if size is None:
-                size, first = shape, path
-            elif shape != size:
-                raise InputError(
-                    f"{shown(path)} is {shape[0]}x{shape[1]} px, {shown(first)} {size[0]}x{size[1]}: "
-                    "take every picture with the same camera at the same size"
-                )
-            images[role] = image
+        images = {role: next(pictures) for role in roles}
         if "pre" not in images:  # nothing moved since the last operation's post-place picture
             images["pre"] = observations[-1]["post"]
         observations.append(images)
         files.append({role: path.name for role, path in roles.items()})
-    assert size is not None
     count = len(observations)
-    names = _names(folder / "names.json", count)
+    height, width = observations[0]["mid"].shape[:2]
+    names = read_names(folder / "names.json", count)
     heights = _heights(folder / "heights.json", count)
     path = folder / "calibration.json"
-    calibration = read_calibration(path, size) if path.exists() else uncalibrated(size)
+    calibration = read_calibration(path, (width, height)) if path.exists() else uncalibrated((width, height))
     return Recording(folder, tuple(observations), tuple(files), names, heights, calibration)
-
-
-_ROLE_NAMES = {"pre": "pre-pick", "mid": "pre-place", "post": "post-place"}
-
-
-def _operation_files(folder: Path) -> dict[int, dict[str, Path]]:
-    """The operations' image files by number and role; numbers 1..N, each role once."""
-    found: dict[int, dict[str, Path]] = {}
-    for path in sorted(folder.iterdir()):
-        if path.suffix.lower() not in IMAGE_EXTENSIONS:
-            continue
-        match = OPERATION_FILE.match(path.name)
-        if match is None:
-            raise InputError(
-                f"{shown(path)}: an image whose name is not NN-pre, NN-mid or NN-post (.png or .jpg); "
-                "rename it or move it out of the folder (docs/recordings.md)"
-            )
-        number, role = int(match.group(1)), match.group(2).lower()
-        if role in found.setdefault(number, {}):
-            raise InputError(
-                f"{shown(path)} and {shown(found[number][role])} are both operation {number}'s {role} picture; keep one"
-            )
-        found[number][role] = path
-    if not found:
-        raise InputError(f"{shown(folder)} holds no pictures named 01-pre.png, 01-mid.png, 01-post.png ...")
-    for expected, number in enumerate(sorted(found), start=1):
-        if number != expected:
-            some = next(iter(found[number].values()))
-            raise InputError(
-                f"{shown(some)}: operation {number} follows operation {expected - 1}; number the operations "
-                f"1, 2, 3 ... without gaps (operation {expected} is missing)"
-            )
-    return found
-
-
-def _names(path: Path, count: int) -> tuple[str, ...]:
-    if not path.exists():
-        return tuple(f"object {k}" for k in range(1, count + 1))
-    names = read_json(path, "names", MAX_SIDE_FILE_BYTES)
-    if not isinstance(names, list) or len(names) != count or not all(isinstance(n, str) and n for n in names):
-        raise InputError(f"{shown(path)}: give a list of {count} names, one for each operation's object")
-    return tuple(names)
 
 
 def _heights(path: Path, count: int) -> tuple[Heights, ...]:

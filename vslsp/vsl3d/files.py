@@ -19,28 +19,39 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
-from vslsp.files import load_npz, read_bytes, shown
+from vslsp.files import load_npz, read_bytes, regular_file, shown
 
 CLOUD_EXTENSIONS = (".ply", ".pcd", ".npz")
-MAX_CLOUD_BYTES = 512_000_000
+#: The largest cloud file read by default, and the most bytes of points its header may declare
+#: (16 million points of float32 x, y, z take 200 MB; ``--max-size MB`` changes it).
+MAX_CLOUD_BYTES = 200_000_000
+#: The option that changes it, named in the message of a cloud over it.
+MAX_SIZE_OPTION = "--max-size"
 MAX_DEPTH_BYTES = 64_000_000
 _INSTALL = "pip install 'vslsp[clouds]'"
 
 
-def read_cloud(path: str | Path) -> np.ndarray:
+def read_cloud(path: str | Path, max_bytes: int = MAX_CLOUD_BYTES) -> np.ndarray:
     """The points (N, 3) float64 of the cloud file ``path`` (.ply, .pcd or .npz), the points
     that are not finite dropped. Raises InputError naming the file when it is missing,
-    unreadable, has no x, y, z or no point."""
+    unreadable, has no x, y, z or no point, or when the file or the points its header declares
+    are over ``max_bytes`` (checked before the file, or its points, are read)."""
     path = Path(path)
-    data = read_bytes(path, "cloud", MAX_CLOUD_BYTES)
+    size = regular_file(path, "cloud").st_size
+    if size > max_bytes:
+        raise _over(path, f"the cloud file has {_megabytes(size)} MB", max_bytes)
+    data = read_bytes(path, "cloud", max_bytes)
     suffix = path.suffix.lower()
+    declared = _declared_bytes(data, suffix)
+    if declared > max_bytes:
+        raise _over(path, f"its header declares {_megabytes(declared)} MB of points", max_bytes)
     try:
         if suffix == ".ply":
             points = _ply_points(data)
         elif suffix == ".pcd":
             points = _pcd_points(data)
         elif suffix == ".npz":
-            points = np.asarray(load_npz(path, "cloud", MAX_CLOUD_BYTES)["points"], dtype=float)
+            points = np.asarray(load_npz(path, "cloud", max_bytes)["points"], dtype=float)
         else:
             raise ValueError(f"not one of {', '.join(CLOUD_EXTENSIONS)}")
     except InputError:
@@ -55,6 +66,61 @@ def read_cloud(path: str | Path) -> np.ndarray:
     if len(points) == 0:
         raise InputError(f"cloud {shown(path)} holds no point; capture the scene again")
     return points
+
+
+def _over(path: Path, what: str, limit: int) -> InputError:
+    return InputError(
+        f"{shown(path)}: {what}, over the limit of {_megabytes(limit)} MB; thin the cloud out (e.g. a 5 mm "
+        f"voxel grid) or raise the limit with {MAX_SIZE_OPTION} MB"
+    )
+
+
+def _megabytes(size: int) -> str:
+    shown_size = f"{size / 1e6:.1f}"
+    return shown_size if shown_size != "0.0" else f"{size / 1e6:.3g}"
+
+
+_PLY_SIZES = {
+    **dict.fromkeys(("char", "uchar", "int8", "uint8"), 1),
+    **dict.fromkeys(("short", "ushort", "int16", "uint16"), 2),
+    **dict.fromkeys(("int", "uint", "int32", "uint32", "float", "float32"), 4),
+    **dict.fromkeys(("double", "float64"), 8),
+}
+_HEADER_BYTES = 65_536  # a PLY or PCD header ends within this many bytes
+
+
+def _declared_bytes(data: bytes, suffix: str) -> int:
+    """The bytes of points (at the least) that a PLY or PCD file's header declares: what its
+    parser allocates, whatever the file's own size (0 when the header does not say; the parser
+    then refuses the file)."""
+    if suffix == ".ply":
+        end = data.find(b"end_header", 0, _HEADER_BYTES)
+        total, count = 0, 0
+        for words in (line.split() for line in data[: max(end, 0)].decode("ascii", "replace").splitlines()):
+            if len(words) == 3 and words[0] == "element" and words[2].isdigit():
+                count = int(words[2])
+            elif len(words) >= 3 and words[0] == "property":
+                total += count * _PLY_SIZES.get(words[2 if words[1] == "list" else 1], 1)
+        return total
+    if suffix == ".pcd":
+        end = data.find(b"\nDATA", 0, _HEADER_BYTES)
+        fields: dict[str, list[str]] = {}
+        for line in data[: max(end, 0)].decode("ascii", "replace").splitlines():
+            words = line.split()
+            if words and not words[0].startswith("#"):
+                fields[words[0].upper()] = words[1:]
+        try:
+            sizes = [int(c) for c in fields.get("SIZE", [])]
+            counts = [int(c) for c in fields.get("COUNT", ["1"] * len(sizes))]
+            points = int(fields.get("POINTS", ["0"])[0])
+        except ValueError:
+            return 0
+        total = points * sum(size * count for size, count in zip(sizes, counts))
+        line_end = data.find(b"\n", end + 1) if end >= 0 else -1
+        if line_end >= 0 and b"binary_compressed" in data[end:line_end]:  # then the sizes, uint32 each
+            total = max(total, int.from_bytes(data[line_end + 5 : line_end + 9], "little"))
+        return total
+    return 0
 
 
 def _reason(error: Exception) -> str:

@@ -12,7 +12,6 @@ matched cloud, and the object goes to T_j M_j^-1; told in the table frame and th
 
 from __future__ import annotations
 
-import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,9 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.files import load_npz, read_json, shown
+from vslsp.files import load_npz
+from vslsp.folders import read_record, unreadable, write_learned
 from vslsp.outcomes import NoMatch
-from vslsp.outputs import atomic_file, write_text
 from vslsp.vsl3d.cloud import Frame
 from vslsp.vsl3d.grasping import place_for, plan_grasp
 from vslsp.vsl3d.matching import find_best_match
@@ -67,8 +66,6 @@ def save_learned(
             arrays[f"op{i:02d}_{side}_points"] = observation.points
             arrays[f"op{i:02d}_{side}_viewpoint"] = np.asarray(observation.viewpoint, dtype=float)
         records.append({"name": recording.names[i - 1], "clouds": recording.files[i - 1], **obj.to_dict()})
-    with atomic_file(folder / OBSERVATIONS) as stream:
-        np.savez_compressed(stream, **arrays)  # type: ignore[arg-type]
     record = {
         "format": FORMAT,
         "recording": os.path.abspath(recording.folder),
@@ -77,23 +74,17 @@ def save_learned(
         "calibration": recording.calibration.data,
         "operations": records,
     }
-    return write_text(folder / RECORD, json.dumps(record, indent=2) + "\n")
+    return write_learned(folder, RECORD, record, OBSERVATIONS, arrays, compressed=True)
 
 
 def load_learned(folder: str | Path) -> LearnedClouds:
     """Read a demonstration written by :func:`save_learned`; InputError naming the file when
     ``folder`` is not one."""
     folder = Path(folder)
-    path = folder / RECORD
-    if not path.is_file():
-        raise InputError(
-            f"{shown(folder)} is not a learned VSL-3D demonstration (no {RECORD}); "
-            "make one with `vslsp vsl3d learn FOLDER --out DEMO`"
-        )
-    data = read_json(path, "learned demonstration", MAX_RECORD_BYTES)
+    path, data = read_record(
+        folder, RECORD, FORMAT, "learned VSL-3D demonstration", "vslsp vsl3d learn", MAX_RECORD_BYTES
+    )
     try:
-        if not isinstance(data, dict) or data.get("format") != FORMAT:
-            raise ValueError(f"its format is not {FORMAT!r}")
         arrays = load_npz(folder / OBSERVATIONS, "demonstration's observations", MAX_OBSERVATION_BYTES)
         observations, motions = [], []
         for i, op in enumerate(data["operations"], start=1):
@@ -110,9 +101,7 @@ def load_learned(folder: str | Path) -> LearnedClouds:
         calibration = calibration_from_dict(data["calibration"])
         method, seed = str(data["method"]), int(data["seed"])
     except (ValueError, KeyError, TypeError, IndexError, AttributeError, InputError) as error:
-        raise InputError(
-            f"{shown(path)} is not a readable learned demonstration ({error}); learn it again with `vslsp vsl3d learn`"
-        ) from None
+        raise unreadable(path, error, "vslsp vsl3d learn") from None
     return LearnedClouds(tuple(observations), tuple(motions), names, calibration, method, seed)
 
 

@@ -24,17 +24,17 @@ import cv2
 import numpy as np
 
 from vslsp.errors import GroundingFailed, InputError, TaskFailed
-from vslsp.files import read_json, shown
+from vslsp.files import shown
+from vslsp.folders import Form, operation_files, read_names, read_parsed
 from vslsp.vsl3d.cloud import DepthCamera, Frame
-from vslsp.vsl3d.files import CLOUD_EXTENSIONS, depth_from_cloud, read_cloud, read_depth_png
+from vslsp.vsl3d.files import CLOUD_EXTENSIONS, MAX_CLOUD_BYTES, depth_from_cloud, read_cloud, read_depth_png
 from vslsp.vsl3d.vsl import MIN_CLUSTER_POINTS, MovedObject, WorldCloud, get_object
 
 ROLES = ("pre", "post")
-OPERATION_FILE = re.compile(r"^(\d{1,4})-(pre|post)(-depth\.png|\.ply|\.pcd|\.npz)$", re.IGNORECASE)
-MAX_SIDE_FILE_BYTES = 1_000_000
 # Just above the table top (the pass-through drops the table itself) to 40 cm over it.
 DEFAULT_WORKSPACE = Frame((-5.0, -5.0, 0.006), (5.0, 5.0, 0.40))
 MIN_WORLD_POINTS = 200  # fewer points in the workspace: the capture shows no object
+MAX_SIDE, MAX_PIXELS = 8192, 40_000_000  # a depth image's (perception's limits, vslsp.vision.image)
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,6 +77,8 @@ def calibration_from_dict(data: object) -> CloudCalibration:
         translation = np.asarray(data["translation"], dtype=float).reshape(3)
         if matrix.shape != (3, 3) or rotation.shape != (3, 3) or not (width > 0 and height > 0):
             raise ValueError("camera_matrix and rotation are 3x3, image_size [W, H] positive")
+        if max(width, height) > MAX_SIDE or width * height > MAX_PIXELS:  # a depth image is W x H floats
+            raise ValueError(f"image_size {width}x{height} is over a camera's ({MAX_SIDE} a side, 40 megapixels)")
         if not np.allclose(rotation @ rotation.T, np.eye(3), atol=1e-4) or np.linalg.det(rotation) < 0:
             raise ValueError("rotation is not a rotation matrix")
         if not (np.all(np.isfinite(matrix)) and np.all(np.isfinite(translation))):
@@ -111,49 +113,55 @@ class CloudRecording:
     calibration: CloudCalibration
 
 
-def read_cloud_recording(folder: str | Path) -> CloudRecording:
+FORM = Form(
+    re.compile(r"^(\d{1,4})-(pre|post)(-depth\.png|\.ply|\.pcd|\.npz)$", re.IGNORECASE),
+    (*CLOUD_EXTENSIONS, ".png"),
+    {
+        "post": "post-action cloud (.ply, .pcd, .npz or -depth.png)",
+        "pre": "pre-action cloud (.ply, .pcd, .npz or -depth.png)",
+    },
+    ("pre",),
+    "NN-pre or NN-post (.ply, .pcd, .npz, -depth.png)",
+    "capture",
+    "01-pre.ply, 01-post.ply",
+    "the demonstration's clouds",
+)
+
+
+def read_cloud_recording(folder: str | Path, max_bytes: int = MAX_CLOUD_BYTES) -> CloudRecording:
     """Read and check the recording in ``folder`` (see the module's docstring). Raises
-    InputError naming the file: a missing, unreadable or empty cloud, a depth image of another
-    size, operations out of order, a calibration or names file that does not parse or fit."""
+    InputError naming the file: a missing, unreadable or empty cloud, one of more than
+    ``max_bytes``, a depth image of another size, operations out of order, a calibration or
+    names file that does not parse or fit."""
     folder = Path(folder)
-    if not folder.is_dir():
-        raise InputError(f"{shown(folder)} is not a folder; give the folder of the demonstration's clouds")
-    found = _operation_files(folder)
+    found = operation_files(folder, FORM)
     path = folder / "calibration.json"
     if not path.is_file():
         raise InputError(
             f"{shown(path)} is missing: VSL-3D needs the camera matrix and the table plane (docs/recordings.md)"
         )
-    try:
-        calibration = calibration_from_dict(read_json(path, "calibration", MAX_SIDE_FILE_BYTES))
-    except InputError as error:
-        raise InputError(f"{shown(path)}: {error}") from None
+    calibration = read_parsed(path, "calibration", calibration_from_dict)
     worlds: list[dict[str, WorldCloud]] = []
     files: list[dict[str, str]] = []
     for number in sorted(found):
         roles = found[number]
-        for role in ("post",) + (("pre",) if number == 1 else ()):
-            if role not in roles:
-                raise InputError(
-                    f"{shown(folder / f'{number:02d}-{role}.ply')} is missing: operation {number} needs its "
-                    f"{role}-action cloud (.ply, .pcd, .npz or -depth.png; docs/recordings.md)"
-                )
-        clouds = {role: read_world(file, calibration) for role, file in roles.items()}
+        clouds = {role: read_world(file, calibration, max_bytes) for role, file in roles.items()}
         clouds.setdefault("pre", worlds[-1]["post"] if worlds else clouds["post"])
         worlds.append(clouds)
         files.append({role: file.name for role, file in roles.items()})
-    names = _names(folder / "names.json", len(worlds))
+    names = read_names(folder / "names.json", len(worlds))
     return CloudRecording(folder, tuple(worlds), tuple(files), names, calibration)
 
 
-def read_world(path: str | Path, calibration: CloudCalibration) -> WorldCloud:
-    """The world cloud of one capture file (a cloud or a depth PNG) in the table frame, cut to
-    the workspace. Raises InputError naming the file when it shows nothing in the workspace."""
+def read_world(path: str | Path, calibration: CloudCalibration, max_bytes: int = MAX_CLOUD_BYTES) -> WorldCloud:
+    """The world cloud of one capture file (a cloud of at most ``max_bytes``, or a depth PNG) in
+    the table frame, cut to the workspace. Raises InputError naming the file when it shows
+    nothing in the workspace."""
     path = Path(path)
     if path.name.lower().endswith("-depth.png"):
         depth = read_depth_png(path, calibration.depth_scale, calibration.size)
     else:
-        points = read_cloud(path)
+        points = read_cloud(path, max_bytes)
         depth = depth_from_cloud(points, calibration.camera.intrinsics, calibration.size)
     world = WorldCloud.capture(depth, calibration.camera, calibration.workspace)
     if len(world.points) < MIN_WORLD_POINTS:
@@ -162,42 +170,6 @@ def read_world(path: str | Path, calibration: CloudCalibration) -> WorldCloud:
             "check calibration.json's camera pose and workspace, or capture the scene again"
         )
     return world
-
-
-def _operation_files(folder: Path) -> dict[int, dict[str, Path]]:
-    found: dict[int, dict[str, Path]] = {}
-    for path in sorted(folder.iterdir()):
-        if path.suffix.lower() not in (*CLOUD_EXTENSIONS, ".png"):
-            continue
-        match = OPERATION_FILE.match(path.name)
-        if match is None:
-            raise InputError(
-                f"{shown(path)}: a capture whose name is not NN-pre or NN-post (.ply, .pcd, .npz, -depth.png); "
-                "rename it or move it out of the folder (docs/recordings.md)"
-            )
-        number, role = int(match.group(1)), match.group(2).lower()
-        if role in found.setdefault(number, {}):
-            raise InputError(f"{shown(path)} and {shown(found[number][role])} are both operation {number}'s {role}")
-        found[number][role] = path
-    if not found:
-        raise InputError(f"{shown(folder)} holds no clouds named 01-pre.ply, 01-post.ply ...")
-    for expected, number in enumerate(sorted(found), start=1):
-        if number != expected:
-            some = next(iter(found[number].values()))
-            raise InputError(
-                f"{shown(some)}: operation {number} follows operation {expected - 1}; number the operations "
-                f"1, 2, 3 ... without gaps (operation {expected} is missing)"
-            )
-    return found
-
-
-def _names(path: Path, count: int) -> tuple[str, ...]:
-    if not path.exists():
-        return tuple(f"object {k}" for k in range(1, count + 1))
-    names = read_json(path, "names", MAX_SIDE_FILE_BYTES)
-    if not isinstance(names, list) or len(names) != count or not all(isinstance(n, str) and n for n in names):
-        raise InputError(f"{shown(path)}: give a list of {count} names, one for each operation's object")
-    return tuple(names)
 
 
 def learn(recording: CloudRecording, method: str = "prerejective_ransac", seed: int = 0) -> tuple[MovedObject, ...]:
