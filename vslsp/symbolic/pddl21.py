@@ -1,15 +1,16 @@
-"""PDDL 2.1/2.2 beyond STRIPS: numeric fluents, durative actions, derived predicates, timed literals.
+"""PDDL 2.1/2.2 beyond STRIPS: numeric fluents, durative actions, timed initial literals.
 
 Paper: "Implementation" (the learned domain handed to an off-the-shelf planner); issue 41 (the
 domains of robotics researchers have durations and resources). vslsp's own model
 (:mod:`vslsp.symbolic.model`) stays STRIPS + PDDL 3.0; a domain with ``:functions`` other than
-``(total-cost)``, ``:durative-action`` or ``:derived`` is read by unified-planning's PDDLReader as
-it is, planned by the unified-planning engine that supports its kind (ENHSP for numeric
-problems, TAMER for temporal ones: :data:`AUTOMATIC`) and its plans checked by unified-planning's
-validators (the sequential one, the time-triggered one for temporal plans). Every planner run is
+``(total-cost)`` or ``:durative-action`` is read by unified-planning's PDDLReader as it is,
+planned by the unified-planning engine that supports its kind (:data:`AUTOMATIC`: ENHSP for
+numeric problems, Aries for temporal ones, TAMER after them) and its plans checked by
+unified-planning's validators (:mod:`vslsp.symbolic.pddl21_validate`). Every planner run is
 bounded as Fast Downward's is: wall-clock seconds and megabytes of address space, in a process
-group of its own that is killed at the limit. What no engine here plans (PDDL+ processes and
-events, continuous effects) is refused with one line naming the construct.
+group of its own that is killed at the limit. What no engine here reads or plans (derived
+predicates: unified-planning 1.3's reader has none; PDDL+ processes and events, continuous
+effects) is refused with one line naming the construct and its place.
 """
 
 from __future__ import annotations
@@ -45,11 +46,12 @@ EXTRA = "pip install 'vslsp[pddl21]'"
 _BEYOND_STRIPS = re.compile(r"\(\s*(:durative-action|:derived|:functions)\b", re.IGNORECASE)
 _ONLY_COST = re.compile(r"\(\s*:functions\s*\(\s*total-cost\s*\)(\s*-\s*number)?\s*\)", re.IGNORECASE)
 _OUTSIDE = {
+    ":derived": "derived predicates (:derived ...)",
     ":process": "PDDL+ processes (:process ...)",
     ":event": "PDDL+ events (:event ...)",
     "#t": "continuous effects (#t)",
 }
-_OUTSIDE_PATTERN = re.compile(r"\(\s*(:process|:event)\b|(#t)\b", re.IGNORECASE)
+_OUTSIDE_PATTERN = re.compile(r"\(\s*(:process|:event|:derived)\b|(#t)\b", re.IGNORECASE)
 
 
 def _code(text: str) -> str:
@@ -59,7 +61,7 @@ def _code(text: str) -> str:
 
 def is_beyond_strips(domain_text: str) -> bool:
     """Whether the domain declares numeric functions (other than ``(total-cost)``), durative actions,
-    derived predicates or PDDL+ constructs: what this module reads instead of vslsp's own model."""
+    derived predicates or PDDL+ constructs: what this module reads (or refuses) instead of vslsp's model."""
     code = _code(domain_text)
     if _OUTSIDE_PATTERN.search(code):
         return True
@@ -84,8 +86,9 @@ def _refuse_outside(text: str, name: str) -> None:
     column = start - text.rfind("\n", 0, start)
     what = _OUTSIDE[(match.group(1) or match.group(2)).lower()]
     raise InputError(
-        f"{name}:{line}:{column}: {what} are not supported; vslsp plans numeric fluents, durative actions, "
-        "derived predicates and timed initial literals (PDDL 2.1/2.2), not PDDL+"
+        f"{name}:{line}:{column}: {what} are not supported; vslsp plans numeric fluents, durative actions "
+        "and timed initial literals (PDDL 2.1/2.2)"
+        + ("; write the derived predicate's formula where it is used" if "derived" in what else ", not PDDL+")
     )
 
 
@@ -110,7 +113,7 @@ class Read:
 
     @property
     def kind_name(self) -> str:
-        """``temporal`` or ``numeric`` (a derived-predicates-only domain counts as numeric: ENHSP reads it)."""
+        """``temporal`` or ``numeric``."""
         return "temporal" if self.temporal else "numeric"
 
 
@@ -217,10 +220,18 @@ def choose_planner(problem: Read, planner: str | None) -> str:
         except Exception:  # not registered, or its package broken
             return False
 
+    if planner is not None and planner.startswith("fast-downward"):
+        raise InputError(
+            f"planner {planner} plans STRIPS and ADL without numbers or time; for this {problem.kind_name} "
+            f"problem use --planner {' or '.join(AUTOMATIC[problem.kind_name])} (or leave --planner out)"
+        )
     candidates = [planner] if planner else [n for n in AUTOMATIC[problem.kind_name] if installed(n)]
     if not candidates or not installed(candidates[0]):
         wanted = planner or " or ".join(AUTOMATIC[problem.kind_name])
-        raise InputError(f"planner {wanted} is not installed; {EXTRA} installs ENHSP, TAMER and Aries")
+        raise InputError(
+            f"planner {wanted} is not installed (numeric and temporal problems: enhsp, tamer, aries; "
+            f"{EXTRA} installs them)"
+        )
     kind = problem.problem.kind
     name = next((n for n in candidates if factory.engine(n).supports(kind)), candidates[0])
     if name in JAVA_ENGINES and shutil.which("java") is None:
@@ -259,12 +270,14 @@ def solve(problem: Read, planner: str | None = None, timeout: float = 300.0, mem
                 pass
         child.join()
     status, payload = outcome
+    declared = environment().factory.engine(name).supports(problem.problem.kind)
+    if status in ("error", "INTERNAL_ERROR", "UNSUPPORTED_PROBLEM") and not declared:
+        why = f" ({payload.rstrip(': ')})" if payload else ""
+        raise InputError(
+            f"planner {name} cannot plan this {problem.kind_name} problem{why}; "
+            f"try --planner {AUTOMATIC[problem.kind_name][0]}"
+        )
     if status == "error":
-        if not environment().factory.engine(name).supports(problem.problem.kind):
-            raise InputError(
-                f"planner {name} cannot plan this {problem.kind_name} problem ({payload.rstrip(': ')}); "
-                f"try --planner {AUTOMATIC[problem.kind_name][0]}"
-            )
         raise InternalError(f"{name} failed: {payload}")
     if status == "unsolvable":
         raise Unsolvable(f"the goal cannot be reached from the initial state (proved by {name})")
