@@ -107,12 +107,8 @@ def pddl() -> None:
 def check(domain: str, problem: str | None, as_json: bool, max_bytes: int, debug: bool) -> None:
     """Check DOMAIN (and PROBLEM): every error and warning, one line each as
     FILE:LINE:COL: error|warning: message (did you mean 'x'?). Exit 2 with any error, 0 otherwise."""
-    from vslsp.cli import pddl21
     from vslsp.symbolic.language import check_files
 
-    if pddl21.beyond_strips(domain, max_bytes, as_json, debug):
-        pddl21.check(domain, problem, as_json, max_bytes, debug)
-        return
     with pddl_edge(as_json, debug, {"diagnostics": []}):
         analysis = check_files(domain, problem, max_bytes)
     summary = _summary(analysis, domain, problem)

@@ -82,39 +82,3 @@ def validate(domain: str, problem: str, plan: str, as_json: bool, max_bytes: int
             click.echo(f"  {where(violation)}: {at + ': ' if at else ''}{violation['message']}")
     if not verdict.valid:
         sys.exit(1)
-
-
-def check(domain: str, problem: str | None, as_json: bool, max_bytes: int, debug: bool) -> None:
-    """Read DOMAIN (and PROBLEM) with unified-planning's reader: exit 2 at the first error (FILE:LINE:COL)."""
-    from vslsp.symbolic import pddl21
-
-    with pddl_edge(as_json, debug, {"diagnostics": []}):
-        read = pddl21.read(domain, problem, max_bytes)
-    up_problem = read.problem
-    summary = {
-        "domain": {
-            "name": read.domain_name,
-            "kind": read.kind_name,
-            "types": [str(t).lower() for t in up_problem.user_types],
-            "fluents": [f.name.lower() for f in up_problem.fluents],
-            "actions": [a.name.lower() for a in up_problem.actions],
-        }
-    }
-    if problem is not None:
-        summary["problem"] = {
-            "name": str(up_problem.name).lower(),
-            "objects": [o.name.lower() for o in up_problem.all_objects],
-            "goal": [str(g) for g in up_problem.goals],
-        }
-    if as_json:
-        click.echo(json.dumps({"diagnostics": [], "exit_code": 0, **summary, "warnings": []}))
-        return
-    d = summary["domain"]
-    click.echo(
-        f"{domain}: {d['kind']} domain {d['name']}: {len(d['types'])} types, fluents {', '.join(d['fluents'])}; "
-        f"actions {', '.join(d['actions'])}"
-    )
-    if "problem" in summary:
-        p = summary["problem"]
-        click.echo(f"{problem}: problem {p['name']}: {len(p['objects'])} objects, goal {' and '.join(p['goal'])}")
-    click.echo("ok")

@@ -1,6 +1,6 @@
 ; The rover with durations: driving takes as long as the way is long, sampling 2 time units.
 (define (domain rover-temporal)
-  (:requirements :strips :typing :durative-actions)
+  (:requirements :strips :typing :durative-actions :timed-initial-literals)
   (:types rover waypoint)
   (:predicates (at ?r - rover ?w - waypoint)
                (road ?a ?b - waypoint)
