@@ -55,15 +55,9 @@ def durative_action_pddl(action: Action, duration: float) -> str:
 
 
 def _timed_effect(effect: object) -> str:
-    if not isinstance(effect, When):
-        return f"(at end {effect.to_pddl()})"  # type: ignore[attr-defined]
-    literals = " ".join(f"(at end {e.to_pddl()})" for e in effect.effects)
-    body = literals if len(effect.effects) == 1 else f"(and {literals})"
-    if effect.condition != And(()):
-        body = f"(when (at start {effect.condition.to_pddl()}) {body})"
-    if effect.variables:
-        body = f"(forall ({_typed(effect.variables)}) {body})"
-    return body
+    if isinstance(effect, When):
+        return effect.to_pddl(timed=True)
+    return f"(at end {effect.to_pddl()})"  # type: ignore[attr-defined]
 
 
 def _duration(name: str, durations: Mapping[str, float]) -> float:
