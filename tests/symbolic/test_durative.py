@@ -43,3 +43,14 @@ def test_the_durative_domain_checks_plans_and_validates(capsys, tmp_path):
 def test_an_action_without_a_duration_is_named():
     with pytest.raises(InputError, match="action push has no positive duration"):
         durative_domain_pddl(read_domain(PDDL / "domain.pddl"), {"pull": 2.0})
+
+
+def test_the_demonstrated_order_with_durations_is_refused_on_its_line(capsys, tmp_path):
+    domain = tmp_path / "domain.pddl"
+    domain.write_text(durative_domain_pddl(read_domain(PDDL / "domain.pddl"), {"push": 3.0, "pull": 3.0}))
+    problem = PDDL / "pull-in-order.pddl"
+    line = next(n for n, text in enumerate(problem.read_text().splitlines(), 1) if "(:constraints" in text)
+    code, _, err = vslsp(capsys, "plan", domain, problem)
+    assert (
+        code == 2 and f"{problem}:{line}:" in err and "PDDL 3.0 constraints (:constraints ...) are not planned" in err
+    )

@@ -99,6 +99,7 @@ class Read:
     problem: Any
     domain_text: str
     problem_text: str
+    problem_name: str = "<problem>"
 
     @property
     def domain_name(self) -> str:
@@ -131,7 +132,7 @@ def read(domain: str | Path, problem: str | Path | None, max_bytes: int = MAX_PD
         raise InputError(f"{problem or domain}: formulas nest too deeply for the reader; flatten them") from None
     except Exception as error:  # SyntaxError, pyparsing and UP exceptions alike
         raise _located(error, texts, domain, problem) from None
-    return Read(up_problem, texts[0], texts[1] if problem is not None else "")
+    return Read(up_problem, texts[0], texts[1] if problem is not None else "", str(problem))
 
 
 def _parsed(domain_text: str, problem_text: str | None = None) -> Any:
@@ -245,6 +246,15 @@ def choose_planner(problem: Read, planner: str | None) -> str:
 def solve(problem: Read, planner: str | None = None, timeout: float = 300.0, memory_mb: int | None = 4096) -> TimedPlan:
     """A plan for ``problem`` by ``planner`` (None: :data:`AUTOMATIC`), within ``timeout`` seconds and
     ``memory_mb`` MB of address space; NoPlan (exit 1) without one, Unsolvable when proved."""
+    if problem.problem.trajectory_constraints:
+        found = re.search(r"\(\s*:constraints\b", _code(problem.problem_text), re.IGNORECASE)
+        line = problem.problem_text.count("\n", 0, found.start()) + 1 if found else 0
+        column = found.start() - problem.problem_text.rfind("\n", 0, found.start()) if found else 0
+        raise InputError(
+            f"{problem.problem_name}:{line}:{column}: PDDL 3.0 constraints (:constraints ...) are not planned "
+            "with numeric fluents or durative actions (no engine here takes both); plan the instantaneous "
+            "domain for the order, or leave the constraints out"
+        )
     name = choose_planner(problem, planner)
     start = time.perf_counter()
     context = multiprocessing.get_context("fork")
@@ -273,9 +283,10 @@ def solve(problem: Read, planner: str | None = None, timeout: float = 300.0, mem
     declared = environment().factory.engine(name).supports(problem.problem.kind)
     if status in ("error", "INTERNAL_ERROR", "UNSUPPORTED_PROBLEM") and not declared:
         why = f" ({payload.rstrip(': ')})" if payload else ""
+        others = [n for n in AUTOMATIC[problem.kind_name] if n != name]
         raise InputError(
-            f"planner {name} cannot plan this {problem.kind_name} problem{why}; "
-            f"try --planner {AUTOMATIC[problem.kind_name][0]}"
+            f"planner {name} cannot plan this {problem.kind_name} problem{why}"
+            + (f"; try --planner {' or '.join(others)}" if others else "")
         )
     if status == "error":
         raise InternalError(f"{name} failed: {payload}")
