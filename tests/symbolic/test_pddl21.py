@@ -161,3 +161,18 @@ def test_enhsp_without_java_says_so(capsys, tmp_path, monkeypatch):
     monkeypatch.setenv("PATH", str(tmp_path))  # a PATH with no java on it
     code, _, err = vslsp(capsys, "plan", DATA / "counters-domain.pddl", DATA / "counters-problem.pddl")
     assert code == 2 and "planner enhsp (ENHSP) needs Java 17 or later and no 'java' is on PATH" in err
+
+
+def test_the_time_limit_holds_for_an_engine_without_one(capsys, tmp_path):
+    counters = " ".join(f"c{i}" for i in range(12))
+    values = " ".join(f"(= (value c{i}) 0)" for i in range(12))
+    problem = tmp_path / "p.pddl"  # unsolvable (max-int is one short) in a state space far too large to exhaust
+    problem.write_text(
+        f"(define (problem counters-hard) (:domain counters) (:objects {counters} - counter)\n"
+        f"  (:init (= (max-int) 100000) {values})\n  (:goal (>= (value c0) 100001)))\n"
+    )
+    code, out, _ = vslsp(
+        capsys, "plan", DATA / "counters-domain.pddl", problem, "--planner", "tamer", "--timeout", "1", "--json"
+    )
+    result = json.loads(out)
+    assert code == 1 and result["status"] == "timeout" and "time limit of 1 s reached" in result["error"]

@@ -264,9 +264,7 @@ def solve(problem: Read, planner: str | None = None, timeout: float = 300.0, mem
     sender.close()
     try:
         if not receiver.poll(timeout + 5.0):  # the engine's own limit first (ENHSP's); TAMER has none
-            raise NoPlan(
-                f"the planner's time limit of {timeout:g} s reached (raise it with --timeout)", PlanStatus.TIMEOUT
-            )
+            raise _time_limit(timeout)
         try:
             outcome = receiver.recv()
         except EOFError:  # killed: the address-space limit (a failed allocation aborts the engine)
@@ -292,12 +290,18 @@ def solve(problem: Read, planner: str | None = None, timeout: float = 300.0, mem
         raise InternalError(f"{name} failed: {payload}")
     if status == "unsolvable":
         raise Unsolvable(f"the goal cannot be reached from the initial state (proved by {name})")
+    if status == "TIMEOUT":
+        raise _time_limit(timeout)
     if status != "SOLVED":
         raise NoPlan(
             f"{name} stopped with status {status}", PlanStatus.__members__.get(status, PlanStatus.INTERNAL_ERROR)
         )
     steps = tuple(TimedStep(*step) for step in payload)
     return TimedPlan(steps, name, time.perf_counter() - start, problem.temporal)
+
+
+def _time_limit(timeout: float) -> NoPlan:
+    return NoPlan(f"the planner's time limit of {timeout:g} s reached (raise it with --timeout)", PlanStatus.TIMEOUT)
 
 
 def _solve_in_child(up_problem: Any, name: str, timeout: float, memory_mb: int | None, sender: Any) -> None:
