@@ -95,6 +95,16 @@ def test_temporal_plans_are_checked_in_time(capsys, tmp_path):
     assert code == 2 and f"{plan}:1:1: a temporal plan's step starts with its time" in err
 
 
+def test_the_printed_plan_is_a_plan_file(capsys, tmp_path):
+    domain, problem = DATA / "rover-temporal-domain.pddl", DATA / "rover-temporal-problem.pddl"
+    code, out, _ = vslsp(capsys, "plan", domain, problem)
+    plan = tmp_path / "plan"
+    plan.write_text(out)  # "1. 0.000: (drive ...) [4.000]" lines
+    assert code == 0 and out.startswith("1. 0.000: (")
+    code, out, _ = vslsp(capsys, "validate", domain, problem, plan)
+    assert code == 0 and out.startswith("valid")
+
+
 def test_a_road_that_opens_later_is_waited_for(capsys):
     code, out, _ = vslsp(
         capsys, "plan", DATA / "rover-temporal-domain.pddl", DATA / "rover-timed-problem.pddl", "--json"

@@ -2,7 +2,8 @@
 
 The plan file is read line by line, so that each step keeps its place: ``(action arg ...)``,
 ``N: (action arg ...)`` as VAL writes a sequential plan, ``T: (action arg ...) [D]`` for a
-temporal one (start time ``T``, duration ``D``), ``;`` comments. unified-planning's validators
+temporal one (start time ``T``, duration ``D``), each also after ``N. `` as ``vslsp plan`` prints
+it, ``;`` comments. unified-planning's validators
 give the verdict (the sequential plan validator; the time-triggered one for temporal plans,
 which checks the ``?duration`` constraints, the ``at start``/``over all``/``at end`` conditions
 and mutually exclusive effects); a goal that does not hold is told conjunct by conjunct, each with
@@ -21,7 +22,7 @@ from vslsp.symbolic.pddl21 import Read, TimedStep
 from vslsp.symbolic.up_model import environment
 
 _STEP = re.compile(
-    r"^\s*(?:(?P<start>\d+(?:\.\d+)?)\s*:\s*)?\(\s*(?P<atom>[^()]*?)\s*\)\s*(?:\[\s*(?P<duration>\d+(?:\.\d+)?)\s*\])?\s*$"
+    r"^\s*(?:\d+\.\s+)?(?:(?P<start>\d+(?:\.\d+)?)\s*:\s*)?\(\s*(?P<atom>[^()]*?)\s*\)\s*(?:\[\s*(?P<duration>\d+(?:\.\d+)?)\s*\])?\s*$"
 )
 _PRINTED = re.compile(r"^\s*\d+\.\s+(?P<atom>[^()]+?)\s*$")  # "1. drive r a b", as vslsp plan prints it
 #: At most this many goal conjuncts are checked one by one (each is one more validation).
