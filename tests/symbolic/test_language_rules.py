@@ -47,8 +47,12 @@ def test_sections_in_the_wrong_file_or_misspelt_are_named():
 
 
 def test_what_the_planner_refuses_is_an_error_where_written():
-    durative = DOMAIN.replace("(:action push", "(:durative-action push")
-    assert "d.pddl:10:4: error: durative actions are not supported" in messages(durative)[0]
+    derived = DOMAIN.replace("(:action push", "(:derived (near ?b - block) (not (far ?b)))\n  (:action push")
+    assert "d.pddl:10:4: error: derived predicates (:derived ...) are not supported" in messages(derived)[0]
+    durative = DOMAIN.replace("(:action push", "(:durative-action push")  # its :precondition is not PDDL 2.1's
+    assert any(
+        "unknown keyword ':precondition' in an action (did you mean ':condition'?)" in m for m in messages(durative)
+    )
     paper = PROBLEM.replace("(sometime-before (not (far green))", "(somewhere-after (not (far green))")
     [message] = messages(DOMAIN, paper)
     assert message.startswith("p.pddl:16:6: error: PDDL 3.0 has no 'somewhere-after'")

@@ -39,11 +39,19 @@ from vslsp.outputs import refuse_places
     help="Skill library folder (default: the shipped skills).",
 )
 @click.option("--video", is_flag=True, help="Film the trial into videos/trial-SEED.mp4 (H.264) in the report folder.")
+@click.option(
+    "--durative",
+    is_flag=True,
+    help="Also write the learned domain with durative actions (durative-domain.pddl: each skill lasting its "
+    "reach DMP's 2τ) and each step's planned against executed duration (durations.json).",
+)
 @rerun_option(
     "Log the trial (camera images, the arm and the hand's path, plan steps, symbolic state) on one "
     "timeline into FILE.rrd for rerun's viewer (pip install 'vslsp[rerun]')."
 )
-def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool, rerun_file: str | None) -> None:
+def demo(
+    out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool, durative: bool, rerun_file: str | None
+) -> None:
     """Run the full VSL-SP pipeline (pull-in-order) on the embedded scene and write a report."""
     check_display(gui)
     recording = check_recording(rerun_file) if rerun_file is not None else None
@@ -51,10 +59,11 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool, r
 
     from vslsp import stages
     from vslsp.experiments.icub import PullInOrder
+    from vslsp.loop.durations import DURATIONS, DURATIVE_DOMAIN
     from vslsp.tasks import Run, write_report
     from vslsp.tasks.base import cpu_seconds
 
-    refuse_places(out, REPORT_FILES, OUTPUT_FOLDERS)
+    refuse_places(out, (*REPORT_FILES, *((DURATIVE_DOMAIN, DURATIONS) if durative else ())), OUTPUT_FOLDERS)
     console = Console(stderr=True)
     start, cpu = time.perf_counter(), cpu_seconds()
     stages.reset()
@@ -83,6 +92,12 @@ def demo(out: Path, seed: int, gui: bool, skills_dir: str | None, video: bool, r
         console.log("learned action models:\n" + trial.domain.to_pddl())
     if trial.task is not None:
         console.log(f"learned task: {len(trial.task.constraints)} ordering constraints")
+    if durative and trial.domain is not None:
+        from vslsp.loop.durations import write_durations
+        from vslsp.skills.library import SkillLibrary
+
+        for line in write_durations(out, trial, SkillLibrary.load(task.library_path)):
+            console.log(line)
     if details.get("plan"):
         console.log(f"plan (Fast Downward): {', '.join(details['plan'])}")
     console.log(

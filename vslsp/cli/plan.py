@@ -26,7 +26,8 @@ if TYPE_CHECKING:
     default="fast-downward",
     show_default=True,
     help="fast-downward (greedy FF), fast-downward-lama, fast-downward-opt (A* LM-cut), or any installed "
-    "unified-planning oneshot planner.",
+    "unified-planning oneshot planner. Numeric and temporal domains: enhsp, tamer or aries (default: chosen "
+    "by the problem's kind, docs/planning.md).",
 )
 @click.option(
     "--compilation",
@@ -93,9 +94,14 @@ def plan(
     Exit 0: a plan; 1: no plan (or a time or memory limit reached); 2: bad input; 3: the
     planner or compiler failed inside.
     """
+    from vslsp.cli import pddl21
     from vslsp.outputs import refuse_input
     from vslsp.symbolic import Compilation, Unsolvable, check_planner, read_pddl, save, solve
 
+    if pddl21.beyond_strips(domain, max_bytes, as_json, debug):
+        named = click.get_current_context().get_parameter_source("planner") is not click.core.ParameterSource.DEFAULT
+        pddl21.plan(domain, problem, planner if named else None, timeout, memory, out, as_json, max_bytes, debug)
+        return
     failure: dict = {"plan": None, "planner": planner, "conflict": None, "conflict_minimal": None}
     with pddl_edge(as_json, debug, failure) as warned:
         check_planner(planner)

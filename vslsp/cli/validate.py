@@ -28,12 +28,18 @@ def validate(domain: str, problem: str, plan: str, as_json: bool, max_bytes: int
     """Check PLAN against DOMAIN and PROBLEM (exit 1: invalid).
 
     PLAN has one step per line: "(action arg ...)", "0: (action arg ...)" as VAL and IPC planners
-    write it, or "1. action arg ..." as vslsp plan prints it.
+    write it, or "1. action arg ..." as vslsp plan prints it; for a temporal problem
+    "T: (action arg ...) [D]" (start time T, duration D).
 
     An invalid plan lists every violation with its FILE:LINE:COL: the first step that cannot be
     applied (in PLAN) with its false preconditions, each goal conjunct that does not hold at the
     end and each broken constraint (in PROBLEM), with the step where it broke.
     """
+    from vslsp.cli import pddl21
+
+    if pddl21.beyond_strips(domain, max_bytes, as_json, debug):
+        pddl21.validate(domain, problem, plan, as_json, max_bytes, debug)
+        return
     from vslsp.symbolic import read_pddl, read_plan
     from vslsp.symbolic import validate as validate_plan
     from vslsp.symbolic.locate import where

@@ -62,11 +62,14 @@ class When:
     effects: tuple[Formula, ...]  # Atom or Not(Atom)
     variables: tuple[tuple[str, str], ...] = ()
 
-    def to_pddl(self) -> str:
-        literals = " ".join(e.to_pddl() for e in self.effects)
+    def to_pddl(self, timed: bool = False) -> str:
+        """``timed``: as in a durative action, the condition ``(at start ...)``, each literal ``(at end ...)``."""
+        start, end = ("(at start ", "(at end ") if timed else ("", "")
+        close = ")" if timed else ""
+        literals = " ".join(f"{end}{e.to_pddl()}{close}" for e in self.effects)
         body = literals if len(self.effects) == 1 else f"(and {literals})"
         if self.condition != And(()):
-            body = f"(when {self.condition.to_pddl()} {body})"
+            body = f"(when {start}{self.condition.to_pddl()}{close} {body})"
         if self.variables:
             body = f"(forall ({_typed(self.variables)}) {body})"
         return body

@@ -18,6 +18,7 @@ from vslsp.symbolic.language.declarations import (
     types,
 )
 from vslsp.symbolic.language.diagnostics import Diagnostic, sort_key
+from vslsp.symbolic.language.durative import TIMED_ROLES, check_timed, durative_action
 from vslsp.symbolic.language.formulas import check_body
 from vslsp.symbolic.language.index import Declaration, Index
 from vslsp.symbolic.language.syntax import Document, Group, gc_paused, read_document
@@ -133,7 +134,7 @@ def _analyse(domain_text: str | None, domain_file: str, problem_text: str | None
             and problem is not None
             and body.owner.open.file == problem[0].file
         )
-        check_body(ctx, body)
+        (check_timed if body.role in TIMED_ROLES else check_body)(ctx, body)
     if domain is not None:
         _unused(ctx, problem is not None)
         _requirements(ctx, domain[1])
@@ -168,14 +169,16 @@ def _read_domain(ctx: Context, document: Document, define: Group) -> list[Body]:
         elif key == ":constraints":
             for item in section.items[1:]:
                 bodies.append(Body("constraints", item, {}, section))
+        elif key == ":durative-action":
+            bodies.extend(durative_action(ctx, section, document))
         else:
             head = section.head
             assert head is not None
-            what = "durative actions" if key == ":durative-action" else "derived predicates (:derived ...)"
             ctx.error(
                 head.span,
-                f"{what} are not supported; vslsp reads STRIPS with types, negation, equality, "
-                "quantifiers, conditional effects, constants and PDDL 3.0 constraints",
+                "derived predicates (:derived ...) are not supported; write the formula where it is used "
+                "(vslsp reads STRIPS with types, negation, equality, quantifiers, conditional effects, "
+                "constants, PDDL 3.0 constraints, numeric fluents and durative actions)",
                 "unsupported",
             )
     return bodies

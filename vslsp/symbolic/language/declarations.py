@@ -166,6 +166,10 @@ def define_header(ctx: Context, document: Document) -> tuple[Group | None, str, 
     return define, kind_group.key, name
 
 
+#: The sections of PDDL+ (Fox and Long 2006), which no planner of vslsp's takes.
+PDDL_PLUS = {":process": "processes", ":event": "events"}
+
+
 def sections(ctx: Context, define: Group, allowed: tuple[str, ...], kind: str) -> list[Group]:
     """The sections of a define list, each a ``(:keyword ...)`` list of ``allowed``; others reported."""
     found: list[Group] = []
@@ -183,6 +187,13 @@ def sections(ctx: Context, define: Group, allowed: tuple[str, ...], kind: str) -
                 head.span,
                 f"'{head.text}' belongs in a {'problem' if kind == 'domain' else 'domain'} file",
                 "misplaced-section",
+            )
+        elif item.key in PDDL_PLUS:
+            ctx.error(
+                head.span,
+                f"PDDL+ {PDDL_PLUS[item.key]} ({head.text} ...) are not supported; vslsp reads PDDL 2.1/2.2: "
+                "numeric fluents, durative actions and timed initial literals",
+                "unsupported",
             )
         else:
             ctx.unknown(head, f"unknown section '{head.text}'", allowed, "unknown-section")
@@ -349,18 +360,18 @@ def predicates(ctx: Context, section: Group, document: Document, kind: str = "pr
             if head.key == "total-cost" and not params:
                 ctx.use(":action-costs", head.span)
             else:
-                ctx.use(":numeric-fluents", head.span)
-                ctx.error(
-                    head.span,
-                    "numeric functions other than (total-cost) are not supported; vslsp plans "
-                    "with STRIPS, types, negation, quantifiers, conditional effects and PDDL 3.0 "
-                    "constraints",
-                    "unsupported",
-                )
+                ctx.use(":numeric-fluents", head.span)  # planned by vslsp.symbolic.pddl21
 
 
-def action(ctx: Context, section: Group, document: Document) -> list[Body]:
-    """Declare an ``(:action NAME :parameters (...) ...)``; its precondition and effect to check later."""
+def action(
+    ctx: Context,
+    section: Group,
+    document: Document,
+    keywords: tuple[str, ...] = ACTION_KEYWORDS,
+    roles: tuple[tuple[str, str], ...] = (("precondition", ":precondition"), ("effect", ":effect")),
+) -> list[Body]:
+    """Declare an ``(:action NAME :parameters (...) ...)``; its precondition and effect to check later.
+    A durative action passes its ``keywords`` and the ``roles`` of its bodies (``(role, keyword)``)."""
     name = section.items[1] if len(section.items) > 1 else None
     if not isinstance(name, Token) or name.key.startswith(":"):
         ctx.error(section.span if name is None else name.span, "(:action NAME ...) needs a name", "no-name")
@@ -376,11 +387,11 @@ def action(ctx: Context, section: Group, document: Document) -> list[Body]:
         value = items[index + 1] if index + 1 < len(items) else None
         index += 2
         if not isinstance(keyword, Token) or not keyword.key.startswith(":"):
-            ctx.error(keyword.span, "expected :parameters, :precondition or :effect here", "bad-action")
+            ctx.error(keyword.span, f"expected {', '.join(keywords[:-1])} or {keywords[-1]} here", "bad-action")
             index -= 1
             continue
-        if keyword.key not in ACTION_KEYWORDS:
-            ctx.unknown(keyword, f"unknown keyword '{keyword.text}' in an action", ACTION_KEYWORDS, "unknown-keyword")
+        if keyword.key not in keywords:
+            ctx.unknown(keyword, f"unknown keyword '{keyword.text}' in an action", keywords, "unknown-keyword")
             continue
         if value is None:
             ctx.error(keyword.span, f"'{keyword.text}' needs a value", "bad-action")
@@ -393,7 +404,7 @@ def action(ctx: Context, section: Group, document: Document) -> list[Body]:
         ctx.error(given.span, ":parameters takes a list such as (?b - block)", "bad-action")
     comment = document.comment_above(section.open.line)
     ctx.declare(Declaration("action", name.text, name.span, section.span, comment, params), "action")
-    for role, key in (("precondition", ":precondition"), ("effect", ":effect")):
+    for role, key in roles:
         if key in values:
             bodies.append(Body(role, values[key], scope, section))
     return bodies

@@ -122,6 +122,11 @@ def atom(ctx: Context, node: Group, scope: Scope, operators: tuple[str, ...], ro
             else:
                 goal(ctx, item, scope, role)
         return
+    _arguments(ctx, node, declaration, scope)
+
+
+def _arguments(ctx: Context, node: Group, declaration: Declaration, scope: Scope) -> None:
+    """The arguments of a predicate's or function's ``node``: as many as declared, of the declared types."""
     arguments = node.items[1:]
     if len(arguments) != len(declaration.parameters):
         count = len(declaration.parameters)
@@ -247,6 +252,17 @@ def _is_number(text: str) -> bool:
     return True
 
 
+def _timed_literal(item: Group) -> bool:
+    """Whether ``item`` is ``(at NUMBER literal)``, a timed initial literal (not the predicate ``at``)."""
+    return (
+        item.key == "at"
+        and len(item.items) == 3
+        and isinstance(item.items[1], Token)
+        and _is_number(item.items[1].text)
+        and isinstance(item.items[2], Group)
+    )
+
+
 def numeric(ctx: Context, node: Token | Group, scope: Scope) -> None:
     """A numeric expression: a number, ``(total-cost)``, a function term, arithmetic, ``(is-violated p)``."""
     if isinstance(node, Token):
@@ -268,8 +284,7 @@ def numeric(ctx: Context, node: Token | Group, scope: Scope) -> None:
     if declaration is None:
         ctx.unknown(head, f"unknown function '{head.text}'", ctx.index.names("function"), "unknown-function")
         return
-    for item in node.items[1:]:
-        term(ctx, item, scope, None)
+    _arguments(ctx, node, declaration, scope)
 
 
 def effect(ctx: Context, node: Token | Group, scope: Scope) -> None:
@@ -320,6 +335,9 @@ def init(ctx: Context, section: Group) -> None:
             ctx.use(":action-costs" if _total_cost(item) else ":numeric-fluents", item.open.span)
             for operand in _operands(ctx, item, 2):
                 numeric(ctx, operand, {})
+        elif _timed_literal(item):  # (at 10 (road a b)): true from time 10 on
+            ctx.use(":timed-initial-literals", item.open.span)
+            init(ctx, Group(item.open, item.close, [item.items[0], item.items[2]]))
         elif item.key == "not":
             ctx.warning(
                 item.span,

@@ -1,0 +1,5 @@
+(define (problem counters-3)
+  (:domain counters)
+  (:objects c0 c1 c2 - counter)
+  (:init (= (max-int) 6) (= (value c0) 3) (= (value c1) 0) (= (value c2) 1))
+  (:goal (and (<= (+ (value c0) 1) (value c1)) (<= (+ (value c1) 1) (value c2)))))

@@ -1,0 +1,5 @@
+(define (problem tower-3)
+  (:domain tower-derived)
+  (:objects a b c - block)
+  (:init (clear a) (clear b) (clear c) (on-table a) (on-table b) (on-table c))
+  (:goal (above a c)))

@@ -1,0 +1,7 @@
+(define (problem rover-temporal-1)
+  (:domain rover-temporal)
+  (:objects curiosity opportunity - rover base hill crater - waypoint)
+  (:init (at curiosity base) (at opportunity base) (free curiosity) (free opportunity)
+         (road base hill) (road hill base) (road base crater) (road crater base))
+  (:goal (and (sampled hill) (sampled crater)))
+  (:metric minimize (total-time)))
