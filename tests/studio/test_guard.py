@@ -280,13 +280,21 @@ def test_runs_queue_beyond_the_limit_and_cancel_at_once(studio_root):
 
 def test_a_run_cancelled_as_its_process_starts_reads_cancelled(studio_root):
     """The cancel lands while the worker is still starting (before or while it writes its first
-    status): it ends cancelled, never failed (the cancel mark is a file the worker's writes leave alone)."""
-    import time
+    status), once it runs, and once a trial has finished: it ends cancelled, never failed (the cancel
+    mark is a file the worker's writes leave alone)."""
+    import json
+
+    from vslsp.studio import runs
+
+    def status(run_id):
+        path = studio_root / runs.RUNS / run_id / "status.json"
+        return json.loads(path.read_text()) if path.exists() else {}
 
     web = client(studio_root, max_jobs=1)
-    for seed, after_s in enumerate((0.0, 0.2, 0.6, 2.0)):  # from its start to its first trials
+    moments = (lambda s: True, lambda s: "pid" in s, lambda s: s.get("done", 0) >= 1)  # start, running, a trial done
+    for seed, moment in enumerate(moments):
         run_id = web.post("/api/runs", json={"experiment": "house-roof", "trials": 50, "seed": seed}).json()["id"]
-        time.sleep(after_s)
+        wait_until(lambda m=moment, r=run_id: m(status(r)), f"run {run_id} to reach moment {seed}")
         assert web.post(f"/api/runs/{run_id}/cancel").json()["state"] in ("cancelling", "cancelled")
         assert _wait(web, run_id, ("cancelled",))["state"] == "cancelled"
 
@@ -295,13 +303,12 @@ def test_a_cancel_survives_the_workers_own_status_write(studio_root):
     """The studio marks a cancel; the worker, which read its status before, then writes that copy (its
     pid): the job, once its process is gone, still reads cancelled."""
     import json
-    import time
 
     from vslsp.studio import runs
 
     folder = studio_root / runs.RUNS / "20260101-000000-abcdef"
     folder.mkdir(parents=True)
-    workers_copy = {"id": folder.name, "state": "running", "started": time.time() - 60, "done": 0, "total": 5}
+    workers_copy = {"id": folder.name, "state": "running", "started": 1.0e9, "done": 0, "total": 5}
     (folder / "status.json").write_text(json.dumps(workers_copy))
     runs.request_cancel(folder)
     runs.write_status(folder / "status.json", {**workers_copy, "pid": 2**22 + 12345})  # no such process

@@ -35,7 +35,7 @@ def test_the_durative_domain_checks_plans_and_validates(capsys, tmp_path):
     code, out, _ = vslsp(capsys, "plan", domain, problem, "--json", "--out", plan)
     result = json.loads(out)
     assert code == 0 and result["kind"] == "temporal" and result["makespan"] >= 2.5
-    assert {s["duration"] for s in result["steps"]} <= {3.25, 2.5}
+    assert {s["duration"] for s in result["steps"]}.issubset({3.25, 2.5})  # the planned durations are the domain's
     code, out, _ = vslsp(capsys, "validate", domain, problem, plan, "--json")
     assert code == 0 and json.loads(out)["valid"] is True
 
