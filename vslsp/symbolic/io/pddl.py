@@ -3,9 +3,9 @@
 Paper: "Implementation" (VSL-SP writes the learned actions to the planner's domain file and
 the demonstrated order as PDDL 3.0 constraints of the problem file). Writing is the model's
 own ``to_pddl``; reading is unified-planning's reader, converted by
-:mod:`vslsp.symbolic.up_model`, with what the reader cannot explain checked first and its
+:mod:`vslsp.symbolic.model.up_model`, with what the reader cannot explain checked first and its
 errors turned into :class:`~vslsp.errors.InputError` with FILE:LINE:COL
-(:mod:`vslsp.symbolic.pddl_errors`). Files are read within a budget: at most
+(:mod:`vslsp.symbolic.io.pddl_errors`). Files are read within a budget: at most
 :data:`MAX_PDDL_BYTES` bytes unless told otherwise, UTF-8, and the reading phase's budget
 (:data:`vslsp.symbolic.budget.PHASE_BUDGET_S` seconds).
 """
@@ -21,12 +21,9 @@ from vslsp.errors import InputError
 from vslsp.files import shown
 from vslsp.outputs import write_text
 from vslsp.symbolic.budget import OverBudget, phase
-from vslsp.symbolic.engine_reader import read_with_engine
-from vslsp.symbolic.flat_problem import flat_problem
-from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
-from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
-from vslsp.symbolic.model import Domain, Problem
-from vslsp.symbolic.pddl_errors import (
+from vslsp.symbolic.io.engine_reader import read_with_engine
+from vslsp.symbolic.io.flat_problem import flat_problem
+from vslsp.symbolic.io.pddl_errors import (
     at_end_as_sometime_after,
     check_constraints_form,
     check_domain_name,
@@ -39,7 +36,10 @@ from vslsp.symbolic.pddl_errors import (
     types_declared_once,
     warn,
 )
-from vslsp.symbolic.up_model import domain_from_up, environment, problem_from_up
+from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
+from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
+from vslsp.symbolic.model.domain import Domain, Problem
+from vslsp.symbolic.model.up_model import domain_from_up, environment, problem_from_up
 
 __all__ = ["MAX_PDDL_BYTES", "parse_pddl", "read_domain", "read_pddl", "read_problem", "read_text", "save"]
 
@@ -53,7 +53,7 @@ def read_pddl(
     a name that is a word of PDDL too); what vslsp reads leniently (preferences) is a
     :class:`PddlWarning`. The reading phase's budget covers the whole read: the files, the checks and
     the reader; each file is of at most ``max_bytes`` (:data:`MAX_PDDL_BYTES`). A flat problem that
-    checks clean is read from the language engine's tree (:mod:`vslsp.symbolic.flat_problem`), any other
+    checks clean is read from the language engine's tree (:mod:`vslsp.symbolic.io.flat_problem`), any other
     through unified-planning's reader.
     """
     with phase("reading", shown(problem_path if problem_path is not None else domain_path)):
@@ -114,7 +114,7 @@ def _read(
     else:
         text = None
     # Files that check clean and use what vslsp plans with are read from the language engine's tree (no
-    # unified-planning import, no second parse: vslsp.symbolic.engine_reader); any other by the reader.
+    # unified-planning import, no second parse: vslsp.symbolic.io.engine_reader); any other by the reader.
     read = read_with_engine(domain_text, text, domain_name, problem_name or "<problem>")
     if read is not None:
         if read[1] is not None:

@@ -2,10 +2,10 @@
 
 Paper: "Implementation" (an off-the-shelf planner takes the learned domain and the task).
 vslsp writes the domain and the problem itself (the model's ``to_pddl``, constraints compiled
-by :mod:`vslsp.symbolic.lifted`) and hands them to Fast Downward's driver: its translator
+by :mod:`vslsp.symbolic.engines.lifted`) and hands them to Fast Downward's driver: its translator
 grounds the lifted schemas, so no grounding happens in Python. unified-planning's own writer
 lists every ground atom of every predicate in the initial state, which on a 200-object order
-takes longer than the search. Part of the planning adapter with :mod:`vslsp.symbolic.planner`.
+takes longer than the search. Part of the planning adapter with :mod:`vslsp.symbolic.engines.planner`.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from pathlib import Path
 from vslsp.errors import InputError
 from vslsp.interrupts import communicate, deferred, guarded_command
 from vslsp.outputs import NO_SPACE, write_error
-from vslsp.symbolic.outcomes import PlanStatus
+from vslsp.symbolic.engines.outcomes import PlanStatus
 
 _CODES = {
     0: PlanStatus.SOLVED,

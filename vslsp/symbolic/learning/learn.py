@@ -16,7 +16,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 from vslsp.errors import InputError
-from vslsp.symbolic.formula import (
+from vslsp.symbolic.model.domain import Action, Domain, Predicate, Problem, When
+from vslsp.symbolic.model.formula import (
     Constraint,
     Formula,
     SometimeBefore,
@@ -28,7 +29,6 @@ from vslsp.symbolic.formula import (
     holds,
     literal,
 )
-from vslsp.symbolic.model import Action, Domain, Predicate, Problem, When
 
 BLOCK = "block"
 Literals = Mapping[str, Mapping[str, bool]]  # object -> {predicate: value}

@@ -2,8 +2,8 @@
 
 Paper: "Implementation" (the learned domain and the task go to an off-the-shelf planner).
 This adapter is the only place that builds or reads unified-planning model objects; it does
-not import unified-planning's engines (:mod:`vslsp.symbolic.planner` does) nor its PDDL
-reader (:mod:`vslsp.symbolic.pddl` does). unified-planning is imported lazily.
+not import unified-planning's engines (:mod:`vslsp.symbolic.engines.planner` does) nor its PDDL
+reader (:mod:`vslsp.symbolic.io.pddl` does). unified-planning is imported lazily.
 """
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ from typing import Any
 
 from vslsp.errors import InputError
 from vslsp.symbolic.budget import check_instances, instance_count
-from vslsp.symbolic.formula import (
+from vslsp.symbolic.model.domain import Action, Domain, Effect, Predicate, Problem, When
+from vslsp.symbolic.model.formula import (
     Always,
     And,
     AtEnd,
@@ -39,7 +40,6 @@ from vslsp.symbolic.formula import (
     expand_quantifiers,
     substitute,
 )
-from vslsp.symbolic.model import Action, Domain, Effect, Predicate, Problem, When
 
 
 @lru_cache(maxsize=1)

@@ -22,11 +22,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from vslsp.symbolic.formula import Atom
+from vslsp.symbolic.io.pddl import read_pddl
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES, read_text
 from vslsp.symbolic.language.syntax import Group, Token, read_document
-from vslsp.symbolic.model import Domain, Problem
-from vslsp.symbolic.pddl import read_pddl
+from vslsp.symbolic.model.domain import Domain, Problem
+from vslsp.symbolic.model.formula import Atom
 
 #: The order of a domain's sections before its actions, and of a problem's (PDDL 3.0 BNF).
 DOMAIN_ORDER = (":requirements", ":types", ":constants", ":predicates")

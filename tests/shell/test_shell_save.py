@@ -9,8 +9,8 @@ import pytest
 from helpers.cli import REPO, vslsp, vslsp_process
 from helpers.symbolic import PDDL
 
+from vslsp.shell.session import Shell
 from vslsp.symbolic import read_pddl
-from vslsp.symbolic.shell import Shell
 
 ROVERS = REPO / "tests" / "data" / "pddl3" / "ipc2006" / "rovers-preferences-qualitative"
 BLOCKSWORLD = REPO / "tests" / "data" / "pddl3" / "liftedtcore" / "blocksworld"

@@ -17,9 +17,9 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 from vslsp.errors import InputError
+from vslsp.symbolic.io.pddl_errors import PDDL3_OPERATORS, check_text
 from vslsp.symbolic.language.vocabulary import is_reserved_name, reserved_name_message
-from vslsp.symbolic.model import Domain, Problem
-from vslsp.symbolic.pddl_errors import PDDL3_OPERATORS, check_text
+from vslsp.symbolic.model.domain import Domain, Problem
 
 Tree = str | list  # a word, or a parenthesised list of trees
 

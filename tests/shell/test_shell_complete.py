@@ -3,10 +3,10 @@
 import pytest
 from helpers.symbolic import PDDL
 
+from vslsp.shell.commands import NAMES
+from vslsp.shell.complete import DELIMITERS
+from vslsp.shell.session import Shell
 from vslsp.symbolic import read_pddl
-from vslsp.symbolic.shell import Shell
-from vslsp.symbolic.shell_commands import NAMES
-from vslsp.symbolic.shell_complete import DELIMITERS
 
 
 @pytest.fixture(scope="module")

@@ -33,7 +33,8 @@ import itertools
 import re
 from dataclasses import dataclass, replace
 
-from vslsp.symbolic.formula import (
+from vslsp.symbolic.model.domain import Action, Domain, Effect, Predicate, Problem, When
+from vslsp.symbolic.model.formula import (
     Always,
     And,
     AtEnd,
@@ -57,7 +58,6 @@ from vslsp.symbolic.formula import (
     holds,
     substitute,
 )
-from vslsp.symbolic.model import Action, Domain, Effect, Predicate, Problem, When
 
 TRUE: Formula = And(())
 FALSE: Formula = Or(())

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Collection
 
-from vslsp.symbolic.formula import (
+from vslsp.symbolic.model.formula import (
     Always,
     AtEnd,
     AtMostOnce,

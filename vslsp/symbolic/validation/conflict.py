@@ -8,7 +8,7 @@ states to reach, fewer trajectories ruled out), so solvability is monotone and a
 conflict can be found by deletion: try the problem without some parts; if it is still
 unsolvable those parts are not needed, else they stay. Deletion runs in chunks that halve
 (whole halves first, as in QuickXplain, then single parts), every test a real planner call
-through :func:`vslsp.symbolic.planner.solve`; the last round, one part at a time, is what
+through :func:`vslsp.symbolic.engines.planner.solve`; the last round, one part at a time, is what
 proves the set minimal (removing any one part makes the rest solvable).
 
 The search is bounded by ``budget_s`` seconds of wall-clock time in all. When the bound (or a
@@ -24,12 +24,12 @@ import time
 from dataclasses import dataclass, replace
 
 from vslsp.errors import TaskFailed
-from vslsp.symbolic.formula import Constraint, Formula, conjunction
-from vslsp.symbolic.locate import as_written
-from vslsp.symbolic.model import Domain, Problem
-from vslsp.symbolic.outcomes import Unsolvable
-from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_PLANNER, solve
-from vslsp.symbolic.validate import conjuncts
+from vslsp.symbolic.engines.outcomes import Unsolvable
+from vslsp.symbolic.engines.planner import DEFAULT_MEMORY_MB, DEFAULT_PLANNER, solve
+from vslsp.symbolic.io.locate import as_written
+from vslsp.symbolic.model.domain import Domain, Problem
+from vslsp.symbolic.model.formula import Constraint, Formula, conjunction
+from vslsp.symbolic.validation.validate import conjuncts
 
 #: The default bound on the whole search (seconds): a few dozen planner calls on problems of
 #: the shipped size (each about 0.3-0.5 s).
@@ -90,10 +90,10 @@ class Conflict:
     def reasons(self, domain: Domain, problem: Problem) -> list[str]:
         """Why the goal conjuncts of a conflict without constraints cannot be reached, one line per
         goal atom that not even the delete relaxation reaches (the actions that would add it and the
-        precondition that never holds: :mod:`vslsp.symbolic.reachability`); a line saying that the
+        precondition that never holds: :mod:`vslsp.symbolic.validation.reachability`); a line saying that the
         actions' deletes are the cause when the relaxation reaches them all; [] with constraints
         involved, or when the problem is too large to ground."""
-        from vslsp.symbolic.reachability import relaxed_reach, why_never
+        from vslsp.symbolic.validation.reachability import relaxed_reach, why_never
 
         if not self.parts or not self.without_constraints:
             return []

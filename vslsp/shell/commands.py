@@ -1,7 +1,7 @@
 """The commands of ``vslsp shell``: one table read by ``help``, ``vslsp shell --help`` and completion.
 
 A command is added here (usage, what it does, an example) and as a ``do_NAME`` method of
-:class:`vslsp.symbolic.shell.Shell`; the help texts and the command completion follow.
+:class:`vslsp.shell.session.Shell`; the help texts and the command completion follow.
 This module imports nothing heavy, so that ``vslsp shell --help`` stays fast.
 """
 

@@ -13,9 +13,9 @@ method returns an edited copy, so a notebook can build a domain step by step::
     print(problem.to_pddl())
 
 A model prints itself as PDDL (``to_pddl``, as every formula does); reading files is
-:mod:`vslsp.symbolic.pddl`, which imports this module and never the other way round.
+:mod:`vslsp.symbolic.io.pddl`, which imports this module and never the other way round.
 Actions have literal effects and conditional ones (:class:`When`, optionally universal),
-preconditions may use equality (:class:`~vslsp.symbolic.formula.Equals`) and domain constants.
+preconditions may use equality (:class:`~vslsp.symbolic.model.formula.Equals`) and domain constants.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 
 from vslsp.errors import InputError
-from vslsp.symbolic.formula import (
+from vslsp.symbolic.model.formula import (
     And,
     Atom,
     Constraint,

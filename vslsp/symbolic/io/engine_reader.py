@@ -4,8 +4,8 @@ Paper: "Implementation" (PDDL 3.0 domains and problems, planned by Fast Downward
 `vslsp validate` used to read every file through unified-planning's PDDLReader, whose import alone
 (its engines, ConfigSpace, SciPy) costs about 1.5 s, and then parsed the text a second time after
 the checks. The language engine (:mod:`vslsp.symbolic.language`) has already read and checked the
-files in one linear pass; :func:`read_with_engine` builds our :class:`~vslsp.symbolic.model.Domain`
-and :class:`~vslsp.symbolic.model.Problem` from its tree when the files check clean and use only
+files in one linear pass; :func:`read_with_engine` builds our :class:`~vslsp.symbolic.model.domain.Domain`
+and :class:`~vslsp.symbolic.model.domain.Problem` from its tree when the files check clean and use only
 what vslsp plans with (STRIPS, typing, negative and disjunctive conditions, equality, quantifiers,
 conditional effects, PDDL 3.0 trajectory constraints). Anything else (an error, preferences,
 ``either`` types, functions, durative actions, derived predicates, a problem for another domain)
@@ -18,7 +18,11 @@ from __future__ import annotations
 
 from vslsp.errors import InputError
 from vslsp.symbolic.budget import check_instances, instance_count
-from vslsp.symbolic.formula import (
+from vslsp.symbolic.language import analyse
+from vslsp.symbolic.language.syntax import Group, Token
+from vslsp.symbolic.language.vocabulary import REQUIREMENTS
+from vslsp.symbolic.model.domain import Action, Domain, Effect, Predicate, Problem, When
+from vslsp.symbolic.model.formula import (
     Always,
     And,
     AtEnd,
@@ -40,10 +44,6 @@ from vslsp.symbolic.formula import (
     conjunction,
     substitute,
 )
-from vslsp.symbolic.language import analyse
-from vslsp.symbolic.language.syntax import Group, Token
-from vslsp.symbolic.language.vocabulary import REQUIREMENTS
-from vslsp.symbolic.model import Action, Domain, Effect, Predicate, Problem, When
 
 #: The requirements the model covers (the others, numbers and time: the reader decides); ``:action-costs``
 #: as (total-cost), read as action costs and left out as the reader does; ``:preferences`` because the
@@ -361,7 +361,7 @@ def _problem(define: Group, name: str, domain: Domain) -> Problem:
 def _constraint_instances(node: Token | Group, universe: Universe) -> tuple[int, str]:
     """How many constraints one item of ``(:constraints ...)`` stands for once its ``forall`` are written
     out (counted without writing them, without recursion), and the variables of the largest, as
-    :func:`vslsp.symbolic.up_model.problem_from_up` counts them."""
+    :func:`vslsp.symbolic.model.up_model.problem_from_up` counts them."""
     total, most, variables_of_most = 0, 0, ""
     stack: list[tuple[Token | Group, int]] = [(node, 1)]
     while stack:
@@ -382,7 +382,7 @@ def _constraint_instances(node: Token | Group, universe: Universe) -> tuple[int,
 
 def _constraints(node: Token | Group, binding: dict[str, str], problem: Problem) -> list[Constraint]:
     """Trajectory constraints of one item of ``(:constraints ...)``; a ``forall`` around constraints
-    expanded over the objects (as :func:`vslsp.symbolic.up_model.problem_from_up` does)."""
+    expanded over the objects (as :func:`vslsp.symbolic.model.up_model.problem_from_up` does)."""
     if not isinstance(node, Group):
         raise Unsupported("constraint")
     key, items = node.key, node.items[1:]

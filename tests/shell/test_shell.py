@@ -11,9 +11,9 @@ from helpers.cli import REPO, vslsp, vslsp_process
 from helpers.events import wait_until
 from helpers.symbolic import PDDL
 
+from vslsp.shell.commands import COMMANDS
+from vslsp.shell.session import Shell
 from vslsp.symbolic import read_pddl
-from vslsp.symbolic.shell import Shell
-from vslsp.symbolic.shell_commands import COMMANDS
 
 #: A whole domain from nothing: four predicates, three actions, types, objects, init, goal and
 #: three constraints, one of them dropped by its number; then plan, validate and save.

@@ -2,11 +2,11 @@
 
 Paper: "Implementation" (a user extends or edits what VSL-SP learned: the domain's actions,
 the task's goal and its ordering constraints). Every fragment typed (a predicate, an action, a
-goal, a constraint) is first checked by :mod:`vslsp.symbolic.shell_check`, which tells mistakes
+goal, a constraint) is first checked by :mod:`vslsp.shell.check`, which tells mistakes
 with the shell command that fixes them, then read by the PDDL reader in the context of the
 current domain and problem, so it is checked exactly like a file; after a mistake the model
 stays as it was. Every change can be taken back with ``undo``. The commands are listed in
-:mod:`vslsp.symbolic.shell_commands`; completion is :mod:`vslsp.symbolic.shell_complete`.
+:mod:`vslsp.shell.commands`; completion is :mod:`vslsp.shell.complete`.
 
     vslsp shell [DOMAIN [PROBLEM]]      (the same as vslsp pddl shell)
 """
@@ -22,20 +22,20 @@ from dataclasses import replace
 
 from vslsp import interrupts
 from vslsp.errors import InputError, VslspError
+from vslsp.shell.check import Checker, did_you_mean, in_shell_terms, parse
+from vslsp.shell.commands import NAMES, command, example, in_full, overview, usage
+from vslsp.shell.complete import DELIMITERS, complete
+from vslsp.shell.save import Loaded, load, saved_texts
+from vslsp.shell.terminal import line_editing, read_history, write_history
 from vslsp.symbolic.budget import MAX_READER_NESTING, MAX_READER_TYPE_DEPTH
-from vslsp.symbolic.conflict import explain
-from vslsp.symbolic.formula import Atom, atoms_of
+from vslsp.symbolic.engines.outcomes import Unsolvable
+from vslsp.symbolic.engines.planner import DEFAULT_PLANNER, PLANNERS, solve
+from vslsp.symbolic.io.pddl import parse_pddl, save
 from vslsp.symbolic.language.files import MAX_PDDL_BYTES
-from vslsp.symbolic.model import Domain, Predicate, Problem, When
-from vslsp.symbolic.outcomes import Unsolvable
-from vslsp.symbolic.pddl import parse_pddl, save
-from vslsp.symbolic.planner import DEFAULT_PLANNER, PLANNERS, solve
-from vslsp.symbolic.shell_check import Checker, did_you_mean, in_shell_terms, parse
-from vslsp.symbolic.shell_commands import NAMES, command, example, in_full, overview, usage
-from vslsp.symbolic.shell_complete import DELIMITERS, complete
-from vslsp.symbolic.shell_save import Loaded, load, saved_texts
-from vslsp.symbolic.shell_terminal import line_editing, read_history, write_history
-from vslsp.symbolic.validate import parse_plan, validate
+from vslsp.symbolic.model.domain import Domain, Predicate, Problem, When
+from vslsp.symbolic.model.formula import Atom, atoms_of
+from vslsp.symbolic.validation.conflict import explain
+from vslsp.symbolic.validation.validate import parse_plan, validate
 
 #: One fragment read at a time: the reader's first use (seconds: imports, its environment) runs in
 #: the background at a terminal while the first commands are typed.

@@ -2,7 +2,7 @@
 conditions taken as satisfiable), which over-approximates what any plan can make true.
 
 When the planner proves that the goal cannot be reached and no constraint takes part
-(:mod:`vslsp.symbolic.conflict`), the conflict names the goal conjuncts; this module says why
+(:mod:`vslsp.symbolic.validation.conflict`), the conflict names the goal conjuncts; this module says why
 for each atom that not even the relaxation reaches: which ground actions would add it, and for
 each the precondition atom that never holds (and, for an atom no action ever changes, what the
 initial state says instead: ``(colour-of r1 red)`` where ``(colour-of r1 green)`` is needed).
@@ -19,7 +19,8 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from math import prod
 
-from vslsp.symbolic.formula import (
+from vslsp.symbolic.model.domain import Action, Domain, Problem, When
+from vslsp.symbolic.model.formula import (
     And,
     Atom,
     Equals,
@@ -32,7 +33,6 @@ from vslsp.symbolic.formula import (
     bindings,
     substitute,
 )
-from vslsp.symbolic.model import Action, Domain, Problem, When
 
 MAX_INSTANCES = 20_000  # ground actions: beyond, the relaxation is not computed
 _SHOWN = 3  # ground actions that would add an atom, shown per atom

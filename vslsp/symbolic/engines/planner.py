@@ -2,7 +2,7 @@
 
 Paper: "Implementation" and the iCub experiments (VSL-SP hands the learned domain and the
 problem, with its PDDL 3.0 ordering constraints, to an off-the-shelf planner). Fast Downward
-has no trajectory constraints: :mod:`vslsp.symbolic.lifted` compiles them into the lifted
+has no trajectory constraints: :mod:`vslsp.symbolic.engines.lifted` compiles them into the lifted
 action schemas (Fast Downward grounds them itself). A planner without conditional effects
 (e.g. ``fast-downward-opt``), or ``compilation="ground"``, gets unified-planning's
 TrajectoryConstraintsRemover on the grounded problem instead, its plan mapped back. This is
@@ -24,15 +24,14 @@ from vslsp.errors import InputError, VslspError
 from vslsp.interrupts import memory_limit_mb, user_limited
 from vslsp.stages import in_stage
 from vslsp.symbolic.budget import phase
-from vslsp.symbolic.fast_downward import bounded_command, kill_tree
-from vslsp.symbolic.fast_downward import failure as fast_downward_failure
-from vslsp.symbolic.fast_downward import run as run_fast_downward
-from vslsp.symbolic.formula import expand_quantifiers
-from vslsp.symbolic.lifted import compile_lifted, objects_named
-from vslsp.symbolic.model import Domain, Problem
-from vslsp.symbolic.outcomes import Compilation, InternalError, NoPlan, PlanStatus, Unsolvable
-from vslsp.symbolic.up_model import environment, to_up
-from vslsp.symbolic.validate import initially_broken
+from vslsp.symbolic.engines.fast_downward import bounded_command, kill_tree
+from vslsp.symbolic.engines.fast_downward import failure as fast_downward_failure
+from vslsp.symbolic.engines.fast_downward import run as run_fast_downward
+from vslsp.symbolic.engines.lifted import compile_lifted, objects_named
+from vslsp.symbolic.engines.outcomes import Compilation, InternalError, NoPlan, PlanStatus, Unsolvable
+from vslsp.symbolic.model.domain import Domain, Problem
+from vslsp.symbolic.model.formula import Always, SometimeBefore, expand_quantifiers, holds
+from vslsp.symbolic.model.up_model import environment, to_up
 
 DEFAULT_PLANNER = "fast-downward"
 #: Every planner run is bounded (docs/bad-input.md): wall-clock seconds, and megabytes of address
@@ -52,7 +51,7 @@ PLANNERS: dict[str, tuple[str, dict]] = {
     ),
     "fast-downward-lama": ("fast-downward", {"fast_downward_alias": "lama-first"}),
 }
-#: The same two, as options of Fast Downward's driver run directly (vslsp.symbolic.fast_downward).
+#: The same two, as options of Fast Downward's driver run directly (vslsp.symbolic.engines.fast_downward).
 DIRECT: dict[str, list[str]] = {
     "fast-downward": ["--search", PLANNERS["fast-downward"][1]["fast_downward_search_config"]],
     "fast-downward-lama": ["--alias", "lama-first"],
@@ -123,12 +122,12 @@ def solve(
 ) -> PlanResult:
     """Plan for ``problem`` in ``domain`` with a unified-planning oneshot planner.
 
-    Raises :class:`~vslsp.symbolic.outcomes.NoPlan` ("no plan: ...", a TaskFailed with the run's
-    :class:`~vslsp.symbolic.outcomes.PlanStatus`) when the planner proves or reports no plan
-    (:class:`~vslsp.symbolic.outcomes.Unsolvable` when it proved it), and one naming the limit
+    Raises :class:`~vslsp.symbolic.engines.outcomes.NoPlan` ("no plan: ...", a TaskFailed with the run's
+    :class:`~vslsp.symbolic.engines.outcomes.PlanStatus`) when the planner proves or reports no plan
+    (:class:`~vslsp.symbolic.engines.outcomes.Unsolvable` when it proved it), and one naming the limit
     (status TIMEOUT or MEMOUT) when it reaches ``timeout`` (wall-clock seconds) or
     ``memory_mb`` (megabytes per process; None: unbounded); InputError for an unknown planner
-    or one that cannot take the problem, :class:`~vslsp.symbolic.outcomes.InternalError` when a
+    or one that cannot take the problem, :class:`~vslsp.symbolic.engines.outcomes.InternalError` when a
     planner or compiler fails inside. ``compilation``: force LIFTED or GROUND (default: lifted where the planner has
     conditional effects).
     """
@@ -163,6 +162,20 @@ def solve_timed(
         raise InternalError(
             f"{stage} failed inside ({type(error).__name__}: {first}); run with --debug for the traceback"
         ) from error
+
+
+def initially_broken(problem: Problem) -> str | None:
+    """A message when a constraint is already broken for good in the initial state, else None."""
+    universe, state = problem.universe(), frozenset(problem.init)
+    for constraint in problem.constraints:
+        if isinstance(constraint, Always) and not holds(constraint.formula, state, universe):
+            return f"{constraint.to_pddl()} is false in the initial state"
+        if isinstance(constraint, SometimeBefore) and holds(constraint.formula, state, universe):
+            return (
+                f"{constraint.to_pddl()} can never hold: {constraint.formula.to_pddl()} is already true in the "
+                "initial state, before anything else"
+            )
+    return None
 
 
 @dataclass(frozen=True)

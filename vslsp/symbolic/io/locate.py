@@ -1,8 +1,8 @@
 """Where a goal conjunct or a trajectory constraint is written in its problem file.
 
 Paper: "Implementation" (the problem file with its goal and PDDL 3.0 constraints). The model
-keeps no positions: an explanation (:mod:`vslsp.symbolic.conflict`) or a validation
-(:mod:`vslsp.symbolic.validate`) names formulas of the model, and this module finds them in
+keeps no positions: an explanation (:mod:`vslsp.symbolic.validation.conflict`) or a validation
+(:mod:`vslsp.symbolic.validation.validate`) names formulas of the model, and this module finds them in
 the file text so that a user reads ``FILE:LINE:COL`` and the formula as they wrote it. A
 constraint under ``(forall (?x - t) ...)`` is expanded over the objects by the reader: each
 ground instance is found at the quantified constraint it came from.

@@ -23,7 +23,9 @@ from typing import cast
 from vslsp.errors import InputError
 from vslsp.files import read_text, shown
 from vslsp.symbolic.budget import phase
-from vslsp.symbolic.formula import (
+from vslsp.symbolic.io.locate import as_written
+from vslsp.symbolic.model.domain import Domain, Problem, ground_effects
+from vslsp.symbolic.model.formula import (
     Always,
     And,
     AtMostOnce,
@@ -34,9 +36,7 @@ from vslsp.symbolic.formula import (
     holds,
     substitute,
 )
-from vslsp.symbolic.locate import as_written
-from vslsp.symbolic.model import Domain, Problem, ground_effects
-from vslsp.symbolic.monitors import ConstraintMonitor
+from vslsp.symbolic.validation.monitors import ConstraintMonitor
 
 PlanStep = tuple[str, tuple[str, ...]]
 PlanLike = Iterable[PlanStep | str]
@@ -121,7 +121,7 @@ def _validate(domain: Domain, problem: Problem, plan_steps: PlanLike) -> Validat
     universe = problem.universe()
     objects = dict(problem.all_objects())
     # One state, changed in place step by step; the constraints are judged as the states come
-    # (vslsp.symbolic.monitors), so no trajectory is kept: memory stays that of one state.
+    # (vslsp.symbolic.validation.monitors), so no trajectory is kept: memory stays that of one state.
     state = set(problem.init)
     monitors = [ConstraintMonitor(constraint, universe) for constraint in problem.constraints]
     for monitor in monitors:
@@ -204,20 +204,6 @@ def conjuncts(formula: Formula) -> tuple[Formula, ...]:
 def plural(count: int, noun: str) -> str:
     """``1 step``, ``2 steps``."""
     return f"{count} {noun}{'' if count == 1 else 's'}"
-
-
-def initially_broken(problem: Problem) -> str | None:
-    """A message when a constraint is already broken for good in the initial state, else None."""
-    universe, state = problem.universe(), frozenset(problem.init)
-    for constraint in problem.constraints:
-        if isinstance(constraint, Always) and not holds(constraint.formula, state, universe):
-            return f"{constraint.to_pddl()} is false in the initial state"
-        if isinstance(constraint, SometimeBefore) and holds(constraint.formula, state, universe):
-            return (
-                f"{constraint.to_pddl()} can never hold: {constraint.formula.to_pddl()} is already true in the "
-                "initial state, before anything else"
-            )
-    return None
 
 
 def _wrong_arguments(domain: Domain, parameters, args: tuple[str, ...], types: dict[str, str]) -> str | None:

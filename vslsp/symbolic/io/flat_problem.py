@@ -6,17 +6,17 @@ is what a scene or a large generated task gives: tens of thousands of objects an
 planning's reader parses it through a grammar at about a millisecond per atom and looks each object
 up in a list (time quadratic in the objects: 20 000 objects and a goal of 20 000 atoms take over a
 minute). The language engine (:mod:`vslsp.symbolic.language`) reads and checks the same files in
-linear time, so :func:`flat_problem` builds our :class:`~vslsp.symbolic.model.Problem` from its tree
+linear time, so :func:`flat_problem` builds our :class:`~vslsp.symbolic.model.domain.Problem` from its tree
 when the files check clean and the problem is flat; any other problem (``None``) goes to the reader,
 which then also words the errors. Both give the same Problem (tests/symbolic/test_flat_problem.py).
 """
 
 from __future__ import annotations
 
-from vslsp.symbolic.formula import And, Atom, Formula, Not, conjunction
 from vslsp.symbolic.language import analyse
 from vslsp.symbolic.language.syntax import Group, Token
-from vslsp.symbolic.model import Domain, Problem
+from vslsp.symbolic.model.domain import Domain, Problem
+from vslsp.symbolic.model.formula import And, Atom, Formula, Not, conjunction
 
 #: The sections a flat problem may have.
 _FLAT_SECTIONS = frozenset((":domain", ":requirements", ":objects", ":init", ":goal"))

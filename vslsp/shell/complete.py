@@ -14,9 +14,9 @@ import glob
 import os
 from collections.abc import Sequence
 
-from vslsp.symbolic.model import Domain, Problem
-from vslsp.symbolic.shell_check import CONNECTIVES, CONSTRAINT_OPERATORS, EFFECT_WORDS, tokens, typed_list
-from vslsp.symbolic.shell_commands import NAMES
+from vslsp.shell.check import CONNECTIVES, CONSTRAINT_OPERATORS, EFFECT_WORDS, tokens, typed_list
+from vslsp.shell.commands import NAMES
+from vslsp.symbolic.model.domain import Domain, Problem
 
 #: Where readline splits the line into words: never at '-' or '?', which are parts of PDDL names.
 DELIMITERS = " \t\n()"

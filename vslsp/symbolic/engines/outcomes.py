@@ -15,7 +15,7 @@ from vslsp.errors import TaskFailed, VslspError
 
 class PlanStatus(StrEnum):
     """How a planner run ended, after unified-planning's ``PlanGenerationResultStatus``: from Fast
-    Downward's exit code (:mod:`vslsp.symbolic.fast_downward`) or a unified-planning engine's
+    Downward's exit code (:mod:`vslsp.symbolic.engines.fast_downward`) or a unified-planning engine's
     result, carried by every "no plan" (:class:`NoPlan`) up to the VSL-SP loop, which keeps
     the demonstrated order when the planner only ran out of time or memory."""
 
@@ -37,7 +37,7 @@ class Compilation(StrEnum):
     """How a problem's trajectory constraints reached the planner."""
 
     NONE = "none"  # the problem has no trajectory constraints
-    LIFTED = "lifted"  # monitors compiled into the action schemas (vslsp.symbolic.lifted)
+    LIFTED = "lifted"  # monitors compiled into the action schemas (vslsp.symbolic.engines.lifted)
     GROUND = "ground"  # unified-planning's TrajectoryConstraintsRemover on the grounded problem
 
 
@@ -64,7 +64,7 @@ class NoPlan(TaskFailed):
 
 class Unsolvable(NoPlan):
     """No plan exists, and the planner proved it (not a timeout or an incomplete search giving up):
-    exit code 1, like every "no plan". :mod:`vslsp.symbolic.conflict` explains only these."""
+    exit code 1, like every "no plan". :mod:`vslsp.symbolic.validation.conflict` explains only these."""
 
     def __init__(self, reason: str) -> None:
         super().__init__(reason, PlanStatus.UNSOLVABLE_PROVEN)
