@@ -124,7 +124,7 @@ class Shell(cmd.Cmd):
         super().__init__(**kwargs)
         self.domain = domain or Domain("vsl-sp")
         self.problem = problem or Problem("task", self.domain)
-        self.loaded = loaded  # the files read, which save edits in place (shell_save)
+        self.loaded = loaded  # the files read, which save edits in place (vslsp.shell.save)
         self.last_plan: list[tuple[str, tuple[str, ...]]] = []
         # (command, domain, problem and files loaded before it), for undo
         self.changes: list[tuple[str, Domain, Problem, Loaded | None]] = []

@@ -183,13 +183,6 @@ def failure(run: Run) -> str:
     return f"Fast Downward's {component} stopped{code}: {last[:300]}"
 
 
-def bounded_command(command: list[str], memory_mb: int, folder: str | None = None) -> list[str]:
-    """``command`` run with an address-space limit of ``memory_mb`` per process, under a guard
-    that ends it (and removes ``folder``) when this process ends (for planners started by another
-    library, where no ``preexec_fn`` can be given)."""
-    return guarded_command(command, folder, memory_mb)
-
-
 def descendants(pid: int) -> list[int]:
     """The processes below ``pid`` (children, grandchildren, ...), read from ``/proc``."""
     children: dict[int, list[int]] = {}

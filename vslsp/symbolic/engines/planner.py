@@ -5,18 +5,16 @@ problem, with its PDDL 3.0 ordering constraints, to an off-the-shelf planner). F
 has no trajectory constraints: :mod:`vslsp.symbolic.engines.lifted` compiles them into the lifted
 action schemas (Fast Downward grounds them itself). A planner without conditional effects
 (e.g. ``fast-downward-opt``), or ``compilation="ground"``, gets unified-planning's
-TrajectoryConstraintsRemover on the grounded problem instead, its plan mapped back. This is
-the only module that imports unified-planning's engines.
+TrajectoryConstraintsRemover on the grounded problem instead, its plan mapped back. Every Fast
+Downward planner is run by vslsp itself (:mod:`vslsp.symbolic.engines.fast_downward`, bounded in
+time and memory); unified-planning gives the model, its compilers and its writer. This is the only
+module that imports unified-planning's engines.
 """
 
 from __future__ import annotations
 
-import os
 import re
-import tempfile
-import threading
 import time
-from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -24,7 +22,7 @@ from vslsp.errors import InputError, VslspError
 from vslsp.interrupts import memory_limit_mb, user_limited
 from vslsp.stages import in_stage
 from vslsp.symbolic.budget import phase
-from vslsp.symbolic.engines.fast_downward import bounded_command, kill_tree
+from vslsp.symbolic.engines.fast_downward import Run as FastDownwardRun
 from vslsp.symbolic.engines.fast_downward import failure as fast_downward_failure
 from vslsp.symbolic.engines.fast_downward import run as run_fast_downward
 from vslsp.symbolic.engines.lifted import compile_lifted, objects_named
@@ -51,11 +49,18 @@ PLANNERS: dict[str, tuple[str, dict]] = {
     ),
     "fast-downward-lama": ("fast-downward", {"fast_downward_alias": "lama-first"}),
 }
-#: The same two, as options of Fast Downward's driver run directly (vslsp.symbolic.engines.fast_downward).
+#: The same two, as options of Fast Downward's driver run directly (vslsp.symbolic.engines.fast_downward)
+#: on the lifted compilation.
 DIRECT: dict[str, list[str]] = {
     "fast-downward": ["--search", PLANNERS["fast-downward"][1]["fast_downward_search_config"]],
     "fast-downward-lama": ["--alias", "lama-first"],
 }
+#: Every planner that is Fast Downward, with the driver's options that its unified-planning engine
+#: runs it with (up-fast-downward's ``fast-downward-opt``: A* with LM-cut). vslsp runs the driver
+#: itself (:func:`vslsp.symbolic.engines.fast_downward.run`: bounded in time and memory, its processes
+#: ended with this one) on the problem as unified-planning's PDDLWriter writes it for the engine, after
+#: unified-planning's compilers (the ground constraint compilation, conditional effects removed).
+FAST_DOWNWARD: dict[str, list[str]] = {**DIRECT, "fast-downward-opt": ["--search", "astar(lmcut())"]}
 
 
 @dataclass(frozen=True)
@@ -214,21 +219,27 @@ def _solve_directly(domain: Domain, problem: Problem, planner: str, limits: Limi
         built = time.perf_counter()
     run = run_fast_downward(domain_text, problem_text, DIRECT[planner], limits.timeout, memory_mb=limits.memory_mb)
     solved = time.perf_counter()
-    if run.outcome is not PlanStatus.SOLVED:
-        if run.outcome.limit_reached:
-            raise limits.reached(run.outcome)
-        if run.outcome is PlanStatus.INTERNAL_ERROR:
-            raise InternalError(f"{fast_downward_failure(run)}; run with --debug for its whole log") from RuntimeError(
-                run.log
-            )
-        if run.outcome is PlanStatus.UNSOLVABLE_PROVEN:
-            raise Unsolvable(
-                f"the goal cannot be reached from the initial state{_under(problem)} (proved by Fast Downward)"
-            )
-        raise NoPlan("Fast Downward's search gave up without a plan (it is incomplete)", run.outcome)
+    _raise_unless_solved(run, problem, limits)
     used = Compilation.LIFTED if problem.constraints else Compilation.NONE
     times = PlanningTimes(built - compiled, compiled - start, solved - built)
     return PlanResult(run.steps, planner, solved - start, used), times
+
+
+def _raise_unless_solved(run: FastDownwardRun, problem: Problem, limits: Limits) -> None:
+    """The failure of a Fast Downward run that found no plan, raised (nothing when it found one)."""
+    if run.outcome is PlanStatus.SOLVED:
+        return
+    if run.outcome.limit_reached:
+        raise limits.reached(run.outcome)
+    if run.outcome is PlanStatus.INTERNAL_ERROR:
+        raise InternalError(f"{fast_downward_failure(run)}; run with --debug for its whole log") from RuntimeError(
+            run.log
+        )
+    if run.outcome is PlanStatus.UNSOLVABLE_PROVEN:
+        raise Unsolvable(
+            f"the goal cannot be reached from the initial state{_under(problem)} (proved by Fast Downward)"
+        )
+    raise NoPlan("Fast Downward's search gave up without a plan (it is incomplete)", run.outcome)
 
 
 def planner_texts(domain: Domain, problem: Problem) -> tuple[str, str]:
@@ -245,58 +256,89 @@ def planner_texts(domain: Domain, problem: Problem) -> tuple[str, str]:
 def _solve_up(
     domain: Domain, problem: Problem, planner: str, compilation: Compilation | None, limits: Limits
 ) -> tuple[PlanResult, PlanningTimes]:
-    """Through a unified-planning engine (any installed planner; the ground compilation)."""
+    """Through unified-planning's model and compilers (any installed planner; the ground compilation).
+    A Fast Downward planner (:data:`FAST_DOWNWARD`) is then run by vslsp on the compiled problem as
+    unified-planning writes it; another installed planner is run as unified-planning runs it (bounded
+    in wall-clock time, not in memory)."""
     from unified_planning.engines import CompilationKind
+
+    engine_name, params = PLANNERS.get(planner, (planner, {}))
+    engine = environment().factory.engine(engine_name)  # the class: what it supports, no instance
+    start = time.perf_counter()
+    conditional = engine.supported_kind().has_conditional_effects()
+    used = (
+        Compilation.NONE
+        if not problem.constraints
+        else compilation or (Compilation.LIFTED if conditional else Compilation.GROUND)
+    )
+    map_backs = []
+    with phase("grounding", f"problem {problem.name}"):
+        if used is Compilation.LIFTED:
+            compiled_domain, compiled_problem = compile_lifted(domain, problem)
+            up_problem = to_up(compiled_domain, compiled_problem, expand=True)
+        else:
+            up_problem = to_up(domain, problem, expand=True)
+    built = time.perf_counter()
+    if used is Compilation.GROUND:
+        up_problem, back = _ground_compilation(up_problem, problem)
+        map_backs.append(back)
+    kind = up_problem.kind  # computed afresh on each access: once is enough
+    if not engine.supports(kind) and kind.has_conditional_effects():
+        from unified_planning.shortcuts import Compiler
+
+        with Compiler(problem_kind=kind, compilation_kind=CompilationKind.CONDITIONAL_EFFECTS_REMOVING) as remover:
+            result = remover.compile(up_problem, CompilationKind.CONDITIONAL_EFFECTS_REMOVING)
+        up_problem = result.problem
+        map_backs.append(result.map_back_action_instance)
+        kind = up_problem.kind
+    if not engine.supports(kind):
+        raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); try {DEFAULT_PLANNER}")
+    if _false_goal(up_problem):
+        raise Unsolvable(f"the goal {problem.goal.to_pddl()} can never hold{_under(problem)}")
+    compiled_at = time.perf_counter()
+    if planner in FAST_DOWNWARD:
+        instances = _fast_downward_on_up(up_problem, problem, FAST_DOWNWARD[planner], limits)
+    else:
+        instances = _oneshot(up_problem, problem, planner, engine_name, params, limits)
+    solved = time.perf_counter()
+    steps = []
+    for instance in instances:
+        for map_back in reversed(map_backs):
+            instance = map_back(instance)
+        args = tuple(str(p.object().name).lower() for p in instance.actual_parameters)
+        steps.append((instance.action.name.lower(), args))
+    times = PlanningTimes(built - start, compiled_at - built, solved - compiled_at)
+    return PlanResult(tuple(steps), planner, solved - start, used), times
+
+
+def _fast_downward_on_up(up_problem: Any, problem: Problem, options: list[str], limits: Limits) -> list[Any]:
+    """Fast Downward's driver run by vslsp on a unified-planning problem, written as its engine writes
+    it (unified-planning's PDDLWriter, requirements included); the plan read back through the writer's
+    names."""
+    from unified_planning.io import PDDLReader, PDDLWriter
+
+    writer = PDDLWriter(up_problem, needs_requirements=True, rewrite_bool_assignments=False)
+    run = run_fast_downward(
+        writer.get_domain(), writer.get_problem(), options, limits.timeout, memory_mb=limits.memory_mb
+    )
+    _raise_unless_solved(run, problem, limits)
+    plan_text = "".join(f"({' '.join((name, *args))})\n" for name, args in run.steps)
+    return list(PDDLReader(environment()).parse_plan_string(up_problem, plan_text, writer.get_item_named).actions)
+
+
+def _oneshot(
+    up_problem: Any, problem: Problem, planner: str, engine_name: str, params: dict, limits: Limits
+) -> list[Any]:
+    """Another installed unified-planning oneshot planner, run as unified-planning runs it."""
     from unified_planning.exceptions import UPException
     from unified_planning.shortcuts import OneshotPlanner
 
-    environment()  # the global environment, its credits banner silenced (reading no longer touches it)
-    engine_name, params = PLANNERS.get(planner, (planner, {}))
-    start = time.perf_counter()
     with OneshotPlanner(name=engine_name, params=params) as engine:
-        conditional = engine.supported_kind().has_conditional_effects()
-        used = (
-            Compilation.NONE
-            if not problem.constraints
-            else compilation or (Compilation.LIFTED if conditional else Compilation.GROUND)
-        )
-        map_backs = []
-        with phase("grounding", f"problem {problem.name}"):
-            if used is Compilation.LIFTED:
-                compiled_domain, compiled_problem = compile_lifted(domain, problem)
-                up_problem = to_up(compiled_domain, compiled_problem, expand=True)
-            else:
-                up_problem = to_up(domain, problem, expand=True)
-        built = time.perf_counter()
-        if used is Compilation.GROUND:
-            up_problem, back = _ground_compilation(up_problem, problem)
-            map_backs.append(back)
-        kind = up_problem.kind  # computed afresh on each access: once is enough
-        if not engine.supports(kind) and kind.has_conditional_effects():
-            from unified_planning.shortcuts import Compiler
-
-            with Compiler(problem_kind=kind, compilation_kind=CompilationKind.CONDITIONAL_EFFECTS_REMOVING) as remover:
-                result = remover.compile(up_problem, CompilationKind.CONDITIONAL_EFFECTS_REMOVING)
-            up_problem = result.problem
-            map_backs.append(result.map_back_action_instance)
-            kind = up_problem.kind
-        if not engine.supports(kind):
-            raise InputError(f"planner {planner} cannot solve this problem (it needs: {kind}); try {DEFAULT_PLANNER}")
-        if _false_goal(up_problem):
-            raise Unsolvable(f"the goal {problem.goal.to_pddl()} can never hold{_under(problem)}")
         engine.skip_checks = True  # supports() was just checked; UP would compute the kind again
-        compiled_at = time.perf_counter()
-        _bound(engine, limits.memory_mb)
         try:
-            with _private_directory():
-                result = engine.solve(up_problem, timeout=limits.timeout)
+            result = engine.solve(up_problem, timeout=limits.timeout)
         except UPException as error:
             raise NoPlan(f"{planner} failed: {error}", PlanStatus.INTERNAL_ERROR) from None
-        except BaseException:  # an interrupt: the planner's processes (in their own session) go too
-            if getattr(engine, "_process", None) is not None:
-                kill_tree(engine._process)
-            raise
-    solved = time.perf_counter()
     status = plan_status(result.status)
     if status.limit_reached:
         raise limits.reached(status)
@@ -304,14 +346,7 @@ def _solve_up(
         raise Unsolvable(_reason(result, problem))
     if status is not PlanStatus.SOLVED:
         raise NoPlan(_reason(result, problem), status)
-    steps = []
-    for instance in result.plan.actions:
-        for map_back in reversed(map_backs):
-            instance = map_back(instance)
-        args = tuple(str(p.object().name).lower() for p in instance.actual_parameters)
-        steps.append((instance.action.name.lower(), args))
-    times = PlanningTimes(built - start, compiled_at - built, solved - compiled_at)
-    return PlanResult(tuple(steps), planner, solved - start, used), times
+    return list(result.plan.actions)
 
 
 def _false_goal(up_problem: Any) -> bool:
@@ -333,46 +368,6 @@ def _ground_compilation(up_problem: Any, problem: Problem) -> tuple[Any, Any]:
         error.vslsp_stage = "the ground constraint compilation (unified-planning's grounder)"  # type: ignore[attr-defined]
         raise
     return compiled.problem, compiled.map_back_action_instance
-
-
-_PRIVATE_PREFIX = "vslsp-plan-"
-_CWD_LOCK = threading.Lock()  # the working directory is the process's: one planner at a time per process
-
-
-@contextmanager
-def _private_directory():
-    """Run in a fresh working directory: Fast Downward's driver writes ``output.sas`` into the
-    current one, so two planners started from the same folder (test workers, experiment
-    workers) would read and delete each other's file. Threads of one process take turns."""
-    with _CWD_LOCK, tempfile.TemporaryDirectory(prefix=_PRIVATE_PREFIX) as folder:
-        previous = os.getcwd()
-        os.chdir(folder)
-        try:
-            yield
-        finally:
-            os.chdir(previous)
-
-
-def _bound(engine: Any, memory_mb: int | None) -> None:
-    """Run a unified-planning engine's planner command under ``memory_mb`` (engines that plan
-    through a command line, as Fast Downward's do; others run in this process), guarded: killed,
-    and its private folder (the working directory then) removed, when this process ends."""
-    if memory_mb is None:
-        return
-    for name in ("_get_cmd", "_get_anytime_cmd"):
-        command = getattr(engine, name, None)
-        if command is not None:
-            setattr(
-                engine,
-                name,
-                lambda *args, _command=command: bounded_command(_command(*args), memory_mb, _private_folder()),
-            )
-
-
-def _private_folder() -> str | None:
-    """The private working directory of :func:`_private_directory` when in it (never another folder)."""
-    here = os.getcwd()
-    return here if os.path.basename(here).startswith(_PRIVATE_PREFIX) else None
 
 
 def plan_status(status: Any) -> PlanStatus:
