@@ -61,6 +61,10 @@ DIRECT: dict[str, list[str]] = {
 #: ended with this one) on the problem as unified-planning's PDDLWriter writes it for the engine, after
 #: unified-planning's compilers (the ground constraint compilation, conditional effects removed).
 FAST_DOWNWARD: dict[str, list[str]] = {**DIRECT, "fast-downward-opt": ["--search", "astar(lmcut())"]}
+#: The Fast Downward planners whose engine plans for an artificial goal action, as up-fast-downward's
+#: optimal engine does (the goal its precondition, reached last: LM-cut takes no axioms, which a
+#: quantified goal would become); the action is dropped from the plan.
+GOAL_ACTION = frozenset({"fast-downward-opt"})
 
 
 @dataclass(frozen=True)
@@ -297,7 +301,7 @@ def _solve_up(
         raise Unsolvable(f"the goal {problem.goal.to_pddl()} can never hold{_under(problem)}")
     compiled_at = time.perf_counter()
     if planner in FAST_DOWNWARD:
-        instances = _fast_downward_on_up(up_problem, problem, FAST_DOWNWARD[planner], limits)
+        instances = _fast_downward_on_up(up_problem, problem, planner, FAST_DOWNWARD[planner], limits)
     else:
         instances = _oneshot(up_problem, problem, planner, engine_name, params, limits)
     solved = time.perf_counter()
@@ -311,18 +315,28 @@ def _solve_up(
     return PlanResult(tuple(steps), planner, solved - start, used), times
 
 
-def _fast_downward_on_up(up_problem: Any, problem: Problem, options: list[str], limits: Limits) -> list[Any]:
+def _fast_downward_on_up(
+    up_problem: Any, problem: Problem, planner: str, options: list[str], limits: Limits
+) -> list[Any]:
     """Fast Downward's driver run by vslsp on a unified-planning problem, written as its engine writes
     it (unified-planning's PDDLWriter, requirements included); the plan read back through the writer's
-    names."""
+    names. A problem the writer cannot write (e.g. a constant ``true`` left by a compilation) is no plan."""
+    from unified_planning.exceptions import UPException
     from unified_planning.io import PDDLReader, PDDLWriter
 
+    if planner in GOAL_ACTION:
+        from up_fast_downward.utils import introduce_artificial_goal_action
+
+        up_problem = introduce_artificial_goal_action(up_problem)[0]
     writer = PDDLWriter(up_problem, needs_requirements=True, rewrite_bool_assignments=False)
-    run = run_fast_downward(
-        writer.get_domain(), writer.get_problem(), options, limits.timeout, memory_mb=limits.memory_mb
-    )
+    try:
+        domain_text, problem_text = writer.get_domain(), writer.get_problem()
+    except UPException as error:
+        raise NoPlan(f"{planner} failed: {error}", PlanStatus.INTERNAL_ERROR) from None
+    run = run_fast_downward(domain_text, problem_text, options, limits.timeout, memory_mb=limits.memory_mb)
     _raise_unless_solved(run, problem, limits)
-    plan_text = "".join(f"({' '.join((name, *args))})\n" for name, args in run.steps)
+    steps = run.steps[:-1] if planner in GOAL_ACTION else run.steps
+    plan_text = "".join(f"({' '.join((name, *args))})\n" for name, args in steps)
     return list(PDDLReader(environment()).parse_plan_string(up_problem, plan_text, writer.get_item_named).actions)
 
 
