@@ -1,4 +1,4 @@
-"""Conflict benchmark: vslsp.symbolic.conflict.explain on unsolvable "pull every block in order" problems.
+"""Conflict benchmark: vslsp.symbolic.validation.conflict.explain on unsolvable "pull every block in order" problems.
 
 The order of the "Pull All Objects in a Given Order" experiment over N blocks (all far; goal:
 none far; N-1 ``sometime-before`` constraints) made unsolvable in two ways:
@@ -28,8 +28,8 @@ import time
 
 from vslsp.errors import TaskFailed
 from vslsp.symbolic import Atom, Domain, Not, Problem, SometimeBefore, read_domain, solve
-from vslsp.symbolic.conflict import explain
-from vslsp.symbolic.formula import conjunction
+from vslsp.symbolic.model.formula import conjunction
+from vslsp.symbolic.validation.conflict import explain
 
 
 def ordered_problem(domain: Domain, blocks: int, cycle: str) -> Problem:

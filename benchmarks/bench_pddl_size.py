@@ -12,7 +12,7 @@ limit of the same size) and a CPU limit of ``--cpu-limit`` s, so a reader that b
 not the machine; a reader stopped by the CPU limit is shown as ``>`` its CPU (a lower bound; its
 ratio too).
 
-The problems are :func:`vslsp.symbolic.generated.logistics_problem` (IPC-1998 logistics), written to a
+The problems are :func:`vslsp.symbolic.io.generated.logistics_problem` (IPC-1998 logistics), written to a
 temporary folder. ``pddl-workspace`` is read from ``--node-modules`` (default: ``$PDDL_WORKSPACE``, or
 ``/tmp/pddlws/node_modules``; install it with ``npm install pddl-workspace@11.3.0`` in that folder's
 parent); without node or the package, that yardstick is skipped with one line saying why.
@@ -34,7 +34,7 @@ import tempfile
 from pathlib import Path
 
 import vslsp
-from vslsp.symbolic.generated import LOGISTICS_DOMAIN, logistics_problem
+from vslsp.symbolic.io.generated import LOGISTICS_DOMAIN, logistics_problem
 
 TARGET_RATIO = 2.0
 _PDDL_PYPI = (

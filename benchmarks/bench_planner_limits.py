@@ -3,7 +3,7 @@
 The problem (``tests/data/limits/forall-or.pddl``, issue 27): three nested ``forall`` over an
 ``or`` of three atoms in the goal. Fast Downward's translator turns the goal into its
 disjunctive normal form and grew past 20 GB before it was killed by hand. vslsp runs every
-planner under a default time and memory limit (``vslsp.symbolic.planner.DEFAULT_TIMEOUT_S``,
+planner under a default time and memory limit (``vslsp.symbolic.engines.planner.DEFAULT_TIMEOUT_S``,
 ``DEFAULT_MEMORY_MB``; ``vslsp plan --timeout / --memory``). Measured here, in one run:
 
 - the outcome (expected: exit 1, "memory limit of N MB reached") and the wall-clock time
@@ -30,8 +30,8 @@ from pathlib import Path
 
 from vslsp.errors import VslspError
 from vslsp.symbolic import read_pddl, solve
-from vslsp.symbolic.fast_downward import descendants
-from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
+from vslsp.symbolic.engines.fast_downward import descendants
+from vslsp.symbolic.engines.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
 
 ROOT = Path(__file__).resolve().parents[1]
 DOMAIN = ROOT / "pddl" / "domain.pddl"

@@ -59,7 +59,6 @@ from vslsp.symbolic import (
     PddlWarning,
     Problem,
     SometimeBefore,
-    fast_downward,
     forall,
     read_pddl,
     save,
@@ -67,8 +66,9 @@ from vslsp.symbolic import (
     solve_timed,
     validate,
 )
-from vslsp.symbolic.lifted import compile_lifted
-from vslsp.symbolic.planner import DEFAULT_PLANNER, PLANNERS, planner_texts
+from vslsp.symbolic.engines import fast_downward
+from vslsp.symbolic.engines.lifted import compile_lifted
+from vslsp.symbolic.engines.planner import DEFAULT_PLANNER, PLANNERS, planner_texts
 
 SUITE = Path(__file__).resolve().parents[1] / "tests" / "data" / "pddl3"
 

@@ -39,7 +39,7 @@ LAYERS = {
     "vslsp.loop": 8,
     "vslsp.tasks": 9,
     "vslsp.experiments": 10,
-    **dict.fromkeys(("vslsp.cli", "vslsp.lsp", "vslsp.studio", "vslsp.gym", "vslsp.api"), 11),
+    **dict.fromkeys(("vslsp.cli", "vslsp.lsp", "vslsp.shell", "vslsp.studio", "vslsp.gym", "vslsp.api"), 11),
 }
 BELOW = {layer: set(range(layer)) for layer in range(12)}
 #: The layers (and same-layer subpackages) each layer may import; the exceptions to "all below"
@@ -58,8 +58,9 @@ MAY_IMPORT: dict[str, set[int | str]] = {
     "vslsp.vsl": {0, 1, 4, 5},  # an algorithm: perception and grounding, no simulator, no world
     "vslsp.symbolic": {0},  # the PDDL model and planner know no perception
     "vslsp.lsp": {0, "vslsp.symbolic"},  # the language server: the PDDL language engine and the planner path
+    "vslsp.shell": {0, "vslsp.symbolic"},  # the interactive shell: a user interface of the symbolic layer alone
     "vslsp.studio": {*BELOW[9], "vslsp.tasks", "vslsp.lsp"},  # beside the CLI; the tasks' registry, lsp's context
-    "vslsp.cli": {*BELOW[11], "vslsp.lsp", "vslsp.studio"},
+    "vslsp.cli": {*BELOW[11], "vslsp.lsp", "vslsp.shell", "vslsp.studio"},
 }
 
 
@@ -198,6 +199,48 @@ def test_the_language_server_imports_only_the_symbolic_layer():
         if module.startswith("vslsp.lsp"):
             upward = [t for t in targets if not t.startswith(allowed)]
             assert upward == [], f"{module} imports {upward}"
+
+
+#: The subpackages of vslsp.symbolic (docs/architecture.md, "Inside the symbolic layer"), each with the
+#: ones it may import: split by role as unified-planning splits itself (model, io, engines).
+SYMBOLIC_MAY_IMPORT: dict[str, set[str]] = {
+    "vslsp.symbolic.budget": set(),
+    "vslsp.symbolic.language": {"vslsp.symbolic.budget"},
+    "vslsp.symbolic.model": {"vslsp.symbolic.budget"},
+    "vslsp.symbolic.io": {"vslsp.symbolic.budget", "vslsp.symbolic.language", "vslsp.symbolic.model"},
+    # engines.pddl21 reads numeric and temporal files itself (unified-planning's reader, with the
+    # language's size limit and io's located errors)
+    "vslsp.symbolic.engines": {
+        "vslsp.symbolic.budget",
+        "vslsp.symbolic.model",
+        "vslsp.symbolic.language",
+        "vslsp.symbolic.io",
+    },
+    "vslsp.symbolic.validation": {
+        "vslsp.symbolic.budget",
+        "vslsp.symbolic.model",
+        "vslsp.symbolic.io",
+        "vslsp.symbolic.engines",
+    },
+    "vslsp.symbolic.learning": {"vslsp.symbolic.model"},
+}
+
+
+def test_the_symbolic_layer_s_subpackages_follow_their_table():
+    """The model never imports its reader, the engines never validation (only the numeric and temporal
+    engine reads its own files), and the
+    language engine nothing but the budget; the layer's ``__init__`` (its lazy names) stands above all."""
+    wrong = []
+    for module, targets in import_graph().items():
+        if not module.startswith("vslsp.symbolic."):
+            continue
+        source = ".".join(module.split(".")[:3])
+        assert source in SYMBOLIC_MAY_IMPORT, f"{source} is missing from SYMBOLIC_MAY_IMPORT"
+        for target in targets:
+            inner = ".".join(target.split(".")[:3])
+            if target.startswith("vslsp.symbolic.") and inner != source and inner not in SYMBOLIC_MAY_IMPORT[source]:
+                wrong.append(f"{module} imports {target}")
+    assert wrong == []
 
 
 def test_the_studio_stands_beside_the_cli():

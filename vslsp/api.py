@@ -137,18 +137,18 @@ _HOME: dict[str, tuple[str, str]] = {
     "explore_skill": ("vslsp.loop.pipeline", "explore_skill"),
     "Exploration": ("vslsp.loop.pipeline", "Exploration"),
     "learn_models": ("vslsp.loop.pipeline", "learn_models"),
-    "Step": ("vslsp.symbolic.learning", "Step"),
-    "learn_domain": ("vslsp.symbolic.learning", "learn_domain"),
-    "learn_task": ("vslsp.symbolic.learning", "learn_task"),
-    "LearnedTask": ("vslsp.symbolic.learning", "Task"),
-    "make_problem": ("vslsp.symbolic.learning", "make_problem"),
-    "Domain": ("vslsp.symbolic.model", "Domain"),
-    "Problem": ("vslsp.symbolic.model", "Problem"),
-    "read_domain": ("vslsp.symbolic.pddl", "read_domain"),
-    "read_problem": ("vslsp.symbolic.pddl", "read_problem"),
-    "PlanResult": ("vslsp.symbolic.planner", "PlanResult"),
-    "validate": ("vslsp.symbolic.validate", "validate"),
-    "Validation": ("vslsp.symbolic.validate", "Validation"),
+    "Step": ("vslsp.symbolic.learning.learn", "Step"),
+    "learn_domain": ("vslsp.symbolic.learning.learn", "learn_domain"),
+    "learn_task": ("vslsp.symbolic.learning.learn", "learn_task"),
+    "LearnedTask": ("vslsp.symbolic.learning.learn", "Task"),
+    "make_problem": ("vslsp.symbolic.learning.learn", "make_problem"),
+    "Domain": ("vslsp.symbolic.model.domain", "Domain"),
+    "Problem": ("vslsp.symbolic.model.domain", "Problem"),
+    "read_domain": ("vslsp.symbolic.io.pddl", "read_domain"),
+    "read_problem": ("vslsp.symbolic.io.pddl", "read_problem"),
+    "PlanResult": ("vslsp.symbolic.engines.planner", "PlanResult"),
+    "validate": ("vslsp.symbolic.validation.validate", "validate"),
+    "Validation": ("vslsp.symbolic.validation.validate", "Validation"),
     "execute_step": ("vslsp.loop.monitor", "execute_step"),
     "StepResult": ("vslsp.loop.monitor", "StepResult"),
     "execute_task": ("vslsp.loop.pipeline", "execute_task"),
@@ -279,7 +279,7 @@ def watch_tutor(
 def plan(domain: Domain, problem: Problem, planner: str = "fast-downward", timeout: float | None = 300.0) -> PlanResult:
     """A plan for ``problem`` in ``domain`` by ``planner`` (unified-planning's oneshot planners;
     Fast Downward by default), PDDL 3.0 trajectory constraints included; ``timeout`` in
-    wall-clock seconds (None: none). Raises :class:`~vslsp.symbolic.outcomes.NoPlan` (a
+    wall-clock seconds (None: none). Raises :class:`~vslsp.symbolic.engines.outcomes.NoPlan` (a
     TaskFailed with its status) when there is none or a limit was reached.
 
     Example::
@@ -288,7 +288,7 @@ def plan(domain: Domain, problem: Problem, planner: str = "fast-downward", timeo
         result = api.plan(domain, problem)
         print(result.lines())                     # ['(pull green)']
     """
-    from vslsp.symbolic.planner import solve
+    from vslsp.symbolic.engines.planner import solve
 
     return solve(domain, problem, planner, timeout=timeout)
 

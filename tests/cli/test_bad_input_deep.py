@@ -11,10 +11,10 @@ import pytest
 from helpers.cli import REPO, vslsp
 
 from vslsp.errors import InputError
+from vslsp.shell.session import Shell
 from vslsp.symbolic import budget, read_pddl
 from vslsp.symbolic.budget import MAX_GROUND_INSTANCES, MAX_NESTING, MAX_READER_TYPE_DEPTH, MAX_TYPE_DEPTH
 from vslsp.symbolic.language import RESERVED_NAMES, is_reserved_name
-from vslsp.symbolic.shell import Shell
 
 DOMAIN = REPO / "pddl" / "domain.pddl"
 PROBLEM = REPO / "pddl" / "pull-in-order.pddl"
@@ -238,7 +238,7 @@ def test_ground_instances_are_counted_against_the_limit_exactly():
 
 
 def test_a_quantified_goal_past_the_limit_is_refused_before_it_is_written_out():
-    from vslsp.symbolic.formula import Atom, Forall, expand_quantifiers
+    from vslsp.symbolic.model.formula import Atom, Forall, expand_quantifiers
 
     universe = {"block": tuple(f"b{i}" for i in range(100))}
     goal = Forall((("?a", "block"), ("?b", "block"), ("?c", "block")), Atom("on", ("?a", "?b")))

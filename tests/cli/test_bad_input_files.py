@@ -15,7 +15,7 @@ from helpers.cli import REPO, vslsp, vslsp_process
 from numpy.lib import format as npy
 
 from vslsp.skills import default_library_path
-from vslsp.symbolic.validate import MAX_PLAN_BYTES
+from vslsp.symbolic.validation.validate import MAX_PLAN_BYTES
 
 DOMAIN, PROBLEM = REPO / "pddl" / "domain.pddl", REPO / "pddl" / "pull-in-order.pddl"
 

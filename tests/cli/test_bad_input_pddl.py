@@ -9,8 +9,9 @@ import pytest
 from helpers.cli import REPO, vslsp
 
 from vslsp.errors import InputError
-from vslsp.symbolic import budget, pddl
-from vslsp.symbolic.pddl_errors import PddlWarning
+from vslsp.symbolic import budget
+from vslsp.symbolic.io import pddl
+from vslsp.symbolic.io.pddl_errors import PddlWarning
 
 DOMAIN, PROBLEM = REPO / "pddl" / "domain.pddl", REPO / "pddl" / "pull-in-order.pddl"
 

@@ -14,10 +14,10 @@ from helpers.cli import REPO, vslsp
 from helpers.events import became_true, process_gone, wait_until
 from helpers.processes import planner_processes, start
 
-from vslsp.symbolic.fast_downward import failure
-from vslsp.symbolic.fast_downward import run as run_fast_downward
-from vslsp.symbolic.outcomes import PlanStatus
-from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S, DIRECT
+from vslsp.symbolic.engines.fast_downward import failure
+from vslsp.symbolic.engines.fast_downward import run as run_fast_downward
+from vslsp.symbolic.engines.outcomes import PlanStatus
+from vslsp.symbolic.engines.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S, DIRECT
 
 DOMAIN = REPO / "pddl" / "domain.pddl"
 SOLVABLE = REPO / "pddl" / "pull-in-order.pddl"

@@ -26,7 +26,7 @@ from vslsp import interrupts
 from vslsp.errors import Interrupted
 from vslsp.files import cache_folder
 from vslsp.outputs import LOCK_NAME, lock_folder
-from vslsp.symbolic.fast_downward import descendants
+from vslsp.symbolic.engines.fast_downward import descendants
 
 LIMITS = REPO / "tests" / "data" / "limits"
 GROWING_PLAN = ["plan", REPO / "pddl" / "domain.pddl", LIMITS / "forall-or.pddl", "--memory", "700"]

@@ -28,7 +28,7 @@ def test_plan_exits_3_with_json_when_fast_downward_fails_inside(capsys, monkeypa
     crashing = tmp_path / "fast-downward.py"
     crashing.write_text("import sys\nprint('search: critical error: out of ideas')\nsys.exit(35)\n")
     crashing.chmod(crashing.stat().st_mode | stat.S_IXUSR)
-    monkeypatch.setattr("vslsp.symbolic.fast_downward.driver", lambda: crashing)
+    monkeypatch.setattr("vslsp.symbolic.engines.fast_downward.driver", lambda: crashing)
     code, out, err = vslsp(capsys, "plan", DOMAIN, PROBLEM, "--json", "--out", tmp_path / "plan.txt")
     data = one_object(out)
     assert code == 3 and data["exit_code"] == 3

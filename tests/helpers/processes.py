@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 from helpers.events import experiment_program
-from vslsp.symbolic.fast_downward import descendants
+from vslsp.symbolic.engines.fast_downward import descendants
 
 TESTS = Path(__file__).resolve().parents[1]
 REPO = TESTS.parent

@@ -9,8 +9,8 @@ from helpers.cli import vslsp
 from helpers.symbolic import PDDL, far
 
 from vslsp.symbolic import parse_pddl, solve
-from vslsp.symbolic.conflict import Conflict, explain
-from vslsp.symbolic.formula import conjunction
+from vslsp.symbolic.model.formula import conjunction
+from vslsp.symbolic.validation.conflict import Conflict, explain
 
 DOMAIN = (PDDL / "domain.pddl").read_text()
 

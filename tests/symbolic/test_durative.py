@@ -1,4 +1,4 @@
-"""The learned domain with durations (vslsp.symbolic.durative): push and pull written as durative
+"""The learned domain with durations (vslsp.symbolic.io.durative): push and pull written as durative
 actions lasting their DMPs' 2τ, read clean by the language engine, planned by a temporal planner
 and the plan validated in time."""
 
@@ -13,7 +13,7 @@ from helpers.symbolic import PDDL
 from vslsp.errors import InputError
 from vslsp.skills.library import SkillLibrary, default_library_path
 from vslsp.symbolic import read_domain
-from vslsp.symbolic.durative import durative_domain_pddl, skill_durations
+from vslsp.symbolic.io.durative import durative_domain_pddl, skill_durations
 from vslsp.symbolic.language import check_files
 
 

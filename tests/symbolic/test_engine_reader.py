@@ -1,4 +1,4 @@
-"""Reading from the language engine's tree (vslsp.symbolic.engine_reader) gives the model
+"""Reading from the language engine's tree (vslsp.symbolic.io.engine_reader) gives the model
 unified-planning's reader gives, for every PDDL file of the repository; a mistake is placed and
 worded by `plan` and `validate` as `pddl check` places it; and planning with Fast Downward, from
 reading to the plan, never imports unified-planning (whose import alone took about 1.5 s)."""
@@ -14,7 +14,8 @@ from pathlib import Path
 
 from helpers.cli import REPO, vslsp
 
-from vslsp.symbolic import pddl, read_pddl
+from vslsp.symbolic import read_pddl
+from vslsp.symbolic.io import pddl
 
 FOLDERS = sorted({p.parent for p in REPO.glob("**/*.pddl") if ".venv" not in p.parts and "out" not in p.parts})
 

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 from helpers.cli import REPO
 
-from vslsp.symbolic import pddl
-from vslsp.symbolic.flat_problem import flat_problem
+from vslsp.symbolic.io import pddl
+from vslsp.symbolic.io.flat_problem import flat_problem
 
 DOMAIN = REPO / "pddl" / "domain.pddl"
 DATA = REPO / "tests" / "data" / "pddl3"

@@ -3,7 +3,7 @@
 from helpers.symbolic import far
 
 from vslsp.symbolic import Forall, Not, SometimeBefore, forall, holds
-from vslsp.symbolic.formula import Exists, Imply, formula_from_list, formula_to_list, substitute
+from vslsp.symbolic.model.formula import Exists, Imply, formula_from_list, formula_to_list, substitute
 
 UNIVERSE = {"block": ("red", "green")}
 

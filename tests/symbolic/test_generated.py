@@ -10,7 +10,7 @@ import pytest
 from helpers.cli import vslsp
 
 from vslsp.errors import InputError
-from vslsp.symbolic.generated import LOGISTICS_DOMAIN, logistics_problem
+from vslsp.symbolic.io.generated import LOGISTICS_DOMAIN, logistics_problem
 from vslsp.symbolic.language import analyse, read_text
 
 

@@ -105,7 +105,7 @@ def test_the_check_imports_neither_unified_planning_nor_the_planner():
         "except SystemExit:\n"
         "    pass\n"
         "heavy = sorted(m for m in sys.modules if m.split('.')[0] in ('unified_planning', 'numpy')"
-        " or m in ('vslsp.symbolic.pddl', 'vslsp.symbolic.planner', 'vslsp.symbolic.up_model'))\n"
+        " or m in ('vslsp.symbolic.io.pddl', 'vslsp.symbolic.engines.planner', 'vslsp.symbolic.model.up_model'))\n"
         "print('imported:', heavy)\n"
     )
     import subprocess

@@ -1,6 +1,6 @@
 """Finding a goal conjunct or a constraint of the model in the problem file that writes it."""
 
-from vslsp.symbolic.locate import as_written, find, normalised, written_parts
+from vslsp.symbolic.io.locate import as_written, find, normalised, written_parts
 
 PROBLEM = """(define (problem p) (:domain d)
   (:objects a b - block)

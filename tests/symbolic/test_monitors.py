@@ -8,8 +8,8 @@ import itertools
 
 import pytest
 
-from vslsp.symbolic.formula import Always, AtEnd, AtMostOnce, Atom, Sometime, SometimeAfter, SometimeBefore
-from vslsp.symbolic.monitors import ConstraintMonitor
+from vslsp.symbolic.model.formula import Always, AtEnd, AtMostOnce, Atom, Sometime, SometimeAfter, SometimeBefore
+from vslsp.symbolic.validation.monitors import ConstraintMonitor
 
 P, Q = Atom("p", ()), Atom("q", ())
 

@@ -1,4 +1,4 @@
-"""Numeric and temporal PDDL (vslsp.symbolic.pddl21): ``vslsp pddl check``, ``plan`` and ``validate``
+"""Numeric and temporal PDDL (vslsp.symbolic.engines.pddl21): ``vslsp pddl check``, ``plan`` and ``validate``
 on real domains of tests/data/pddl21, planned by the real engines (ENHSP in Java, TAMER, Aries);
 what no engine plans is exit 2 with one line naming the construct and its place."""
 

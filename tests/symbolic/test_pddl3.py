@@ -27,7 +27,7 @@ from vslsp.symbolic import (
     solve,
     validate,
 )
-from vslsp.symbolic.lifted import compile_lifted
+from vslsp.symbolic.engines.lifted import compile_lifted
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "pddl3"
 

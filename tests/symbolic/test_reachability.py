@@ -10,8 +10,8 @@ from helpers.cli import vslsp, vslsp_process
 
 from vslsp.lsp.commands import findings, told
 from vslsp.symbolic import read_pddl
-from vslsp.symbolic.conflict import explain
-from vslsp.symbolic.reachability import relaxed_reach
+from vslsp.symbolic.validation.conflict import explain
+from vslsp.symbolic.validation.reachability import relaxed_reach
 
 SORTING = Path(__file__).resolve().parents[1] / "data" / "sorting"
 DOMAIN, WRONG_BIN, SWAP = SORTING / "domain.pddl", SORTING / "wrong-bin.pddl", SORTING / "swap.pddl"

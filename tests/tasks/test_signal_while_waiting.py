@@ -19,7 +19,7 @@ from helpers.events import became_true
 
 from vslsp import interrupts
 from vslsp.errors import Interrupted
-from vslsp.symbolic import fast_downward
+from vslsp.symbolic.engines import fast_downward
 from vslsp.tasks import get_task, run_trials, runner
 
 MAIN = threading.main_thread().native_id

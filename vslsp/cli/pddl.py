@@ -192,7 +192,7 @@ class ShellCommand(click.Command):
     shell's command table only when the help is shown)."""
 
     def format_epilog(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
-        from vslsp.symbolic.shell_commands import overview
+        from vslsp.shell.commands import overview
 
         formatter.write_paragraph()
         formatter.write_text("Commands inside the shell (help COMMAND there tells one in full):")
@@ -214,8 +214,8 @@ def shell(domain: str | None, problem: str | None, keep_going: bool, max_bytes: 
     fit where the cursor is; undo; history in ~/.vslsp_history. Reads commands from standard
     input when it is not a terminal (no history then); such a session exits 1 when a command
     was refused (an error, or its usage shown), unless --keep-going."""
-    from vslsp.symbolic.shell import Shell
-    from vslsp.symbolic.shell_save import load
+    from vslsp.shell.save import load
+    from vslsp.shell.session import Shell
 
     with pddl_edge(False, False):
         loaded = load(domain, problem, max_bytes) if domain else None

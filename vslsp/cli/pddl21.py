@@ -1,5 +1,5 @@
 """``vslsp plan``, ``vslsp validate`` and ``vslsp pddl check`` on numeric and temporal PDDL
-(:mod:`vslsp.symbolic.pddl21`): the commands hand a domain beyond STRIPS to these functions."""
+(:mod:`vslsp.symbolic.engines.pddl21`): the commands hand a domain beyond STRIPS to these functions."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from vslsp.cli.pddl import pddl_edge
 
 def beyond_strips(domain: str, max_bytes: int, as_json: bool, debug: bool) -> bool:
     """Whether DOMAIN is numeric, temporal or has derived predicates (its reading errors at the edge)."""
-    from vslsp.symbolic.pddl21 import domain_is_beyond_strips
+    from vslsp.symbolic.engines.pddl21 import domain_is_beyond_strips
 
     with pddl_edge(as_json, debug, {}):
         return domain_is_beyond_strips(domain, max_bytes)
@@ -34,8 +34,8 @@ def plan(
     from vslsp.cli.params import prepare_output_file
     from vslsp.interrupts import memory_limit_mb
     from vslsp.outputs import refuse_input
-    from vslsp.symbolic import pddl21
-    from vslsp.symbolic.pddl import save
+    from vslsp.symbolic.engines import pddl21
+    from vslsp.symbolic.io.pddl import save
 
     with pddl_edge(as_json, debug, {"plan": None, "planner": planner}) as warned:
         target = prepare_output_file(out) if out is not None else None
@@ -61,11 +61,11 @@ def plan(
 
 def validate(domain: str, problem: str, plan: str, as_json: bool, max_bytes: int, debug: bool) -> None:
     """Check PLAN (sequential, or time-triggered for a temporal problem); exit 1 when invalid."""
-    from vslsp.symbolic import pddl21
+    from vslsp.symbolic.engines import pddl21
+    from vslsp.symbolic.io.locate import where
     from vslsp.symbolic.language.files import read_text
-    from vslsp.symbolic.locate import where
-    from vslsp.symbolic.pddl21_validate import read_plan
-    from vslsp.symbolic.pddl21_validate import validate as validate_plan
+    from vslsp.symbolic.validation.pddl21 import read_plan
+    from vslsp.symbolic.validation.pddl21 import validate as validate_plan
 
     with pddl_edge(as_json, debug, {"valid": None}) as warned:
         read = pddl21.read(domain, problem, max_bytes)

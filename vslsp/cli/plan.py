@@ -9,7 +9,7 @@ import click
 
 from vslsp.cli.params import int_range, non_negative_float, positive_float, prepare_output_file
 from vslsp.cli.pddl import debug_option, max_size_option, pddl_edge
-from vslsp.symbolic.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
+from vslsp.symbolic.engines.planner import DEFAULT_MEMORY_MB, DEFAULT_TIMEOUT_S
 
 MAX_TIMEOUT_S = 7 * 24 * 3600.0  # a week
 MAX_MEMORY_MB = 1024 * 1024  # a terabyte
@@ -155,9 +155,9 @@ def _explained(
 ) -> list[str]:
     """The conflict of an unsolvable problem as lines of text; ``failure`` gets its JSON fields."""
     from vslsp.errors import VslspError
-    from vslsp.symbolic.conflict import explain
-    from vslsp.symbolic.locate import where
-    from vslsp.symbolic.pddl import read_text
+    from vslsp.symbolic.io.locate import where
+    from vslsp.symbolic.io.pddl import read_text
+    from vslsp.symbolic.validation.conflict import explain
 
     try:
         conflict = explain(domain, problem, planner=planner, budget_s=budget, memory_mb=memory, known_unsolvable=True)

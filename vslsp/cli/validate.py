@@ -42,8 +42,8 @@ def validate(domain: str, problem: str, plan: str, as_json: bool, max_bytes: int
         return
     from vslsp.symbolic import read_pddl, read_plan
     from vslsp.symbolic import validate as validate_plan
-    from vslsp.symbolic.locate import where
-    from vslsp.symbolic.pddl import read_text
+    from vslsp.symbolic.io.locate import where
+    from vslsp.symbolic.io.pddl import read_text
 
     with pddl_edge(as_json, debug, {"valid": None}) as warned:
         parsed_domain, parsed_problem = read_pddl(domain, problem, max_bytes)

@@ -25,7 +25,7 @@ from vslsp.gym.icub_line import COLOUR_NAMES, SKILLS
 from vslsp.loop.monitor import model_expects_far
 from vslsp.loop.pipeline import MAX_REPLANS, plan_task, scene_literals
 from vslsp.symbolic import Domain, NoPlan, PlanResult, Task
-from vslsp.symbolic.planner import DEFAULT_TIMEOUT_S
+from vslsp.symbolic.engines.planner import DEFAULT_TIMEOUT_S
 
 
 class VslSpPolicy:

@@ -1,6 +1,6 @@
 """Planned against executed durations of a trial's steps (issue 41 item 4).
 
-Each skill's planned duration is its reach DMP's ``2τ`` (:func:`vslsp.symbolic.durative.skill_durations`),
+Each skill's planned duration is its reach DMP's ``2τ`` (:func:`vslsp.symbolic.io.durative.skill_durations`),
 the duration the learned domain is written with as durative actions; each executed step's
 duration is the hand trajectory's time in the simulator (240 Hz physics steps, from the first
 waypoint to the last). The learned domain with these durations is what a temporal planner (or
@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from vslsp.outputs import write_text
-from vslsp.symbolic.durative import durative_domain_pddl, skill_durations
+from vslsp.symbolic.io.durative import durative_domain_pddl, skill_durations
 
 DURATIVE_DOMAIN, DURATIONS = "durative-domain.pddl", "durations.json"
 

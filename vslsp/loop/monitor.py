@@ -25,7 +25,7 @@ from vslsp.sim.robot import HandTrajectory
 from vslsp.skills.execute import execute_skill
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import Atom, Domain
-from vslsp.symbolic.model import ground_effects
+from vslsp.symbolic.model.domain import ground_effects
 from vslsp.worlds import World
 
 #: Acting out a step: ``act(world, library, action, obj, state)`` runs the skill of ``action`` on

@@ -34,7 +34,7 @@ from vslsp.symbolic import (
     make_problem,
     solve,
 )
-from vslsp.symbolic.planner import DEFAULT_TIMEOUT_S
+from vslsp.symbolic.engines.planner import DEFAULT_TIMEOUT_S
 from vslsp.worlds import World
 
 MAX_REPLANS = 4

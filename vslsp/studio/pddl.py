@@ -138,10 +138,10 @@ def plan(domain: str, problem: str, domain_file: str = "<domain>", problem_file:
 def _conflict(domain: Any, problem: Any, text: str, problem_file: str) -> tuple[list[dict], list[str]] | None:
     """A minimal conflict of goal conjuncts and constraints, located in the problem's text, and why
     its goal atoms can never hold, where the symbolic layer explains unsolvable problems
-    (``vslsp.symbolic.conflict``); else None."""
-    if importlib.util.find_spec("vslsp.symbolic.conflict") is None:
+    (``vslsp.symbolic.validation.conflict``); else None."""
+    if importlib.util.find_spec("vslsp.symbolic.validation.conflict") is None:
         return None
-    explainer = importlib.import_module("vslsp.symbolic.conflict")
+    explainer = importlib.import_module("vslsp.symbolic.validation.conflict")
     try:
         found = explainer.explain(domain, problem, budget_s=PLAN_TIMEOUT_S, known_unsolvable=True)
     except VslspError:
@@ -155,7 +155,7 @@ def validate(
     """``vslsp validate --json`` on the text (``violations`` when the symbolic layer lists them), with
     ``timeline`` over the steps that apply."""
     from vslsp.symbolic import validate as validate_plan
-    from vslsp.symbolic.validate import parse_plan
+    from vslsp.symbolic.validation.validate import parse_plan
 
     parsed_domain, parsed_problem, said = _read(domain, problem, domain_file, problem_file)
     steps = parse_plan(plan_text, parsed_domain, parsed_problem, "<plan>")
@@ -172,8 +172,8 @@ def timeline(domain: Any, problem: Any, steps: list) -> dict:
     """The states s_0..s_n of ``steps`` (stopping at the first step that does not apply) and each
     constraint's marks: ``{"steps": [...], "states": [[atom, ...], ...], "constraints": [{"text",
     "truth": [bool per state], "status": ["kept"|"broken"|"open" per state], "kept": bool}]}``."""
-    from vslsp.symbolic.formula import holds, substitute
-    from vslsp.symbolic.model import ground_effects
+    from vslsp.symbolic.model.domain import ground_effects
+    from vslsp.symbolic.model.formula import holds, substitute
 
     universe = problem.universe()
     state = frozenset(problem.init)

@@ -3,20 +3,44 @@
 Paper: "Generalization of Learned Skills as Symbolic Action Models", "Implementation" and the
 iCub experiments. Learning (:func:`learn_domain`, :func:`learn_task`) works on grounded
 :class:`Step` records; :func:`make_problem` states a task in an observed scene; :func:`solve`
-plans with unified-planning + Fast Downward (trajectory constraints compiled into the lifted
-domain, :mod:`vslsp.symbolic.lifted`); :func:`validate` checks a plan against preconditions,
-goal and every PDDL 3.0 constraint. Layers: budget (the limits of PDDL input) < formula < model <
-lifted, monitors < validate < up_model, flat_problem < pddl (reader), planner (engines) < shell.
-unified-planning is imported only when called.
+plans with Fast Downward (trajectory constraints compiled into the lifted domain,
+:mod:`vslsp.symbolic.engines.lifted`); :func:`validate` checks a plan against preconditions, goal
+and every PDDL 3.0 constraint. Split by role, as unified-planning splits itself:
+
+- :mod:`~vslsp.symbolic.budget`: the limits of PDDL input and each phase's time budget (what every
+  subpackage stands on);
+- :mod:`~vslsp.symbolic.language`: the PDDL language engine (``vslsp pddl check``, the language server);
+- :mod:`~vslsp.symbolic.model`: formulas, domains and problems, unified-planning's model;
+- :mod:`~vslsp.symbolic.io`: reading PDDL files into the model;
+- :mod:`~vslsp.symbolic.engines`: planning (constraint compilation, Fast Downward, outcomes);
+- :mod:`~vslsp.symbolic.validation`: plan validation and why a problem has no plan;
+- :mod:`~vslsp.symbolic.learning`: action models and goals from demonstrations.
+
+Layers (tests/test_layers.py): budget < language < model < io, engines < validation; learning
+stands on model alone. unified-planning is imported only when
+called.
 """
 
 import importlib
-import sys
-import types
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from vslsp.symbolic.formula import (
+    from vslsp.symbolic.engines.outcomes import Compilation, InternalError, NoPlan, PlanStatus, Unsolvable
+    from vslsp.symbolic.engines.planner import PlanResult, check_planner, solve, solve_timed
+    from vslsp.symbolic.io.pddl import parse_pddl, read_domain, read_pddl, read_problem, save
+    from vslsp.symbolic.io.pddl_errors import PddlWarning
+    from vslsp.symbolic.learning.learn import (
+        Rule,
+        Step,
+        Task,
+        extract_rules,
+        generalise,
+        learn_domain,
+        learn_task,
+        make_problem,
+    )
+    from vslsp.symbolic.model.domain import Action, Domain, Predicate, Problem, When
+    from vslsp.symbolic.model.formula import (
         Always,
         And,
         AtEnd,
@@ -35,75 +59,60 @@ if TYPE_CHECKING:
         holds,
         sometime_before,
     )
-    from vslsp.symbolic.learning import (
-        Rule,
-        Step,
-        Task,
-        extract_rules,
-        generalise,
-        learn_domain,
-        learn_task,
-        make_problem,
-    )
-    from vslsp.symbolic.model import Action, Domain, Predicate, Problem, When
-    from vslsp.symbolic.outcomes import Compilation, InternalError, NoPlan, PlanStatus, Unsolvable
-    from vslsp.symbolic.pddl import parse_pddl, read_domain, read_pddl, read_problem, save
-    from vslsp.symbolic.pddl_errors import PddlWarning
-    from vslsp.symbolic.planner import PlanResult, check_planner, solve, solve_timed
-    from vslsp.symbolic.validate import Validation, parse_plan, read_plan, validate
+    from vslsp.symbolic.validation.validate import Validation, parse_plan, read_plan, validate
 
 # Each name is imported on first use, so that importing one module of the layer (the language engine
 # of ``vslsp pddl check``) does not import them all (the planner, unified-planning's reader).
 _HOME = {
-    "Always": "vslsp.symbolic.formula",
-    "And": "vslsp.symbolic.formula",
-    "AtEnd": "vslsp.symbolic.formula",
-    "AtMostOnce": "vslsp.symbolic.formula",
-    "Atom": "vslsp.symbolic.formula",
-    "Equals": "vslsp.symbolic.formula",
-    "Exists": "vslsp.symbolic.formula",
-    "Forall": "vslsp.symbolic.formula",
-    "Imply": "vslsp.symbolic.formula",
-    "Not": "vslsp.symbolic.formula",
-    "Or": "vslsp.symbolic.formula",
-    "Sometime": "vslsp.symbolic.formula",
-    "SometimeAfter": "vslsp.symbolic.formula",
-    "SometimeBefore": "vslsp.symbolic.formula",
-    "forall": "vslsp.symbolic.formula",
-    "holds": "vslsp.symbolic.formula",
-    "sometime_before": "vslsp.symbolic.formula",
-    "Rule": "vslsp.symbolic.learning",
-    "Step": "vslsp.symbolic.learning",
-    "Task": "vslsp.symbolic.learning",
-    "extract_rules": "vslsp.symbolic.learning",
-    "generalise": "vslsp.symbolic.learning",
-    "learn_domain": "vslsp.symbolic.learning",
-    "learn_task": "vslsp.symbolic.learning",
-    "make_problem": "vslsp.symbolic.learning",
-    "Action": "vslsp.symbolic.model",
-    "Domain": "vslsp.symbolic.model",
-    "Predicate": "vslsp.symbolic.model",
-    "Problem": "vslsp.symbolic.model",
-    "When": "vslsp.symbolic.model",
-    "Compilation": "vslsp.symbolic.outcomes",
-    "InternalError": "vslsp.symbolic.outcomes",
-    "NoPlan": "vslsp.symbolic.outcomes",
-    "PlanStatus": "vslsp.symbolic.outcomes",
-    "Unsolvable": "vslsp.symbolic.outcomes",
-    "parse_pddl": "vslsp.symbolic.pddl",
-    "read_domain": "vslsp.symbolic.pddl",
-    "read_pddl": "vslsp.symbolic.pddl",
-    "read_problem": "vslsp.symbolic.pddl",
-    "save": "vslsp.symbolic.pddl",
-    "PddlWarning": "vslsp.symbolic.pddl_errors",
-    "PlanResult": "vslsp.symbolic.planner",
-    "check_planner": "vslsp.symbolic.planner",
-    "solve": "vslsp.symbolic.planner",
-    "solve_timed": "vslsp.symbolic.planner",
-    "Validation": "vslsp.symbolic.validate",
-    "parse_plan": "vslsp.symbolic.validate",
-    "read_plan": "vslsp.symbolic.validate",
-    "validate": "vslsp.symbolic.validate",
+    "Always": "vslsp.symbolic.model.formula",
+    "And": "vslsp.symbolic.model.formula",
+    "AtEnd": "vslsp.symbolic.model.formula",
+    "AtMostOnce": "vslsp.symbolic.model.formula",
+    "Atom": "vslsp.symbolic.model.formula",
+    "Equals": "vslsp.symbolic.model.formula",
+    "Exists": "vslsp.symbolic.model.formula",
+    "Forall": "vslsp.symbolic.model.formula",
+    "Imply": "vslsp.symbolic.model.formula",
+    "Not": "vslsp.symbolic.model.formula",
+    "Or": "vslsp.symbolic.model.formula",
+    "Sometime": "vslsp.symbolic.model.formula",
+    "SometimeAfter": "vslsp.symbolic.model.formula",
+    "SometimeBefore": "vslsp.symbolic.model.formula",
+    "forall": "vslsp.symbolic.model.formula",
+    "holds": "vslsp.symbolic.model.formula",
+    "sometime_before": "vslsp.symbolic.model.formula",
+    "Rule": "vslsp.symbolic.learning.learn",
+    "Step": "vslsp.symbolic.learning.learn",
+    "Task": "vslsp.symbolic.learning.learn",
+    "extract_rules": "vslsp.symbolic.learning.learn",
+    "generalise": "vslsp.symbolic.learning.learn",
+    "learn_domain": "vslsp.symbolic.learning.learn",
+    "learn_task": "vslsp.symbolic.learning.learn",
+    "make_problem": "vslsp.symbolic.learning.learn",
+    "Action": "vslsp.symbolic.model.domain",
+    "Domain": "vslsp.symbolic.model.domain",
+    "Predicate": "vslsp.symbolic.model.domain",
+    "Problem": "vslsp.symbolic.model.domain",
+    "When": "vslsp.symbolic.model.domain",
+    "Compilation": "vslsp.symbolic.engines.outcomes",
+    "InternalError": "vslsp.symbolic.engines.outcomes",
+    "NoPlan": "vslsp.symbolic.engines.outcomes",
+    "PlanStatus": "vslsp.symbolic.engines.outcomes",
+    "Unsolvable": "vslsp.symbolic.engines.outcomes",
+    "parse_pddl": "vslsp.symbolic.io.pddl",
+    "read_domain": "vslsp.symbolic.io.pddl",
+    "read_pddl": "vslsp.symbolic.io.pddl",
+    "read_problem": "vslsp.symbolic.io.pddl",
+    "save": "vslsp.symbolic.io.pddl",
+    "PddlWarning": "vslsp.symbolic.io.pddl_errors",
+    "PlanResult": "vslsp.symbolic.engines.planner",
+    "check_planner": "vslsp.symbolic.engines.planner",
+    "solve": "vslsp.symbolic.engines.planner",
+    "solve_timed": "vslsp.symbolic.engines.planner",
+    "Validation": "vslsp.symbolic.validation.validate",
+    "parse_plan": "vslsp.symbolic.validation.validate",
+    "read_plan": "vslsp.symbolic.validation.validate",
+    "validate": "vslsp.symbolic.validation.validate",
 }
 
 
@@ -114,19 +123,6 @@ def __getattr__(name: str) -> Any:
         return value
     raise AttributeError(f"module 'vslsp.symbolic' has no attribute {name!r}")
 
-
-class _Layer(types.ModuleType):
-    """The package as a module whose exported names win over its submodules of the same name: importing
-    ``vslsp.symbolic.validate`` (the module) leaves ``vslsp.symbolic.validate`` the function, as an eager
-    ``from vslsp.symbolic.validate import validate`` here would."""
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if isinstance(value, types.ModuleType) and _HOME.get(name) == value.__name__ and hasattr(value, name):
-            value = getattr(value, name)
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Layer
 
 __all__ = [
     "Action",

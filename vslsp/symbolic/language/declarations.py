@@ -360,7 +360,7 @@ def predicates(ctx: Context, section: Group, document: Document, kind: str = "pr
             if head.key == "total-cost" and not params:
                 ctx.use(":action-costs", head.span)
             else:
-                ctx.use(":numeric-fluents", head.span)  # planned by vslsp.symbolic.pddl21
+                ctx.use(":numeric-fluents", head.span)  # planned by vslsp.symbolic.engines.pddl21
 
 
 def action(

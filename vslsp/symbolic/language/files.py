@@ -1,6 +1,6 @@
 """Reading PDDL files within a budget: regular files of UTF-8 text of at most ``max_bytes`` bytes
 (:data:`MAX_PDDL_BYTES` unless the user's ``--max-size`` says otherwise), shared with the planner path
-(:mod:`vslsp.symbolic.pddl`), the shell and the language server: the one place the limit is defined.
+(:mod:`vslsp.symbolic.io.pddl`), the shell and the language server: the one place the limit is defined.
 
 The language engine reads in time and memory linear in the size (benchmarks/bench_pddl_size.py: about
 0.7 s of CPU and 70 MB of memory per MB of PDDL), so the limit is what bounds a file's memory."""
