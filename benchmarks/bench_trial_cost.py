@@ -227,6 +227,12 @@ def install(meter: Meter) -> None:
     builtins.__import__ = charged_import
 
 
+def timeless(record: dict) -> dict:
+    """A trial's record without its times (its fields named ``*_s``: what else the same seed
+    must give again)."""
+    return {key: value for key, value in record.items() if not key.endswith("_s")}
+
+
 def worker(name: str, seeds: list[int], report: bool, profile: int) -> dict:
     """Run ``name``'s trials in this (fresh) process, metered; the figures as a dict."""
     meter = Meter()
@@ -265,6 +271,7 @@ def worker(name: str, seeds: list[int], report: bool, profile: int) -> dict:
                 "renders": meter.floor_renders - renders,
                 "unreplayed_steps": sum(meter.steps.values()),
                 "stages_s": charged,
+                "record": timeless(result.to_dict()),
             }
         )
     if report:
