@@ -28,8 +28,8 @@ disconnect, the same number of ``stepSimulation`` calls and the same ``getCamera
 (sizes, cameras, renderer) are replayed on that client's scene as the trial left it, with
 nothing else; their CPU time is the floor and is not charged to the trial. Per family the
 table gives the median CPU seconds of a trial, the median floor, the median of the per-trial
-ratios, the whole run's CPU per trial (start-up and report included) and each stage's share of
-the whole run's CPU.
+ratios (n/a for a family that runs no pybullet: house-roof's 2-D board), the whole run's CPU
+per trial (start-up and report included) and each stage's share of the whole run's CPU.
 
     python benchmarks/bench_trial_cost.py [--families NAME ...] [--trials N] [--seed S]
                                           [--no-report] [--profile TOP] [--json FILE]
@@ -303,7 +303,10 @@ def summarise(data: dict) -> dict:
         "successes": sum(t["success"] for t in trials),
         "cpu_s_per_trial": statistics.median(t["cpu_s"] for t in trials),
         "floor_s": statistics.median(t["floor_s"] for t in trials),
-        "ratio": statistics.median(t["cpu_s"] / t["floor_s"] if t["floor_s"] > 0 else float("inf") for t in trials),
+        # None: the family steps and renders nothing in pybullet (house-roof's board is 2-D)
+        "ratio": statistics.median(t["cpu_s"] / t["floor_s"] for t in trials)
+        if all(t["floor_s"] > 0 for t in trials)
+        else None,
         "run_cpu_s_per_trial": run_cpu / len(trials),
         "steps_per_trial": statistics.median(t["steps"] for t in trials),
         "renders_per_trial": statistics.median(t["renders"] for t in trials),
@@ -333,7 +336,8 @@ def table(rows: list[dict]) -> list[str]:
     lines = [head]
     for row in rows:
         line = f"{row['experiment']:21s} {row['successes']:2d}/{len(row['seeds']):<2d} {row['cpu_s_per_trial']:6.2f} "
-        line += f"{row['floor_s']:6.2f} {row['ratio']:6.2f} {row['run_cpu_s_per_trial']:6.2f} "
+        ratio = "   n/a" if row["ratio"] is None else f"{row['ratio']:6.2f}"
+        line += f"{row['floor_s']:6.2f} {ratio} {row['run_cpu_s_per_trial']:6.2f} "
         line += " ".join(f"{100 * row['shares'][s]:6.1f}%" for s in STAGES)
         lines.append(line)
     return lines
