@@ -227,17 +227,12 @@ def install(meter: Meter) -> None:
     builtins.__import__ = charged_import
 
 
-def timeless(record: dict) -> dict:
-    """A trial's record without its times (its fields named ``*_s``: what else the same seed
-    must give again)."""
-    return {key: value for key, value in record.items() if not key.endswith("_s")}
-
-
 def worker(name: str, seeds: list[int], report: bool, profile: int) -> dict:
     """Run ``name``'s trials in this (fresh) process, metered; the figures as a dict."""
     meter = Meter()
     install(meter)
     from vslsp.tasks import get_task, run_one
+    from vslsp.tasks.records import without_times
     from vslsp.tasks.report import write_report
     from vslsp.tasks.runner import Run
 
@@ -271,7 +266,7 @@ def worker(name: str, seeds: list[int], report: bool, profile: int) -> dict:
                 "renders": meter.floor_renders - renders,
                 "unreplayed_steps": sum(meter.steps.values()),
                 "stages_s": charged,
-                "record": timeless(result.to_dict()),
+                "record": without_times(result.to_dict()),  # what the same seed must give again
             }
         )
     if report:
