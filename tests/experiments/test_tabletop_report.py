@@ -3,9 +3,10 @@ diagnoses (the benchmark's figure), and the command refuses bad input before any
 
 import pytest
 from helpers.cli import vslsp
+from helpers.records import without_times
 
 from vslsp.errors import InputError
-from vslsp.tasks import Run, TrialResult, get_task, summary
+from vslsp.tasks import Run, TrialResult, get_task, run_one, run_trials, summary, write_report
 
 
 def operation(actor: str, diagnosis: str, item: str = "A") -> dict:
@@ -61,3 +62,15 @@ def test_bad_input_is_refused_before_any_work(capsys):
     assert vslsp(capsys, "experiment", "domino", "--trials", "0")[0] == 2
     code, _, err = vslsp(capsys, "experiment", "tower-of-hanoi", "--faults")
     assert code == 2 and "--faults applies to the VSL-SP experiments" in err
+
+
+@pytest.mark.slow
+def test_a_run_keeps_its_first_trials_pictures_and_the_same_record(tmp_path):
+    """The report draws the first trial from what that trial kept (no re-run of it): keeping its
+    pictures leaves its record as a trial that keeps nothing has it."""
+    task = get_task("animals-vs-machines")
+    (kept,) = run_trials(task, [3]).results
+    assert kept.artefacts is not None
+    assert without_times(kept.to_dict()) == without_times(run_one(task, 3).to_dict())
+    data = write_report(tmp_path, task, Run([kept], [3]))
+    assert data["shown_trial"]["seed"] == 3 and (tmp_path / data["shown_trial"]["matches"]).stat().st_size > 1000

@@ -61,6 +61,10 @@ class TabletopExperiment(Task):
     options = frozenset({Option.VIDEO, Option.TUTOR_SLIPS, Option.SLIP_DETECTION})
     anchor_map: dict[str, str] = {}  # anchors renamed for the judge (the user's intervention)
     variant = ""  # the report's name for a trial that differs from the others ("intervention")
+    # The first trial keeps its artefacts (the report's pictures: a few renders more, the same
+    # record) instead of the report re-running it whole: a run of N trials costs N trials, not
+    # N + 1 (benchmarks/bench_trial_cost.py: the re-run was a third of a 2-trial run's CPU).
+    keep_first = True
 
     def for_seed(self, seed: int) -> TabletopExperiment:
         """The experiment as the trial of ``seed`` runs it (the same for every seed here)."""
