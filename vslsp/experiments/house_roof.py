@@ -50,7 +50,7 @@ class HouseRoof(Task):
         import time
 
         from vslsp.experiments.house_roof_trial import ObservationFeatures, demonstrate, reproduce
-        from vslsp.vsl.slips import UnseenOperation
+        from vslsp.vsl.slips.detect import UnseenOperation
         from vslsp.worlds.house_roof.board import HouseWorld
 
         slips = self.option(Option.TUTOR_SLIPS)

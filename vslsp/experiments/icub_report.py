@@ -55,9 +55,9 @@ def write_artefacts(folder: Path, trial, fault_log: list[dict]) -> dict:
     """Every observed pre/post pair drawn and captioned (with the camera's raw images), the
     learned PDDL, the first problem and plan, the executions, and the trajectory figure."""
     from vslsp.grounding import draw_grounding
-    from vslsp.grounding.moves import draw_moves
     from vslsp.tasks.drawing import caption, label
     from vslsp.vision.image import write_image
+    from vslsp.vsl.slips.colour import draw_moves
 
     files: dict = {"images": []}
     images = output_subfolder(folder, "images")
