@@ -9,12 +9,12 @@ import pytest
 
 from vslsp.errors import GroundingFailed
 from vslsp.experiments.icub_slips import Watcher
-from vslsp.grounding.moves import draw_moves, ground_moves
 from vslsp.grounding.operation import ground
 from vslsp.loop.perception import perceive
 from vslsp.sim import CubeSpec, LandmarkSpec, SceneSpec, World
 from vslsp.symbolic import learn_task
 from vslsp.tasks import get_task
+from vslsp.vsl.slips.colour import draw_moves, ground_moves
 from vslsp.worlds.icub import SLIP_CLEARANCE, tutor_operation, tutor_slip
 from vslsp.worlds.slips import Slip
 

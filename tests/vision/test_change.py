@@ -6,7 +6,7 @@ import pytest
 
 from vslsp.errors import GroundingFailed, InputError
 from vslsp.grounding.synthetic import Square, tabletop_image
-from vslsp.vision.change import default_min_move, detect_change
+from vslsp.vision.change import CHANGE_THRESHOLD, changed_pixels, default_min_move, detect_change
 
 STILL = Square("blue", (480, 400), angle=20)
 
@@ -91,3 +91,26 @@ def test_min_move_never_leaves_out_every_moved_object():
     post = tabletop_image([Square("blue", (206, 150)), Square("red", (456, 200))])
     with pytest.raises(GroundingFailed, match="more than one object moved"):
         detect_change(pre, post, min_move=8.0)
+
+
+def test_a_pixel_changed_when_its_largest_channel_difference_exceeds_the_threshold():
+    pre = np.full((40, 40, 3), 100, np.uint8)
+    post = pre.copy()
+    post[5:15, 5:15, 1] += CHANGE_THRESHOLD  # exactly the threshold: unchanged
+    post[20:30, 20:30, 2] += CHANGE_THRESHOLD + 1
+    changed = changed_pixels(pre, post)
+    assert changed.dtype == np.uint8 and set(np.unique(changed)) == {0, 1}
+    assert not changed[5:15, 5:15].any() and changed[20:30, 20:30].all()
+    assert changed.sum() == 100
+    assert changed_pixels(pre, post, threshold=CHANGE_THRESHOLD - 1)[5:15, 5:15].all()
+
+
+def test_the_opening_removes_specks_and_the_closing_joins_gaps():
+    pre = np.zeros((60, 60, 3), np.uint8)
+    post = pre.copy()
+    post[2, 2] = 255  # a speck
+    post[20:40, 10:25] = post[20:40, 27:40] = 255  # one object seen in two parts, 2 px apart
+    opened = changed_pixels(pre, post, opening=np.ones((3, 3), np.uint8))
+    assert opened[2, 2] == 0 and opened[30, 15] == 1 and opened[30, 26] == 0
+    closed = changed_pixels(pre, post, close=np.ones((9, 9), np.uint8))
+    assert closed[30, 26] == 1

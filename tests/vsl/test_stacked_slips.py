@@ -10,7 +10,7 @@ import pytest
 
 from vslsp.experiments.tabletop_protocol import look
 from vslsp.vsl.pick_place import TableView
-from vslsp.vsl.restore import separate
+from vslsp.vsl.slips.restore import separate
 from vslsp.worlds.panda_table import PandaTable, Placement
 from vslsp.worlds.panda_table import layouts as scenes
 from vslsp.worlds.slips import Slip

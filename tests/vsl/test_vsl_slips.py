@@ -11,8 +11,8 @@ from vslsp.errors import GroundingFailed
 from vslsp.experiments.house_roof_trial import demonstrate
 from vslsp.geometry.poses import compose
 from vslsp.grounding.operation import ground
-from vslsp.vsl.restore import separate
-from vslsp.vsl.slips import find_moved
+from vslsp.vsl.slips.detect import find_moved
+from vslsp.vsl.slips.restore import separate
 from vslsp.worlds.house_roof import HouseBoard
 from vslsp.worlds.house_roof.board import SLOTS, HouseWorld
 from vslsp.worlds.slips import Slip

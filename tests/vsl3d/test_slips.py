@@ -9,7 +9,7 @@ from helpers.vsl3d import LAYOUT, TOLERANCE_DEG, TOLERANCE_M, assert_within_boun
 from vslsp.errors import TaskFailed
 from vslsp.sim.cloud_scene import CloudScene
 from vslsp.tasks.registry import get_task
-from vslsp.vsl3d.moves import MIN_SIDE_POINTS, detect_moves, get_operated_object
+from vslsp.vsl.slips.clouds import MIN_SIDE_POINTS, detect_moves, get_operated_object
 from vslsp.vsl3d.pictures import DISTURBED_LABEL, OBJECT_LABEL, trial_clouds
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.vsl import DISTURBED, OPERATED, changed_points

@@ -142,8 +142,8 @@ def _ground(
 
 def _ground_moves(pre: str, post: str, robot_side: str, as_json: bool, overlay: str | None) -> None:
     """``--slip-detection on``: every moved object grounded, the operated one told from the rest."""
-    from vslsp.grounding.moves import draw_moves, ground_moves
     from vslsp.vision.image import read_image, write_image
+    from vslsp.vsl.slips.colour import draw_moves, ground_moves
 
     if overlay is not None:
         _check_overlay(overlay, pre, post, None)

@@ -36,7 +36,7 @@ from vslsp.outputs import atomic_file, output_subfolder
 from vslsp.tasks.base import Option, System, Task, TrialResult
 from vslsp.tasks.drawing import PICK, PLACE, label, point, small, square, with_legend
 from vslsp.vision.image import write_image
-from vslsp.vsl.slips import UnseenOperation
+from vslsp.vsl.slips.detect import UnseenOperation
 from vslsp.worlds.house_roof.board import HouseWorld
 from vslsp.worlds.house_roof.camera import BoardCamera
 

@@ -46,8 +46,8 @@ from vslsp.vision.matching import FrameMode, Match, NoMatch, frame_sizes
 from vslsp.vsl.demonstration import Demonstration, ImagePlane
 from vslsp.vsl.matcher import Search, match_observation
 from vslsp.vsl.recorder import Recorder
-from vslsp.vsl.restore import separate
-from vslsp.vsl.slips import Moves, UnseenOperation
+from vslsp.vsl.slips.detect import Moves, UnseenOperation
+from vslsp.vsl.slips.restore import separate
 from vslsp.worlds.house_roof import HouseBoard, roof_name
 from vslsp.worlds.house_roof.board import (
     ANGLE_TOLERANCE,
@@ -111,7 +111,7 @@ def demonstrate(seed: int, tutor_slips: float | None = None, detection: bool = T
     object as it puts the roof down (:class:`~vslsp.worlds.slips.TutorSlips`, seeded by
     ``seed``; :meth:`HouseBoard.slip_candidates`), after the pre-place observation and before
     the post one. With the ``detection`` VSL finds every object that moved
-    (:func:`~vslsp.vsl.restore.separate`) and records the operation from the post observation the
+    (:func:`~vslsp.vsl.slips.restore.separate`) and records the operation from the post observation the
     tutor meant (the disturbed objects restored); without it (the paper's VSL) from the post
     observation as it is."""
     board = HouseBoard.from_layout(HouseWorld.random(seed, body_turn=0.5))

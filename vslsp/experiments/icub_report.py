@@ -15,13 +15,13 @@ import numpy as np
 from vslsp.errors import VslspError
 from vslsp.experiments.icub_faults import fault_of
 from vslsp.grounding import draw_grounding
-from vslsp.grounding.moves import draw_moves
 from vslsp.grounding.operation import Grounding, ground
 from vslsp.outputs import atomic_file, output_subfolder, write_text
 from vslsp.sim import COLOURS
 from vslsp.tasks.drawing import caption, label
 from vslsp.vision.change import default_min_move
 from vslsp.vision.image import write_image
+from vslsp.vsl.slips.colour import draw_moves
 
 # The paper's Table 3: the preconditions and effects VSL extracts for push and pull.
 TABLE_3 = {

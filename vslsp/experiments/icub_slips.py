@@ -5,7 +5,7 @@ While demonstrating an operation, with probability P the tutor also nudges anoth
 (:class:`~vslsp.worlds.slips.TutorSlips`, applied by :func:`~vslsp.worlds.icub.tutor_slip`
 before the post-action image). The robot watching the tutor then either
 
-- detects every cube that moved (detection on: :func:`~vslsp.grounding.moves.ground_moves`),
+- detects every cube that moved (detection on: :func:`~vslsp.vsl.slips.colour.ground_moves`),
   takes the one moved farthest across the line for the operated one and records the rest as
   disturbed; or
 - takes the change for the operation (detection off: the paper's VSL,
@@ -29,7 +29,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vslsp.grounding.moves import Moves, ground_moves
 from vslsp.grounding.operation import Grounding, ground
 from vslsp.grounding.spatial import identify_action
 from vslsp.loop.perception import PerceivedState
@@ -37,6 +36,7 @@ from vslsp.loop.pipeline import to_step
 from vslsp.sim import World
 from vslsp.symbolic import Step
 from vslsp.vsl.demonstration import ImagePlane
+from vslsp.vsl.slips.colour import Moves, ground_moves
 from vslsp.worlds.icub import tutor_slip
 from vslsp.worlds.slips import Slip, TutorSlips
 
@@ -158,7 +158,7 @@ def _plain(record: dict) -> dict:
 
 class OperatedPlane(ImagePlane):
     """VSL's image-plane observation model (:class:`~vslsp.vsl.demonstration.ImagePlane`) that
-    records the operated object when several moved (:func:`~vslsp.grounding.moves.ground_moves`):
+    records the operated object when several moved (:func:`~vslsp.vsl.slips.colour.ground_moves`):
     a disturbed one is no operation of the demonstration."""
 
     def ground_operation(self, pre: np.ndarray, post: np.ndarray) -> Grounding:

@@ -14,7 +14,7 @@ OPERATED, DISTURBED = PICK, (255, 40, 40)  # RGB: the operated object (magenta),
 
 def mark_moves(image: np.ndarray, moves, record: dict) -> None:
     """Draw on ``image`` (H, W, 3, the post observation) each object of ``moves`` (a
-    :class:`~vslsp.vsl.slips.Moves`, or None with the detection off): an arrow from where it
+    :class:`~vslsp.vsl.slips.detect.Moves`, or None with the detection off): an arrow from where it
     was to where it is and a ring about it, magenta for the operated object, red for a
     disturbed one, with its name from ``record`` (``moves`` of the operation's report record)."""
     if moves is None:

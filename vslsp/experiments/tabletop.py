@@ -145,7 +145,7 @@ class TabletopExperiment(Task):
             try:
                 demo = task.demonstrate(world, rng)
             except InputError as unseen:
-                from vslsp.vsl.slips import UnseenOperation
+                from vslsp.vsl.slips.detect import UnseenOperation
 
                 slips = unseen.slips if isinstance(unseen, UnseenOperation) else ()
                 return TrialResult(

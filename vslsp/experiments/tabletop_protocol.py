@@ -51,7 +51,7 @@ class TabletopDemonstration:
     anchors: tuple[str | None, ...]
     relative: tuple[tuple[float, float, float, float], ...]
     slips: tuple[dict, ...] = ()  # with --tutor-slips, per operation: moved, operated, disturbed, slip
-    moves: tuple = ()  # with the slip detection, per operation: its vslsp.vsl.slips.Moves (for the pictures)
+    moves: tuple = ()  # with the slip detection, per operation: its vslsp.vsl.slips.detect.Moves (for the pictures)
     actual_posts: tuple[np.ndarray, ...] = ()  # with --tutor-slips: the post-place observations as seen
 
 

@@ -6,7 +6,7 @@ another object on the table (:class:`~vslsp.worlds.slips.TutorSlips`, its own se
 without the option nothing is drawn and the runs are as before) and applies it in the world
 (:meth:`~vslsp.worlds.rgbd_table.RgbdTable.tutor_slip`, after the operated object has been put
 down and before the post-action capture). getObject runs with the slip detection on
-(:func:`~vslsp.vsl3d.moves.get_operated_object`: every moved object found, the operated one told
+(:func:`~vslsp.vsl.slips.clouds.get_operated_object`: every moved object found, the operated one told
 from those disturbed) or off (the paper's getObject: the whole difference is the object). With
 the option, each operation's record gets its ``slip`` (the ground truth, or None) and its
 ``demonstration`` the detection's finding: ``moved`` (every object found moving: role, where
@@ -20,8 +20,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from vslsp.vsl.slips.clouds import get_operated_object
 from vslsp.vsl3d.cloud import DepthCamera
-from vslsp.vsl3d.moves import get_operated_object
 from vslsp.vsl3d.pictures import draw_moves
 from vslsp.vsl3d.vsl import OPERATED, MovedObject, WorldCloud
 from vslsp.worlds.rgbd_table import RgbdTable

@@ -130,7 +130,7 @@ def grounding_of(
 ) -> Grounding:
     """The grounding of one object seen ``before`` and ``after`` the action, ``far`` from the
     landmark ``lines`` (pre, post), the action it makes; ``found``: the atoms and scenes, when
-    predicates were given (:func:`ground`; each moved object of :func:`vslsp.grounding.moves.ground_moves`)."""
+    predicates were given (:func:`ground`; each moved object of :func:`vslsp.vsl.slips.colour.ground_moves`)."""
     far_pre = far_of(before.centroid, lines[0], robot_side)
     far_post = far_of(after.centroid, lines[1], robot_side)
     return Grounding(

@@ -15,6 +15,17 @@ A tolerance for the tutor's hand (``min_move``): **an object whose centroid move
 ``min_move`` pixels between the images was nudged, not operated**; when more than one object
 moved, the nudged ones are left out (and listed in :attr:`Change.nudged`). At 0 (the default)
 every change counts.
+
+When the tutor slips, any number of objects may move (:func:`detect_moves`, issue 30): each
+region that left in the pre image is paired with the region of the same symbol (its colour) that
+arrived in the post image, the nearest first; which of them the operation was about is the slip
+rule's question (:func:`vslsp.vsl.slips.colour.ground_moves`).
+
+:func:`changed_pixels` is the one image subtraction and thresholding of the package: this
+module's change of one object, the 2-D slip detection (:mod:`vslsp.vsl.slips`), the pick-and-place
+recorder's taken and put-down objects, the perceived turn and the reproduction's identification of
+a moved object all threshold the difference of two observations at :data:`CHANGE_THRESHOLD`, each
+with its own smoothing and morphology (the parameters).
 """
 
 from __future__ import annotations
@@ -28,7 +39,11 @@ from vslsp.errors import GroundingFailed, InputError
 from vslsp.vision.image import as_rgb, channel_max
 from vslsp.vision.objects import DetectedObject, Segmentation, describe, segment
 
-CHANGE_THRESHOLD = 40  # grey levels between the (smoothed, gain-corrected) images
+#: Grey levels: a pixel changed between two observations of one scene when the largest of its
+#: three channels' absolute differences exceeds this. Above the sensor's noise and the shading a
+#: moved hand or object casts (a few to 20 levels), below the contrast of an object against the
+#: table or the board (60 levels and more). Valid range 1-254.
+CHANGE_THRESHOLD = 40
 CHANGED_FRACTION = 0.1  # an object has moved when this much of its region changed
 _KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
 
@@ -53,13 +68,39 @@ def default_min_move(shape: tuple[int, ...]) -> float:
     return round(0.01 * float(np.hypot(shape[0], shape[1])), 1)
 
 
+def changed_pixels(
+    first: np.ndarray,
+    second: np.ndarray,
+    *,
+    threshold: float = CHANGE_THRESHOLD,
+    blur: int = 0,
+    close: np.ndarray | None = None,
+    opening: np.ndarray | None = None,
+) -> np.ndarray:
+    """Image subtraction and thresholding: the pixels (H, W) uint8 {0, 1} that changed between
+    the observations ``first`` and ``second`` (H, W, 3) uint8 of one size: those whose largest
+    channel difference exceeds ``threshold`` grey levels (default :data:`CHANGE_THRESHOLD`).
+
+    ``blur``: the side (px, odd) of the Gaussian both observations are smoothed with first
+    against sensor noise (0: none); ``close``: the structuring element a morphological closing
+    joins changed pixels over gaps narrower than it with (None: none); ``opening``: the one a
+    morphological opening then removes specks smaller than it with (None: none)."""
+    if blur:
+        first, second = cv2.GaussianBlur(first, (blur, blur), 0), cv2.GaussianBlur(second, (blur, blur), 0)
+    changed = (channel_max(cv2.absdiff(first, second)) > threshold).astype(np.uint8)
+    if close is not None:
+        changed = cv2.morphologyEx(changed, cv2.MORPH_CLOSE, close)
+    if opening is not None:
+        changed = cv2.morphologyEx(changed, cv2.MORPH_OPEN, opening)
+    return changed
+
+
 def change_mask(pre: Segmentation, post: Segmentation) -> np.ndarray:
-    """Changed pixels (h, w) uint8 {0, 1} between two segmented images of the same size."""
+    """Changed pixels (h, w) uint8 {0, 1} between two segmented images of the same size (their
+    smoothed images, the post one's brightness corrected to the pre one's table colour)."""
     gain = pre.table / np.maximum(post.table, 1.0)
     corrected = cv2.merge([cv2.multiply(channel, float(g)) for channel, g in zip(cv2.split(post.image), gain)])
-    difference = channel_max(cv2.absdiff(pre.image, corrected))
-    changed = cv2.compare(difference, CHANGE_THRESHOLD, cv2.CMP_GT) // 255
-    return cv2.morphologyEx(changed, cv2.MORPH_OPEN, _KERNEL)
+    return changed_pixels(pre.image, corrected, opening=_KERNEL)
 
 
 def moved_labels(seg: Segmentation, changed: np.ndarray) -> list[int]:
@@ -103,6 +144,34 @@ def detect_change(pre: np.ndarray, post: np.ndarray, min_move: float = 0.0) -> C
         f"more than one object moved ({'; '.join(seen)}); give one image pair per moved "
         "object (one operation of the demonstration at a time)"
     )
+
+
+def detect_moves(pre: np.ndarray, post: np.ndarray) -> list[Change]:
+    """Every object moved between RGB images ``pre`` and ``post`` (H, W, 3) uint8, left to
+    right by its pre-action place; one :class:`Change` each.
+
+    Raises InputError when the images differ in size; GroundingFailed when nothing moved or a
+    moved object is seen in one image only (it left the view, or came into it).
+    """
+    left, arrived, seg_pre, seg_post = moved_regions(pre, post, "the tutor's operation")
+    changes = []
+    waiting = list(arrived)
+    for before in sorted(left, key=lambda o: o.centroid):
+        same = [a for a in waiting if a.name == before.name]
+        if not same:
+            raise GroundingFailed(
+                f"the {before.name} object at {_at(before)} in the pre-action image is not wholly in "
+                "view in the post-action image; keep every object inside the camera's view"
+            )
+        after = min(same, key=lambda a: float(np.hypot(*np.subtract(a.centroid, before.centroid))))
+        waiting.remove(after)
+        changes.append(Change(before, after, seg_pre, seg_post))
+    if waiting:
+        raise GroundingFailed(
+            f"the {waiting[0].name} object at {_at(waiting[0])} in the post-action image was not "
+            "wholly in view before; keep every object inside the camera's view"
+        )
+    return changes
 
 
 def without_nudged(

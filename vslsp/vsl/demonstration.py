@@ -29,8 +29,9 @@ from vslsp.geometry.poses import wrap
 from vslsp.grounding.operation import Grounding, ground
 from vslsp.grounding.spatial import check_robot_side
 from vslsp.outputs import atomic_file, write_text
+from vslsp.vision.change import changed_pixels
 from vslsp.vision.features import Features, object_features
-from vslsp.vision.image import as_rgb, channel_max, read_image, write_image
+from vslsp.vision.image import as_rgb, read_image, write_image
 from vslsp.vision.landmark import Line, find_landmark
 from vslsp.vsl.recorder import Heights
 
@@ -263,8 +264,7 @@ _PATCH = 128  # px, side of the window the turn is searched in (a house's roof i
 def _object_patch(image: np.ndarray, without: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The object that ``image`` has and ``without`` lacks: a grey window (P, P) float32 of
     ``image`` centred on the changed pixels' centroid, masked by them (P, P) float32."""
-    changed = (channel_max(cv2.absdiff(image, without)) > 40).astype(np.uint8)
-    changed = cv2.morphologyEx(changed, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
+    changed = changed_pixels(image, without, opening=np.ones((3, 3), np.uint8))
     ys, xs = np.nonzero(changed)
     if len(xs) < 50:
         raise InputError(

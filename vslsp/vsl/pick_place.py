@@ -30,13 +30,12 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.geometry.poses import wrap
+from vslsp.vision.change import changed_pixels
 from vslsp.vision.features import Features, extract_features
-from vslsp.vision.image import channel_max
 from vslsp.vision.matching import SCALE_RANGE
 from vslsp.vsl.recorder import Heights
 
 PLACE_FRAME = 2.0  # the pre-place frame's side, in sizes of the biggest object (the paper: two to three)
-CHANGE_THRESHOLD = 40  # grey levels: a pixel changed between two observations
 _STEP = 25.0  # px: the offsets through which a transform's rotation on the table is measured
 
 
@@ -244,10 +243,9 @@ def changed_region(image: np.ndarray, reference: np.ndarray, what: str = "moved"
     """The object that ``image`` shows and ``reference`` lacks (image subtraction and
     thresholding): a mask (H, W) uint8 {0, 255}, the convex hull of the largest changed blob
     and the blobs beside it. Raises InputError when nothing changed."""
-    difference = channel_max(cv2.absdiff(cv2.GaussianBlur(image, (5, 5), 0), cv2.GaussianBlur(reference, (5, 5), 0)))
-    changed = (difference > CHANGE_THRESHOLD).astype(np.uint8)
-    changed = cv2.morphologyEx(changed, cv2.MORPH_CLOSE, np.ones((9, 9), np.uint8))
-    changed = cv2.morphologyEx(changed, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
+    changed = changed_pixels(
+        image, reference, blur=5, close=np.ones((9, 9), np.uint8), opening=np.ones((3, 3), np.uint8)
+    )
     count, labels, stats, centroids = cv2.connectedComponentsWithStats(changed)
     if count < 2 or stats[1:, cv2.CC_STAT_AREA].max() < 100:
         raise InputError(f"no object was {what}: the observations do not differ; keep the object in view")

@@ -31,13 +31,12 @@ import numpy as np
 
 from vslsp.geometry.poses import wrap
 from vslsp.stages import in_stage
+from vslsp.vision.change import changed_pixels
 from vslsp.vision.features import Features, extract_features
-from vslsp.vision.image import channel_max
 from vslsp.vision.matching import Match, NoMatch, frame_sizes
 from vslsp.vision.transform import decompose
 from vslsp.vsl.matcher import Search, match_observation
 from vslsp.vsl.pick_place import (
-    CHANGE_THRESHOLD,
     PickPlaceDemonstration,
     RecordedOperation,
     TableCamera,
@@ -158,7 +157,7 @@ def find_place(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_fe
 
 def match_below(demo: PickPlaceDemonstration, k: int, world_features: Features) -> Match | NoMatch:
     """The place of operation ``k``, whose object the tutor put on one its hand had nudged
-    (:func:`~vslsp.experiments.tabletop_slips.on_nudged`): that object's features in the
+    (:func:`~vslsp.vsl.slips.record.on_nudged`): that object's features in the
     pre-place observation found in the world as the pick finds its object (SIFT and RANSAC),
     the place point carried by that match. The frame about the place that the slip left
     askew from its surroundings (the base the new world has the disk centred on) would not
@@ -285,8 +284,7 @@ def identify_moved(
     where it left (``before``) and where it arrived (``after``); each candidate's features φ
     are matched in both, and the first candidate in order whose object is seen at least
     :data:`_SAME_OBJECT` as well as the best one wins. None when nothing recognisable moved."""
-    difference = channel_max(cv2.absdiff(cv2.GaussianBlur(before, (5, 5), 0), cv2.GaussianBlur(after, (5, 5), 0)))
-    mask = cv2.dilate((difference > CHANGE_THRESHOLD).astype(np.uint8) * 255, np.ones((15, 15), np.uint8))
+    mask = cv2.dilate(changed_pixels(before, after, blur=5) * 255, np.ones((15, 15), np.uint8))
     if not mask.any():
         return None
     seen = [extract_features(image, mask) for image in (before, after)]

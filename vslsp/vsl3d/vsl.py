@@ -225,7 +225,7 @@ OPERATED, DISTURBED = "operated", "disturbed"
 
 @dataclass(frozen=True, eq=False)
 class Move:
-    """One object that moved in an operation (:mod:`vslsp.vsl3d.moves`): its changed points that
+    """One object that moved in an operation (:mod:`vslsp.vsl.slips.clouds`): its changed points that
     ``left`` (K, 3) and that ``arrived`` (L, 3), the object itself ``before`` (its pre-action
     points) and ``after`` (its post-action points), and its ``role``: :data:`OPERATED` or
     :data:`DISTURBED` (the tutor's slip)."""

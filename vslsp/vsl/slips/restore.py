@@ -1,5 +1,5 @@
 """The post observation the tutor meant (issue 30: the tutor's slips): the objects that moved in
-one demonstrated operation (:func:`vslsp.vsl.slips.find_moved`) and the post observation with
+one demonstrated operation (:func:`vslsp.vsl.slips.detect.find_moved`) and the post observation with
 the disturbed objects restored, so that VSL records the operation as if only the operated object
 had moved (see :mod:`vslsp.vsl.slips` for the rules)."""
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from vslsp.vsl.slips import MIN_REGION, MovedObject, Moves, changed_pixels, find_moved, keypoint_area
+from vslsp.vsl.slips.detect import MIN_REGION, MovedObject, Moves, changes_between, find_moved, keypoint_area
 
 
 def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None) -> tuple[Moves, np.ndarray]:
@@ -25,7 +25,7 @@ def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = N
     if not moves.disturbed:
         return moves, post
     source = pre if pre_place is None else pre_place
-    changed = cv2.dilate(changed_pixels(source, post), np.ones((5, 5), np.uint8))
+    changed = cv2.dilate(changes_between(source, post), np.ones((5, 5), np.uint8))
     _, regions = cv2.connectedComponents(changed)
     seeds = {}
     operated: list[np.ndarray] = []
@@ -68,7 +68,7 @@ def separate(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = N
 def _put_down(pre_place: np.ndarray, post: np.ndarray) -> bool:
     """Whether ``post`` shows something put down that ``pre_place`` lacks (a changed region of
     at least :data:`MIN_REGION` px)."""
-    count, _, stats, _ = cv2.connectedComponentsWithStats(changed_pixels(pre_place, post))
+    count, _, stats, _ = cv2.connectedComponentsWithStats(changes_between(pre_place, post))
     return any(stats[k, cv2.CC_STAT_AREA] >= MIN_REGION for k in range(1, count))
 
 
@@ -76,7 +76,7 @@ def only_arrival(pre_place: np.ndarray, post: np.ndarray, operated: MovedObject)
     """``post`` (H, W, 3) with every pixel outside the ``operated`` object's own (the hull of its
     keypoints where it arrived, and a rim) taken from ``pre_place``: the post observation in
     which only the operated object's arrival changed (see
-    :func:`vslsp.experiments.tabletop_slips.record_meant` for when)."""
+    :func:`vslsp.vsl.slips.record.record_meant` for when)."""
     own = keypoint_area(post.shape, [operated.keypoints_after]) > 0
     meant = pre_place.copy()
     meant[own] = post[own]

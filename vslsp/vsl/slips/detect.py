@@ -38,7 +38,7 @@ or arrived (what it covered or uncovered). When the
 operated object's features do not identify it, it is what changed once the disturbed objects
 are restored.
 
-The reproduction must not copy the accident: :func:`vslsp.vsl.restore.separate` gives the post observation the
+The reproduction must not copy the accident: :func:`vslsp.vsl.slips.restore.separate` gives the post observation the
 tutor meant, the disturbed objects' changed pixels restored from the pre-place observation
 (the operated object already taken, so a disk it lay on comes back without it; the pre one
 when there is none), each changed pixel of a region a disturbed object moved in going to the
@@ -56,11 +56,10 @@ import cv2
 import numpy as np
 
 from vslsp.errors import InputError
+from vslsp.vision.change import changed_pixels
 from vslsp.vision.features import Features, extract_features
-from vslsp.vision.image import channel_max
 from vslsp.vision.matching import SCALE_RANGE
 
-CHANGE_THRESHOLD = 40  # grey levels: a pixel changed between the two observations
 MIN_REGION = 150  # px: a changed region smaller than this is noise (an object is thousands)
 MIN_INLIERS = 4  # SIFT matches that agree on one object's move
 EXPLAINS = 0.6  # a move explains its object when it leaves at most this share of the difference
@@ -129,12 +128,11 @@ class UnseenOperation(InputError):
         self.slips = slips
 
 
-def changed_pixels(pre: np.ndarray, post: np.ndarray) -> np.ndarray:
-    """Image subtraction and thresholding: the pixels (H, W) uint8 {0, 1} that changed between
-    the observations (H, W, 3) uint8, smoothed, closed over small gaps."""
-    difference = channel_max(cv2.absdiff(cv2.GaussianBlur(pre, (5, 5), 0), cv2.GaussianBlur(post, (5, 5), 0)))
-    changed = (difference > CHANGE_THRESHOLD).astype(np.uint8)
-    return cv2.morphologyEx(changed, cv2.MORPH_CLOSE, _CLOSE)
+def changes_between(pre: np.ndarray, post: np.ndarray) -> np.ndarray:
+    """The changes the slip rules see: the pixels (H, W) uint8 {0, 1} that changed between the
+    observations (H, W, 3) uint8 (:func:`~vslsp.vision.change.changed_pixels`), smoothed (5 px),
+    closed over small gaps (:data:`_CLOSE`)."""
+    return changed_pixels(pre, post, blur=5, close=_CLOSE)
 
 
 def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None) -> Moves:
@@ -147,7 +145,7 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
         return Moves(None, ())
     pairing, grown = setup
     # Where the pre-place observation lacks what the pre one shows: the object the tutor took.
-    taken = None if pre_place is None else cv2.dilate(changed_pixels(pre, pre_place), np.ones((5, 5), np.uint8))
+    taken = None if pre_place is None else cv2.dilate(changes_between(pre, pre_place), np.ones((5, 5), np.uint8))
     moved = _pair(*pairing)
     if pre_place is None:
         return _decide(moved, grown, None)
@@ -191,7 +189,7 @@ def _pairing(pre: np.ndarray, post: np.ndarray) -> tuple[_Pairing, np.ndarray] |
     both in and about the changed regions (steps 1 and 2 of the module docstring), each pre
     keypoint's region, the changed pixels and the images; and the regions (H, W) labels, grown
     by a rim. None when nothing changed or too few features lie there."""
-    changed = changed_pixels(pre, post)
+    changed = changes_between(pre, post)
     count, labels, stats, _ = cv2.connectedComponentsWithStats(changed)
     regions = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= MIN_REGION]
     if not regions:

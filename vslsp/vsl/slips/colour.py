@@ -2,7 +2,7 @@
 the tutor slips and disturbs another object): every moved object grounded, the one the operation
 was about told from those disturbed.
 
-:func:`ground_moves` finds every object that moved (:func:`vslsp.vision.moves.detect_moves`:
+:func:`ground_moves` finds every object that moved (:func:`vslsp.vision.change.detect_moves`:
 subtraction, thresholding, regions identified by their colour), grounds ``(far b)`` before and
 after for each, and names the operated one by a rule: **a push or pull carries its object across
 the landmark line, a slip only nudges another one; so the operated object is the one whose
@@ -27,9 +27,8 @@ from vslsp.grounding.operation import Grounding, grounding_of
 from vslsp.grounding.overlay import draw_grounding
 from vslsp.grounding.spatial import check_robot_side
 from vslsp.stages import in_stage
-from vslsp.vision.change import Change
+from vslsp.vision.change import Change, detect_moves
 from vslsp.vision.landmark import Line, fit_line
-from vslsp.vision.moves import detect_moves
 
 
 @dataclass(frozen=True)
@@ -64,7 +63,7 @@ class Moves:
 def ground_moves(pre: np.ndarray, post: np.ndarray, robot_side: str = "bottom") -> Moves:
     """Ground every object moved between RGB images ``pre`` and ``post`` (H, W, 3) uint8 and
     tell the operated one from the disturbed (the module's rule). Raises as
-    :func:`~vslsp.vision.moves.detect_moves`, and GroundingFailed when no landmark is in view."""
+    :func:`~vslsp.vision.change.detect_moves`, and GroundingFailed when no landmark is in view."""
     check_robot_side(robot_side)
     changes = detect_moves(pre, post)
     line_pre = fit_line(changes[0].pre.dark, changes[0].pre.scale, "pre-action image")
