@@ -1,0 +1,138 @@
+"""The tuned rules of 2-D perception as parameter objects (frozen dataclasses, one per
+algorithm), after Open3D's ``RANSACConvergenceCriteria``: each field says what it controls and
+its valid range, checked on construction; the default instance is what the experiments run.
+
+- :class:`FrameSearch`: match finding with adaptive frames (``findBestMatch``, Algorithm 1 lines
+  13-14): :func:`vslsp.vision.matching.find_best_match` and :mod:`vslsp.vsl.matcher`.
+- :class:`ObjectFinding`: finding an object by its SIFT features (``getObject`` and the
+  reproduction's object candidates, :func:`vslsp.vsl.pick_place.object_candidates`) and
+  telling an object from its texture when segmenting (:mod:`vslsp.vision.objects`).
+
+A benchmark sweeps a field by passing ``dataclasses.replace(DEFAULT_FRAME_SEARCH, margin=0.05)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from vslsp.errors import InputError
+
+
+def check_ranges(parameters: object, ranges: dict[str, tuple[float, float]]) -> None:
+    """Raise InputError unless each field named in ``ranges`` lies in its closed [low, high]."""
+    name = type(parameters).__name__
+    for field in fields(parameters):  # type: ignore[arg-type]
+        low, high = ranges[field.name]
+        values = getattr(parameters, field.name)
+        whole = isinstance(field.default, int)
+        for value in values if isinstance(values, tuple) else (values,):
+            number = isinstance(value, int) if whole else isinstance(value, int | float)
+            if isinstance(value, bool) or not number or not low <= value <= high:
+                raise InputError(f"{name}.{field.name} is {values!r}; it must lie in [{low}, {high}]")
+
+
+@dataclass(frozen=True)
+class FrameSearch:
+    """How an observation's frame is found in a world (:func:`~vslsp.vision.matching.find_best_match`)
+    and how :mod:`vslsp.vsl.matcher` compares and re-fits the candidates."""
+
+    # Normalised cross-correlation a match must reach before a unique frame stops the growth
+    # (0..1).
+    min_score: float = 0.5
+    # The correlation by which a candidate must beat every other one to be unique; a frame rules
+    # out for good the candidates it beats by this, and stops growing once its best falls this far
+    # below a smaller frame's best (0..1).
+    margin: float = 0.1
+    # Each adaptive frame's side is the last one's times this (> 1, up to 4).
+    frame_growth: float = 1.5
+    # px: the smallest adaptive frame side, whatever the object's size (1..1000).
+    min_frame: float = 16.0
+    # World matches kept per frame keypoint, so that every copy of a repeated object gets its
+    # matches (1..32).
+    neighbours: int = 4
+    # A further neighbour is kept when its descriptor distance is within this factor of the
+    # nearest one's (1..4).
+    alternative: float = 1.3
+    # At most this many RANSAC placements per frame (1..64).
+    max_candidates: int = 8
+    # px: RANSAC's reprojection threshold for a frame's placements (0.1..50).
+    reprojection: float = 3.0
+    # The scale a placement may apply, (low, high): the same camera sees the same objects, so a
+    # frame or an object is not much scaled (0.01..100, low <= 1 <= high).
+    scale_range: tuple[float, float] = (0.67, 1.5)
+    # The re-fit's first step: px moved and rad turned (0..100 px, 0..π rad).
+    refit_step: float = 4.0
+    refit_turn: float = float(np.radians(4.0))
+    # px: the re-fit stops when its step has halved to below this (0.01..100).
+    refit_stop: float = 0.5
+    # The re-fit takes at most this many steps uphill (1..10000).
+    refit_moves: int = 60
+    # A fit whose scale is below this collapsed its frame to a line or a point: no pose (0..1).
+    degenerate: float = 1e-6
+
+    def __post_init__(self) -> None:
+        check_ranges(
+            self,
+            {
+                "min_score": (0.0, 1.0),
+                "margin": (0.0, 1.0),
+                "frame_growth": (1.0 + 1e-9, 4.0),
+                "min_frame": (1.0, 1000.0),
+                "neighbours": (1, 32),
+                "alternative": (1.0, 4.0),
+                "max_candidates": (1, 64),
+                "reprojection": (0.1, 50.0),
+                "scale_range": (0.01, 100.0),
+                "refit_step": (0.0, 100.0),
+                "refit_turn": (0.0, float(np.pi)),
+                "refit_stop": (0.01, 100.0),
+                "refit_moves": (1, 10_000),
+                "degenerate": (0.0, 1.0),
+            },
+        )
+        if len(self.scale_range) != 2 or not self.scale_range[0] <= 1.0 <= self.scale_range[1]:
+            raise InputError(
+                f"FrameSearch.scale_range is {self.scale_range!r}; it must be (low, high) with low <= 1 <= high"
+            )
+
+
+@dataclass(frozen=True)
+class ObjectFinding:
+    """How an object is found by its SIFT features among a world's
+    (:func:`~vslsp.vsl.pick_place.object_candidates`) and told from texture when segmenting."""
+
+    # Lowe's ratio test: a match is kept when its nearest neighbour is nearer than this share
+    # of the second's (0..1).
+    ratio: float = 0.8
+    # RANSAC inliers a placement of the object needs at least (3..1000: a similarity needs 2
+    # points, a third checks it).
+    min_inliers: int = 4
+    # px: RANSAC's reprojection threshold for the object's placements (0.1..50).
+    reprojection: float = 4.0
+    # m: a feature match agrees with the object's seen footprint when it puts the object's centre
+    # this near where it was seen put down (0..1).
+    agree: float = 0.01
+    # Segmenting: a region's patch of no named colour smaller than this share of its named colour
+    # is texture, not an object of its own (0..1).
+    texture_share: float = 0.35
+    # Grey levels an object's colour differs from the table's at least (1..255).
+    object_contrast: int = 45
+
+    def __post_init__(self) -> None:
+        check_ranges(
+            self,
+            {
+                "ratio": (0.0, 1.0),
+                "min_inliers": (3, 1000),
+                "reprojection": (0.1, 50.0),
+                "agree": (0.0, 1.0),
+                "texture_share": (0.0, 1.0),
+                "object_contrast": (1, 255),
+            },
+        )
+
+
+DEFAULT_FRAME_SEARCH = FrameSearch()
+DEFAULT_OBJECT_FINDING = ObjectFinding()
