@@ -25,6 +25,7 @@ LAYERS = {
             "vslsp.data",
             "vslsp.provenance",
             "vslsp.interrupts",
+            "vslsp.parameters",
         ),
         0,
     ),
@@ -49,6 +50,7 @@ MAY_IMPORT: dict[str, set[int | str]] = {
     "vslsp.outputs": {"vslsp.errors"},
     "vslsp.files": {"vslsp.errors"},
     "vslsp.interrupts": {"vslsp.errors"},
+    "vslsp.parameters": {"vslsp.errors"},
     "vslsp.vision": {0, 1},  # perception: no simulator, no world
     "vslsp.vsl3d": {0, 1},  # an algorithm: no simulator, no world
     "vslsp.grounding": {0, 1, 2, 4},  # the simulator only for its test kit's rendered scenes

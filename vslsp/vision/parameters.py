@@ -1,6 +1,6 @@
 """The tuned rules of 2-D perception as parameter objects (frozen dataclasses, one per
-algorithm), after Open3D's ``RANSACConvergenceCriteria``: each field says what it controls and
-its valid range, checked on construction; the default instance is what the experiments run.
+algorithm; see :mod:`vslsp.parameters`): each field says what it controls and its valid range,
+checked on construction; the default instance is what the experiments run.
 
 - :class:`FrameSearch`: match finding with adaptive frames (``findBestMatch``, Algorithm 1 lines
   13-14): :func:`vslsp.vision.matching.find_best_match` and :mod:`vslsp.vsl.matcher`.
@@ -13,24 +13,12 @@ A benchmark sweeps a field by passing ``dataclasses.replace(DEFAULT_FRAME_SEARCH
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
 from vslsp.errors import InputError
-
-
-def check_ranges(parameters: object, ranges: dict[str, tuple[float, float]]) -> None:
-    """Raise InputError unless each field named in ``ranges`` lies in its closed [low, high]."""
-    name = type(parameters).__name__
-    for field in fields(parameters):  # type: ignore[arg-type]
-        low, high = ranges[field.name]
-        values = getattr(parameters, field.name)
-        whole = isinstance(field.default, int)
-        for value in values if isinstance(values, tuple) else (values,):
-            number = isinstance(value, int) if whole else isinstance(value, int | float)
-            if isinstance(value, bool) or not number or not low <= value <= high:
-                raise InputError(f"{name}.{field.name} is {values!r}; it must lie in [{low}, {high}]")
+from vslsp.parameters import check_ranges
 
 
 @dataclass(frozen=True)
