@@ -89,7 +89,9 @@ class FrameSearch:
 @dataclass(frozen=True)
 class ObjectFinding:
     """How an object is found by its SIFT features among a world's
-    (:func:`~vslsp.vsl.pick_place.object_candidates`) and told from texture when segmenting."""
+    (:func:`~vslsp.vsl.pick_place.object_candidates`, :mod:`vslsp.vsl.reproduction`), the
+    tutor's turn of it (:func:`~vslsp.vsl.demonstration.perceived_turn`) and an object told from
+    texture when segmenting (:mod:`vslsp.vision.objects`)."""
 
     # Lowe's ratio test: a match is kept when its nearest neighbour is nearer than this share
     # of the second's (0..1).
@@ -102,6 +104,21 @@ class ObjectFinding:
     # m: a feature match agrees with the object's seen footprint when it puts the object's centre
     # this near where it was seen put down (0..1).
     agree: float = 0.01
+    # A second placement with this share of the best one's inliers makes a match ambiguous
+    # (0..1).
+    close: float = 0.7
+    # RANSAC inliers of the object's features that must agree before the robot acts on a last
+    # look: a count, not a share, since an object seen turned half round keeps 10-15 % of its
+    # features (3..1000).
+    sure: int = 10
+    # RANSAC inliers that recognise which object someone else moved (3..1000).
+    min_matches: int = 6
+    # The first candidate seen at least this share as well as the best one is the moved object
+    # (0..1).
+    same_object: float = 0.6
+    # px: the side of the window about the moved object in which the tutor's turn is searched
+    # (larger than the object: a house's roof is 60 px across) (8..4096).
+    patch: int = 128
     # Segmenting: a region's patch of no named colour smaller than this share of its named colour
     # is texture, not an object of its own (0..1).
     texture_share: float = 0.35
@@ -116,6 +133,11 @@ class ObjectFinding:
                 "min_inliers": (3, 1000),
                 "reprojection": (0.1, 50.0),
                 "agree": (0.0, 1.0),
+                "close": (0.0, 1.0),
+                "sure": (3, 1000),
+                "min_matches": (3, 1000),
+                "same_object": (0.0, 1.0),
+                "patch": (8, 4096),
                 "texture_share": (0.0, 1.0),
                 "object_contrast": (1, 255),
             },
