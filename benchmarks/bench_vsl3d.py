@@ -26,19 +26,26 @@ threads of its own (its radius search takes 49 ms of CPU in 25 ms on two idle co
 ``--all-cores`` lifts the pin (Open3D's wall-clock gain from its threads then shows in the
 ratio).
 
-Run: .venv/bin/python benchmarks/bench_vsl3d.py [--trials 20] [--method prerejective_ransac]
+``--param cloud.FIELD=VALUE`` (repeatable) runs the accuracy trials with a field of the cloud
+matching rules (:class:`vslsp.vsl3d.parameters.CloudMatching`) changed, e.g.
+``--param cloud.confident_fitness=0.8 --skip-speed``: the sweep of one rule, seed for seed
+against the default run.
+
+Run: .venv/bin/python benchmarks/bench_vsl3d.py [--trials 20] [--method prerejective_ransac] [--param cloud.F=V]
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
 
 import numpy as np
 
 from vslsp.errors import VslspError
 from vslsp.outcomes import NoMatch
+from vslsp.parameters import with_settings
 from vslsp.sim.cloud_scene import TRAY_POSITION, CloudScene, random_layout
 from vslsp.vsl3d.alignment import FEATURE_VOXEL
 from vslsp.vsl3d.cloud import DepthCamera, Frame, voxel_downsample
@@ -46,6 +53,7 @@ from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree, brute_force_knn
 from vslsp.vsl3d.matching import find_best_match
 from vslsp.vsl3d.normals import estimate_normals
+from vslsp.vsl3d.parameters import DEFAULT_CLOUD_MATCHING, CloudMatching
 from vslsp.vsl3d.registration import (
     feature_neighbours,
     icp,
@@ -79,7 +87,7 @@ def _layout(names: list[str], seed: int) -> dict:
     raise RuntimeError(f"no layout for seed {seed}")
 
 
-def _trial(seed: int, method: str, max_yaw: float) -> dict:
+def _trial(seed: int, method: str, max_yaw: float, parameters: CloudMatching = DEFAULT_CLOUD_MATCHING) -> dict:
     rng = np.random.default_rng(seed)
     layout = _layout(OBJECTS + ["spot"], seed)
     spot = layout.pop("spot")
@@ -101,7 +109,7 @@ def _trial(seed: int, method: str, max_yaw: float) -> dict:
         truth = scene.pose(name) @ np.linalg.inv(before)
         start = time.process_time()
         try:
-            moved = get_object(pre, post, method=method, seed=seed)
+            moved = get_object(pre, post, method=method, seed=seed, parameters=parameters)
         except VslspError as error:
             return {**result, "error": str(error)[:90]}
         result["seconds"] = time.process_time() - start
@@ -117,7 +125,7 @@ def _trial(seed: int, method: str, max_yaw: float) -> dict:
         truth = scene.pose(name) @ np.linalg.inv(before)
         start = time.process_time()
         try:
-            match = find_best_match(world, moved.pre, method=method, seed=seed)
+            match = find_best_match(world, moved.pre, method=method, seed=seed, parameters=parameters)
             if isinstance(match, NoMatch):
                 result["match_error"] = f"no match: {match.reason}"[:90]
             else:
@@ -128,11 +136,13 @@ def _trial(seed: int, method: str, max_yaw: float) -> dict:
     return result
 
 
-def accuracy(trials: int, method: str, max_yaw_deg: float) -> None:
+def accuracy(trials: int, method: str, max_yaw_deg: float, parameters: CloudMatching = DEFAULT_CLOUD_MATCHING) -> None:
     print(f"\n== accuracy: {trials} random demonstrations, method {method}, yaw change <= {max_yaw_deg:.0f} deg ==")
+    if parameters != DEFAULT_CLOUD_MATCHING:
+        print(f"   cloud matching: {parameters}")
     results = []
     for seed in range(trials):
-        outcome = _trial(seed, method, np.radians(max_yaw_deg))
+        outcome = _trial(seed, method, np.radians(max_yaw_deg), parameters)
         results.append(outcome)
         status = outcome.get("error") or (
             f"motion {outcome['motion'][0] * 1000:.2f} mm {outcome['motion'][1]:.2f} deg; "
@@ -474,11 +484,19 @@ def main() -> None:
     parser.add_argument("--max-yaw", type=float, default=60.0, help="largest turn about z in a move (deg)")
     parser.add_argument("--skip-speed", action="store_true")
     parser.add_argument("--all-cores", action="store_true", help="do not pin the speed comparison to one core")
+    parser.add_argument(
+        "--param", action="append", default=[], metavar="cloud.FIELD=VALUE", help="a cloud matching rule changed"
+    )
     args = parser.parse_args()
+    try:
+        parameters = with_settings({"cloud": DEFAULT_CLOUD_MATCHING}, args.param)["cloud"]
+    except VslspError as error:
+        print(f"error: {error}", file=sys.stderr)
+        raise SystemExit(2) from None
     if not args.skip_speed:
         speed(args.all_cores)
     if args.trials:
-        accuracy(args.trials, args.method, args.max_yaw)
+        accuracy(args.trials, args.method, args.max_yaw, parameters)
 
 
 if __name__ == "__main__":

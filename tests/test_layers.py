@@ -26,6 +26,7 @@ LAYERS = {
             "vslsp.data",
             "vslsp.provenance",
             "vslsp.interrupts",
+            "vslsp.parameters",
         ),
         0,
     ),
@@ -52,6 +53,7 @@ MAY_IMPORT: dict[str, set[int | str]] = {
     "vslsp.folders": {"vslsp.errors", "vslsp.files", "vslsp.outputs"},
     "vslsp.interrupts": {"vslsp.errors"},
     "vslsp.skills": {*BELOW[3], "vslsp.worlds"},  # a skill acts in a world through its protocol
+    "vslsp.parameters": {"vslsp.errors"},
     "vslsp.vision": {0, 1},  # perception: no simulator, no world
     "vslsp.vsl3d": {0, 1},  # an algorithm: no simulator, no world
     "vslsp.grounding": {0, 1, 2, 4},  # the simulator only for its test kit's rendered scenes

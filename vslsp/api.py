@@ -76,12 +76,14 @@ if TYPE_CHECKING:
     )
     from vslsp.symbolic import Task as LearnedTask
     from vslsp.tasks import System, Task, TrialResult, TrialStatus, get_task, register, run_trials
+    from vslsp.vision.parameters import FrameSearch, ObjectFinding
     from vslsp.vsl.calibration import Calibration
     from vslsp.vsl.demonstration import ImagePlane
     from vslsp.vsl.learned import Learned, Session, load_learned, save_learned
     from vslsp.vsl.pick_place import PickPlaceDemonstration, TableModel
     from vslsp.vsl.recorder import Heights, Recorder
     from vslsp.vsl.recordings import Recording, read_recording
+    from vslsp.vsl3d.parameters import CloudMatching, Grasping
     from vslsp.worlds import World
     from vslsp.worlds.house_roof import HouseBoard
     from vslsp.worlds.icub import IcubLineWorld, line_layout, tutor_operation
@@ -116,6 +118,11 @@ _HOME: dict[str, tuple[str, str]] = {
     "save_learned": ("vslsp.vsl.learned", "save_learned"),
     "load_learned": ("vslsp.vsl.learned", "load_learned"),
     "Session": ("vslsp.vsl.learned", "Session"),
+    # the algorithms' tuned rules (parameter objects)
+    "FrameSearch": ("vslsp.vision.parameters", "FrameSearch"),
+    "ObjectFinding": ("vslsp.vision.parameters", "ObjectFinding"),
+    "CloudMatching": ("vslsp.vsl3d.parameters", "CloudMatching"),
+    "Grasping": ("vslsp.vsl3d.parameters", "Grasping"),
     # grounding
     "ground": ("vslsp.grounding.operation", "ground"),
     "ground_scene": ("vslsp.grounding.operation", "ground_scene"),
@@ -295,10 +302,13 @@ def plan(domain: Domain, problem: Problem, planner: str = "fast-downward", timeo
 
 __all__ = [
     "Calibration",
+    "CloudMatching",
     "CubeSpec",
     "Domain",
     "Execution",
     "Exploration",
+    "FrameSearch",
+    "Grasping",
     "Grounding",
     "Heights",
     "HouseBoard",
@@ -307,6 +317,7 @@ __all__ = [
     "LandmarkSpec",
     "Learned",
     "LearnedTask",
+    "ObjectFinding",
     "Observation",
     "PandaTable",
     "PerceivedState",

@@ -24,15 +24,13 @@ import numpy as np
 from vslsp.outcomes import NoMatch
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import as_rgb
+from vslsp.vision.parameters import DEFAULT_FRAME_SEARCH, FrameSearch
 from vslsp.vision.transform import Decomposition, decompose
 
-MIN_SCORE = 0.5  # normalised cross-correlation a match must reach
-MARGIN = 0.1  # a match is unique when it beats every other candidate by this much
-FRAME_GROWTH = 1.5
-_NEIGHBOURS = 4  # world matches kept per frame keypoint (copies of a repeated object)
-_ALTERNATIVE = 1.3  # ... when within this factor of the nearest one's descriptor distance
-_MAX_CANDIDATES = 8
-SCALE_RANGE = (0.67, 1.5)  # same camera and objects: a frame or an object is not much scaled
+# The default rules' figures, for the modules that read them by name (see FrameSearch).
+MIN_SCORE = DEFAULT_FRAME_SEARCH.min_score
+MARGIN = DEFAULT_FRAME_SEARCH.margin
+SCALE_RANGE = DEFAULT_FRAME_SEARCH.scale_range
 
 
 @dataclass(frozen=True, eq=False)
@@ -90,13 +88,16 @@ class FrameMode(enum.StrEnum):
     FIXED = "fixed"
 
 
-def frame_sizes(object_size: float, world_shape: tuple[int, ...]) -> list[int]:
-    """Adaptive frame sides (px): from the object's size, ×1.5 each step, to the whole world."""
+def frame_sizes(
+    object_size: float, world_shape: tuple[int, ...], parameters: FrameSearch = DEFAULT_FRAME_SEARCH
+) -> list[int]:
+    """Adaptive frame sides (px): from the object's size (at least ``parameters.min_frame``),
+    times ``parameters.frame_growth`` each step, to the whole world."""
     largest = int(max(world_shape[:2]))
-    sizes, size = [], max(16.0, float(object_size))
+    sizes, size = [], max(parameters.min_frame, float(object_size))
     while size < largest:
         sizes.append(int(round(size)))
-        size *= FRAME_GROWTH
+        size *= parameters.frame_growth
     return sizes + [largest]
 
 
@@ -109,6 +110,7 @@ def find_best_match(
     observation_features: Features | None = None,
     world_features: Features | None = None,
     model: str = "similarity",
+    parameters: FrameSearch = DEFAULT_FRAME_SEARCH,
 ) -> Match | NoMatch:
     """Where the object at ``point`` (x, y px) of ``observation`` (h, w, 3) is in ``world``
     (H, W, 3), both RGB uint8.
@@ -118,6 +120,7 @@ def find_best_match(
     image may be passed. ``model``: the transform fitted to the winning inliers, "similarity"
     (rigid motion on the table seen by the same camera: the default, stable with few
     inliers) or "homography" (the paper's general T_sift, when at least 8 inliers).
+    ``parameters``: the search's rules (:class:`~vslsp.vision.parameters.FrameSearch`).
     Returns :class:`NoMatch` when no frame finds any match (ValueError: an unknown ``model``).
     """
     if model not in ("similarity", "homography"):
@@ -125,20 +128,20 @@ def find_best_match(
     observation, world = as_rgb(observation, "observation"), as_rgb(world, "world image")
     obs_features = observation_features if observation_features is not None else extract_features(observation)
     world_feats = world_features if world_features is not None else extract_features(world)
-    sizes = list(frames) if frames is not None else frame_sizes(object_size, world.shape)
+    sizes = list(frames) if frames is not None else frame_sizes(object_size, world.shape, parameters)
     grey_obs = cv2.cvtColor(observation, cv2.COLOR_RGB2GRAY).astype(np.float32)
     grey_world = cv2.cvtColor(world, cv2.COLOR_RGB2GRAY).astype(np.float32)
     matcher = cv2.BFMatcher(cv2.NORM_L2)
     best: tuple[Candidate, int, int, bool] | None = None
     for size in sizes:
         box = _frame_box(point, size, observation.shape)
-        candidates = _candidates(obs_features, world_feats, box, matcher, grey_obs, grey_world)
+        candidates = _candidates(obs_features, world_feats, box, matcher, grey_obs, grey_world, parameters)
         if not candidates:
             continue
-        unique = len(candidates) == 1 or candidates[0].score - candidates[1].score >= MARGIN
+        unique = len(candidates) == 1 or candidates[0].score - candidates[1].score >= parameters.margin
         if best is None or unique:
             best = (candidates[0], size, len(candidates), unique)
-        if unique and candidates[0].score >= MIN_SCORE:
+        if unique and candidates[0].score >= parameters.min_score:
             break
     if best is None:
         return NoMatch("no SIFT match of the observation's frame in the world at any frame size")
@@ -159,7 +162,9 @@ def _frame_box(point: tuple[float, float], size: int, shape: tuple[int, ...]) ->
     return x0, y0, x1, y1
 
 
-def _candidates(obs: Features, world: Features, box, matcher, grey_obs, grey_world) -> list[Candidate]:
+def _candidates(
+    obs: Features, world: Features, box, matcher, grey_obs, grey_world, parameters: FrameSearch
+) -> list[Candidate]:
     """Candidate placements of the frame ``box`` in the world, best first."""
     x0, y0, x1, y1 = box
     inside = (
@@ -171,28 +176,28 @@ def _candidates(obs: Features, world: Features, box, matcher, grey_obs, grey_wor
     if inside.sum() < 2 or len(world) < 2:
         return []
     query = obs.keypoints[inside, :2]
-    knn = matcher.knnMatch(obs.descriptors[inside], world.descriptors, k=min(_NEIGHBOURS, len(world)))
+    knn = matcher.knnMatch(obs.descriptors[inside], world.descriptors, k=min(parameters.neighbours, len(world)))
     pairs = np.array(
         [
             (query[m.queryIdx], world.keypoints[m.trainIdx, :2])
             for row in knn
             for m in row
-            if m.distance <= _ALTERNATIVE * row[0].distance
+            if m.distance <= parameters.alternative * row[0].distance
         ],
         np.float32,
     )  # (M, 2, 2)
     candidates: list[Candidate] = []
     cv2.setRNGSeed(0)  # deterministic RANSAC
-    while len(pairs) >= 3 and len(candidates) < _MAX_CANDIDATES:
+    while len(pairs) >= 3 and len(candidates) < parameters.max_candidates:
         model, mask = cv2.estimateAffinePartial2D(
-            _c(pairs[:, 0]), _c(pairs[:, 1]), method=cv2.RANSAC, ransacReprojThreshold=3.0
+            _c(pairs[:, 0]), _c(pairs[:, 1]), method=cv2.RANSAC, ransacReprojThreshold=parameters.reprojection
         )
         if model is None or mask is None or mask.sum() < 3:
             break
         mask = mask.ravel().astype(bool)
         transform = np.vstack([model, [0.0, 0.0, 1.0]])
         scale = float(np.sqrt(abs(np.linalg.det(model[:, :2]))))
-        if SCALE_RANGE[0] <= scale <= SCALE_RANGE[1]:
+        if parameters.scale_range[0] <= scale <= parameters.scale_range[1]:
             score = _correlation(grey_obs, grey_world, box, transform)
             candidates.append(Candidate(transform, pairs[mask], score))
         pairs = pairs[~mask]

@@ -17,12 +17,10 @@ import numpy as np
 from vslsp.vision.colour import COLOUR_NAMES, GREY_CLASS, colour_classes, colour_name
 from vslsp.vision.features import Features, object_features
 from vslsp.vision.image import as_rgb, channel_max, channel_min, colour_distance, table_colour, to_working
+from vslsp.vision.parameters import DEFAULT_OBJECT_FINDING, ObjectFinding
 
-OBJECT_CONTRAST = 45  # grey levels an object's colour differs from the table's, at least
 DARK_VALUE, DARK_CHROMA = 80, 40  # darker and greyer than this: the landmark, not an object
 MIN_AREA, MAX_AREA = 0.0008, 0.15  # object area as a fraction of the image
-# A region's patch of no named colour smaller than this share of its named colour is texture.
-TEXTURE_SHARE = 0.35
 _KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (3, 3))
 
 
@@ -75,15 +73,18 @@ def dark_mask(work: np.ndarray) -> np.ndarray:
     )
 
 
-def object_mask(work: np.ndarray, table: np.ndarray, dark: np.ndarray) -> np.ndarray:
-    """Pixels (h, w) uint8 {0, 1} whose colour is an object's: not the table, not ``dark``."""
-    contrast = cv2.compare(colour_distance(work, table), OBJECT_CONTRAST, cv2.CMP_GT)
+def object_mask(
+    work: np.ndarray, table: np.ndarray, dark: np.ndarray, parameters: ObjectFinding = DEFAULT_OBJECT_FINDING
+) -> np.ndarray:
+    """Pixels (h, w) uint8 {0, 1} whose colour is an object's: not the table (by
+    ``parameters.object_contrast``), not ``dark``."""
+    contrast = cv2.compare(colour_distance(work, table), parameters.object_contrast, cv2.CMP_GT)
     mask = cv2.bitwise_and(contrast, cv2.bitwise_not(dark)) // 255
     return cv2.morphologyEx(mask, cv2.MORPH_OPEN, _KERNEL)
 
 
-def segment(image: np.ndarray) -> Segmentation:
-    """Segment the objects of an RGB image (H, W, 3) uint8.
+def segment(image: np.ndarray, parameters: ObjectFinding = DEFAULT_OBJECT_FINDING) -> Segmentation:
+    """Segment the objects of an RGB image (H, W, 3) uint8 by the rules ``parameters``.
 
     A connected region of object pixels that holds several colours (objects of different
     colours touching in the image) is split by colour class, so that they stay two objects.
@@ -91,7 +92,8 @@ def segment(image: np.ndarray) -> Segmentation:
     work, scale = to_working(as_rgb(image))
     table = table_colour(work)
     dark = dark_mask(work)
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(object_mask(work, table, dark), connectivity=8)
+    objects = object_mask(work, table, dark, parameters)
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(objects, connectivity=8)
     h, w = labels.shape
     min_area, max_area = MIN_AREA * h * w, MAX_AREA * h * w
     all_stats = list(stats)
@@ -99,7 +101,7 @@ def segment(image: np.ndarray) -> Segmentation:
     for label in range(1, count):
         if stats[label, 4] < min_area:
             continue
-        parts = _split_by_colour(work, labels, label, all_stats, min_area)
+        parts = _split_by_colour(work, labels, label, all_stats, min_area, parameters.texture_share)
         reaches_in = _on_border(stats[label], w, h)
         for part_label, colour_class in parts:
             part = all_stats[part_label]
@@ -113,14 +115,19 @@ def segment(image: np.ndarray) -> Segmentation:
 
 
 def _split_by_colour(
-    work: np.ndarray, labels: np.ndarray, label: int, all_stats: list[np.ndarray], min_area: float
+    work: np.ndarray,
+    labels: np.ndarray,
+    label: int,
+    all_stats: list[np.ndarray],
+    min_area: float,
+    texture_share: float,
 ) -> list[tuple[int, int]]:
     """Split region ``label`` of ``labels`` (h, w) by colour class where it holds several
     colours, relabelling ``labels`` in place and appending the parts' stats to ``all_stats``.
 
     Returns (label, colour class) for each part; a region of one colour is its own part. A
-    patch of no named colour much smaller than the region's named colour (a mark of a cube's
-    texture, seen beside its colour) is no part: it would be a phantom object.
+    patch of no named colour smaller than ``texture_share`` of the region's named colour (a mark
+    of a cube's texture, seen beside its colour) is no part: it would be a phantom object.
     """
     x, y, bw, bh, _ = all_stats[label]
     region = labels[y : y + bh, x : x + bw]
@@ -135,7 +142,7 @@ def _split_by_colour(
     parts = []
     named = counts[1 : len(COLOUR_NAMES) + 1].max()
     for colour_class in major:
-        if colour_class > len(COLOUR_NAMES) and counts[colour_class] < TEXTURE_SHARE * named:
+        if colour_class > len(COLOUR_NAMES) and counts[colour_class] < texture_share * named:
             continue  # a patch of no named colour (a texture's mark) on a named object: no object of its own
         # Opening drops the thin fringe where an object's colour blends into another.
         members = cv2.morphologyEx((classes == colour_class).view(np.uint8), cv2.MORPH_OPEN, _KERNEL)
@@ -183,11 +190,14 @@ def _orientation(xs: np.ndarray, ys: np.ndarray) -> float:
     return float((angle + 90.0) % 180.0 - 90.0)
 
 
-def detect_objects(image: np.ndarray, features: bool = True) -> list[DetectedObject]:
-    """All objects wholly in view in an RGB image (H, W, 3) uint8, left to right.
+def detect_objects(
+    image: np.ndarray, features: bool = True, parameters: ObjectFinding = DEFAULT_OBJECT_FINDING
+) -> list[DetectedObject]:
+    """All objects wholly in view in an RGB image (H, W, 3) uint8, left to right (segmented by
+    the rules ``parameters``).
 
     With ``features`` each object carries its SIFT features φ (costs a few ms per object).
     """
-    seg = segment(image)
+    seg = segment(image, parameters)
     objects = [describe(seg, label, image if features else None) for label in seg.object_labels]
     return sorted(objects, key=lambda o: o.centroid)

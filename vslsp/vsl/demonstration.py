@@ -33,6 +33,7 @@ from vslsp.vision.change import changed_pixels
 from vslsp.vision.features import Features, object_features
 from vslsp.vision.image import as_rgb, read_image, write_image
 from vslsp.vision.landmark import Line, find_landmark
+from vslsp.vision.parameters import DEFAULT_OBJECT_FINDING, ObjectFinding
 from vslsp.vsl.recorder import Heights
 
 FORMAT = "vslsp-demonstration/1"
@@ -236,18 +237,21 @@ class ImagePlane:
         return Demonstration(self.landmark, operations, self.robot_side)
 
 
-def perceived_turn(pre: np.ndarray, pre_place: np.ndarray, post: np.ndarray) -> float:
+def perceived_turn(
+    pre: np.ndarray, pre_place: np.ndarray, post: np.ndarray, parameters: ObjectFinding = DEFAULT_OBJECT_FINDING
+) -> float:
     """How far (rad) the tutor turned the moved object: its pixels are where the pre-pick and
     the post-place observations (H, W, 3) differ from the pre-place one (image subtraction),
     and the turn is the rotation that best lays the first patch onto the second (a window
-    search over the angle, 3° steps refined to 0.05°)."""
-    before, before_mask = _object_patch(pre, pre_place)
-    after, after_mask = _object_patch(post, pre_place)
+    search over the angle, 3° steps refined to 0.05°, in a window of ``parameters.patch`` px)."""
+    side = parameters.patch
+    before, before_mask = _object_patch(pre, pre_place, side)
+    after, after_mask = _object_patch(post, pre_place, side)
 
     def mismatch(angle: float) -> float:
-        turn = cv2.getRotationMatrix2D((_PATCH / 2.0, _PATCH / 2.0), -np.degrees(angle), 1.0)
-        grey = cv2.warpAffine(before, turn, (_PATCH, _PATCH), flags=cv2.INTER_LINEAR)
-        mask = cv2.warpAffine(before_mask, turn, (_PATCH, _PATCH), flags=cv2.INTER_LINEAR)
+        turn = cv2.getRotationMatrix2D((side / 2.0, side / 2.0), -np.degrees(angle), 1.0)
+        grey = cv2.warpAffine(before, turn, (side, side), flags=cv2.INTER_LINEAR)
+        mask = cv2.warpAffine(before_mask, turn, (side, side), flags=cv2.INTER_LINEAR)
         union = cv2.max(mask, after_mask)
         return float(cv2.absdiff(grey, after).ravel() @ union.ravel() / max(float(union.sum()), 1.0))
 
@@ -258,11 +262,8 @@ def perceived_turn(pre: np.ndarray, pre_place: np.ndarray, post: np.ndarray) -> 
     return wrap(angle)
 
 
-_PATCH = 128  # px, side of the window the turn is searched in (a house's roof is 60 px across)
-
-
-def _object_patch(image: np.ndarray, without: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The object that ``image`` has and ``without`` lacks: a grey window (P, P) float32 of
+def _object_patch(image: np.ndarray, without: np.ndarray, side: int) -> tuple[np.ndarray, np.ndarray]:
+    """The object that ``image`` has and ``without`` lacks: a grey window (P, P) (P: ``side``) float32 of
     ``image`` centred on the changed pixels' centroid, masked by them (P, P) float32."""
     changed = changed_pixels(image, without, opening=np.ones((3, 3), np.uint8))
     ys, xs = np.nonzero(changed)
@@ -271,8 +272,8 @@ def _object_patch(image: np.ndarray, without: np.ndarray) -> tuple[np.ndarray, n
             "the moved object is not seen in the demonstration's observations; "
             "keep it in view and let it differ from the board"
         )
-    shift = np.array([[1.0, 0.0, _PATCH / 2.0 - xs.mean()], [0.0, 1.0, _PATCH / 2.0 - ys.mean()]])
+    shift = np.array([[1.0, 0.0, side / 2.0 - xs.mean()], [0.0, 1.0, side / 2.0 - ys.mean()]])
     grey = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY).astype(np.float32)
-    patch = cv2.warpAffine(grey, shift, (_PATCH, _PATCH), flags=cv2.INTER_LINEAR)
-    mask = cv2.warpAffine(changed.astype(np.float32), shift, (_PATCH, _PATCH), flags=cv2.INTER_LINEAR)
+    patch = cv2.warpAffine(grey, shift, (side, side), flags=cv2.INTER_LINEAR)
+    mask = cv2.warpAffine(changed.astype(np.float32), shift, (side, side), flags=cv2.INTER_LINEAR)
     return patch * mask, mask

@@ -12,7 +12,7 @@ A recorded observation (pre-pick or pre-place) is found in the new world in two 
 2. disambiguation: with no comparison frames the first fitting placement is the match (its own
    frames grew while it was ambiguous); with comparison frames every candidate's colour
    correlation with the observation is measured as the frame grows, each frame ruling out for
-   good the candidates it beats by :data:`~vslsp.vision.matching.MARGIN`, until one is left
+   good the candidates it beats by :attr:`~vslsp.vision.parameters.FrameSearch.margin`, until one is left
    (the paper's adaptive frame telling identical objects apart by their surroundings, which
    "narrows down the possible matches"). Before a frame rules a candidate out, it is re-fitted
    (:func:`refit`) and compared again; the frame stops growing once its best correlation falls
@@ -36,7 +36,8 @@ import numpy as np
 from vslsp.stages import in_stage
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.image import as_rgb
-from vslsp.vision.matching import MARGIN, MIN_SCORE, Match, NoMatch, find_best_match
+from vslsp.vision.matching import Match, NoMatch, find_best_match
+from vslsp.vision.parameters import DEFAULT_FRAME_SEARCH, FrameSearch
 from vslsp.vision.transform import decompose
 
 
@@ -91,17 +92,21 @@ def match_observation(
     observation_features: Features | None = None,
     world_features: Features | None = None,
     fits: Callable[[Match], bool] | None = None,
+    parameters: FrameSearch = DEFAULT_FRAME_SEARCH,
 ) -> Match | NoMatch:
     """``findBestMatch`` of the recorded ``observation`` (h, w, 3) about ``point`` (x, y px; the
     object's centre in it, ``object_size`` px) in ``world`` (H, W, 3), both RGB uint8, as the
-    ``search`` says (see the module's docstring). Precomputed SIFT features of either image may
-    be passed. :class:`NoMatch` when no placement fits."""
+    ``search`` says (see the module's docstring), by the rules ``parameters`` (MARGIN in the
+    docstrings is ``parameters.margin``). Precomputed SIFT features of either image may be
+    passed. :class:`NoMatch` when no placement fits."""
     observation, world = as_rgb(observation, "observation"), as_rgb(world, "world image")
     if observation_features is None:
         observation_features = extract_features(observation)
     if world_features is None:
         world_features = extract_features(world)
-    candidates = _candidates(observation, world, point, object_size, search, observation_features, world_features, fits)
+    candidates = _candidates(
+        observation, world, point, object_size, search, observation_features, world_features, fits, parameters
+    )
     if not candidates:
         return NoMatch("no placement of the observation fits in the world at any frame size")
     chosen, refitted, seen = None, [False] * len(candidates), world.astype(np.float32)
@@ -109,7 +114,7 @@ def match_observation(
     shared, taken = -np.inf, 0  # the best correlation any frame reached so far; the leader
     for size in search.compare:
         scores = _scores(observation, seen, point, size, candidates, alive)
-        if chosen is not None and max(scores.values()) < shared - MARGIN:
+        if chosen is not None and max(scores.values()) < shared - parameters.margin:
             # The frame has grown past what the demonstration and this world share: its best
             # correlation fell MARGIN below the best a smaller frame reached. Measured against
             # the best so far, not the last frame's: the correlation may fall in steps each
@@ -133,16 +138,16 @@ def match_observation(
         # is about (and the cheapest to search).
         for everyone in (False, True):
             best = max(scores.values())
-            redo = [i for i in alive if not refitted[i] and (everyone or scores[i] < best - MARGIN)]
+            redo = [i for i in alive if not refitted[i] and (everyone or scores[i] < best - parameters.margin)]
             if not redo:
                 break
             for i in redo:
-                candidates[i] = refit(observation, seen, point, search.compare[0], candidates[i])
+                candidates[i] = refit(observation, seen, point, search.compare[0], candidates[i], parameters)
                 refitted[i] = True
             scores = _scores(observation, seen, point, size, candidates, alive)
-            if all(scores[i] < max(scores.values()) - MARGIN for i in redo):
+            if all(scores[i] < max(scores.values()) - parameters.margin for i in redo):
                 break  # the re-fitted stay beaten: re-fitting the rest could only widen their lead
-        alive = _narrowed(candidates, scores, object_size)
+        alive = _narrowed(candidates, scores, object_size, parameters.margin)
         unique, taken = len(alive) == 1, alive[0]
         chosen = replace(
             candidates[taken],
@@ -152,7 +157,7 @@ def match_observation(
             candidates=len(candidates),
         )
         shared = max(shared, chosen.score)
-        if unique and chosen.score >= MIN_SCORE:
+        if unique and chosen.score >= parameters.min_score:
             break
     if chosen is None:
         match = candidates[0]
@@ -165,8 +170,8 @@ def match_observation(
             # place, as a local re-fit from the fit's own turn cannot reach a copy that far off.
             # A good fit keeps its pose.
             seen = world.astype(np.float32)
-            if _correlation(observation, seen, point, frames[0], match.transform) < 1.0 - MARGIN:
-                fitted = refit_all_round(observation, seen, point, frames[0], match, search.turns)
+            if _correlation(observation, seen, point, frames[0], match.transform) < 1.0 - parameters.margin:
+                fitted = refit_all_round(observation, seen, point, frames[0], match, search.turns, parameters)
                 match = replace(fitted, frame=match.frame, ambiguous=match.ambiguous, candidates=match.candidates)
         return match
     # The match taken is a place and a pose. A copy of the place, seen by the same camera,
@@ -178,9 +183,9 @@ def match_observation(
     first = search.compare[0]
     if (
         not refitted[taken]
-        and _correlation(observation, seen, point, first, candidates[taken].transform) < 1.0 - MARGIN
+        and _correlation(observation, seen, point, first, candidates[taken].transform) < 1.0 - parameters.margin
     ):
-        fitted = refit(observation, seen, point, first, candidates[taken])
+        fitted = refit(observation, seen, point, first, candidates[taken], parameters)
         score = _correlation(observation, seen, point, chosen.frame, fitted.transform)
         chosen = replace(
             chosen,
@@ -203,6 +208,7 @@ def _candidates(
     observation_features: Features,
     world_features: Features,
     fits: Callable[[Match], bool] | None,
+    parameters: FrameSearch,
 ) -> list[Match]:
     """The placements that fit, round by round; without comparison frames the first one only."""
     candidates: list[Match] = []
@@ -210,7 +216,14 @@ def _candidates(
         remaining = world_features
         for _ in range(round_.tries):
             match = find_best_match(
-                observation, world, point, object_size, round_.frames, observation_features, remaining
+                observation,
+                world,
+                point,
+                object_size,
+                round_.frames,
+                observation_features,
+                remaining,
+                parameters=parameters,
             )
             if isinstance(match, NoMatch):
                 break
@@ -234,27 +247,29 @@ def frame_correlation(
     return _correlation(observation, world.astype(np.float32), point, size, transform)
 
 
-REFIT_STEP = (4.0, np.radians(4.0))  # the re-fit's first step: px, rad
-REFIT_STOP = 0.5  # px: the re-fit stops when its step is this small
-_REFIT_MOVES = 60  # at most this many steps uphill
-_DEGENERATE = 1e-6  # a fit whose scale is below this is no placement
-
-
-def refit(observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, match: Match) -> Match:
+def refit(
+    observation: np.ndarray,
+    world: np.ndarray,
+    point: tuple[float, float],
+    size: int,
+    match: Match,
+    parameters: FrameSearch = DEFAULT_FRAME_SEARCH,
+) -> Match:
     """``match`` re-fitted to the ``world`` (H, W, 3) at the frame of side ``size``:
     made rigid about its place (scale 1: the same camera sees the same board, so a fit that
     scaled the frame fitted its few features, not the copy), then moved and turned about its
-    place, steps of :data:`REFIT_STEP` halving down to :data:`REFIT_STOP`, to the nearby
+    place, steps of ``parameters.refit_step`` px and ``refit_turn`` rad halving down to
+    ``refit_stop`` (at most ``refit_moves`` of them), to the nearby
     placement whose frame correlates best with the observation. Its score is that correlation."""
     world = world if world.dtype == np.float32 else world.astype(np.float32)
     here = np.array([match.x, match.y])
     scale = _scale(match.transform)
-    if not scale > _DEGENERATE:
+    if not scale > parameters.degenerate:
         return match  # a fit that collapses the frame to a line or a point has no pose to start from
     transform = _about(here, 0.0, 0.0, 0.0, 1.0 / scale) @ match.transform
     score = _correlation(observation, world, point, size, transform)
-    step, turn, moves = *REFIT_STEP, 0
-    while step >= REFIT_STOP and moves < _REFIT_MOVES:
+    step, turn, moves = parameters.refit_step, parameters.refit_turn, 0
+    while step >= parameters.refit_stop and moves < parameters.refit_moves:
         here = (transform @ np.array([point[0], point[1], 1.0]))[:2]
         tried = [
             _about(here, dx, dy, dt) @ transform
@@ -280,7 +295,13 @@ def refit(observation: np.ndarray, world: np.ndarray, point: tuple[float, float]
 
 
 def refit_all_round(
-    observation: np.ndarray, world: np.ndarray, point: tuple[float, float], size: int, match: Match, turns: int
+    observation: np.ndarray,
+    world: np.ndarray,
+    point: tuple[float, float],
+    size: int,
+    match: Match,
+    turns: int,
+    parameters: FrameSearch = DEFAULT_FRAME_SEARCH,
 ) -> Match:
     """``match`` re-fitted (:func:`refit`) from ``turns`` turns evenly all round its place
     (its own turn the first): the best-correlating of the re-fits.
@@ -289,13 +310,13 @@ def refit_all_round(
     a place but no pose: the turn read from it means nothing (a zero matrix reads as no turn).
     It starts as a rigid copy, unturned, at its place, and the turns all round find its pose."""
     here = np.array([match.x, match.y])
-    if not _scale(match.transform) > _DEGENERATE:
+    if not _scale(match.transform) > parameters.degenerate:
         shift = np.array([[1.0, 0.0, match.x - point[0]], [0.0, 1.0, match.y - point[1]], [0.0, 0.0, 1.0]])
         match = replace(match, transform=shift, decomposition=decompose(shift), theta=0.0)
-    best = refit(observation, world, point, size, match)
+    best = refit(observation, world, point, size, match, parameters)
     for k in range(1, turns):
         transform = _about(here, 0.0, 0.0, 2.0 * np.pi * k / turns) @ match.transform
-        fitted = refit(observation, world, point, size, replace(match, transform=transform))
+        fitted = refit(observation, world, point, size, replace(match, transform=transform), parameters)
         if fitted.score > best.score:
             best = fitted
     return best
@@ -326,14 +347,14 @@ def _scores(
     return {i: _correlation(observation, world, point, size, candidates[i].transform) for i in alive}
 
 
-def _narrowed(candidates: list[Match], scores: dict[int, float], object_size: float) -> list[int]:
-    """The candidates (indices) a frame leaves, best first: those within ``MARGIN`` of the best
+def _narrowed(candidates: list[Match], scores: dict[int, float], object_size: float, margin: float) -> list[int]:
+    """The candidates (indices) a frame leaves, best first: those within ``margin`` of the best
     one, less those that lie within half an object of a better one (a re-fit may move a
     candidate onto another's place: the same place)."""
     order = sorted(scores, key=lambda i: -scores[i])  # stable: ties keep the search's order
     kept: list[int] = []
     for i in order:
-        if scores[i] < scores[order[0]] - MARGIN:
+        if scores[i] < scores[order[0]] - margin:
             break
         if all(
             np.hypot(candidates[i].x - candidates[k].x, candidates[i].y - candidates[k].y) > object_size / 2.0

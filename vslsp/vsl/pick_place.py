@@ -33,6 +33,7 @@ from vslsp.geometry.poses import wrap
 from vslsp.vision.change import changed_pixels
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import SCALE_RANGE
+from vslsp.vision.parameters import DEFAULT_OBJECT_FINDING, ObjectFinding
 from vslsp.vsl.recorder import Heights
 
 PLACE_FRAME = 2.0  # the pre-place frame's side, in sizes of the biggest object (the paper: two to three)
@@ -219,15 +220,16 @@ class TableModel:
         place_point: tuple[float, float],
         heights: tuple[float, float],
         boxes: float,
+        parameters: ObjectFinding = DEFAULT_OBJECT_FINDING,
     ) -> float:
         """The turn (rad) the tutor gave the object: the boxes' yaws give it up to a quarter turn
         (``boxes``, their difference); the object's SIFT features matched from the pick to the
         place say which, from the first RANSAC placement that puts its centre where the object
-        was seen put down (within :data:`_AGREE`). Raises InputError when none does."""
+        was seen put down (within ``parameters.agree``). Raises InputError when none does."""
         target = np.array(self.camera.pixel_to_table(*place_point, heights[1]))
-        for transform, _ in object_candidates(before, after, 3):
+        for transform, _ in object_candidates(before, after, 3, parameters):
             centre = np.array(self.camera.pixel_to_table(*apply(transform, pick_point), heights[1]))
-            if np.hypot(*(centre - target)) <= _AGREE:
+            if np.hypot(*(centre - target)) <= parameters.agree:
                 seen = table_rotation(self.camera, transform, pick_point, *heights)
                 return wrap(boxes + np.pi / 2.0 * round((seen - boxes) / (np.pi / 2.0)))
         raise InputError(
@@ -294,11 +296,14 @@ def footprint_on_table(
 _GRID = 0.0005  # m per cell of the footprint's raster
 
 
-def object_candidates(features: Features, seen: Features, count: int = 2) -> list[tuple[np.ndarray, int]]:
+def object_candidates(
+    features: Features, seen: Features, count: int = 2, parameters: ObjectFinding = DEFAULT_OBJECT_FINDING
+) -> list[tuple[np.ndarray, int]]:
     """Up to ``count`` placements of an object's ``features`` among the ``seen`` ones: ratio-
     tested SIFT matches, each seen keypoint kept for its closest match only, RANSAC
     similarities one after the other on the matches left over; each a transform (3, 3) px and
-    its number of inliers (at least :data:`_MIN_INLIERS`). A similarity that shrinks or grows
+    its number of inliers (at least ``parameters.min_inliers``; the rules:
+    :class:`~vslsp.vision.parameters.ObjectFinding`). A similarity that shrinks or grows
     the object beyond :data:`~vslsp.vision.matching.SCALE_RANGE` is no placement (the view is from above, and heights
     change an object's size by a few per cent): one that maps many features onto one spot
     would otherwise outvote the object seen turned."""
@@ -307,7 +312,7 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
     pairs = cv2.BFMatcher(cv2.NORM_L2).knnMatch(features.descriptors, seen.descriptors, k=2)
     closest: dict[int, cv2.DMatch] = {}
     for m in pairs:
-        if len(m) == 2 and m[0].distance < _RATIO * m[1].distance:
+        if len(m) == 2 and m[0].distance < parameters.ratio * m[1].distance:
             if m[0].trainIdx not in closest or m[0].distance < closest[m[0].trainIdx].distance:
                 closest[m[0].trainIdx] = m[0]
     good = sorted(closest.values(), key=lambda m: m.queryIdx)
@@ -315,20 +320,17 @@ def object_candidates(features: Features, seen: Features, count: int = 2) -> lis
     target = seen.keypoints[[m.trainIdx for m in good], :2].reshape(-1, 1, 2)
     cv2.setRNGSeed(0)  # deterministic RANSAC
     found: list[tuple[np.ndarray, int]] = []
-    while len(source) >= _MIN_INLIERS and len(found) < count:
-        model, inliers = cv2.estimateAffinePartial2D(source, target, method=cv2.RANSAC, ransacReprojThreshold=4.0)
-        if model is None or inliers is None or inliers.sum() < _MIN_INLIERS:
+    while len(source) >= parameters.min_inliers and len(found) < count:
+        model, inliers = cv2.estimateAffinePartial2D(
+            source, target, method=cv2.RANSAC, ransacReprojThreshold=parameters.reprojection
+        )
+        if model is None or inliers is None or inliers.sum() < parameters.min_inliers:
             break
         inliers = inliers.ravel().astype(bool)
         if SCALE_RANGE[0] <= np.hypot(model[0, 0], model[1, 0]) <= SCALE_RANGE[1]:
             found.append((np.vstack([model, [0.0, 0.0, 1.0]]), int(inliers.sum())))
         source, target = source[~inliers], target[~inliers]
     return found
-
-
-_RATIO = 0.8  # Lowe's ratio test
-_AGREE = 0.01  # m: a feature match agrees with the object's seen footprint
-_MIN_INLIERS = 4
 
 
 def apply(transform: np.ndarray, point: tuple[float, float]) -> tuple[float, float]:

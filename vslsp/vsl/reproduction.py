@@ -34,6 +34,7 @@ from vslsp.stages import in_stage
 from vslsp.vision.change import changed_pixels
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import Match, NoMatch, frame_sizes
+from vslsp.vision.parameters import DEFAULT_OBJECT_FINDING, ObjectFinding
 from vslsp.vision.transform import decompose
 from vslsp.vsl.matcher import Search, match_observation
 from vslsp.vsl.pick_place import (
@@ -52,30 +53,41 @@ PLACE_GROWTH = 3.0
 _SQUARE = 0.15  # a footprint whose sides differ by less than this fraction is square (closed either way)
 
 
-def match_object(demo: PickPlaceDemonstration, k: int, world: np.ndarray, world_features: Features) -> Match | NoMatch:
+def match_object(
+    demo: PickPlaceDemonstration,
+    k: int,
+    world: np.ndarray,
+    world_features: Features,
+    parameters: ObjectFinding = DEFAULT_OBJECT_FINDING,
+) -> Match | NoMatch:
     """``findBestMatch`` of operation ``k``'s pre-pick observation in the pre-pick frame: the
     object's features φ_k against the world's, SIFT and RANSAC as in the paper. The score is
     the fraction of φ_k that are inliers; the match is ambiguous when a second placement
     gathers nearly as many. :class:`NoMatch` when the object is not found."""
     op = demo.operations[k]
     missing = f"operation {k + 1}'s object is not in the world (no SIFT-RANSAC match)"
-    return features_match(op.features, world_features, op.pick_point, demo.pick_frame, missing)
+    return features_match(op.features, world_features, op.pick_point, demo.pick_frame, missing, parameters)
 
 
 def features_match(
-    features: Features, world_features: Features, point: tuple[float, float], frame: float, missing: str
+    features: Features,
+    world_features: Features,
+    point: tuple[float, float],
+    frame: float,
+    missing: str,
+    parameters: ObjectFinding = DEFAULT_OBJECT_FINDING,
 ) -> Match | NoMatch:
     """An object's ``features`` found among the world's (SIFT and RANSAC): ``point`` (px) carried
     by the best placement, the share of the features that are its inliers, ambiguous when a
-    second placement gathers nearly as many; reported with the ``frame`` side (px).
+    second placement gathers nearly as many (``parameters.close``); reported with the ``frame`` side (px).
     :class:`NoMatch` (``missing``) when the object is not found."""
-    found = object_candidates(features, world_features)
+    found = object_candidates(features, world_features, parameters=parameters)
     if not found:
         return NoMatch(missing)
     transform, inliers = found[0]
     x, y = apply(transform, point)
     decomposition = decompose(transform)
-    ambiguous = len(found) > 1 and found[1][1] >= _CLOSE * inliers
+    ambiguous = len(found) > 1 and found[1][1] >= parameters.close * inliers
     return Match(
         x,
         y,
@@ -87,9 +99,6 @@ def features_match(
         transform,
         decomposition,
     )
-
-
-_CLOSE = 0.7  # a second placement with this share of the best one's inliers makes a match ambiguous
 
 
 @dataclass(frozen=True, eq=False)
@@ -227,14 +236,16 @@ def correction(
     camera: TableCamera,
     planned: PlannedOperation,
     world_features: Features | None = None,
+    parameters: ObjectFinding = DEFAULT_OBJECT_FINDING,
 ) -> PlannedOperation | None:
     """A last look after operation ``k`` (the loop closed through perception): the object
     found again in ``world`` (h, w, 3), at the height of its place; when its centre lies more
     than :data:`CORRECTION` from the planned place (the grasp slid it in the fingers, the
     release nudged it), the pick-and-place that puts it right, else None (also when it is not
-    found clearly enough to act on). Without ``world_features`` the robot looks only within a
-    square :data:`LOOK_AROUND` times the object's size about the planned place (an object
-    further off was not nudged; the look costs a fraction of the whole view's)."""
+    found clearly enough to act on: ``parameters.sure`` inliers). Without ``world_features``
+    the robot looks only within a square :data:`LOOK_AROUND` times the object's size about the
+    planned place (an object further off was not nudged; the look costs a fraction of the whole
+    view's)."""
     op = demo.operations[k]
     if world_features is None:
         u, v = camera.table_to_pixel(planned.place[0], planned.place[1], op.place_z)
@@ -242,10 +253,10 @@ def correction(
         around = np.zeros(world.shape[:2], np.uint8)
         around[max(0, int(v - half)) : max(0, int(v + half)), max(0, int(u - half)) : max(0, int(u + half))] = 1
         world_features = extract_features(world, around)
-    found = match_object(demo, k, world, world_features)
+    found = match_object(demo, k, world, world_features, parameters)
     if isinstance(found, NoMatch):
         return None
-    if found.ambiguous or found.score * len(op.features) < _SURE:
+    if found.ambiguous or found.score * len(op.features) < parameters.sure:
         return None
     centre = camera.pixel_to_table(*apply(found.transform, op.pick_point), op.place_z)
     if np.hypot(centre[0] - planned.place[0], centre[1] - planned.place[1]) <= CORRECTION:
@@ -256,8 +267,6 @@ def correction(
 
 CORRECTION = 0.006  # m: an object further than this from its planned place is put right
 LOOK_AROUND = 3.0  # the last look's square side in object sizes: the object is in it while less than one size off
-_SURE = 10  # RANSAC inliers of the object's features that must agree before the robot acts on a last look
-# (a count, not a share: an object seen turned half round keeps 10-15 % of its features)
 
 
 def identify(
@@ -277,28 +286,29 @@ def identify(
 
 
 def identify_moved(
-    demo: PickPlaceDemonstration, before: np.ndarray, after: np.ndarray, candidates: list[int]
+    demo: PickPlaceDemonstration,
+    before: np.ndarray,
+    after: np.ndarray,
+    candidates: list[int],
+    parameters: ObjectFinding = DEFAULT_OBJECT_FINDING,
 ) -> int | None:
     """Which recorded operation's object someone else (the tutor) just moved, seen in the
     observations ``before`` and ``after`` (H, W, 3): the changed pixels hold the object twice,
     where it left (``before``) and where it arrived (``after``); each candidate's features φ
     are matched in both, and the first candidate in order whose object is seen at least
-    :data:`_SAME_OBJECT` as well as the best one wins. None when nothing recognisable moved."""
+    ``parameters.same_object`` as well as the best one wins (the best seen by
+    ``parameters.min_matches`` inliers at least). None when nothing recognisable moved."""
     mask = cv2.dilate(changed_pixels(before, after, blur=5) * 255, np.ones((15, 15), np.uint8))
     if not mask.any():
         return None
     seen = [extract_features(image, mask) for image in (before, after)]
-    scores = [min(_matches(demo.operations[k].features, features) for features in seen) for k in candidates]
-    if not scores or max(scores) < _MIN_MATCHES:
+    scores = [min(_matches(demo.operations[k].features, features, parameters) for features in seen) for k in candidates]
+    if not scores or max(scores) < parameters.min_matches:
         return None
-    return next(k for k, score in zip(candidates, scores) if score >= _SAME_OBJECT * max(scores))
+    return next(k for k, score in zip(candidates, scores) if score >= parameters.same_object * max(scores))
 
 
-_MIN_MATCHES = 6  # RANSAC inliers that recognise an object
-_SAME_OBJECT = 0.6
-
-
-def _matches(features: Features, seen: Features) -> int:
+def _matches(features: Features, seen: Features, parameters: ObjectFinding) -> int:
     """RANSAC inliers of an object's ``features`` among the ``seen`` ones (0: not seen)."""
-    found = object_candidates(features, seen, 1)
+    found = object_candidates(features, seen, 1, parameters)
     return found[0][1] if found else 0

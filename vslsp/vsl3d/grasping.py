@@ -5,7 +5,8 @@ section "VSL-3D": the object is moved by the demonstrated motion applied to the 
 
 - The grasp (:func:`plan_grasp`) comes from the matched pre-action observation's points in the
   new world, never from the simulator: the fingertips close at half the object's seen height
-  (else :data:`GRASP_DEPTH` below the top, where it is narrower), about the middle
+  (else ``grasp_depth`` below the top, where it is narrower; the rules:
+  :class:`~vslsp.vsl3d.parameters.Grasping`), about the middle
   of the bounding box of the points above them, along the box's narrower side (principal axes
   in the table plane); an object wider than the gripper opens is "ungraspable". One sensor sees
   the object's near side only: the box ends at the top's far rim, the width across the closing
@@ -28,14 +29,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from vslsp.errors import TaskFailed
+from vslsp.vsl3d.parameters import DEFAULT_GRASPING, Grasping
 
-GRASP_DEPTH = 0.03  # m below the object's top where the fingertips close
-TIP_CLEARANCE = 0.006  # m the fingertips stay above the object's lowest seen point
-PLACE_CLEARANCE = 0.008  # m above the demonstrated height where the guarded descent starts
-FINGER_ROOM = 0.008  # m each finger opens beyond the object's side
-BAND = 0.015  # m below the fingertips that the grasp's box also measures (the pads' reach)
-GRIP_HEIGHTS = (0.5,)  # fractions of the object's seen height where a grip is tried first
-MIN_GRIP = 0.015  # m of the object above the fingertips at the least
+# The default rules' figures, for the modules that read them by name (see Grasping).
+GRASP_DEPTH = DEFAULT_GRASPING.grasp_depth
+TIP_CLEARANCE = DEFAULT_GRASPING.tip_clearance
+PLACE_CLEARANCE = DEFAULT_GRASPING.place_clearance
+MIN_GRIP = DEFAULT_GRASPING.min_grip
 
 
 @dataclass(frozen=True)
@@ -57,27 +57,30 @@ class Grasp:
         }
 
 
-def plan_grasp(points: np.ndarray, finger_open: float, higher: float = 0.0) -> Grasp:
+def plan_grasp(
+    points: np.ndarray, finger_open: float, higher: float = 0.0, parameters: Grasping = DEFAULT_GRASPING
+) -> Grasp:
     """The grasp of an object seen as ``points`` (N, 3) (the matched observation in the world) by
     a gripper whose fingers each open ``finger_open`` m from its middle, the fingertips ``higher``
-    m above the first choice (a retry grips elsewhere). Raises
+    m above the first choice (a retry grips elsewhere), by the rules ``parameters``. Raises
     :class:`TaskFailed` ("ungraspable") when both sides are wider than the gripper."""
     points = np.asarray(points, dtype=float)
     if len(points) < 10:
         raise TaskFailed(f"ungraspable: the object's cloud has only {len(points)} points", cause="ungraspable")
     top = float(np.percentile(points[:, 2], 99.5))
     bottom = max(0.0, float(np.percentile(points[:, 2], 0.5)))
-    widest = 2.0 * (finger_open - FINGER_ROOM)
+    widest = 2.0 * (finger_open - parameters.finger_room)
     narrowest = np.inf
-    # Half the height first: it holds a tall object without letting it pivot, and a short round
-    # one at its widest (lower, the pads press down on its curve and wedge it against the table:
-    # the duckling); where it is too wide, the narrower part :data:`GRASP_DEPTH` below the top.
+    # The grip heights first (half the height: it holds a tall object without letting it pivot,
+    # and a short round one at its widest; lower, the pads press down on its curve and wedge it
+    # against the table); where it is too wide, the narrower part ``grasp_depth`` below the top.
+    clearance, grip = parameters.tip_clearance, parameters.min_grip
     mid = [
-        float(np.clip(bottom + f * (top - bottom) + higher, bottom + TIP_CLEARANCE, top - MIN_GRIP))
-        for f in GRIP_HEIGHTS
+        float(np.clip(bottom + f * (top - bottom) + higher, bottom + clearance, top - grip))
+        for f in parameters.grip_heights
     ]
-    for tip in dict.fromkeys([*mid, min(max(top - GRASP_DEPTH, bottom + TIP_CLEARANCE) + higher, top - MIN_GRIP)]):
-        above = points[points[:, 2] >= tip - BAND / 2][:, :2]  # all that passes between the fingers
+    for tip in dict.fromkeys([*mid, min(max(top - parameters.grasp_depth, bottom + clearance) + higher, top - grip)]):
+        above = points[points[:, 2] >= tip - parameters.band / 2][:, :2]  # all that passes between the fingers
         if len(above) < 10:
             continue
         centre = above.mean(axis=0)
@@ -99,8 +102,9 @@ def plan_grasp(points: np.ndarray, finger_open: float, higher: float = 0.0) -> G
     )
 
 
-def place_for(grasp: Grasp, motion: np.ndarray) -> tuple[np.ndarray, float]:
-    """The fingertips' place point (3,) and closing-axis angle (rad) for the object grasped by
-    ``grasp`` moved by ``motion`` (4, 4) = T_j M_j^-1."""
-    point = motion[:3, :3] @ grasp.point + motion[:3, 3] + [0.0, 0.0, PLACE_CLEARANCE]
+def place_for(grasp: Grasp, motion: np.ndarray, parameters: Grasping = DEFAULT_GRASPING) -> tuple[np.ndarray, float]:
+    """The fingertips' place point (3,) (``parameters.place_clearance`` above the demonstrated
+    height) and closing-axis angle (rad) for the object grasped by ``grasp`` moved by
+    ``motion`` (4, 4) = T_j M_j^-1."""
+    point = motion[:3, :3] @ grasp.point + motion[:3, 3] + [0.0, 0.0, parameters.place_clearance]
     return point, grasp.theta + float(np.arctan2(motion[1, 0], motion[0, 0]))

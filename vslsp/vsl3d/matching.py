@@ -6,11 +6,12 @@ The recorded observation is first aligned with the whole world (FPFH corresponde
 method, point-to-plane ICP). A match must fit (half of the observation within 3 mm of the
 world) and must not float: a true pose puts almost no point where the sensor sees free space
 (it saw a surface behind the point). When the global alignment fails those tests, or fits less
-than :data:`CONFIDENT_FITNESS` once a tipped pose's penalty is taken off (a look-alike: the flat
+than ``confident_fitness`` once a tipped pose's penalty is taken off (a look-alike: the flat
 box's top face on the other box; a box upside down), the match is searched window by window
 ("window search", the paper's other metric): the world is split into object-sized clusters
 above the support surfaces, and the observation is aligned with each window from several turns
-about the vertical; the best verified fit wins.
+about the vertical; the best verified fit wins. The rules' figures are a
+:class:`~vslsp.vsl3d.parameters.CloudMatching`.
 """
 
 from __future__ import annotations
@@ -22,27 +23,11 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.outcomes import NoMatch
-from vslsp.vsl3d.alignment import MAX_SEEN_THROUGH, METHODS, align, tipping
+from vslsp.vsl3d.alignment import METHODS, align, tipping
 from vslsp.vsl3d.cloud import Frame
+from vslsp.vsl3d.parameters import DEFAULT_CLOUD_MATCHING, CloudMatching
 from vslsp.vsl3d.registration import Registration, transform_points
-from vslsp.vsl3d.vsl import FRAME_MARGIN, TURNS, CloudObservation, WorldCloud, euclidean_clusters
-
-SUPPORT_CLEARANCE = 0.012  # windows are found above the lowest surfaces (table, a box's floor)
-WINDOW_GAP = 0.01  # objects farther apart than this are separate windows
-WINDOW_MARGIN = 0.02
-# A global match fitting less than this may be a look-alike (the flat box's top face on the other
-# box): the windows are searched as well and the best fit wins.
-CONFIDENT_FITNESS = 0.75
-CLEARLY_BETTER = 0.05  # the fitness by which a window's match must beat a weak global one
-# Objects and boxes rest on a support as they did when recorded: a pose that tips the observation
-# over is judged by its fitness less this much per unit of (1 - cos tilt) (0.4 at 90 deg), in the
-# alignment's ranking and when the global match and the windows' are compared. A single view fits
-# tipped poses deceptively well (a box upside down or a near-cube on its side can fit nearly 90 %,
-# an object's far side flipped onto its near side better than its upright pose), so an upright
-# pose must lose by more than the tilt's penalty before a tipped one wins; an object that really
-# fell over fits its tipped pose far better than any upright one. tests/vsl3d/test_hard_cases.py
-# pins the cases.
-UPRIGHT_WEIGHT = 0.4
+from vslsp.vsl3d.vsl import CloudObservation, WorldCloud, euclidean_clusters
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,22 +40,22 @@ class Match:
     frame: Frame
 
     @property
-    def plausibility(self) -> float:
-        """The fitness less the tilt's penalty (:data:`UPRIGHT_WEIGHT`): how matches compare."""
-        return self.registration.fitness - UPRIGHT_WEIGHT * tipping(self.registration.transform)
-
-    @property
     def position(self) -> np.ndarray:
         """Where the object's centroid is now (3,)."""
         return self.points.mean(axis=0)
 
 
 def find_best_match(
-    world: WorldCloud, observation: CloudObservation, *, method: str = "prerejective_ransac", seed: int = 0
+    world: WorldCloud,
+    observation: CloudObservation,
+    *,
+    method: str = "prerejective_ransac",
+    seed: int = 0,
+    parameters: CloudMatching = DEFAULT_CLOUD_MATCHING,
 ) -> Match | NoMatch:
-    """Find ``observation`` in ``world`` and its pose there: the :class:`Match`, or
-    :class:`NoMatch` (why) when no verified pose puts enough of the observation onto the world,
-    as 2-D match finding (:func:`vslsp.vision.matching.find_best_match`)."""
+    """Find ``observation`` in ``world`` and its pose there by the rules ``parameters``: the
+    :class:`Match`, or :class:`NoMatch` (why) when no verified pose puts enough of the
+    observation onto the world, as 2-D match finding (:func:`vslsp.vision.matching.find_best_match`)."""
     if len(observation.points) < 10:
         raise InputError(f"the observation has {len(observation.points)} points; record one of a visible object")
     if method not in METHODS:
@@ -84,21 +69,21 @@ def find_best_match(
         method=method,
         seed=seed,
         seen_through=world.seen_through,
-        upright=UPRIGHT_WEIGHT,
+        upright=parameters.upright_weight,
     )
-    found = _verified(world, observation, registration)
+    found = _verified(world, observation, registration, parameters)
     if isinstance(found, NoMatch):
         global_failure = found.reason
     else:
         best = found
-        if best.plausibility >= CONFIDENT_FITNESS:
+        if plausibility(best, parameters) >= parameters.confident_fitness:
             return best
         global_failure = f"the best global match fits only {best.registration.fitness:.0%}"
     # A window's match replaces a verified global one only when it fits clearly better (the
     # duckling's view fits the teddy's side about as well as the turned duckling itself).
-    bar = -np.inf if best is None else best.plausibility + CLEARLY_BETTER
+    bar = -np.inf if best is None else plausibility(best, parameters) + parameters.clearly_better
     windows = 0
-    for window, centre in object_windows(world.points, observation.points):
+    for window, centre in object_windows(world.points, observation.points, parameters):
         windows += 1
         registration = align(
             observation.points,
@@ -107,27 +92,35 @@ def find_best_match(
             world.viewpoint_of(window),
             method=method,
             seed=seed,
-            turns=TURNS,
+            turns=parameters.turns,
             target_centre=centre,
             seen_through=world.seen_through,
-            upright=UPRIGHT_WEIGHT,
+            upright=parameters.upright_weight,
         )
-        match = _verified(world, observation, registration)
-        if not isinstance(match, NoMatch) and match.plausibility > bar:
-            best, bar = match, match.plausibility
+        match = _verified(world, observation, registration, parameters)
+        if not isinstance(match, NoMatch) and plausibility(match, parameters) > bar:
+            best, bar = match, plausibility(match, parameters)
     if best is None:
         return NoMatch(f"{global_failure}; nor in any of {windows} object-sized windows of the world")
     return best
 
 
-def object_windows(points: np.ndarray, observation: np.ndarray) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+def plausibility(match: Match, parameters: CloudMatching = DEFAULT_CLOUD_MATCHING) -> float:
+    """The ``match``'s fitness less the tilt's penalty (``parameters.upright_weight``): how
+    matches compare."""
+    return match.registration.fitness - parameters.upright_weight * tipping(match.registration.transform)
+
+
+def object_windows(
+    points: np.ndarray, observation: np.ndarray, parameters: CloudMatching = DEFAULT_CLOUD_MATCHING
+) -> Iterator[tuple[np.ndarray, np.ndarray]]:
     """The mask (N,) of the world's points around each object-sized cluster above the support
     surfaces, with the cluster's centroid (3,): clusters of at least a fifth of the observation's points
     and at most 2.5 times its extent (a box around objects is not a window)."""
-    lifted = points[points[:, 2] > points[:, 2].min() + SUPPORT_CLEARANCE]
+    lifted = points[points[:, 2] > points[:, 2].min() + parameters.support_clearance]
     if len(lifted) == 0:
         return
-    labels = euclidean_clusters(lifted, WINDOW_GAP)
+    labels = euclidean_clusters(lifted, parameters.window_gap)
     extent = np.linalg.norm(observation.max(axis=0) - observation.min(axis=0))
     for label in range(labels.max() + 1):
         cluster = lifted[labels == label]
@@ -135,22 +128,22 @@ def object_windows(points: np.ndarray, observation: np.ndarray) -> Iterator[tupl
             break  # labels run from the largest cluster down
         if np.linalg.norm(cluster.max(axis=0) - cluster.min(axis=0)) > 2.5 * extent:
             continue
-        window = Frame.around(cluster, WINDOW_MARGIN)
+        window = Frame.around(cluster, parameters.window_margin)
         yield window.contains(points), cluster.mean(axis=0)
 
 
 def _verified(
-    world: WorldCloud, observation: CloudObservation, registration: Registration | NoMatch
+    world: WorldCloud, observation: CloudObservation, registration: Registration | NoMatch, parameters: CloudMatching
 ) -> Match | NoMatch:
     """The match of ``registration``, unless it puts the observation where the sensor saw free space."""
     if isinstance(registration, NoMatch):
         return registration
     moved = transform_points(registration.transform, observation.points)
     floating = float(world.seen_through(moved).mean())
-    if floating > MAX_SEEN_THROUGH:
+    if floating > parameters.max_seen_through:
         return NoMatch(
             f"the best match ({registration.method}, fitness {registration.fitness:.0%}) puts "
             f"{floating:.0%} of the observation where the sensor sees free space; the object "
             "is not in this world or too little of it is visible"
         )
-    return Match(registration, moved, Frame.around(moved, FRAME_MARGIN))
+    return Match(registration, moved, Frame.around(moved, parameters.frame_margin))

@@ -33,30 +33,16 @@ from vslsp.stages import in_stage
 from vslsp.vsl3d.alignment import align
 from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample, voxel_downsample_with
 from vslsp.vsl3d.kdtree import KDTree
+from vslsp.vsl3d.parameters import DEFAULT_CLOUD_MATCHING, CloudMatching
 from vslsp.vsl3d.registration import Registration, transform_error
 
 VOXEL = 0.002  # the paper's voxel size
 MAX_OBSERVATION_BYTES = 512_000_000  # a saved observation's arrays, decoded (a 4096x4096 view's points: 400 MB)
-CHANGE_THRESHOLD = 0.01  # the paper's KNN distance threshold
-# Changed points closer than this belong to one object: bridges self-occlusion gaps (a mug and
-# its handle); two objects moved at once must end farther apart to be told apart.
-CLUSTER_DISTANCE = 0.03
-MIN_CLUSTER_POINTS = 150  # smaller changed regions are noise (150 voxels of 2 mm: 6 cm^2)
-FRAME_MARGIN = 0.01
-TURNS = 12  # getObject also tries ICP from 12 turns about the vertical (objects rest on a table)
-# getObject registers two single views of the moved object, which share less of its surface than
-# a view and the same view moved (a box's wall or a new support hides a part): 40 % must fit.
-MOTION_MIN_FITNESS = 0.4
-# The starts of getObject's alignment rank poorly on the sparse clouds (two views of a turned
-# object: a flip of a partly hidden teddy can rank above the true turn): refine this many.
-MOTION_REFINED = 16
-# Free space is what the sensor saw through at a pixel and all around it, this many pixels each
-# way (1-1.5 mm here): a pose a millimetre off puts a box's rim beside its silhouette, where
-# the pixel sees the table behind, and that is no evidence against the pose. The margin excuses
-# every point within it of any silhouette, so it stays at one pixel: at two, a quarter of an
-# unknown object's points (the duck's view on the mug) were excused and a wrong match passed
-# MAX_SEEN_THROUGH (9.6 % floating against 34 % at one pixel).
-SILHOUETTE_PX = 1
+# The default rules' figures, for the modules that read them by name (see CloudMatching).
+CHANGE_THRESHOLD = DEFAULT_CLOUD_MATCHING.change_threshold
+CLUSTER_DISTANCE = DEFAULT_CLOUD_MATCHING.cluster_distance
+MIN_CLUSTER_POINTS = DEFAULT_CLOUD_MATCHING.min_cluster_points
+FRAME_MARGIN = DEFAULT_CLOUD_MATCHING.frame_margin
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,6 +64,7 @@ class WorldCloud:
     floor: float = -np.inf
     others: tuple[tuple[np.ndarray, DepthCamera], ...] = ()
     viewpoints: np.ndarray | None = None
+    silhouette_px: int = DEFAULT_CLOUD_MATCHING.silhouette_px  # see CloudMatching.silhouette_px
 
     @classmethod
     def capture(
@@ -159,9 +146,9 @@ class WorldCloud:
 
     @cached_property
     def _nearest_around(self) -> tuple[np.ndarray, ...]:
-        """Per sensor (H, W): the nearest depth seen within :data:`SILHOUETTE_PX` pixels of each
+        """Per sensor (H, W): the nearest depth seen within :attr:`silhouette_px` pixels of each
         pixel (inf where nothing was seen around it)."""
-        size = 2 * SILHOUETTE_PX + 1
+        size = 2 * self.silhouette_px + 1
         return tuple(
             cv2.erode(
                 np.where(depth > 0.0, depth, np.inf).astype(np.float32),
@@ -349,19 +336,24 @@ def get_object(
     pre: WorldCloud,
     post: WorldCloud,
     *,
-    threshold: float = CHANGE_THRESHOLD,
-    min_points: int = MIN_CLUSTER_POINTS,
+    threshold: float | None = None,
+    min_points: int | None = None,
     method: str = "prerejective_ransac",
     seed: int = 0,
+    parameters: CloudMatching = DEFAULT_CLOUD_MATCHING,
 ) -> MovedObject:
     """The one object the tutor moved between the ``pre`` and ``post`` captures, its pre- and
-    post-action observations and its 6-DoF motion. Raises :class:`TaskFailed` when nothing or
-    more than one object moved."""
+    post-action observations and its 6-DoF motion, by the rules ``parameters`` (``threshold``
+    and ``min_points``, when given, stand for its ``change_threshold`` and
+    ``min_cluster_points``). Raises :class:`TaskFailed` when nothing or more than one object
+    moved."""
+    threshold = parameters.change_threshold if threshold is None else threshold
+    min_points = parameters.min_cluster_points if min_points is None else min_points
     left = pre.points[changed_points(post, pre, threshold)]  # in pre, gone from post
     arrived = post.points[changed_points(pre, post, threshold)]
     points = np.vstack([left, arrived])
     side = np.r_[np.zeros(len(left), dtype=bool), np.ones(len(arrived), dtype=bool)]
-    labels = euclidean_clusters(points, CLUSTER_DISTANCE)
+    labels = euclidean_clusters(points, parameters.cluster_distance)
     regions = [
         label for label in range(labels.max() + 1 if len(labels) else 0) if np.sum(labels == label) >= min_points
     ]
@@ -392,11 +384,18 @@ def get_object(
         )
     before = points[(labels == leaving[0]) & ~side]
     after = points[(labels == arriving[0]) & side]
-    return moved_object(pre, post, before, after, method=method, seed=seed)
+    return moved_object(pre, post, before, after, method=method, seed=seed, parameters=parameters)
 
 
 def moved_object(
-    pre: WorldCloud, post: WorldCloud, before: np.ndarray, after: np.ndarray, *, method: str, seed: int
+    pre: WorldCloud,
+    post: WorldCloud,
+    before: np.ndarray,
+    after: np.ndarray,
+    *,
+    method: str,
+    seed: int,
+    parameters: CloudMatching = DEFAULT_CLOUD_MATCHING,
 ) -> MovedObject:
     """The object whose pre-action observation is ``before`` (N, 3) (points of ``pre``) and
     post-action observation ``after`` (M, 3) (of ``post``), with its motion registered from one
@@ -409,18 +408,18 @@ def moved_object(
         post_viewpoint,
         method=method,
         seed=seed,
-        turns=TURNS,
+        turns=parameters.turns,
         seen_through=post.seen_through,
         source_seen_through=pre.seen_through,
         target_visible=post.visible,
-        min_fitness=MOTION_MIN_FITNESS,
-        refined=MOTION_REFINED,
+        min_fitness=parameters.motion_min_fitness,
+        refined=parameters.motion_refined,
     )
     if isinstance(registration, NoMatch):  # the demonstration itself cannot be read
         raise TaskFailed(registration.reason)
     return MovedObject(
-        CloudObservation(before, Frame.around(before, FRAME_MARGIN), viewpoint),
-        CloudObservation(after, Frame.around(after, FRAME_MARGIN), post_viewpoint),
+        CloudObservation(before, Frame.around(before, parameters.frame_margin), viewpoint),
+        CloudObservation(after, Frame.around(after, parameters.frame_margin), post_viewpoint),
         registration,
         (pre.points, post.points),
     )
