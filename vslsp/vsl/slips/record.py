@@ -25,7 +25,8 @@ def record_meant(recorder: Recorder, observations: tuple, heights: Heights, move
     arrival then does not match the operated item's features, every change outside the operated
     item's own pixels (its keypoints' hull where it arrived, and a rim) is taken for the slip's
     and restored from the pre-place observation (:func:`~vslsp.vsl.slips.restore.only_arrival`;
-    domino 62). Raises InputError when the operation still cannot be recorded."""
+    the case is pinned in tests/vsl/test_stacked_slips.py). Raises InputError when the operation still
+    cannot be recorded."""
     pre_pick, post, pre_place = observations
     try:
         return recorder.record(pre_pick, post, pre_place, heights)
