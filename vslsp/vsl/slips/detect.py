@@ -20,7 +20,7 @@ object, :func:`find_moved` finds each of them:
    and a fit a quarter of whose post keypoints another object took already refused; a fit
    waits for one from where the same object was that explains it twice as well and whose place
    is free (objects that share part of their look), unless it explains its object whole
-   (:data:`_WELL`: then the two are identical objects and the nearer stands); a second pass
+   (``SlipRules.well``: then the two are identical objects and the nearer stands); a second pass
    pairs the regions left unexplained with the post keypoints left. Given the pre-place
    observation, when this pairing leaves out the object the tutor took (another object's short
    fit took its arrival), it is paired again with the taken object's fits first;
@@ -59,18 +59,12 @@ from vslsp.errors import InputError
 from vslsp.vision.change import changed_pixels
 from vslsp.vision.features import Features, extract_features
 from vslsp.vision.matching import SCALE_RANGE
+from vslsp.vsl.slips.parameters import DEFAULT_SLIP_RULES, SlipRules
 
-MIN_REGION = 150  # px: a changed region smaller than this is noise (an object is thousands)
-MIN_INLIERS = 4  # SIFT matches that agree on one object's move
-EXPLAINS = 0.6  # a move explains its object when it leaves at most this share of the difference
+MIN_REGION = DEFAULT_SLIP_RULES.min_region  # the default rules' (vslsp.vsl.slips.parameters.SlipRules)
+MIN_INLIERS = DEFAULT_SLIP_RULES.min_inliers
+EXPLAINS = DEFAULT_SLIP_RULES.explains
 STILL_PX, STILL_DEG = 3.0, 2.0  # a placement moving its features less than this is no move
-_RIVAL = 2.0  # a fit explaining its object this many times worse than another, free one is not its move
-# A fit that leaves at most this share of its object's difference explains it whole: it does not
-# wait for a rival (two such fits are of identical objects, a nudge and a carry: nearest first).
-_WELL = 0.1
-_NUDGE_WELL = 0.25  # a nudge leaving at most this share of its object's difference is a slip for sure
-_SAME_PX = 10.0  # px: a rim about an object's keypoints
-_FITS = 6  # placements fitted per region at most
 _CLOSE = np.ones((9, 9), np.uint8)
 _RIM = np.ones((15, 15), np.uint8)  # the features of a region's rim are its object's too
 
@@ -135,22 +129,24 @@ def changes_between(pre: np.ndarray, post: np.ndarray) -> np.ndarray:
     return changed_pixels(pre, post, blur=5, close=_CLOSE)
 
 
-def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None) -> Moves:
+def find_moved(
+    pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None = None, rules: SlipRules = DEFAULT_SLIP_RULES
+) -> Moves:
     """Every object that moved between the pre and post observations (H, W, 3) uint8, the
     operated one told from the disturbed ones (see the module docstring for the steps and the
     rule); given the pre-place observation (H, W, 3: the world while the tutor held the object)
-    the operated object is one that the pre-place observation lacks."""
-    setup = _pairing(pre, post)
+    the operated object is one that the pre-place observation lacks; ``rules`` are its thresholds."""
+    setup = _pairing(pre, post, rules)
     if setup is None:
         return Moves(None, ())
     pairing, grown = setup
     # Where the pre-place observation lacks what the pre one shows: the object the tutor took.
     taken = None if pre_place is None else cv2.dilate(changes_between(pre, pre_place), np.ones((5, 5), np.uint8))
-    moved = _pair(*pairing)
+    moved = _pair(*pairing, rules=rules)
     if pre_place is None:
-        return _decide(moved, grown, None)
-    moves = _decide(moved, grown, taken)
-    nudges = _nudges(pre_place, post)
+        return _decide(moved, grown, None, rules)
+    moves = _decide(moved, grown, taken, rules)
+    nudges = _nudges(pre_place, post, rules)
     if moves.operated is None and taken is not None:
         # The object the tutor took moved for sure. When the nearest-first pairing left it out
         # (a short fit of another object onto its arrival took its place: disks whose look it
@@ -158,24 +154,24 @@ def find_moved(pre: np.ndarray, post: np.ndarray, pre_place: np.ndarray | None =
         # nudge seen between the pre-place and post observations ended (identical roofs: the
         # taken one's fit onto the nudged one's new place, its own arrival showing too few
         # features to fit; the nudge is the slip, and the arrival is left to the recorder). Only
-        # a nudge that explains its object well (:data:`_NUDGE_WELL`) overrules it: a fit of the
+        # a nudge that explains its object well (``rules.nudge_well``) overrules it: a fit of the
         # disk below onto a disk put on it explains it in part only (about half the difference
         # is left, where a true nudge of an identical object leaves an eighth at most).
-        first = _decide(_pair(*pairing, first=taken), grown, taken)
+        first = _decide(_pair(*pairing, first=taken, rules=rules), grown, taken, rules)
         if first.operated is not None and not any(
-            _same_place(first.operated, nudge) and nudge.mismatch <= _NUDGE_WELL for nudge in nudges
+            _same_place(first.operated, nudge, rules.same_px) and nudge.mismatch <= rules.nudge_well for nudge in nudges
         ):
             moves = first
-    return _uncovered_slips(moves, nudges)
+    return _uncovered_slips(moves, nudges, rules.same_px)
 
 
-def _nudges(pre_place: np.ndarray, post: np.ndarray) -> list[MovedObject]:
+def _nudges(pre_place: np.ndarray, post: np.ndarray, rules: SlipRules) -> list[MovedObject]:
     """The slips seen after the object was taken: the moves between the pre-place and post
     observations no longer than twice the object's keypoint spread (a nudge; a longer one is a
     fit of something else's look: the identical bases of the Tower of Hanoi, one uncovered by
     the slip, another covered by the arrival)."""
-    setup = _pairing(pre_place, post)
-    moved = _pair(*setup[0]) if setup is not None else []
+    setup = _pairing(pre_place, post, rules)
+    moved = _pair(*setup[0], rules=rules) if setup is not None else []
     return [obj for obj in moved if obj.distance <= 2.0 * _spread(obj.keypoints_before)]
 
 
@@ -184,19 +180,19 @@ def _nudges(pre_place: np.ndarray, post: np.ndarray) -> list[MovedObject]:
 _Pairing = tuple[Features, Features, list[int], np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]]
 
 
-def _pairing(pre: np.ndarray, post: np.ndarray) -> tuple[_Pairing, np.ndarray] | None:
+def _pairing(pre: np.ndarray, post: np.ndarray, rules: SlipRules) -> tuple[_Pairing, np.ndarray] | None:
     """What :func:`_pair` pairs between ``pre`` and ``post`` (H, W, 3) uint8: the features of
     both in and about the changed regions (steps 1 and 2 of the module docstring), each pre
     keypoint's region, the changed pixels and the images; and the regions (H, W) labels, grown
     by a rim. None when nothing changed or too few features lie there."""
     changed = changes_between(pre, post)
     count, labels, stats, _ = cv2.connectedComponentsWithStats(changed)
-    regions = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= MIN_REGION]
+    regions = [k for k in range(1, count) if stats[k, cv2.CC_STAT_AREA] >= rules.min_region]
     if not regions:
         return None
     area = cv2.dilate(np.isin(labels, regions).astype(np.uint8), _RIM)
     before, after = extract_features(pre, area), extract_features(post, area)
-    if len(before) < MIN_INLIERS or len(after) < MIN_INLIERS:
+    if len(before) < rules.min_inliers or len(after) < rules.min_inliers:
         return None
     # Each pre keypoint belongs to the region it lies in (or next to).
     grown = cv2.dilate(labels.astype(np.float32), _RIM).astype(np.int32)
@@ -214,6 +210,7 @@ def _pair(
     on_change: np.ndarray,
     images: tuple[np.ndarray, np.ndarray],
     first: np.ndarray | None = None,
+    rules: SlipRules = DEFAULT_SLIP_RULES,
 ) -> list[MovedObject]:
     """The objects that moved: the placements of the pre keypoints of each changed region
     (``owner``: each keypoint's region) among the post ones, paired one object per place
@@ -231,10 +228,10 @@ def _pair(
         for region in regions:
             members = np.nonzero(owner == region)[0]
             if not used_before & set(members.tolist()):
-                candidates += _placements(before, after, members, free, on_change, images)
+                candidates += _placements(before, after, members, free, on_change, images, rules)
         # One object per place, nearest first: each keypoint of either observation is used once;
         # a fit waits for a later one from where the same object was that explains it
-        # :data:`_RIVAL` times better and whose place is still free (an object whose look
+        # ``rules.rival`` times better and whose place is still free (an object whose look
         # others share in part fits onto them too, worse).
         candidates.sort(key=lambda c: (first is not None and not _on(first, before.keypoints[c[2]]), c[0]))
 
@@ -250,18 +247,18 @@ def _pair(
             return (
                 not taken_before & set(sources.tolist())
                 and 4 * len(taken_after & set(targets.tolist())) <= len(targets)
-                and not any(_same_place(obj, other) for other in placed)
+                and not any(_same_place(obj, other, rules.same_px) for other in placed)
             )
 
         for k, candidate in enumerate(candidates):
             _, obj, sources, targets = candidate
             if not available(candidate, used_before, used_after, moved) or any(
-                _same_object(obj, other) for other in moved
+                _same_object(obj, other, rules.same_px) for other in moved
             ):
                 continue
-            if obj.mismatch > _WELL and any(
-                _same_object(obj, later[1])
-                and _RIVAL * later[1].mismatch < obj.mismatch
+            if obj.mismatch > rules.well and any(
+                _same_object(obj, later[1], rules.same_px)
+                and rules.rival * later[1].mismatch < obj.mismatch
                 and available(later, used_before, used_after, moved)
                 for later in candidates[k + 1 :]
             ):
@@ -272,7 +269,7 @@ def _pair(
     return moved
 
 
-def _uncovered_slips(moves: Moves, nudges: list[MovedObject]) -> Moves:
+def _uncovered_slips(moves: Moves, nudges: list[MovedObject], rim: float) -> Moves:
     """``moves`` with the objects the operated one covered in the pre observation that the
     tutor's hand then nudged. The rule: the hand slips after the object is taken, so every
     nudge between the pre-place observation (the operated object held out of view, what it
@@ -285,22 +282,22 @@ def _uncovered_slips(moves: Moves, nudges: list[MovedObject]) -> Moves:
     found = [
         obj
         for obj in nudges
-        if not any(_same_object(obj, other) or _same_place(obj, other) for other in moves.disturbed)
-        and (moves.operated is None or not _arrives(moves.operated, obj))
+        if not any(_same_object(obj, other, rim) or _same_place(obj, other, rim) for other in moves.disturbed)
+        and (moves.operated is None or not _arrives(moves.operated, obj, rim))
     ]
     if not found:
         return moves
     return Moves(moves.operated, tuple(sorted((*moves.disturbed, *found), key=lambda o: -o.distance)))
 
 
-def _arrives(operated: MovedObject, other: MovedObject) -> bool:
+def _arrives(operated: MovedObject, other: MovedObject, rim: float) -> bool:
     """Whether ``other``'s move ends where ``operated`` arrived (within its keypoint spread and
-    a rim): a fit of the operated object's arrival, or of what it covered there."""
-    reach = _spread(operated.keypoints_after) + _SAME_PX
+    a rim of ``rim`` px): a fit of the operated object's arrival, or of what it covered there."""
+    reach = _spread(operated.keypoints_after) + rim
     return bool(np.hypot(*np.subtract(operated.after, other.after)) <= reach)
 
 
-def _decide(moved: list[MovedObject], regions: np.ndarray, taken: np.ndarray | None) -> Moves:
+def _decide(moved: list[MovedObject], regions: np.ndarray, taken: np.ndarray | None, rules: SlipRules) -> Moves:
     """The rule: the operated object is the one that left its place for another (where it was
     and where it is lie in different changed regions of ``regions`` (H, W) labels; given the
     pixels ``taken`` (H, W) where the pre-place observation lacks what the pre one shows, it
@@ -324,7 +321,7 @@ def _decide(moved: list[MovedObject], regions: np.ndarray, taken: np.ndarray | N
         if obj is not operated and (obj not in leaving or obj.distance <= 2.0 * _spread(obj.keypoints_before))
     ]
     if operated is not None:
-        disturbed = [obj for obj in disturbed if not _within(operated, obj)]
+        disturbed = [obj for obj in disturbed if not _within(operated, obj, rules.same_px)]
     return Moves(operated, tuple(sorted(disturbed, key=lambda o: -o.distance)))
 
 
@@ -349,27 +346,27 @@ def _spread(points: np.ndarray) -> float:
     return float(np.max(np.hypot(*(points - points.mean(axis=0)).T))) if len(points) else 0.0
 
 
-def _same_object(a: MovedObject, b: MovedObject) -> bool:
+def _same_object(a: MovedObject, b: MovedObject, rim: float) -> bool:
     """Two fits of one object (a symmetric one fits turned as well; one whose look others share
     in part fits onto them too): where they were lies within the larger keypoint spread. The
     nearer one, taken first, stands."""
-    reach = max(_spread(a.keypoints_before), _spread(b.keypoints_before), _SAME_PX)
+    reach = max(_spread(a.keypoints_before), _spread(b.keypoints_before), rim)
     return bool(np.hypot(a.before[0] - b.before[0], a.before[1] - b.before[1]) <= reach)
 
 
-def _same_place(a: MovedObject, b: MovedObject) -> bool:
+def _same_place(a: MovedObject, b: MovedObject, rim: float) -> bool:
     """Whether the two fits put their objects in one place: where they are lies within the
     larger keypoint spread."""
-    reach = max(_spread(a.keypoints_after), _spread(b.keypoints_after), _SAME_PX)
+    reach = max(_spread(a.keypoints_after), _spread(b.keypoints_after), rim)
     return bool(np.hypot(a.after[0] - b.after[0], a.after[1] - b.after[1]) <= reach)
 
 
-def _within(operated: MovedObject, other: MovedObject) -> bool:
+def _within(operated: MovedObject, other: MovedObject, rim: float) -> bool:
     """Whether ``other``'s move lies where ``operated`` left or arrived: its centre or most of its
     keypoints, before or after, within the operated object's keypoint spread (and a rim) of its
     places."""
     for centre, points in ((operated.before, operated.keypoints_before), (operated.after, operated.keypoints_after)):
-        reach = _spread(points) + _SAME_PX
+        reach = _spread(points) + rim
         if min(np.hypot(*np.subtract(centre, other.before)), np.hypot(*np.subtract(centre, other.after))) <= reach:
             return True
         for kept in (other.keypoints_before, other.keypoints_after):
@@ -385,6 +382,7 @@ def _placements(
     free: np.ndarray,
     changed: np.ndarray,
     images: tuple[np.ndarray, np.ndarray],
+    rules: SlipRules,
 ) -> list[tuple[float, MovedObject, np.ndarray, np.ndarray]]:
     """The moves of the objects whose pre keypoints are ``members`` (indices into ``before``):
     RANSAC similarities fitted one after the other on each keypoint's two nearest matches among
@@ -395,24 +393,26 @@ def _placements(
     object's pixels moved by it match the post observation (``images``: pre, post) better than
     left where they were (:func:`_mismatch`). Each with its distance, the object and its inlier
     keypoint indices (pre, post)."""
-    if len(members) < MIN_INLIERS or len(free) < MIN_INLIERS:
+    if len(members) < rules.min_inliers or len(free) < rules.min_inliers:
         return []
     pairs = cv2.BFMatcher(cv2.NORM_L2).knnMatch(before.descriptors[members], after.descriptors[free], k=2)
     source_index = np.array([members[m.queryIdx] for match in pairs for m in match], int)
     target_index = np.array([free[m.trainIdx] for match in pairs for m in match], int)
     found = []
     cv2.setRNGSeed(0)  # deterministic RANSAC
-    for _ in range(_FITS):
-        if len(np.unique(source_index)) < MIN_INLIERS:
+    for _ in range(rules.fits):
+        if len(np.unique(source_index)) < rules.min_inliers:
             break
         source = before.keypoints[source_index, :2].reshape(-1, 1, 2)
         target = after.keypoints[target_index, :2].reshape(-1, 1, 2)
-        model, inliers = cv2.estimateAffinePartial2D(source, target, method=cv2.RANSAC, ransacReprojThreshold=6.0)
+        model, inliers = cv2.estimateAffinePartial2D(
+            source, target, method=cv2.RANSAC, ransacReprojThreshold=rules.reprojection
+        )
         if model is None or inliers is None:
             break
         inliers = inliers.ravel().astype(bool)
         sources, targets = np.unique(source_index[inliers]), np.unique(target_index[inliers])
-        if min(len(sources), len(targets)) < MIN_INLIERS:
+        if min(len(sources), len(targets)) < rules.min_inliers:
             break
         scale, turn = float(np.hypot(model[0, 0], model[1, 0])), float(np.arctan2(model[1, 0], model[0, 0]))
         centre = before.keypoints[sources, :2].mean(axis=0)
@@ -430,7 +430,7 @@ def _placements(
                 model,
             )
             share = _mismatch(obj, *images)
-            if share <= EXPLAINS:
+            if share <= rules.explains:
                 found.append((shift, replace(obj, mismatch=share), sources, targets))
         # The inlier pairs are this placement's; the same keypoints may still place their object
         # elsewhere (an identical object), which the nearest-first pairing decides.
