@@ -21,6 +21,7 @@ from vslsp.vsl3d.cloud import voxel_downsample, voxel_downsample_with
 from vslsp.vsl3d.fpfh import compute_fpfh
 from vslsp.vsl3d.kdtree import KDTree
 from vslsp.vsl3d.normals import estimate_normals
+from vslsp.vsl3d.parameters import DEFAULT_ALIGNMENT, Alignment
 from vslsp.vsl3d.registration import (
     Registration,
     evaluate,
@@ -32,20 +33,9 @@ from vslsp.vsl3d.registration import (
     transform_points,
 )
 
-FEATURE_VOXEL = 0.005
+FEATURE_VOXEL = DEFAULT_ALIGNMENT.feature_voxel  # the default rules' (vslsp.vsl3d.parameters.Alignment)
 METHODS = ("prerejective_ransac", "sac_ia", "icp")
-FINE_RADIUS = 0.006  # normals of the full-resolution target, for point-to-plane ICP
-FINAL_DISTANCE = 0.003  # inlier distance of the last ICP round and of the reported fitness
-MIN_FITNESS = 0.5
-MAX_SEEN_THROUGH = 0.1  # a true pose floats in front of the sensor's surfaces only at its rim
-# A point in free space is evidence against a pose (the sensor saw through it); a point without a
-# counterpart may just be a side the other view does not show. The former weighs three times.
-FLOATING_WEIGHT = 3.0
-HYPOTHESES = 20  # poses the global method proposes (its best by the features' inlier count)
-REFINED = 8  # distinct poses refined on the full resolution
-REFINE_FLOATING = MAX_SEEN_THROUGH  # a refined pose floating more than this is refined with point pairs too
-VISIBLE_FLOOR = 0.5  # the fitness of the visible part counts at least half of the source
-DISTINCT_M, DISTINCT_DEG = 0.01, 10.0  # poses closer than this are one
+MIN_FITNESS = DEFAULT_ALIGNMENT.min_fitness
 
 
 def describe(
@@ -96,15 +86,18 @@ def align(
     seen_through: Callable[[np.ndarray], np.ndarray] | None = None,
     source_seen_through: Callable[[np.ndarray], np.ndarray] | None = None,
     target_visible: Callable[[np.ndarray], np.ndarray] | None = None,
-    min_fitness: float = MIN_FITNESS,
-    refined: int = REFINED,
+    min_fitness: float | None = None,
+    refined: int | None = None,
     upright: float = 0.0,
+    parameters: Alignment = DEFAULT_ALIGNMENT,
 ) -> Registration | NoMatch:
     """The rigid transform (in a :class:`Registration`) taking ``source`` (Ns, 3) onto the
     matching part of ``target`` (Nt, 3); the viewpoints orient the normals: one (3,) per cloud,
     or (a fused cloud of several sensors) each point's (Ns, 3) / (Nt, 3).
 
-    The global method gives :data:`HYPOTHESES` poses, not one: a near-symmetric object or a
+    ``parameters`` (:class:`~vslsp.vsl3d.parameters.Alignment`) hold its thresholds;
+    ``min_fitness`` and ``refined``, when given, override theirs. The global method gives
+    ``parameters.hypotheses`` poses, not one: a near-symmetric object or a
     box fits several ways, and the features alone may rank a flipped pose first. With ``turns``
     > 0 (``target`` is the object alone, as in getObject, or a window around it), ICP also
     starts from that many turns about the vertical with the source's centroid put on
@@ -118,10 +111,12 @@ def align(
     on the sparse clouds are refined on the full resolution and the best scoring one wins. With
     ``target_visible(points (N, 3)) -> mask (N,)`` (the target's capture could see them: in its
     image, not hidden) the fitness counts only against the source points the target's sensor
-    could see at the pose, but at least :data:`VISIBLE_FLOOR` of them (two single views of a
+    could see at the pose, but at least ``parameters.visible_floor`` of them (two single views of a
     turned object, or of one half out of the image, share only part of its surface).
     :class:`NoMatch` (a typed outcome, as 2-D match finding's) when less than ``min_fitness``
     (half) of the source ends within 3 mm of the target, or when there is nothing to align."""
+    min_fitness = parameters.min_fitness if min_fitness is None else min_fitness
+    refined = parameters.refined if refined is None else refined
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
     if len(source) < 10 or len(target) < 10:
@@ -148,7 +143,7 @@ def align(
             source_features,
             target_features,
             1.5 * voxel,
-            keep=HYPOTHESES,
+            keep=parameters.hypotheses,
             seed=seed,
             target_tree=sparse_tree,
         )
@@ -171,12 +166,12 @@ def align(
     def floating(transform: np.ndarray, points: np.ndarray, back: np.ndarray) -> float:
         """The penalty of a pose: the free space of the source ``points`` moved into the target's
         capture and of the target points ``back`` moved into the source's, and its tilt."""
-        penalty = upright * tipping(transform) / FLOATING_WEIGHT
+        penalty = upright * tipping(transform) / parameters.floating_weight
         if seen_through is not None:
             penalty += float(seen_through(transform_points(transform, points)).mean())
         if source_seen_through is not None:
             penalty += float(source_seen_through(transform_points(np.linalg.inv(transform), back)).mean())
-        return FLOATING_WEIGHT * penalty
+        return parameters.floating_weight * penalty
 
     scored = sorted(
         (
@@ -193,12 +188,12 @@ def align(
     best_starts: list[tuple[np.ndarray, str]] = []
     for _, index in scored:
         transform = starts[index][0]
-        if all(not _same_pose(transform, kept, centre) for kept, _ in best_starts):
+        if all(not _same_pose(transform, kept, centre, parameters) for kept, _ in best_starts):
             best_starts.append(starts[index])
         if len(best_starts) == refined:
             break
     tree = KDTree(target)
-    normals = estimate_normals(target, FINE_RADIUS, target_viewpoint, tree).normals
+    normals = estimate_normals(target, parameters.fine_radius, target_viewpoint, tree).normals
 
     def score(registration: Registration) -> tuple[float, float]:
         return registration.fitness - floating(registration.transform, source, sparse_target), -registration.rmse
@@ -206,39 +201,43 @@ def align(
     poses = [
         r
         for initial, name in best_starts
-        for r in _refine(source, sparse_source, target, tree, normals, initial, name, voxel, score)
+        for r in _refine(source, sparse_source, target, tree, normals, initial, name, voxel, score, parameters)
     ]
     if target_visible is not None:
-        poses = [_fitness_of_visible(r, source, tree, target_visible) for r in poses]
+        poses = [_fitness_of_visible(r, source, tree, target_visible, parameters) for r in poses]
     best = max(poses, key=score, default=None)
     if best is None:
         return NoMatch(f"{best_starts[0][1]} put the observation where the world has no points")
     if best.fitness < min_fitness:
         return NoMatch(
             f"{best.method} fits only {best.fitness:.0%} of the observation within "
-            f"{FINAL_DISTANCE * 1000:.0f} mm (needs {min_fitness:.0%}); the object is not "
+            f"{parameters.final_distance * 1000:.0f} mm (needs {min_fitness:.0%}); the object is not "
             "in this world or too little of it is visible"
         )
     return best
 
 
 def _fitness_of_visible(
-    registration: Registration, source: np.ndarray, tree: KDTree, visible: Callable[[np.ndarray], np.ndarray]
+    registration: Registration,
+    source: np.ndarray,
+    tree: KDTree,
+    visible: Callable[[np.ndarray], np.ndarray],
+    parameters: Alignment,
 ) -> Registration:
     """``registration`` with its fitness counted against the source points the target's capture
-    could see at its pose (at least :data:`VISIBLE_FLOOR` of the source)."""
+    could see at its pose (at least ``parameters.visible_floor`` of the source)."""
     moved = transform_points(registration.transform, source)
-    distance, _ = tree.query(moved, 1, FINAL_DISTANCE)
-    inliers = int(np.sum(distance[:, 0] <= FINAL_DISTANCE))
-    seen = max(float(np.sum(visible(moved))), VISIBLE_FLOOR * len(source))
+    distance, _ = tree.query(moved, 1, parameters.final_distance)
+    inliers = int(np.sum(distance[:, 0] <= parameters.final_distance))
+    seen = max(float(np.sum(visible(moved))), parameters.visible_floor * len(source))
     return replace(registration, fitness=min(1.0, inliers / seen))
 
 
-def _same_pose(first: np.ndarray, second: np.ndarray, at: np.ndarray) -> bool:
-    """Whether two poses (4, 4) agree within :data:`DISTINCT_M` at ``at`` (3,) and
-    :data:`DISTINCT_DEG` of rotation (refining both would find the same pose)."""
+def _same_pose(first: np.ndarray, second: np.ndarray, at: np.ndarray, parameters: Alignment) -> bool:
+    """Whether two poses (4, 4) agree within ``parameters.distinct_m`` at ``at`` (3,) and
+    ``parameters.distinct_deg`` of rotation (refining both would find the same pose)."""
     offset, angle = transform_error(first, second, at)
-    return offset < DISTINCT_M and angle < DISTINCT_DEG
+    return offset < parameters.distinct_m and angle < parameters.distinct_deg
 
 
 def _refine(
@@ -251,11 +250,12 @@ def _refine(
     name: str,
     voxel: float,
     score: Callable[[Registration], tuple[float, float]],
+    parameters: Alignment,
 ) -> list[Registration]:
     """ICP from ``initial`` onto the full-resolution target (its ``tree`` and ``normals`` (Nt,
     3)), first with the sparse source within 2 voxels, then with the full ``source`` within
-    :data:`FINAL_DISTANCE`: point-to-plane, and when that pose floats (``score``'s penalty) or
-    fits less than :data:`MIN_FITNESS` point-to-point as well (on a box seen mostly from above
+    ``parameters.final_distance``: point-to-plane, and when that pose floats (``score``'s penalty) or
+    fits less than ``parameters.min_fitness`` point-to-point as well (on a box seen mostly from above
     the top face dominates and point-to-plane slides along it, turning the walls away from their
     counterparts or off the box; point pairs hold the outline). Empty when no target point is
     near."""
@@ -266,12 +266,15 @@ def _refine(
     for method in ("point_to_plane", "point_to_point"):
         if (
             refined
-            and refined[0].fitness >= MIN_FITNESS
-            and score(refined[0])[0] >= refined[0].fitness - FLOATING_WEIGHT * REFINE_FLOATING
+            and refined[0].fitness >= parameters.min_fitness
+            and score(refined[0])[0] >= refined[0].fitness - parameters.floating_weight * parameters.refine_floating
         ):
             break  # the point-to-plane pose fits and does not float: nothing for point pairs to correct
         result = initial
-        for points, max_distance, iterations in ((sparse_source, 2.0 * voxel, 40), (source, FINAL_DISTANCE, 20)):
+        for points, max_distance, iterations in (
+            (sparse_source, 2.0 * voxel, 40),
+            (source, parameters.final_distance, 20),
+        ):
             result = icp(
                 points,
                 target,
@@ -282,7 +285,7 @@ def _refine(
                 target_normals=normals,
                 target_tree=tree,
             ).transform
-        fitness, rmse = evaluate(source, tree, result, FINAL_DISTANCE)
+        fitness, rmse = evaluate(source, tree, result, parameters.final_distance)
         suffix = "+icp" if method == "point_to_plane" else "+icp-point-to-point"
         refined.append(Registration(result, fitness, rmse, f"{name}{suffix}"))
     return refined

@@ -6,6 +6,7 @@ construction; the default instance is what the experiments run.
   subtraction, the clusters, the motion's registration) and findBestMatch
   (:func:`vslsp.vsl3d.matching.find_best_match`: the global match, its verification, the
   window search).
+- :class:`Alignment`: one cloud aligned onto another (:func:`vslsp.vsl3d.alignment.align`).
 - :class:`Grasping`: the grasp and the place from the matched cloud
   (:func:`vslsp.vsl3d.grasping.plan_grasp`, :func:`~vslsp.vsl3d.grasping.place_for`).
 
@@ -145,5 +146,55 @@ class Grasping:
             raise InputError("Grasping.grip_heights is empty; give at least one fraction of the object's height")
 
 
+@dataclass(frozen=True)
+class Alignment:
+    """How one cloud is aligned onto another (:func:`vslsp.vsl3d.alignment.align`: FPFH features,
+    the global method's hypotheses, their scoring by the observation, ICP on the full clouds;
+    lengths in m)."""
+
+    # The voxel of the features' clouds, the paper's 5 mm (0.0005..0.1).
+    feature_voxel: float = 0.005
+    # The radius of the full-resolution target's normals, for point-to-plane ICP (0.0005..0.1).
+    fine_radius: float = 0.006
+    # The inlier distance of the last ICP round and of the reported fitness (0.0001..0.05).
+    final_distance: float = 0.003
+    # A pose fitting less than this share of the source within final_distance is no match (0..1).
+    min_fitness: float = 0.5
+    # A point put in free space (the sensor saw through it) weighs this many times a point without
+    # a counterpart (which may be a side the other view does not show) (1..100).
+    floating_weight: float = 3.0
+    # Poses the global method proposes, its best by the features' inlier count (1..1000).
+    hypotheses: int = 20
+    # Distinct poses refined on the full resolution (1..1000).
+    refined: int = 8
+    # A refined pose putting more than this share of the source in free space is refined with
+    # point pairs too (0..1).
+    refine_floating: float = 0.1
+    # The fitness of the visible part counts at least this share of the source (0..1).
+    visible_floor: float = 0.5
+    # Poses closer than this (m at the source's centre, and deg) are one (0..1 m, 0..180 deg).
+    distinct_m: float = 0.01
+    distinct_deg: float = 10.0
+
+    def __post_init__(self) -> None:
+        check_ranges(
+            self,
+            {
+                "feature_voxel": (0.0005, 0.1),
+                "fine_radius": (0.0005, 0.1),
+                "final_distance": (0.0001, 0.05),
+                "min_fitness": (0.0, 1.0),
+                "floating_weight": (1.0, 100.0),
+                "hypotheses": (1, 1000),
+                "refined": (1, 1000),
+                "refine_floating": (0.0, 1.0),
+                "visible_floor": (0.0, 1.0),
+                "distinct_m": (0.0, 1.0),
+                "distinct_deg": (0.0, 180.0),
+            },
+        )
+
+
 DEFAULT_CLOUD_MATCHING = CloudMatching()
 DEFAULT_GRASPING = Grasping()
+DEFAULT_ALIGNMENT = Alignment()
