@@ -37,6 +37,7 @@ from vslsp.vision.matching import Match, NoMatch, frame_sizes
 from vslsp.vision.parameters import DEFAULT_OBJECT_FINDING, ObjectFinding
 from vslsp.vision.transform import decompose
 from vslsp.vsl.matcher import Search, match_observation
+from vslsp.vsl.parameters import DEFAULT_REPRODUCTION, Reproduction
 from vslsp.vsl.pick_place import (
     PickPlaceDemonstration,
     RecordedOperation,
@@ -46,11 +47,7 @@ from vslsp.vsl.pick_place import (
     table_rotation,
 )
 
-# The pre-place frame grows (×1.5 a step) while the match is ambiguous up to this multiple of
-# its first side: beyond, a frame sees mostly the rest of the scene, which the new world does
-# not share (its static landmarks would match in place and outvote the place's surroundings).
-PLACE_GROWTH = 3.0
-_SQUARE = 0.15  # a footprint whose sides differ by less than this fraction is square (closed either way)
+PLACE_GROWTH = DEFAULT_REPRODUCTION.place_growth  # the default rules' (vslsp.vsl.parameters.Reproduction)
 
 
 def match_object(
@@ -131,12 +128,18 @@ def _match_dict(match: Match) -> dict:
     return {k: round(v, 4) if isinstance(v, float) else v for k, v in match.to_dict().items()}
 
 
-def place_frames(demo: PickPlaceDemonstration, world_shape: tuple[int, ...], k: int | None = None) -> list[int]:
+def place_frames(
+    demo: PickPlaceDemonstration,
+    world_shape: tuple[int, ...],
+    k: int | None = None,
+    rules: Reproduction = DEFAULT_REPRODUCTION,
+) -> list[int]:
     """The Panda's pre-place frame sides (px) in a world of ``world_shape`` (H, W, ...): from
     the pre-place frame (operation ``k``'s own, when it has one), growing up to
-    :data:`PLACE_GROWTH` times it."""
+    ``rules.place_growth`` times it."""
     start = first_place_frame(demo, k)
-    return [s for s in frame_sizes(start, world_shape) if s <= PLACE_GROWTH * start + 0.5] or [int(round(start))]
+    growth = rules.place_growth
+    return [s for s in frame_sizes(start, world_shape) if s <= growth * start + 0.5] or [int(round(start))]
 
 
 def first_place_frame(demo: PickPlaceDemonstration, k: int | None = None) -> float:
@@ -207,7 +210,14 @@ def plan_operation(
 
 
 def _hand_poses(
-    op: RecordedOperation, pick: Match, place: Match, pick_xy, place_xy, yaw_now: float, yaw_target: float
+    op: RecordedOperation,
+    pick: Match,
+    place: Match,
+    pick_xy,
+    place_xy,
+    yaw_now: float,
+    yaw_target: float,
+    rules: Reproduction = DEFAULT_REPRODUCTION,
 ) -> PlannedOperation:
     """The hand's pick and place poses for an object of ``op``'s footprint at ``pick_xy`` (m)
     turned ``yaw_now`` that must go to ``place_xy`` turned ``yaw_target``: the fingers close
@@ -215,7 +225,7 @@ def _hand_poses(
     turn = wrap(yaw_target - yaw_now)
     along, across = op.footprint
     axis = yaw_now if along <= across else yaw_now + np.pi / 2.0
-    step = np.pi / 2.0 if abs(along - across) < _SQUARE * max(along, across) else np.pi
+    step = np.pi / 2.0 if abs(along - across) < rules.square * max(along, across) else np.pi
     choices = [axis + n * step for n in range(-4, 5)]
     theta = min(choices, key=lambda a: (max(abs(a), abs(a + turn)), abs(a)))
     return PlannedOperation(
@@ -237,19 +247,20 @@ def correction(
     planned: PlannedOperation,
     world_features: Features | None = None,
     parameters: ObjectFinding = DEFAULT_OBJECT_FINDING,
+    rules: Reproduction = DEFAULT_REPRODUCTION,
 ) -> PlannedOperation | None:
     """A last look after operation ``k`` (the loop closed through perception): the object
     found again in ``world`` (h, w, 3), at the height of its place; when its centre lies more
-    than :data:`CORRECTION` from the planned place (the grasp slid it in the fingers, the
+    than ``rules.correction`` from the planned place (the grasp slid it in the fingers, the
     release nudged it), the pick-and-place that puts it right, else None (also when it is not
     found clearly enough to act on: ``parameters.sure`` inliers). Without ``world_features``
-    the robot looks only within a square :data:`LOOK_AROUND` times the object's size about the
+    the robot looks only within a square ``rules.look_around`` times the object's size about the
     planned place (an object further off was not nudged; the look costs a fraction of the whole
     view's)."""
     op = demo.operations[k]
     if world_features is None:
         u, v = camera.table_to_pixel(planned.place[0], planned.place[1], op.place_z)
-        half = LOOK_AROUND * op.object_size / 2.0
+        half = rules.look_around * op.object_size / 2.0
         around = np.zeros(world.shape[:2], np.uint8)
         around[max(0, int(v - half)) : max(0, int(v + half)), max(0, int(u - half)) : max(0, int(u + half))] = 1
         world_features = extract_features(world, around)
@@ -259,14 +270,10 @@ def correction(
     if found.ambiguous or found.score * len(op.features) < parameters.sure:
         return None
     centre = camera.pixel_to_table(*apply(found.transform, op.pick_point), op.place_z)
-    if np.hypot(centre[0] - planned.place[0], centre[1] - planned.place[1]) <= CORRECTION:
+    if np.hypot(centre[0] - planned.place[0], centre[1] - planned.place[1]) <= rules.correction:
         return None
     yaw_now = op.yaw + table_rotation(camera, found.transform, op.pick_point, op.pick_z, op.place_z)
-    return _hand_poses(op, found, planned.place_match, centre, planned.place[:2], yaw_now, planned.yaw_target)
-
-
-CORRECTION = 0.006  # m: an object further than this from its planned place is put right
-LOOK_AROUND = 3.0  # the last look's square side in object sizes: the object is in it while less than one size off
+    return _hand_poses(op, found, planned.place_match, centre, planned.place[:2], yaw_now, planned.yaw_target, rules)
 
 
 def identify(
