@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from vslsp.sim import TABLE_Z, World
+from vslsp.sim import TABLE_Z, LineWorld
 from vslsp.sim.icub import KinematicICub, palm_down_rotation
 from vslsp.sim.icub_model import _source_urdf
 from vslsp.sim.quiet import quiet
@@ -40,7 +40,7 @@ def main() -> None:
         f"as shipped {shipped * 1000:.0f} ms, ratio {shipped / reduced:.2f}x"
     )
 
-    with World(seed=0) as world:
+    with LineWorld(seed=0) as world:
         steps = timed(lambda: world.step(240))
         print(f"physics with the iCub and 3 cubes: {240 / steps:,.0f} steps/s ({240 / steps / 240:.1f}x real time)")
         for width, height in [(320, 240), (640, 480), (1280, 960)]:

@@ -22,7 +22,7 @@ from rich.progress import Progress
 
 from vslsp.loop.monitor import execute_step
 from vslsp.loop.perception import perceive
-from vslsp.sim import SceneSpec, World
+from vslsp.sim import LineWorld, SceneSpec
 from vslsp.skills import SkillLibrary, default_library_path
 from vslsp.worlds.icub import tutor_operation
 
@@ -34,7 +34,7 @@ def trial(library: SkillLibrary, skill: str, seed: int) -> dict:
     """One execution of ``skill`` on a fresh scene; success judged on ground truth."""
     spec = SceneSpec.random(seed, n_cubes=1, far=(STARTS_FAR[skill],))
     cube = spec.cubes[0]
-    with World(spec) as world:
+    with LineWorld(spec) as world:
         state = perceive(world)
         start = time.perf_counter()
         result, after = execute_step(world, library, skill, cube.colour, state, not STARTS_FAR[skill])
@@ -57,7 +57,7 @@ def trial(library: SkillLibrary, skill: str, seed: int) -> dict:
 def tutor_time(seed: int) -> float:
     """Seconds of the tutor's relocation of a cube across the line (the reference)."""
     spec = SceneSpec.random(seed, n_cubes=1, far=(True,))
-    with World(spec) as world:
+    with LineWorld(spec) as world:
         start = time.perf_counter()
         tutor_operation(world, spec.cubes[0].colour, "pull")
         return time.perf_counter() - start

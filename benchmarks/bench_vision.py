@@ -2,7 +2,7 @@
 1280x960, ms per single-image scene grounding, ms per match finding, and grounding accuracy as
 image noise grows (sigma = 0, 5, 10, 20 grey levels). Target: <= 10 ms per grounding at 640x480.
 
-Inputs are rendered in the simulator (vslsp.sim World.observe, head and overhead cameras); the
+Inputs are rendered in the simulator (vslsp.sim LineWorld.observe, head and overhead cameras); the
 truth (colour, far before and after, action) comes from the simulator, perception only sees
 the images. References measured in the same run on the same images: a plain OpenCV change
 detector (grey absdiff, threshold, opening, largest contour at full size: the least any
@@ -23,7 +23,7 @@ import numpy as np
 
 from vslsp.errors import InputError
 from vslsp.grounding.operation import Grounding, ground, ground_scene
-from vslsp.sim import SceneSpec, World
+from vslsp.sim import LineWorld, SceneSpec
 from vslsp.sim.scene import TABLE_Z, WORKSPACE_X, WORKSPACE_Y
 from vslsp.vision.features import sift
 from vslsp.vision.matching import find_best_match
@@ -58,7 +58,7 @@ def _scene(seed: int) -> SceneSpec:
     raise RuntimeError("no scene")
 
 
-def _target(world: World, name: str, rng: np.random.Generator) -> np.ndarray | None:
+def _target(world: LineWorld, name: str, rng: np.random.Generator) -> np.ndarray | None:
     """Where a push / pull (across the line) or a null move (along it) takes the cube."""
     landmark = world.spec.landmark
     xy = np.array(world.cube_pose(name)[:2])
@@ -79,7 +79,7 @@ def rendered_pairs(worlds: int, moves: int, size: tuple[int, int]) -> list[Pair]
     rng = np.random.default_rng(size[0])
     pairs: list[Pair] = []
     for w in range(worlds):
-        with World(_scene(w), robot=w % 2 == 0) as world:
+        with LineWorld(_scene(w), robot=w % 2 == 0) as world:
             before = {camera: world.observe(camera, *size) for camera in CAMERAS}
             for _ in range(moves):
                 name = world.spec.cubes[int(rng.integers(len(world.spec.cubes)))].name

@@ -63,6 +63,7 @@ if TYPE_CHECKING:
     from vslsp.skills.library import Skill, SkillLibrary
     from vslsp.symbolic import (
         Domain,
+        LearnedTask,
         PlanResult,
         Problem,
         Step,
@@ -74,7 +75,6 @@ if TYPE_CHECKING:
         read_problem,
         validate,
     )
-    from vslsp.symbolic import Task as LearnedTask
     from vslsp.tasks import System, Task, TrialResult, TrialStatus, get_task, register, run_trials
     from vslsp.vision.parameters import FrameSearch, ObjectFinding
     from vslsp.vsl.calibration import Calibration
@@ -147,7 +147,7 @@ _HOME: dict[str, tuple[str, str]] = {
     "Step": ("vslsp.symbolic.learning.learn", "Step"),
     "learn_domain": ("vslsp.symbolic.learning.learn", "learn_domain"),
     "learn_task": ("vslsp.symbolic.learning.learn", "learn_task"),
-    "LearnedTask": ("vslsp.symbolic.learning.learn", "Task"),
+    "LearnedTask": ("vslsp.symbolic.learning.learn", "LearnedTask"),
     "make_problem": ("vslsp.symbolic.learning.learn", "make_problem"),
     "Domain": ("vslsp.symbolic.model.domain", "Domain"),
     "Problem": ("vslsp.symbolic.model.domain", "Problem"),

@@ -11,7 +11,7 @@ from vslsp.errors import GroundingFailed
 from vslsp.experiments.icub_slips import Watcher
 from vslsp.grounding.operation import ground
 from vslsp.loop.perception import perceive
-from vslsp.sim import CubeSpec, LandmarkSpec, SceneSpec, World
+from vslsp.sim import CubeSpec, LandmarkSpec, LineWorld, SceneSpec
 from vslsp.symbolic import learn_task
 from vslsp.tasks import get_task
 from vslsp.vsl.slips.colour import draw_moves, ground_moves
@@ -37,7 +37,7 @@ def _nudge(name: str, along: float, across: float, turn: float = 10.0) -> Slip:
 
 def test_detection_finds_both_moved_cubes_and_names_the_operated_one():
     spec = _scene(("orange", 0.10, 0.06), ("green", 0.0, -0.05), ("blue", -0.10, 0.07))
-    with World(spec, robot=False) as world:
+    with LineWorld(spec, robot=False) as world:
         pre = world.observe("head").rgb
         tutor_operation(world, "orange", "pull")
         applied = tutor_slip(world, _nudge("green", 0.0, -0.03, 15.0))  # a nudge that keeps its side
@@ -68,7 +68,7 @@ def test_a_cube_slipped_across_the_line_is_learned_as_before_its_slip():
     spec = _scene(("orange", 0.10, 0.06), ("green", 0.0, 0.05), ("yellow", -0.10, 0.025))
     watcher = Watcher(seed=0)
     steps = []
-    with World(spec, robot=False) as world:
+    with LineWorld(spec, robot=False) as world:
         state = perceive(world)
         for k, colour in enumerate(("orange", "green", "yellow")):
             tutor_operation(world, colour, "pull")
@@ -93,7 +93,7 @@ def test_a_cube_slipped_across_the_line_is_learned_as_before_its_slip():
 
 
 def test_a_nudge_towards_another_cubes_lane_goes_the_other_way_or_not_at_all():
-    with World(_scene(("orange", 0.08, 0.06), ("green", -0.02, -0.05)), robot=False) as world:
+    with LineWorld(_scene(("orange", 0.08, 0.06), ("green", -0.02, -0.05)), robot=False) as world:
         start = np.array(world.cube_pose("green")[:2])
         # 4 cm along towards orange would leave 6 cm between their lanes: it goes the other way.
         applied = tutor_slip(world, _nudge("green", 0.04, -0.01))
@@ -105,7 +105,9 @@ def test_a_nudge_towards_another_cubes_lane_goes_the_other_way_or_not_at_all():
         lane = (np.array(world.cube_pose("orange")[:2]) - np.array(world.cube_pose("green")[:2])) @ LINE.direction
         assert abs(lane) >= SLIP_CLEARANCE
     # Between two cubes 8 cm away on either side, 2 cm either way is too close: the hand misses.
-    with World(_scene(("orange", 0.06, 0.06), ("green", -0.02, -0.05), ("blue", -0.10, 0.06)), robot=False) as world:
+    with LineWorld(
+        _scene(("orange", 0.06, 0.06), ("green", -0.02, -0.05), ("blue", -0.10, 0.06)), robot=False
+    ) as world:
         start = np.array(world.cube_pose("green")[:2])
         assert tutor_slip(world, _nudge("green", 0.02, 0.0)) is None
         assert np.allclose(world.cube_pose("green")[:2], start)

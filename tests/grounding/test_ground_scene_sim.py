@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from vslsp.grounding.operation import ground_scene
-from vslsp.sim import COLOURS, CubeSpec, LandmarkSpec, SceneSpec, World
+from vslsp.sim import COLOURS, CubeSpec, LandmarkSpec, LineWorld, SceneSpec
 from vslsp.sim.scene import WORKSPACE_X, WORKSPACE_Y
 
 WORLDS, STATES = 3, 17  # 51 scenes
@@ -33,7 +33,7 @@ def _arrangement(rng, landmark: LandmarkSpec, k: int) -> list[np.ndarray]:
     return places
 
 
-def _arrange(world: World, targets: dict[str, tuple[float, float, float]]) -> None:
+def _arrange(world: LineWorld, targets: dict[str, tuple[float, float, float]]) -> None:
     """Put every cube at its target (x, y, yaw); again where a cube carried past knocked it off."""
     for _ in range(3):
         off = [
@@ -54,7 +54,7 @@ def test_every_cube_of_a_scene_is_found_with_its_colour_and_far():
         landmark = LandmarkSpec(x=float(rng.uniform(0.21, 0.24)), angle=float(rng.uniform(-0.3, 0.3)))
         colours = [str(c) for c in rng.choice(sorted(COLOURS), size=5, replace=False)]
         cubes = tuple(CubeSpec(c, c, 0.2 + 0.1 * (i // 3), AWAY - 0.08 * (i % 3)) for i, c in enumerate(colours))
-        with World(SceneSpec(cubes=cubes, landmark=landmark), robot=True) as world:
+        with LineWorld(SceneSpec(cubes=cubes, landmark=landmark), robot=True) as world:
             for state in range(STATES):
                 k = 1 + (w * STATES + state) % 5
                 shown = [str(c) for c in rng.choice(colours, size=k, replace=False)]

@@ -9,7 +9,7 @@ import pytest
 
 from vslsp.errors import InputError
 from vslsp.grounding.operation import ground
-from vslsp.sim import COLOURS, CubeSpec, LandmarkSpec, SceneSpec, World
+from vslsp.sim import COLOURS, CubeSpec, LandmarkSpec, LineWorld, SceneSpec
 from vslsp.sim.scene import WORKSPACE_X, WORKSPACE_Y
 
 WORLDS, MOVES = 12, 10  # x 2 cameras = 240 pairs
@@ -53,7 +53,7 @@ def test_rendered_pairs_are_grounded_as_the_simulator_says():
     for w in range(WORLDS):
         spec = _random_scene(rng)
         size = (640, 480) if w % 2 == 0 else (320, 240)
-        with World(spec, robot=(w % 6 == 0)) as world:
+        with LineWorld(spec, robot=(w % 6 == 0)) as world:
             images = {camera: world.observe(camera, *size).rgb for camera in ("head", "overhead")}
             for _ in range(MOVES):
                 cube = spec.cubes[int(rng.integers(len(spec.cubes)))]

@@ -10,7 +10,7 @@ import pytest
 
 from vslsp.grounding.operation import ground, ground_scene
 from vslsp.grounding.synthetic import PAINTS, Square, tabletop_image
-from vslsp.sim import COLOURS, World
+from vslsp.sim import COLOURS, LineWorld
 from vslsp.sim.textures import cube_face
 from vslsp.vision.colour import colour_name
 
@@ -100,7 +100,7 @@ def test_rendered_textured_and_plain_cubes_ground_alike():
     for seed in range(4):
         moves = [int(rng.integers(3)) for _ in range(3)]
         for textured in (False, True):
-            with World(seed=seed, robot=False, textured=textured) as world:
+            with LineWorld(seed=seed, robot=False, textured=textured) as world:
                 pre = world.observe("head").rgb
                 for index in moves:  # the tutor takes the cube across the line
                     cube = world.spec.cubes[index]
@@ -129,6 +129,8 @@ def test_a_texture_mark_beside_the_line_is_no_object_of_its_own():
     from vslsp.experiments.seeds import exploration_seed
     from vslsp.worlds.icub import line_layout
 
-    with World(line_layout(exploration_seed(1084, 0), ("purple",), (False,))) as world:  # the head camera on the robot
+    with LineWorld(
+        line_layout(exploration_seed(1084, 0), ("purple",), (False,))
+    ) as world:  # the head camera on the robot
         grounding = ground_scene(world.observe("head").rgb, robot_side="bottom")
     assert grounding.far_by_name() == {"purple": False}

@@ -10,8 +10,8 @@ from vslsp.experiments.icub_faults import Faults
 from vslsp.experiments.icub_run import IcubRun
 from vslsp.experiments.icub_scripts import record
 from vslsp.loop.pipeline import execute_task, explore_skill, learn_models
-from vslsp.sim import SceneSpec, World
-from vslsp.symbolic import Atom, Not, PlanStatus, SometimeBefore, Step, Task, learn_task, read_domain
+from vslsp.sim import LineWorld, SceneSpec
+from vslsp.symbolic import Atom, LearnedTask, Not, PlanStatus, SometimeBefore, Step, learn_task, read_domain
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -20,7 +20,7 @@ REPO = Path(__file__).resolve().parents[2]
 def domain(library):
     explorations = []
     for action, far in (("push", False), ("pull", True)):
-        with World(SceneSpec.random(21, n_cubes=1, far=(far,))) as world:
+        with LineWorld(SceneSpec.random(21, n_cubes=1, far=(far,))) as world:
             explorations.append(explore_skill(world, library, action))
     return learn_models(explorations)
 
@@ -36,7 +36,7 @@ def test_table_3_comes_out_of_watching_the_skills(domain):
     assert domain.action("push") == table_3.action("push") and domain.action("pull") == table_3.action("pull")
 
 
-def _all_near_task() -> Task:
+def _all_near_task() -> LearnedTask:
     steps = [
         [
             Step(
@@ -66,7 +66,7 @@ def _all_near_task() -> Task:
 
 def test_a_task_is_planned_executed_and_checked_in_the_simulator(library, domain):
     spec = SceneSpec.random(5, colours=("orange", "purple"), far=(True, True))
-    with World(spec) as world:
+    with LineWorld(spec) as world:
         run = execute_task(world, library, domain, _all_near_task())
         assert run.success, run.error
         assert not any(world.is_far(c.name) for c in spec.cubes)  # ground truth
@@ -76,7 +76,7 @@ def test_a_task_is_planned_executed_and_checked_in_the_simulator(library, domain
 
 def test_a_missing_effect_makes_the_robot_replan(library, domain):
     spec = SceneSpec.random(6, colours=("blue", "yellow"), far=(True, False))
-    with World(spec) as world:
+    with LineWorld(spec) as world:
         faults = Faults({0: "nudge"})  # the experiments' fault injection, through the loop's hooks
         run = execute_task(world, library, domain, _all_near_task(), act=faults.act, on_plan=faults.planned)
         assert run.replans == 1 and not run.steps[0].ok and faults.fired == {0: "nudge"}
@@ -84,7 +84,7 @@ def test_a_missing_effect_makes_the_robot_replan(library, domain):
         assert not world.is_far("blue")
 
 
-def _red_then_blue() -> Task:
+def _red_then_blue() -> LearnedTask:
     """The demonstrated order: red pulled near, then blue (PDDL 3 ``sometime-before``)."""
     both_far = {"red": {"far": True}, "blue": {"far": True}}
     red_near = {"red": {"far": False}, "blue": {"far": True}}
@@ -100,7 +100,7 @@ def test_a_planner_timeout_ends_the_run_as_a_timeout_and_keeps_the_order(library
     task = _red_then_blue()
     assert task.ordered and task.constraints
     spec = SceneSpec.random(7, colours=("red", "blue"), far=(True, True))
-    with World(spec) as world:
+    with LineWorld(spec) as world:
         run = execute_task(world, library, domain, task, planner_timeout=0.01)
         assert world.is_far("red") and world.is_far("blue")  # nothing executed
     assert not run.success and run.steps == [] and run.plans == []
@@ -121,7 +121,7 @@ def test_an_order_no_plan_can_keep_is_dropped_and_the_goal_reached(library, doma
     (red_first,) = task.constraints
     task = replace(task, constraints=(red_first, SometimeBefore(red_first.before, red_first.formula)))
     spec = SceneSpec.random(8, colours=("red", "blue"), far=(True, True))
-    with World(spec) as world:
+    with LineWorld(spec) as world:
         run = execute_task(world, library, domain, task)
         assert not world.is_far("red") and not world.is_far("blue")
     assert run.success, run.error

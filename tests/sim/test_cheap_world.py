@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vslsp.sim import World
+from vslsp.sim import LineWorld
 from vslsp.sim.icub import HEAD_POSE, IK_JOINTS
 from vslsp.sim.quiet import quiet
 from vslsp.sim.scene import LandmarkSpec, _along_span, _placeable
@@ -46,7 +46,7 @@ def test_the_batched_span_is_the_reference_span():
 
 
 def test_the_simulated_robot_keeps_the_kinematics():
-    with World(seed=1) as world:
+    with LineWorld(seed=1) as world:
         robot = world.robot
         rng = np.random.default_rng(2)
         kinematics = robot.kinematics
@@ -74,7 +74,7 @@ def test_the_simulated_robot_keeps_the_kinematics():
 
 
 def test_a_view_of_an_unchanged_world_is_the_rendered_view():
-    with World(seed=4) as world, World(seed=4) as twin:
+    with LineWorld(seed=4) as world, LineWorld(seed=4) as twin:
         first = world.observe("head")
         again = world.observe("head")
         assert np.array_equal(first.rgb, again.rgb) and np.array_equal(first.depth, again.depth)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vslsp.sim import SceneSpec, World
+from vslsp.sim import LineWorld, SceneSpec
 from vslsp.sim.rerun_log import ARM_EVERY, STEPS_PER_SECOND, RerunLog, merge
 from vslsp.sim.scene import TABLE_Z
 
@@ -19,7 +19,7 @@ REACH = np.array([0.3, -0.1, TABLE_Z + 0.05])
 
 
 def _trial(recording: RerunLog | None) -> tuple:
-    with World(SceneSpec.random(3)) as world:
+    with LineWorld(SceneSpec.random(3)) as world:
         if recording is not None:
             recording.attach(world)
             recording.caption("the robot reaches over the cubes")

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from vslsp.errors import UnreachableError
-from vslsp.sim import TABLE_Z, CubeSpec, LandmarkSpec, SceneSpec, World
+from vslsp.sim import TABLE_Z, CubeSpec, LandmarkSpec, LineWorld, SceneSpec
 from vslsp.sim.icub import KinematicICub, palm_down_rotation
 from vslsp.sim.robot import HAND_YAW, _reach_seed
 
@@ -12,7 +12,7 @@ from vslsp.sim.robot import HAND_YAW, _reach_seed
 @pytest.fixture(scope="module")
 def world():
     spec = SceneSpec((CubeSpec("blue", "blue", 0.30, 0.02),), LandmarkSpec(0.22, 0.0))
-    with World(spec) as world:
+    with LineWorld(spec) as world:
         yield world
 
 

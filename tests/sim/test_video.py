@@ -9,7 +9,7 @@ import imageio_ffmpeg
 import numpy as np
 import pytest
 
-from vslsp.sim import SceneSpec, World
+from vslsp.sim import LineWorld, SceneSpec
 from vslsp.sim.scene import TABLE_Z
 from vslsp.sim.video import FPS, SceneVideo, preview
 
@@ -17,7 +17,7 @@ REACH = np.array([0.3, -0.1, TABLE_Z + 0.05])
 
 
 def _film(path) -> tuple[SceneVideo, tuple]:
-    with World(SceneSpec.random(3)) as world:
+    with LineWorld(SceneSpec.random(3)) as world:
         video = SceneVideo(path)
         video.attach(world)
         video.caption("the robot reaches over the cubes", "second line")
@@ -57,7 +57,7 @@ def test_the_same_motion_gives_the_same_frames_and_filming_changes_no_pose(tmp_p
     _, again = _film(tmp_path / "b.mp4")
     assert poses == again
     assert all(np.array_equal(a, b) for a, b in zip(_frames(tmp_path / "a.mp4"), _frames(tmp_path / "b.mp4")))
-    with World(SceneSpec.random(3)) as world:
+    with LineWorld(SceneSpec.random(3)) as world:
         assert world.robot is not None
         world.robot.move_hand(REACH[None, :])
         assert world.body_poses() == poses  # unfilmed, the simulation is the same

@@ -4,26 +4,26 @@ import numpy as np
 import pytest
 
 from vslsp.errors import InputError
-from vslsp.sim import CubeSpec, LandmarkSpec, SceneSpec, World
+from vslsp.sim import CubeSpec, LandmarkSpec, LineWorld, SceneSpec
 
 
 @pytest.fixture(scope="module")
 def table_world():
-    with World(SceneSpec.random(5), robot=False) as world:
+    with LineWorld(SceneSpec.random(5), robot=False) as world:
         yield world
 
 
 def test_same_seed_gives_byte_identical_images():
     images = []
     for _ in range(2):
-        with World(seed=11) as world:
+        with LineWorld(seed=11) as world:
             images.append(world.observe("head", 320, 240).rgb)
     assert np.array_equal(images[0], images[1])
 
 
 def test_different_seeds_give_different_scenes():
     assert SceneSpec.random(1) != SceneSpec.random(2)
-    with World(seed=1, robot=False) as a, World(seed=2, robot=False) as b:
+    with LineWorld(seed=1, robot=False) as a, LineWorld(seed=2, robot=False) as b:
         assert not np.array_equal(a.observe("overhead", 160, 120).rgb, b.observe("overhead", 160, 120).rgb)
 
 
@@ -67,7 +67,7 @@ def test_pixel_table_pixel_round_trip_within_a_pixel(table_world, camera):
 def test_the_camera_model_matches_the_render(camera):
     """The top face of a cube is seen where the camera model projects it."""
     spec = SceneSpec((CubeSpec("green", "green", 0.24, -0.05),), LandmarkSpec(0.2, 0.0))
-    with World(spec, robot=False, textured=False) as world:  # a plain face: its centre pixel is green
+    with LineWorld(spec, robot=False, textured=False) as world:  # a plain face: its centre pixel is green
         observation = world.observe(camera)
         rgb = observation.rgb.astype(int)
         mask = (rgb[:, :, 1] > 120) & (rgb[:, :, 0] < 80) & (rgb[:, :, 2] < 100)
@@ -83,7 +83,7 @@ def world_top(world):
 
 def test_tutor_relocates_a_cube_within_5_mm():
     # A world of its own: moving a cube in the shared module world would change what the other tests see.
-    with World(SceneSpec.random(5), robot=False) as world:
+    with LineWorld(SceneSpec.random(5), robot=False) as world:
         name = world.spec.cubes[0].name
         world.tutor.relocate(name, 0.30, -0.12)
         x, y, _ = world.cube_pose(name)

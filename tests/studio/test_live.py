@@ -33,10 +33,10 @@ def test_a_probe_is_not_a_picture(tmp_path, monkeypatch):
 
 
 def test_a_camera_render_publishes_its_view(tmp_path, monkeypatch):
-    from vslsp.sim.world import World
+    from vslsp.sim.world import LineWorld
 
     monkeypatch.setenv(live.ENV, str(tmp_path / "live.png"))
     monkeypatch.setattr(live, "_last", [-live.INTERVAL_S])
-    with World(seed=0, robot=False) as world:
+    with LineWorld(seed=0, robot=False) as world:
         seen = world.observe()
     assert read_image(tmp_path / "live.png", "live picture").shape == seen.rgb.shape

@@ -7,9 +7,9 @@ from helpers.symbolic import PDDL, demonstration, far, scene, step
 from vslsp.errors import InputError
 from vslsp.symbolic import (
     Forall,
+    LearnedTask,
     Not,
     SometimeBefore,
-    Task,
     learn_domain,
     learn_task,
     make_problem,
@@ -113,7 +113,7 @@ def test_disagreeing_demonstrations_are_an_input_error():
 
 def test_task_round_trips_through_json(pull_in_order_demonstration):
     task = learn_task([pull_in_order_demonstration])
-    assert Task.from_dict(task.to_dict()) == task
+    assert LearnedTask.from_dict(task.to_dict()) == task
 
 
 def test_make_problem_states_the_task_in_the_scene(pull_in_order_demonstration, skill_executions):

@@ -11,7 +11,7 @@ from vslsp.errors import InputError
 from vslsp.outcomes import NoMatch
 from vslsp.sim.cloud_scene import SENSOR, CloudScene
 from vslsp.vsl3d.cloud import DepthCamera
-from vslsp.vsl3d.matching import Match, find_best_match, object_windows
+from vslsp.vsl3d.matching import CloudMatch, find_best_match, object_windows
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.vsl import CloudObservation, WorldCloud, get_object
 
@@ -33,7 +33,7 @@ def test_find_best_match_finds_a_recorded_observation_in_a_reshuffled_world(tmp_
         captured = world(scene)
         truth = scene.pose("teddy") @ np.linalg.inv(recorded_pose)
         match = find_best_match(captured, observation)
-        assert isinstance(match, Match), match
+        assert isinstance(match, CloudMatch), match
         assert_within_bounds(match.points, scene, "teddy")
     translation, rotation = transform_error(match.registration.transform, truth, observation.centroid)
     assert translation < TOLERANCE_M and rotation < TOLERANCE_DEG

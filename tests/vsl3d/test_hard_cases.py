@@ -13,7 +13,7 @@ import pytest
 from vslsp.experiments import stacking, table_cleaning
 from vslsp.experiments.cloud_reproduction import world_of
 from vslsp.sim.cloud_scene import BOXES
-from vslsp.vsl3d.matching import Match, find_best_match
+from vslsp.vsl3d.matching import CloudMatch, find_best_match
 from vslsp.vsl3d.registration import transform_error
 from vslsp.vsl3d.vsl import get_object
 from vslsp.worlds.rgbd_table import RgbdTable
@@ -108,7 +108,7 @@ def test_stacking_demonstration_and_landmarks(seed, box):
         assert offset < TOLERANCE_M and angle < TOLERANCE_DEG
     landmark = demonstrated[[b for _, b in stacking.OPERATIONS].index(box)][3]
     match = find_best_match(world, landmark, seed=seed)
-    assert isinstance(match, Match), match
+    assert isinstance(match, CloudMatch), match
     centre = landmark.points.mean(axis=0)
     offset, angle = min(
         (transform_error(match.registration.transform, motion, centre) for motion in motions[box]),

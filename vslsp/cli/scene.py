@@ -38,14 +38,14 @@ def scene(seed: int, scene_file: str | None, cubes: int, out: Path, width: int, 
     import numpy as np
 
     from vslsp.outputs import atomic_file, refuse_places, write_text
-    from vslsp.sim import CAMERA_NAMES, SceneSpec, World
+    from vslsp.sim import CAMERA_NAMES, LineWorld, SceneSpec
     from vslsp.vision.image import write_image
 
     names = [f"{n}{suffix}" for n in CAMERA_NAMES for suffix in (".png", "_depth.npy")]
     refuse_places(out, (*names, "scene.json", "ground_truth.json"))  # before the simulator starts
     spec = SceneSpec.load(scene_file) if scene_file else SceneSpec.random(seed, n_cubes=cubes)
     folder = out
-    with World(spec, gui=gui) as world:
+    with LineWorld(spec, gui=gui) as world:
         for name in CAMERA_NAMES:
             observation = world.observe(name, width, height)
             write_image(folder / f"{name}.png", observation.rgb)

@@ -57,12 +57,12 @@ def teach(skill: str, demos: int, seed: int, out: str, force: bool) -> None:
 
     from vslsp.errors import TaskFailed, UnreachableError
     from vslsp.skills.library import SkillLibrary
-    from vslsp.skills.teach import Demonstration, learn_skill, plot_skill, record_demonstration
+    from vslsp.skills.teach import KinestheticDemonstration, learn_skill, plot_skill, record_demonstration
 
     library, damaged = SkillLibrary.salvage(folder)
     if damaged and not force:
         raise InputError(f"--out: {folder} holds a damaged skill library: {damaged[0]}")
-    recorded: list[Demonstration] = []
+    recorded: list[KinestheticDemonstration] = []
     skipped: list[str] = []
     with Progress(transient=True) as progress:
         task = progress.add_task(f"demonstrating {skill}", total=demos)

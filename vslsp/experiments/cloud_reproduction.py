@@ -27,7 +27,7 @@ from vslsp.sim.pick_place import PickPlaceResult
 from vslsp.stages import in_stage, stage
 from vslsp.vsl3d.cloud import DepthCamera, Frame
 from vslsp.vsl3d.grasping import Grasp, place_for, plan_grasp
-from vslsp.vsl3d.matching import Match, find_best_match
+from vslsp.vsl3d.matching import CloudMatch, find_best_match
 from vslsp.vsl3d.registration import transform_points
 from vslsp.vsl3d.vsl import CloudObservation, WorldCloud
 from vslsp.worlds.rgbd_table import FINGER_OPEN, RgbdTable
@@ -62,7 +62,7 @@ class Attempt:
 
     image: RGBDImage
     world: WorldCloud
-    match: Match | None = None
+    match: CloudMatch | None = None
     grasp: Grasp | None = None
     outcome: str | None = None  # "held" or the pick-and-place diagnosis
     held: str | None = None  # what the fingers held (the simulator's truth, for the report)
@@ -104,7 +104,7 @@ class Reproduction:
 def reproduce(
     scene: RgbdTable,
     observation: CloudObservation,
-    motion_for: Callable[[Match, WorldCloud], np.ndarray],
+    motion_for: Callable[[CloudMatch, WorldCloud], np.ndarray],
     *,
     method: str,
     seed: int,

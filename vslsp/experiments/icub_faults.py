@@ -15,8 +15,7 @@ from dataclasses import dataclass, fields
 
 from vslsp.loop.monitor import StepResult, run_skill
 from vslsp.loop.perception import PerceivedState
-from vslsp.sim import Observation
-from vslsp.sim import World as SimWorld
+from vslsp.sim import LineWorld, Observation
 from vslsp.sim.robot import HandTrajectory
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import PlanResult
@@ -84,7 +83,7 @@ class Faults:
             return run_skill(world, library, action, obj, state)
         finally:
             if before is not None:
-                assert isinstance(world, SimWorld)  # the iCub line world: the tutor's hand
+                assert isinstance(world, LineWorld)  # the iCub line world: the tutor's hand
                 world.tutor.relocate(*before)
 
     def fault_of(self, index: int) -> str | None:
@@ -102,7 +101,7 @@ class Faults:
 
 def _truth_pose(world: World[Observation], colour: str) -> tuple[str, float, float, float] | None:
     """For fault injection only (the tutor's hand, not the robot's perception)."""
-    assert isinstance(world, SimWorld)  # the iCub line world: cubes with their truth
+    assert isinstance(world, LineWorld)  # the iCub line world: cubes with their truth
     for cube in world.spec.cubes:
         if cube.colour == colour:
             x, y, yaw = world.cube_pose(cube.name)

@@ -12,10 +12,10 @@ from typing import Any
 from vslsp.experiments.icub_faults import FAULT_WHAT, Faults
 from vslsp.loop.monitor import StepResult
 from vslsp.loop.pipeline import Execution
-from vslsp.sim import SceneSpec, World
+from vslsp.sim import LineWorld, SceneSpec
 from vslsp.sim.rerun_log import RerunLog
 from vslsp.sim.video import SceneVideo
-from vslsp.symbolic import Domain, Task
+from vslsp.symbolic import Domain, LearnedTask
 from vslsp.worlds.icub import IcubLineWorld
 
 
@@ -35,7 +35,7 @@ class IcubRun:
     # PDDL, trajectories.
     observations: list = field(default_factory=list, repr=False)
     domain: Domain | None = field(default=None, repr=False)
-    task: Task | None = field(default=None, repr=False)
+    task: LearnedTask | None = field(default=None, repr=False)
     executions: list[Execution] = field(default_factory=list, repr=False)
     steps: list[StepResult] = field(default_factory=list, repr=False)
     gui: bool = field(default=False, repr=False)
@@ -74,7 +74,7 @@ class IcubRun:
         if self.recording is not None:
             self.recording.caption(*lines)
 
-    def show(self, world: World, *lines: str) -> None:
+    def show(self, world: LineWorld, *lines: str) -> None:
         """Show ``world`` as it is now under ``lines`` for a moment (a step's outcome)."""
         if self.video is not None:
             self.video.caption(*lines)
@@ -96,7 +96,7 @@ class IcubRun:
                     f"(far {name})" if is_far else f"(not (far {name}))" for name, is_far in far.items()
                 )
 
-    def show_step(self, world: World, label: str, result: StepResult, fault: str | None = None) -> None:
+    def show_step(self, world: LineWorld, label: str, result: StepResult, fault: str | None = None) -> None:
         """A step's outcome in the video: expected and observed, and the ``fault`` it carried."""
         verdict = "ok" if result.ok else "effect MISSING"
         carried = f" (FAULT {fault}: {FAULT_WHAT[fault]})" if fault else ""

@@ -33,7 +33,7 @@ from vslsp.grounding.operation import Grounding, ground
 from vslsp.grounding.spatial import identify_action
 from vslsp.loop.perception import PerceivedState
 from vslsp.loop.pipeline import to_step
-from vslsp.sim import World
+from vslsp.sim import LineWorld
 from vslsp.symbolic import Step
 from vslsp.vsl.demonstration import ImagePlane
 from vslsp.vsl.slips.colour import Moves, ground_moves
@@ -67,7 +67,7 @@ class Watcher:
         cubes is no part of it."""
         self.held.clear()
 
-    def slip(self, world: World, operated: str) -> dict | None:
+    def slip(self, world: LineWorld, operated: str) -> dict | None:
         """The tutor's slip in the operation on cube ``operated`` just done (drawn for every
         operation, applied when it slips): its ground-truth record, or None."""
         self.operation += 1

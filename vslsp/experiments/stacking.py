@@ -35,7 +35,7 @@ from vslsp.experiments.vsl3d_slips import DemonstrationSlips
 from vslsp.outcomes import NoMatch
 from vslsp.sim.cloud_scene import BOXES
 from vslsp.vsl3d.cloud import DepthCamera, Frame
-from vslsp.vsl3d.matching import Match, find_best_match
+from vslsp.vsl3d.matching import CloudMatch, find_best_match
 from vslsp.vsl3d.pictures import cloud_view, draw_frame, trial_clouds, trial_pictures
 from vslsp.vsl3d.vsl import FRAME_MARGIN, CloudObservation, MovedObject, WorldCloud, euclidean_clusters
 from vslsp.worlds.rgbd_table import RgbdTable, random_layout
@@ -212,7 +212,7 @@ def run_stacking(
                 results.append(StackResult(index, name, box, None, error=demo, extra=slips.extra(index)))
                 continue
             moved, landmark = demo
-            found: dict[str, Match] = {}  # the landmark in the attempt's capture
+            found: dict[str, CloudMatch] = {}  # the landmark in the attempt's capture
 
             def landmarks(world, landmark=landmark, box=box, found=found):
                 missing = f"landmark {box} not found in the new scene"

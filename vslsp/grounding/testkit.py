@@ -163,10 +163,10 @@ def rendered_pair(
     ``size`` (W, H), before and after the tutor moved cube ``move[0]`` to ``move[1]`` (x, y) m
     on the table. The truth: each cube's centre (half-way up its visible faces) and its eight
     corners projected into the image, and the landmark line projected likewise."""
-    from vslsp.sim import TABLE_Z, World
+    from vslsp.sim import TABLE_Z, LineWorld
 
     name, (x, y) = move
-    with World(spec, robot=robot) as world:
+    with LineWorld(spec, robot=robot) as world:
         view = world.camera(camera, *size)
 
         def observe() -> tuple[np.ndarray, Scene]:

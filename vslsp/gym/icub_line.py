@@ -40,7 +40,7 @@ from vslsp.loop.perception import perceive
 from vslsp.sim import COLOURS
 from vslsp.sim.video import scene_camera
 from vslsp.skills.library import SKILL_NAMES, SkillLibrary, default_library_path
-from vslsp.symbolic import Domain, Task, learn_task
+from vslsp.symbolic import Domain, LearnedTask, learn_task
 from vslsp.worlds.icub import IcubLineWorld, line_layout
 
 TASKS = ("pull-in-order", "keep-all-near")
@@ -80,7 +80,7 @@ class IcubLineEnv(WorldEnv[np.ndarray, np.ndarray, IcubLineWorld]):
         self.became_near = []
         return IcubLineWorld.from_layout(spec, trial)
 
-    def demonstrate(self) -> tuple[Domain, Task]:
+    def demonstrate(self) -> tuple[Domain, LearnedTask]:
         """What the robot of this episode's trial learns before its test scene (the experiment's
         ``pull-in-order``, :func:`~vslsp.experiments.icub_scripts.pull_in_order`, in worlds of
         its own): push's and pull's models from its own executions, then the task and its order

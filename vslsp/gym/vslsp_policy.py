@@ -24,7 +24,7 @@ from vslsp.grounding.operation import ground_scene
 from vslsp.gym.icub_line import COLOUR_NAMES, SKILLS
 from vslsp.loop.monitor import model_expects_far
 from vslsp.loop.pipeline import MAX_REPLANS, plan_task, scene_literals
-from vslsp.symbolic import Domain, NoPlan, PlanResult, Task
+from vslsp.symbolic import Domain, LearnedTask, NoPlan, PlanResult
 from vslsp.symbolic.engines.planner import DEFAULT_TIMEOUT_S
 
 
@@ -36,7 +36,7 @@ class VslSpPolicy:
     def __init__(
         self,
         domain: Domain,
-        task: Task,
+        task: LearnedTask,
         *,
         planner: str = "fast-downward",
         max_replans: int = MAX_REPLANS,

@@ -30,7 +30,7 @@ from vslsp.files import read_json, shown
 from vslsp.folders import MAX_SIDE_FILE_BYTES, Form, operation_files, spelled_number
 from vslsp.grounding import Grounding, Predicate, ground, ground_scene
 from vslsp.loop.pipeline import scene_literals
-from vslsp.symbolic import Domain, Problem, Step, Task, learn_domain, learn_task, make_problem
+from vslsp.symbolic import Domain, LearnedTask, Problem, Step, learn_domain, learn_task, make_problem
 from vslsp.vision.change import default_min_move
 from vslsp.vision.image import IMAGE_EXTENSIONS, MAX_FOLDER_PIXELS, read_pictures
 
@@ -78,7 +78,7 @@ class LearnedDomain:
     first scene, and every operation grounded."""
 
     domain: Domain
-    task: Task
+    task: LearnedTask
     problem: Problem
     demonstration: tuple[LearnedOperation, ...]
     explorations: tuple[LearnedOperation, ...]

@@ -24,12 +24,12 @@ from vslsp.sim import Observation
 from vslsp.skills.library import SkillLibrary
 from vslsp.symbolic import (
     Domain,
+    LearnedTask,
     NoPlan,
     PlanResult,
     PlanStatus,
     Problem,
     Step,
-    Task,
     learn_domain,
     make_problem,
     solve,
@@ -156,13 +156,13 @@ class Execution:
 
 def plan_task(
     domain: Domain,
-    task: Task,
+    task: LearnedTask,
     state: dict[str, dict[str, bool]],
     *,
     planner: str = "fast-downward",
     timeout: float | None = DEFAULT_TIMEOUT_S,
     notes: list[str] | None = None,
-) -> tuple[Problem, PlanResult, Task]:
+) -> tuple[Problem, PlanResult, LearnedTask]:
     """Plan ``task`` from the grounded ``state`` (:func:`literals`): the problem, its plan and the
     task planned for. When the planner finds no plan for an ordered task, the order can no longer
     be kept (a later object already changed): the task without its order is planned instead
@@ -183,7 +183,7 @@ def execute_task(
     world: World[Observation],
     library: SkillLibrary,
     domain: Domain,
-    task: Task,
+    task: LearnedTask,
     *,
     planner: str = "fast-downward",
     max_replans: int = MAX_REPLANS,
@@ -249,7 +249,7 @@ def execute_task(
         run.replans += 1
 
 
-def describe_learned(domain: Domain | None, task: Task | None) -> dict:
+def describe_learned(domain: Domain | None, task: LearnedTask | None) -> dict:
     """What a trial learned, for its record: the action models (the paper's Table 3: each
     action's parameters, precondition and effects in PDDL, and the whole domain), the goal, the
     ordering constraints (PDDL 3 ``sometime-before``) and the rules they came from."""

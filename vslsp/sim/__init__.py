@@ -1,14 +1,14 @@
 """The simulated world (pybullet): the iCub at a table with coloured cubes and a landmark line.
 
-Only this package talks to pybullet. Entry points: :class:`World` built from a
-:class:`SceneSpec` (or a seed), its cameras (:meth:`World.observe`), its robot
+Only this package talks to pybullet. Entry points: :class:`LineWorld` built from a
+:class:`SceneSpec` (or a seed), its cameras (:meth:`LineWorld.observe`), its robot
 (``world.robot.move_hand``) and its tutor (``world.tutor.relocate``, ``world.tutor.kinesthetic``).
 """
 
 from vslsp.sim.camera import Camera
 from vslsp.sim.scene import COLOURS, CUBE_SIZE, TABLE_Z, CubeSpec, LandmarkSpec, SceneSpec
 from vslsp.sim.tabletop import Item, PickPlaceResult, Placement, TabletopWorld
-from vslsp.sim.world import CAMERA_NAMES, Observation, World
+from vslsp.sim.world import CAMERA_NAMES, LineWorld, Observation
 
 __all__ = [
     "CAMERA_NAMES",
@@ -20,7 +20,7 @@ __all__ = [
     "LandmarkSpec",
     "Observation",
     "SceneSpec",
-    "World",
+    "LineWorld",
     "Item",
     "PickPlaceResult",
     "Placement",

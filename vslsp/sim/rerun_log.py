@@ -13,8 +13,8 @@ Every entry of trial ``seed`` lies under ``trial/<seed>/``:
   grounded after each observation, one literal a line (:class:`rerun.TextDocument`).
 
 Two timelines: ``step`` (a sequence: one tick per narrated step of the trial) and ``sim_time``
-(the simulated seconds the trial's worlds stepped, from :meth:`World.step
-<vslsp.sim.world.World.step>`: a seed gives the same timeline on any machine). A trial writes
+(the simulated seconds the trial's worlds stepped, from :meth:`LineWorld.step
+<vslsp.sim.world.LineWorld.step>`: a seed gives the same timeline on any machine). A trial writes
 its own file; trials of one run share one recording id, so that their files are one recording
 in the viewer and :func:`merge` joins them into one file. Logging changes nothing in the
 simulation: the arm is read from the world's pose, no render is taken.

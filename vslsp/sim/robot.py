@@ -67,7 +67,7 @@ class HandTrajectory:
 
 
 class ICub:
-    """The iCub of a :class:`~vslsp.sim.world.World`."""
+    """The iCub of a :class:`~vslsp.sim.world.LineWorld`."""
 
     def __init__(self, world, visuals: bool = True) -> None:
         """The robot at ``world``'s table; ``visuals`` False leaves out the meshes no camera

@@ -77,7 +77,7 @@ class Tutor:
         """
         robot = self.world.robot
         if robot is None:
-            raise InputError("kinesthetic teaching needs the robot: build the World with robot=True")
+            raise InputError("kinesthetic teaching needs the robot: build the LineWorld with robot=True")
         rng = np.random.default_rng(seed)
         via_points = np.asarray(via_points, dtype=float)
         lengths = np.linalg.norm(np.diff(via_points, axis=0), axis=1) + 1e-3

@@ -3,7 +3,7 @@ demonstration and the robot's execution), each frame under the caption of the st
 progress, encoded as an H.264 MP4 by the ffmpeg binary that imageio-ffmpeg ships.
 
 Frames are taken on the simulation's clock (every ``1 / fps`` simulated seconds, from
-:meth:`World.step <vslsp.sim.world.World.step>`), so a seed gives the same frames on any
+:meth:`LineWorld.step <vslsp.sim.world.LineWorld.step>`), so a seed gives the same frames on any
 machine. The table and the objects on it are pybullet's render; the robot's arm is drawn
 over it as its kinematic chain (shoulder to hand, projected through the same camera) with the
 hand's recent path: rasterising the arm's meshes costs three times the rest of the scene, and

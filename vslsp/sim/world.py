@@ -67,7 +67,7 @@ def _table_backdrop(client: int, visual: int, centre: list[float]) -> Backdrop:
     )
 
 
-class World(PhysicsClient):
+class LineWorld(PhysicsClient):
     """A pybullet world built from a :class:`SceneSpec`; close it (or use ``with``) when done."""
 
     def __init__(
@@ -94,7 +94,7 @@ class World(PhysicsClient):
             pb.configureDebugVisualizer(pb.COV_ENABLE_GUI, 0, physicsClientId=self.client)
         self._seen: dict[tuple, tuple[tuple, Observation]] = {}
         # Called after every physics step when set (a video's camera: vslsp.sim.video).
-        self.frame_hook: Callable[[World], None] | None = None
+        self.frame_hook: Callable[[LineWorld], None] | None = None
         self.table = self._make_table(gui)
         self.landmark_body = self._make_landmark()
         self.cubes: dict[str, int] = {}

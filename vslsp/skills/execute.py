@@ -36,7 +36,7 @@ def execute_skill(
     object_xy, normal = np.asarray(object_xy, dtype=float), np.asarray(normal, dtype=float)
     robot = world.robot
     if robot is None:
-        raise UnreachableError("this world was built without the robot (World(..., robot=False))")
+        raise UnreachableError("this world was built without the robot (LineWorld(..., robot=False))")
     error: UnreachableError | None = None
     for start in reach_starts(skill, object_xy, normal):
         # The DMP generalises to any start: where the reach from the ready pose would bulge out

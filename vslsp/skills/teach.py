@@ -16,7 +16,7 @@ import numpy as np
 from vslsp.dmp import DMP
 from vslsp.errors import InputError
 from vslsp.outputs import atomic_file
-from vslsp.sim import TABLE_Z, LandmarkSpec, SceneSpec, World
+from vslsp.sim import TABLE_Z, LandmarkSpec, LineWorld, SceneSpec
 from vslsp.sim.robot import HAND_YAW, READY_POSITION
 from vslsp.skills.library import Skill, from_object_frame, to_object_frame
 
@@ -39,7 +39,7 @@ APPROACH = {"push": 0.05, "pull": 0.06}
 
 
 @dataclass(frozen=True)
-class Demonstration:
+class KinestheticDemonstration:
     """One kinesthetic demonstration, in the object frame: the reach and the move (t, y (T, 3))."""
 
     reach: tuple[np.ndarray, np.ndarray]
@@ -60,7 +60,7 @@ def demonstration_scene(skill: str, rng: np.random.Generator) -> SceneSpec:
     return spec
 
 
-def record_demonstration(skill: str, seed: int) -> Demonstration:
+def record_demonstration(skill: str, seed: int) -> KinestheticDemonstration:
     """The tutor demonstrates ``skill`` once, on a fresh random scene."""
     if skill not in TUTOR_CONTACT:
         raise InputError(f"unknown skill {skill!r}; use push or pull")
@@ -68,9 +68,9 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
     spec = demonstration_scene(skill, rng)
     cube = spec.cubes[0]
     normal = spec.landmark.normal
-    with World(spec) as world:
+    with LineWorld(spec) as world:
         robot = world.robot
-        assert robot is not None  # World(spec) builds the iCub
+        assert robot is not None  # LineWorld(spec) builds the iCub
         xy = np.array(world.cube_pose(cube.name)[:2])
         contact = np.array([*(TUTOR_CONTACT[skill] + rng.normal(0, 0.003, 2)), CONTACT_HEIGHT[skill]])
         start = READY_POSITION + rng.uniform([-0.03, -0.03, -0.01], [0.03, 0.03, 0.03])
@@ -89,7 +89,7 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
         world.settle()
         crossed = world.is_far(cube.name) == (skill == "push")
         travel = float(np.dot(np.array(world.cube_pose(cube.name)[:2]) - xy, normal))
-    return Demonstration(
+    return KinestheticDemonstration(
         reach=(reach.t, to_object_frame(reach.position, xy, normal)),
         move=(move.t, to_object_frame(move.position, xy, normal)),
         crossed=crossed,
@@ -97,7 +97,7 @@ def record_demonstration(skill: str, seed: int) -> Demonstration:
     )
 
 
-def learn_skill(skill: str, demonstrations: list[Demonstration], n_basis: int = 50) -> Skill:
+def learn_skill(skill: str, demonstrations: list[KinestheticDemonstration], n_basis: int = 50) -> Skill:
     """Fit the reach DMP and the move displacement from demonstrations (object frame)."""
     good = [d for d in demonstrations if d.crossed]
     if not good:

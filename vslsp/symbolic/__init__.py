@@ -30,9 +30,9 @@ if TYPE_CHECKING:
     from vslsp.symbolic.io.pddl import parse_pddl, read_domain, read_pddl, read_problem, save
     from vslsp.symbolic.io.pddl_errors import PddlWarning
     from vslsp.symbolic.learning.learn import (
+        LearnedTask,
         Rule,
         Step,
-        Task,
         extract_rules,
         generalise,
         learn_domain,
@@ -81,9 +81,9 @@ _HOME = {
     "forall": "vslsp.symbolic.model.formula",
     "holds": "vslsp.symbolic.model.formula",
     "sometime_before": "vslsp.symbolic.model.formula",
+    "LearnedTask": "vslsp.symbolic.learning.learn",
     "Rule": "vslsp.symbolic.learning.learn",
     "Step": "vslsp.symbolic.learning.learn",
-    "Task": "vslsp.symbolic.learning.learn",
     "extract_rules": "vslsp.symbolic.learning.learn",
     "generalise": "vslsp.symbolic.learning.learn",
     "learn_domain": "vslsp.symbolic.learning.learn",
@@ -138,6 +138,7 @@ __all__ = [
     "Forall",
     "Imply",
     "InternalError",
+    "LearnedTask",
     "NoPlan",
     "Not",
     "Or",
@@ -151,7 +152,6 @@ __all__ = [
     "SometimeAfter",
     "SometimeBefore",
     "Step",
-    "Task",
     "Unsolvable",
     "Validation",
     "When",

@@ -5,7 +5,7 @@ registration, and VSL-3D's getObject and findBestMatch over them.
 
 from vslsp.vsl3d.cloud import DepthCamera, Frame, pass_through, voxel_downsample
 from vslsp.vsl3d.kdtree import KDTree, Neighbours
-from vslsp.vsl3d.matching import Match, find_best_match
+from vslsp.vsl3d.matching import CloudMatch, find_best_match
 from vslsp.vsl3d.registration import Registration
 from vslsp.vsl3d.vsl import CloudObservation, MovedObject, WorldCloud, get_object
 
@@ -14,7 +14,7 @@ __all__ = [
     "DepthCamera",
     "Frame",
     "KDTree",
-    "Match",
+    "CloudMatch",
     "MovedObject",
     "Neighbours",
     "Registration",

@@ -31,7 +31,7 @@ from vslsp.vsl3d.vsl import CloudObservation, WorldCloud, euclidean_clusters
 
 
 @dataclass(frozen=True, eq=False)
-class Match:
+class CloudMatch:
     """Where a recorded observation is in a new world: ``registration`` (observation -> world)
     and the observation's points moved there, ``points`` (N, 3), in their new ``frame``."""
 
@@ -52,15 +52,15 @@ def find_best_match(
     method: str = "prerejective_ransac",
     seed: int = 0,
     parameters: CloudMatching = DEFAULT_CLOUD_MATCHING,
-) -> Match | NoMatch:
+) -> CloudMatch | NoMatch:
     """Find ``observation`` in ``world`` and its pose there by the rules ``parameters``: the
-    :class:`Match`, or :class:`NoMatch` (why) when no verified pose puts enough of the
+    :class:`CloudMatch`, or :class:`NoMatch` (why) when no verified pose puts enough of the
     observation onto the world, as 2-D match finding (:func:`vslsp.vision.matching.find_best_match`)."""
     if len(observation.points) < 10:
         raise InputError(f"the observation has {len(observation.points)} points; record one of a visible object")
     if method not in METHODS:
         raise InputError(f"unknown match-finding method {method!r}; use one of {', '.join(METHODS)}")
-    best: Match | None = None
+    best: CloudMatch | None = None
     registration = align(
         observation.points,
         world.points,
@@ -105,7 +105,7 @@ def find_best_match(
     return best
 
 
-def plausibility(match: Match, parameters: CloudMatching = DEFAULT_CLOUD_MATCHING) -> float:
+def plausibility(match: CloudMatch, parameters: CloudMatching = DEFAULT_CLOUD_MATCHING) -> float:
     """The ``match``'s fitness less the tilt's penalty (``parameters.upright_weight``): how
     matches compare."""
     return match.registration.fitness - parameters.upright_weight * tipping(match.registration.transform)
@@ -134,7 +134,7 @@ def object_windows(
 
 def _verified(
     world: WorldCloud, observation: CloudObservation, registration: Registration | NoMatch, parameters: CloudMatching
-) -> Match | NoMatch:
+) -> CloudMatch | NoMatch:
     """The match of ``registration``, unless it puts the observation where the sensor saw free space."""
     if isinstance(registration, NoMatch):
         return registration
@@ -146,4 +146,4 @@ def _verified(
             f"{floating:.0%} of the observation where the sensor sees free space; the object "
             "is not in this world or too little of it is visible"
         )
-    return Match(registration, moved, Frame.around(moved, parameters.frame_margin))
+    return CloudMatch(registration, moved, Frame.around(moved, parameters.frame_margin))

@@ -11,8 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from vslsp.errors import InputError, TaskFailed
-from vslsp.sim import SceneSpec
-from vslsp.sim import World as SimWorld
+from vslsp.sim import LineWorld, SceneSpec
 from vslsp.sim.scene import LayoutImpossible, seen_whole
 from vslsp.sim.scene import check_layout as check_layout  # re-exported: a task checks its layouts
 from vslsp.worlds.slips import Slip
@@ -23,7 +22,7 @@ TUTOR_BEYOND = 0.055  # the tutor puts a cube this far (m) on the other side of 
 SLIP_CLEARANCE = 0.072
 
 
-class IcubLineWorld(SimWorld):
+class IcubLineWorld(LineWorld):
     """The iCub line world as a :class:`~vslsp.worlds.World` (``observe()``: the head camera's
     :class:`~vslsp.sim.Observation`; ``robot``: the iCub)."""
 
@@ -56,7 +55,7 @@ def line_layout(seed: int, colours: tuple[str, ...], far: tuple[bool, ...] | Non
     raise InputError(f"no scene found for {len(colours)} cubes with seed {seed}: {reason}")
 
 
-def tutor_operation(world: SimWorld, colour: str, action: str) -> None:
+def tutor_operation(world: LineWorld, colour: str, action: str) -> None:
     """The tutor pushes (``push``) or pulls (``pull``) the cube of ``colour`` by hand, straight across
     the line to 5.5 cm beyond it."""
     cube = next((c for c in world.spec.cubes if c.colour == colour), None)
@@ -70,7 +69,7 @@ def tutor_operation(world: SimWorld, colour: str, action: str) -> None:
     world.tutor.relocate(cube.name, float(target[0]), float(target[1]))
 
 
-def tutor_slip(world: SimWorld, slip: Slip) -> Slip | None:
+def tutor_slip(world: LineWorld, slip: Slip) -> Slip | None:
     """The tutor's slip while operating another cube: cube ``slip.name`` slides by (``dx_m``,
     ``dy_m``) and turns by ``dyaw_deg``. Returns the slip as applied, or None (no slip).
 

@@ -157,7 +157,7 @@ class Rule:
 
 
 @dataclass(frozen=True)
-class Task:
+class LearnedTask:
     """What the demonstrations ask for: a goal, the demonstrated order as trajectory
     constraints, and the generalised rules they came from."""
 
@@ -165,7 +165,7 @@ class Task:
     constraints: tuple[Constraint, ...] = ()
     rules: tuple[Rule, ...] = ()
 
-    def without_order(self) -> Task:
+    def without_order(self) -> LearnedTask:
         """The same goal with no ordering: the planner is free to choose the sequence."""
         return replace(self, constraints=())
 
@@ -181,7 +181,7 @@ class Task:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> Task:
+    def from_dict(cls, data: dict) -> LearnedTask:
         return cls(
             formula_from_list(data["goal"]),  # type: ignore[arg-type]
             tuple(formula_from_list(c) for c in data.get("constraints", ())),  # type: ignore[misc]
@@ -262,7 +262,7 @@ def generalise(rules: Sequence[Rule]) -> list[Rule]:
 
 def learn_task(
     demonstrations: Sequence[Sequence[Step]], ordered: bool | None = None, models: Domain | None = None
-) -> Task:
+) -> LearnedTask:
     """The goal (and order) that ``demonstrations`` teach, over every grounded predicate.
 
     ``ordered=None`` follows the paper: one demonstration teaches a sequence (the colours stay,
@@ -285,7 +285,7 @@ def learn_task(
             SometimeBefore(_effect_formula(b, final[b]), _effect_formula(a, final[a]))
             for a, b in _demonstrated_order(demonstrations, rules)
         )
-        return Task(goal, constraints, tuple(rules))
+        return LearnedTask(goal, constraints, tuple(rules))
     general = generalise(rules)
     parts: list[Formula] = []
     for rule in general:
@@ -293,7 +293,7 @@ def learn_task(
             parts.append(forall(("?b", BLOCK), conjunction(literal(p, ("?b",), v) for p, v in rule.effect)))
     _final_literals([r for r in general if r.obj != "?"])  # raises when demonstrations disagree on an object
     parts.extend(literal(p, (r.obj,), v) for r in general if r.obj != "?" for p, v in r.effect)
-    return Task(conjunction(parts), (), tuple(general))
+    return LearnedTask(conjunction(parts), (), tuple(general))
 
 
 def _final_literals(rules: Sequence[Rule]) -> dict[str, tuple[tuple[str, bool], ...]]:
@@ -344,7 +344,7 @@ def _demonstrated_order(demonstrations: Sequence[Sequence[Step]], rules: Sequenc
     ]
 
 
-def make_problem(domain: Domain, task: Task, state: Literals, name: str = "vsl-sp-task") -> Problem:
+def make_problem(domain: Domain, task: LearnedTask, state: Literals, name: str = "vsl-sp-task") -> Problem:
     """The planning problem for ``task`` in an observed ``state`` (object -> {predicate: value}).
 
     Objects are the keys of ``state`` (blocks); the initial state is its true literals. A
