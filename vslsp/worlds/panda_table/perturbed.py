@@ -12,18 +12,11 @@ demonstration's world is never perturbed.
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from vslsp.perturbations import Drawn, images, viewpoint
-from vslsp.sim.quiet import quiet
-
-if TYPE_CHECKING:
-    from vslsp.worlds.panda_table import PandaTable
-
-with quiet():
-    import pybullet as pb
+from vslsp.sim.tabletop import TabletopWorld
 
 #: Where a distractor's centre may lie (x, y m): on the table, in the table view, in reach.
 CLUTTER_AREA = ((0.28, 0.76), (-0.34, 0.34))
@@ -47,7 +40,7 @@ class PerturbedView:
     moved, distractors put on the table (``drawn.layout_seed``), the occluded object's image box
     fixed for the trial; :meth:`see` is what the camera then sees of an image the world renders."""
 
-    def __init__(self, world: PandaTable, drawn: Drawn) -> None:
+    def __init__(self, world: TabletopWorld, drawn: Drawn) -> None:
         self.drawn = drawn
         levels = drawn.levels
         camera = world.camera
@@ -71,7 +64,7 @@ class PerturbedView:
         self.taken += 1
         return image
 
-    def to_dict(self, world: PandaTable) -> dict:
+    def to_dict(self, world: TabletopWorld) -> dict:
         """The report's account of the perturbation: what was drawn and what was done."""
         found = self.drawn.to_dict()
         if self.moved:
@@ -89,12 +82,12 @@ class PerturbedView:
         return found
 
 
-def _occluded(world: PandaTable, share: float) -> tuple[str, tuple[float, float, float, float]]:
+def _occluded(world: TabletopWorld, share: float) -> tuple[str, tuple[float, float, float, float]]:
     """The movable item at ``share`` of the world's movable items (in its order) and the box (px)
     its eight corners span in the camera's image, as it lies when the reproduction starts."""
     movable = [name for name, item in world.specs.items() if item.movable]
     name = movable[min(int(share * len(movable)), len(movable) - 1)]
-    x, y, z, yaw = world.truth(name)
+    x, y, z, yaw = world.pose(name)
     sx, sy, sz = world.specs[name].size
     c, s = np.cos(yaw), np.sin(yaw)
     corners = np.array(
@@ -110,12 +103,11 @@ def _occluded(world: PandaTable, share: float) -> tuple[str, tuple[float, float,
     return name, (float(low[0]), float(low[1]), float(high[0]), float(high[1]))
 
 
-def _add_distractors(world: PandaTable, count: int, rng: np.random.Generator) -> tuple:
+def _add_distractors(world: TabletopWorld, count: int, rng: np.random.Generator) -> tuple:
     """``count`` small boxes of plain colours at free places of the table (not items of the
     world: the judge and the tutor never see them); their centres (m) and sizes (m)."""
-    taken = [(*world.truth(name)[:2], float(np.hypot(*item.size[:2])) / 2.0) for name, item in world.specs.items()]
+    taken = [(*world.pose(name)[:2], float(np.hypot(*item.size[:2])) / 2.0) for name, item in world.specs.items()]
     found: list[tuple[float, float, tuple[float, float, float]]] = []
-    client = world.live_client
     for k in range(count):
         size = (float(rng.uniform(0.025, 0.045)), float(rng.uniform(0.025, 0.045)), float(rng.uniform(0.015, 0.03)))
         radius = float(np.hypot(size[0], size[1])) / 2.0
@@ -125,14 +117,7 @@ def _add_distractors(world: PandaTable, count: int, rng: np.random.Generator) ->
                 break
         else:  # pragma: no cover - the table has room for far more
             continue
-        half = [v / 2.0 for v in size]
-        colour = [*CLUTTER_COLOURS[k % len(CLUTTER_COLOURS)], 1.0]
-        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=colour, physicsClientId=client)
-        shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=client)
-        yaw = float(rng.uniform(0.0, np.pi))
-        pb.createMultiBody(
-            0.05, shape, visual, [x, y, half[2]], pb.getQuaternionFromEuler([0, 0, yaw]), physicsClientId=client
-        )
+        world.add_plain_box(size, CLUTTER_COLOURS[k % len(CLUTTER_COLOURS)], x, y, float(rng.uniform(0.0, np.pi)))
         taken.append((x, y, radius))
         found.append((x, y, size))
     if found:
