@@ -83,10 +83,21 @@ class PerturbedView:
 
 
 def _occluded(world: TabletopWorld, share: float) -> tuple[str, tuple[float, float, float, float]]:
-    """The movable item at ``share`` of the world's movable items (in its order) and the box (px)
-    its eight corners span in the camera's image, as it lies when the reproduction starts."""
-    movable = [name for name, item in world.specs.items() if item.movable]
-    name = movable[min(int(share * len(movable)), len(movable) - 1)]
+    """The item at ``share`` of the world's movable items in the camera's view (in the world's
+    order; when none is, as where animals-vs-machines shows its cards one at a time, of the
+    landmarks in view) and the box (px) its eight corners span in the camera's image, as it lies
+    when the reproduction starts."""
+    boxes = {name: _image_box(world, name) for name in world.specs}
+    seen = [
+        name for name, (x0, y0, x1, y1) in boxes.items() if x1 > 0 and y1 > 0 and x0 < world.WIDTH and y0 < world.HEIGHT
+    ]
+    names = [name for name in seen if world.specs[name].movable] or seen or list(boxes)
+    name = names[min(int(share * len(names)), len(names) - 1)]
+    return name, boxes[name]
+
+
+def _image_box(world: TabletopWorld, name: str) -> tuple[float, float, float, float]:
+    """The box (x0, y0, x1, y1 px) that item ``name``'s eight corners span in the camera's image."""
     x, y, z, yaw = world.pose(name)
     sx, sy, sz = world.specs[name].size
     c, s = np.cos(yaw), np.sin(yaw)
@@ -100,7 +111,7 @@ def _occluded(world: TabletopWorld, share: float) -> tuple[str, tuple[float, flo
     )
     pixels = world.camera.project(corners)
     low, high = pixels.min(axis=0), pixels.max(axis=0)
-    return name, (float(low[0]), float(low[1]), float(high[0]), float(high[1]))
+    return float(low[0]), float(low[1]), float(high[0]), float(high[1])
 
 
 def _add_distractors(world: TabletopWorld, count: int, rng: np.random.Generator) -> tuple:
