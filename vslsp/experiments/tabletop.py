@@ -58,7 +58,7 @@ class TabletopExperiment(Task):
 
     system = System.VSL
     paper_section = "Real-world Experiments (Table 1)"
-    options = frozenset({Option.VIDEO, Option.TUTOR_SLIPS, Option.SLIP_DETECTION})
+    options = frozenset({Option.VIDEO, Option.TUTOR_SLIPS, Option.SLIP_DETECTION, Option.PERTURB})
     anchor_map: dict[str, str] = {}  # anchors renamed for the judge (the user's intervention)
     variant = ""  # the report's name for a trial that differs from the others ("intervention")
     # The first trial keeps its artefacts (the report's pictures: a few renders more, the same
@@ -160,7 +160,11 @@ class TabletopExperiment(Task):
                 )
             goal = look(world) if keep else None
         rng = np.random.default_rng(reproduction_seed(seed))
+        drawn = self.perturbation().draw(seed)
+        perturbation: dict[str, Any] = {}
         with PandaTable.from_layout(task.layout(rng, "reproduction"), seed) as world:
+            if not drawn.none:  # the demonstration stays as recorded; the reproduction's world changes
+                perturbation = {"perturbation": world.perturb(drawn).to_dict(world)}
             if video is not None:
                 video.attach(world)
                 world.say(f"{self.name}: the robot reproduces it in a new scene (VSL)", hold=1.0)
@@ -183,7 +187,7 @@ class TabletopExperiment(Task):
             success,
             error,
             operations=operations,
-            details={"variant": variant},
+            details={"variant": variant, **perturbation},
             artefacts=(demo, outcomes, finals) if keep else None,
             failure_cause=cause,
         )

@@ -223,6 +223,21 @@ class TabletopWorld(PhysicsClient):
         self.specs[item.name] = item
         self._put(item.name, placement)
 
+    def add_plain_box(
+        self, size: tuple[float, float, float], colour: tuple[float, float, float], x: float, y: float, yaw: float
+    ) -> int:
+        """A movable box of ``size`` (m) and one plain ``colour`` (RGB 0-1) on the table at (x, y),
+        turned ``yaw`` rad, that is no item of the world (a distractor: the items, the judge and
+        the tutor never see it); its body."""
+        c = self.live_client
+        half = [s / 2.0 for s in size]
+        visual = pb.createVisualShape(pb.GEOM_BOX, halfExtents=half, rgbaColor=[*colour, 1.0], physicsClientId=c)
+        shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
+        orientation = pb.getQuaternionFromEuler([0, 0, yaw])
+        body = pb.createMultiBody(0.05, shape, visual, [x, y, half[2]], orientation, physicsClientId=c)
+        pb.changeDynamics(body, -1, lateralFriction=ITEM_FRICTION, physicsClientId=c)
+        return int(body)
+
     def _put(self, name: str, placement: Placement) -> None:
         if not all(np.isfinite([placement.x, placement.y, placement.yaw])):
             raise InputError(f"the placement of {name!r} must have finite x, y and yaw, got {placement!r}")

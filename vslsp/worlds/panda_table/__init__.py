@@ -11,12 +11,17 @@ the robot is the Panda (``pick_and_place``).
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from vslsp.sim.panda import Panda
 from vslsp.sim.tabletop import Item, Placement, TabletopWorld
 from vslsp.worlds.slips import Slip
+
+if TYPE_CHECKING:
+    from vslsp.perturbations import Drawn
+    from vslsp.worlds.panda_table.perturbed import PerturbedView
 
 SLIP_AREA = ((0.25, 0.80), (-0.38, 0.38))  # (x, y) m: where a nudged object's centre stays (in view, on the table)
 _LEVEL = 0.003  # m: an item rests on what its bottom is this close to
@@ -32,10 +37,25 @@ class PandaTable(TabletopWorld):
         # How far (x, y m) the tutor's slips carried each item from where the tutor put it, with
         # what it stands on (see :meth:`as_it_lies`).
         self.slipped: dict[str, tuple[float, float]] = {}
+        self.perturbed: PerturbedView | None = None  # a reproduction's perturbation (:meth:`perturb`)
 
     @classmethod
     def from_layout(cls, layout: list[tuple[Item, Placement]], seed: int = 0, gui: bool = False) -> PandaTable:
         return cls(layout, seed, gui)
+
+    def perturb(self, drawn: Drawn) -> PerturbedView:
+        """Apply the perturbation ``drawn`` to this (reproduction) world: its camera moved, its
+        distractors put on the table, and every observation from now on seen as it makes it
+        (:class:`~vslsp.worlds.panda_table.perturbed.PerturbedView`)."""
+        from vslsp.worlds.panda_table.perturbed import PerturbedView
+
+        self.perturbed = PerturbedView(self, drawn)
+        return self.perturbed
+
+    def observe(self) -> np.ndarray:
+        """The camera's RGB image (960, 1280, 3) uint8 (arm parked), as a perturbation sees it."""
+        image = super().observe()
+        return image if self.perturbed is None else self.perturbed.see(image)
 
     def tutor_move(self, name: str, where: Placement) -> None:
         """The tutor puts item ``name`` at ``where`` by hand: it lies as the tutor put it, on
