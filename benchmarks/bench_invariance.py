@@ -51,7 +51,7 @@ CLAIMS = {
     "occlusion": "a failure factor (the paper)",
     "clutter": "not discussed",
 }
-FAMILIES = ("house-roof",)
+FAMILIES = ("house-roof", "alphabet-ordering", "animal-puzzle", "tower-of-hanoi", "animals-vs-machines", "domino")
 TARGETS = {"half": 0.99, "full": 0.95}
 
 
